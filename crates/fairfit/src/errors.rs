@@ -1,0 +1,71 @@
+//! The typed errors of the fairfit library.
+//!
+//! Every fallible public function returns [`Result<T>`]. Messages are one line, name what is wrong and,
+//! where it helps, what would be right, so the command-line tool can print them as they are.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in fairfit.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum Error {
+    /// The degree is not usable (zero, or too high for the number of control points).
+    #[error("invalid degree {degree}: {reason}")]
+    InvalidDegree {
+        /// The degree that was given.
+        degree: usize,
+        /// Why it is not usable.
+        reason: String,
+    },
+    /// The knot vector has the wrong length, decreases, or holds a non-finite value.
+    #[error("invalid knot vector: {0}")]
+    InvalidKnots(String),
+    /// A weight is zero, negative, non-finite, or the count does not match the control points.
+    #[error("invalid weights: {0}")]
+    InvalidWeights(String),
+    /// A control point is non-finite, or the net is empty or ragged.
+    #[error("invalid control points: {0}")]
+    InvalidControlPoints(String),
+    /// A curve or surface parameter lies outside the domain.
+    #[error("parameter {value} is outside the domain [{min}, {max}]")]
+    ParameterOutOfDomain {
+        /// The parameter given.
+        value: f64,
+        /// Start of the domain.
+        min: f64,
+        /// End of the domain.
+        max: f64,
+    },
+    /// A JSON document could not be read; the message names the field.
+    #[error("invalid JSON: {0}")]
+    Json(String),
+    /// A file could not be read or written; the message names the path.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file concerned.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// Input data (points, sections) are unusable; the message names file and line where known.
+    #[error("invalid input data: {0}")]
+    InvalidData(String),
+    /// A fit could not be computed (ill-posed system, tolerance unreachable, ...).
+    #[error("fitting failed: {0}")]
+    Fit(String),
+    /// An option value is out of range.
+    #[error("invalid option: {0}")]
+    InvalidOption(String),
+}
+
+/// Shorthand for results carrying an [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    /// An [`Error::Io`] for `path` from a [`std::io::Error`].
+    pub fn io(path: impl AsRef<std::path::Path>, err: &std::io::Error) -> Self {
+        Error::Io {
+            path: path.as_ref().display().to_string(),
+            message: err.to_string(),
+        }
+    }
+}

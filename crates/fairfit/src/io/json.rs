@@ -1,0 +1,245 @@
+//! The fairfit JSON geometry format (stable: other tools and the benchmarks read it).
+//!
+//! - curve: `{"kind": "curve", "degree": p, "knots": [...], "control_points": [[x, y, z], ...], "weights": [...]}`
+//! - surface: `{"kind": "surface", "degree_u": p, "degree_v": q, "knots_u": [...], "knots_v": [...],
+//!   "control_points": [[[x, y, z], ... n_v], ... n_u rows], "weights": [[... n_v], ... n_u]}`
+//!
+//! `weights` may be omitted (all 1). Reading validates the geometry; errors name the offending field.
+
+use crate::errors::{Error, Result};
+use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// A curve or a surface read from JSON.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// A NURBS curve.
+    Curve(NurbsCurve),
+    /// A NURBS surface.
+    Surface(NurbsSurface),
+}
+
+/// The on-disk form of a curve.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveJson {
+    /// Degree p.
+    pub degree: usize,
+    /// Full knot vector.
+    pub knots: Vec<f64>,
+    /// Control points `[x, y, z]`.
+    pub control_points: Vec<[f64; 3]>,
+    /// Weights (all 1 when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights: Option<Vec<f64>>,
+}
+
+/// The on-disk form of a surface.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurfaceJson {
+    /// Degree in u.
+    pub degree_u: usize,
+    /// Degree in v.
+    pub degree_v: usize,
+    /// Knot vector in u.
+    pub knots_u: Vec<f64>,
+    /// Knot vector in v.
+    pub knots_v: Vec<f64>,
+    /// Control net, `n_u` rows of `n_v` points.
+    pub control_points: Vec<Vec<[f64; 3]>>,
+    /// Weights, `n_u` rows of `n_v` (all 1 when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights: Option<Vec<Vec<f64>>>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+enum Tagged {
+    Curve(CurveJson),
+    Surface(SurfaceJson),
+}
+
+impl From<&NurbsCurve> for CurveJson {
+    fn from(c: &NurbsCurve) -> Self {
+        CurveJson {
+            degree: c.degree(),
+            knots: c.knots().to_vec(),
+            control_points: c.control_points().iter().map(|p| p.0).collect(),
+            weights: Some(c.weights().to_vec()),
+        }
+    }
+}
+
+impl From<&NurbsSurface> for SurfaceJson {
+    fn from(s: &NurbsSurface) -> Self {
+        SurfaceJson {
+            degree_u: s.degree_u(),
+            degree_v: s.degree_v(),
+            knots_u: s.knots_u().to_vec(),
+            knots_v: s.knots_v().to_vec(),
+            control_points: s
+                .control_net()
+                .into_iter()
+                .map(|r| r.into_iter().map(|p| p.0).collect())
+                .collect(),
+            weights: Some(s.weight_net()),
+        }
+    }
+}
+
+impl CurveJson {
+    /// Validates and builds the curve.
+    pub fn into_curve(self) -> Result<NurbsCurve> {
+        let pts = self.control_points.into_iter().map(Vec3).collect();
+        NurbsCurve::new(self.degree, self.knots, pts, self.weights).map_err(field_context)
+    }
+}
+
+impl SurfaceJson {
+    /// Validates and builds the surface.
+    pub fn into_surface(self) -> Result<NurbsSurface> {
+        let net = self
+            .control_points
+            .into_iter()
+            .map(|r| r.into_iter().map(Vec3).collect())
+            .collect();
+        NurbsSurface::new(
+            self.degree_u,
+            self.degree_v,
+            self.knots_u,
+            self.knots_v,
+            net,
+            self.weights,
+        )
+        .map_err(field_context)
+    }
+}
+
+/// Prefixes geometry validation errors with the JSON field they concern.
+fn field_context(e: Error) -> Error {
+    let field = match &e {
+        Error::InvalidKnots(m) if m.contains("v direction") => "knots_v",
+        Error::InvalidKnots(m) if m.contains("u direction") => "knots_u",
+        Error::InvalidKnots(_) => "knots",
+        Error::InvalidWeights(_) => "weights",
+        Error::InvalidControlPoints(_) => "control_points",
+        Error::InvalidDegree { .. } => "degree",
+        _ => return e,
+    };
+    Error::Json(format!("field `{field}`: {e}"))
+}
+
+/// Parses a curve or surface from JSON text.
+pub fn geometry_from_str(text: &str) -> Result<Geometry> {
+    let value: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| Error::Json(e.to_string()))?;
+    let kind = value
+        .get("kind")
+        .ok_or_else(|| Error::Json("missing field `kind` (\"curve\" or \"surface\")".into()))?
+        .as_str()
+        .ok_or_else(|| {
+            Error::Json("field `kind` must be the string \"curve\" or \"surface\"".into())
+        })?
+        .to_string();
+    let mut value = value;
+    if let Some(obj) = value.as_object_mut() {
+        obj.remove("kind");
+    }
+    match kind.as_str() {
+        "curve" => Ok(Geometry::Curve(typed::<CurveJson>(value)?.into_curve()?)),
+        "surface" => Ok(Geometry::Surface(
+            typed::<SurfaceJson>(value)?.into_surface()?,
+        )),
+        other => Err(Error::Json(format!(
+            "field `kind`: unknown kind \"{other}\", expected \"curve\" or \"surface\""
+        ))),
+    }
+}
+
+/// Deserialises `value` as `T`, naming the path of the offending field in the error.
+fn typed<T: serde::de::DeserializeOwned>(value: serde_json::Value) -> Result<T> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        if path == "." || path.is_empty() {
+            Error::Json(inner.to_string())
+        } else {
+            Error::Json(format!("field `{path}`: {inner}"))
+        }
+    })
+}
+
+/// Reads a curve or surface from a JSON file; errors name the file.
+pub fn read_geometry(path: impl AsRef<Path>) -> Result<Geometry> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+    let text = std::str::from_utf8(&bytes).map_err(|_| Error::Io {
+        path: path.display().to_string(),
+        message: "not a UTF-8 text file (expected fairfit JSON)".into(),
+    })?;
+    geometry_from_str(text).map_err(|e| match e {
+        Error::Json(m) => Error::Json(format!("{}: {m}", path.display())),
+        other => other,
+    })
+}
+
+/// The JSON text of a curve (pretty-printed, weights included).
+pub fn curve_to_json(c: &NurbsCurve) -> String {
+    let t = Tagged::Curve(c.into());
+    serde_json::to_string_pretty(&t).unwrap_or_default()
+}
+
+/// The JSON text of a surface (pretty-printed, weights included).
+pub fn surface_to_json(s: &NurbsSurface) -> String {
+    let t = Tagged::Surface(s.into());
+    serde_json::to_string_pretty(&t).unwrap_or_default()
+}
+
+/// Writes a curve as JSON, atomically.
+pub fn write_curve(path: impl AsRef<Path>, c: &NurbsCurve) -> Result<()> {
+    super::write_atomic(path, curve_to_json(c).as_bytes())
+}
+
+/// Writes a surface as JSON, atomically.
+pub fn write_surface(path: impl AsRef<Path>, s: &NurbsSurface) -> Result<()> {
+    super::write_atomic(path, surface_to_json(s).as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CURVE: &str = r#"{"kind": "curve", "degree": 2, "knots": [0,0,0,1,1,1],
+        "control_points": [[0,0,0],[1,1,0],[2,0,0]]}"#;
+
+    #[test]
+    fn curve_round_trip() {
+        let Geometry::Curve(c) = geometry_from_str(CURVE).unwrap() else {
+            panic!("expected a curve")
+        };
+        assert!((c.point(0.5) - Vec3::new(1.0, 0.5, 0.0)).norm() < 1e-15);
+        let again = geometry_from_str(&curve_to_json(&c)).unwrap();
+        assert_eq!(again, Geometry::Curve(c));
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        let bad = CURVE.replace("[0,0,0,1,1,1]", "[0,0,1,1,1]");
+        let e = geometry_from_str(&bad).unwrap_err().to_string();
+        assert!(e.contains("knots") && e.contains("expected 6 knots"), "{e}");
+        let bad = CURVE.replace("}", r#", "weights": [1, -1, 1]}"#);
+        let e = geometry_from_str(&bad).unwrap_err().to_string();
+        assert!(e.contains("weights") && e.contains("-1"), "{e}");
+        let bad = CURVE.replace("[1,1,0]", r#"[1,"a",0]"#);
+        let e = geometry_from_str(&bad).unwrap_err().to_string();
+        assert!(e.contains("control_points[1]"), "{e}");
+        let e = geometry_from_str(&CURVE[..40]).unwrap_err().to_string();
+        assert!(e.contains("EOF"), "{e}");
+        let e = geometry_from_str(r#"{"kind": "cone"}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("unknown kind"), "{e}");
+    }
+}

@@ -1,0 +1,436 @@
+//! Rational B-spline (NURBS) curves in 3D: construction with validation, evaluation of points and
+//! derivatives of any order (NURBS Book A3.1, A3.2, A4.1, A4.2), batched evaluation without allocation.
+//!
+//! Written here rather than taken from a crate: fairfit needs allocation-free batched evaluation,
+//! unclamped knot vectors, exact rational derivatives up to order 3 and direct access to the homogeneous
+//! control points for the least-squares solvers; no maintained crate offers all of that.
+
+use super::basis::{basis_funs_into, ders_basis_funs_into, Scratch, STACK_DEGREE};
+use super::knots::{find_span, validate_knots};
+use super::vec3::Vec3;
+use crate::errors::{Error, Result};
+
+/// Highest derivative order evaluated with stack buffers only.
+const STACK_DERIV: usize = 7;
+
+/// A NURBS curve of degree `p >= 1` with control points in 3D and positive weights.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NurbsCurve {
+    degree: usize,
+    knots: Vec<f64>,
+    control_points: Vec<Vec3>,
+    weights: Vec<f64>,
+    /// Homogeneous control points `(w x, w y, w z, w)`.
+    cw: Vec<[f64; 4]>,
+    rational: bool,
+}
+
+impl NurbsCurve {
+    /// Builds a curve, validating every input.
+    ///
+    /// `knots` must hold `control_points.len() + degree + 1` finite, non-decreasing values; `weights`
+    /// (all 1 when `None`) must be finite and positive, one per control point.
+    ///
+    /// ```
+    /// use fairfit::nurbs::{NurbsCurve, Vec3};
+    /// // The paper's example (Hashemian & Hosseini, Section 2.1): a planar cubic with 7 control points
+    /// // over U = [0,0,0,0,0.25,0.5,0.75,1,1,1,1].
+    /// let pts: Vec<Vec3> = [(0.0, 0.0), (1.0, 2.0), (2.0, 3.0), (3.0, 1.0), (4.0, 0.0), (5.0, 2.0), (6.0, 1.0)]
+    ///     .iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+    /// let knots = vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.0, 1.0];
+    /// let w = vec![1.0, 0.5, 2.0, 1.0, 1.5, 1.0, 1.0];
+    /// let c = NurbsCurve::new(3, knots, pts.clone(), Some(w)).unwrap();
+    /// assert_eq!(c.domain(), (0.0, 1.0));
+    /// // a clamped curve starts and ends at its end control points
+    /// assert!((c.point(0.0) - pts[0]).norm() < 1e-15);
+    /// assert!((c.point(1.0) - pts[6]).norm() < 1e-15);
+    /// // a wrong knot count is a typed error naming the problem
+    /// let bad = NurbsCurve::new(3, vec![0.0, 1.0], pts, None);
+    /// assert!(bad.unwrap_err().to_string().contains("expected 11 knots"));
+    /// ```
+    pub fn new(
+        degree: usize,
+        knots: Vec<f64>,
+        control_points: Vec<Vec3>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self> {
+        let n = control_points.len();
+        if n == 0 {
+            return Err(Error::InvalidControlPoints(
+                "a curve needs at least one control point".into(),
+            ));
+        }
+        validate_knots(&knots, degree, n, "curve")?;
+        if let Some(i) = control_points.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidControlPoints(format!(
+                "control point {i} is not finite: {:?}",
+                control_points[i].0
+            )));
+        }
+        let weights = weights.unwrap_or_else(|| vec![1.0; n]);
+        validate_weights(&weights, n)?;
+        Ok(Self::from_parts_unchecked(
+            degree,
+            knots,
+            control_points,
+            weights,
+        ))
+    }
+
+    /// A non-rational B-spline curve (all weights 1).
+    pub fn bspline(degree: usize, knots: Vec<f64>, control_points: Vec<Vec3>) -> Result<Self> {
+        Self::new(degree, knots, control_points, None)
+    }
+
+    /// Builds a curve from parts the caller has already validated (used by algorithms that preserve
+    /// validity, like knot insertion). Debug builds still check.
+    pub(crate) fn from_parts_unchecked(
+        degree: usize,
+        knots: Vec<f64>,
+        control_points: Vec<Vec3>,
+        weights: Vec<f64>,
+    ) -> Self {
+        debug_assert!(validate_knots(&knots, degree, control_points.len(), "curve").is_ok());
+        debug_assert_eq!(weights.len(), control_points.len());
+        let rational = weights.iter().any(|&w| w != 1.0);
+        let cw = control_points
+            .iter()
+            .zip(&weights)
+            .map(|(p, &w)| [p[0] * w, p[1] * w, p[2] * w, w])
+            .collect();
+        NurbsCurve {
+            degree,
+            knots,
+            control_points,
+            weights,
+            cw,
+            rational,
+        }
+    }
+
+    /// Builds a curve from homogeneous control points `(w x, w y, w z, w)`.
+    pub fn from_homogeneous(degree: usize, knots: Vec<f64>, cw: &[[f64; 4]]) -> Result<Self> {
+        let weights: Vec<f64> = cw.iter().map(|c| c[3]).collect();
+        validate_weights(&weights, cw.len())?;
+        let pts = cw
+            .iter()
+            .map(|c| Vec3::new(c[0] / c[3], c[1] / c[3], c[2] / c[3]))
+            .collect();
+        Self::new(degree, knots, pts, Some(weights))
+    }
+
+    /// The degree `p`.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+    /// The full knot vector (`n + p + 2` values).
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+    /// The control points (Euclidean).
+    pub fn control_points(&self) -> &[Vec3] {
+        &self.control_points
+    }
+    /// The weights, one per control point.
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+    /// The homogeneous control points `(w x, w y, w z, w)`.
+    pub fn homogeneous_points(&self) -> &[[f64; 4]] {
+        &self.cw
+    }
+    /// True when some weight differs from 1.
+    pub fn is_rational(&self) -> bool {
+        self.rational
+    }
+    /// The number of control points `n + 1`.
+    pub fn n_control_points(&self) -> usize {
+        self.control_points.len()
+    }
+    /// The parameter domain `[U[p], U[n+1]]`.
+    pub fn domain(&self) -> (f64, f64) {
+        (
+            self.knots[self.degree],
+            self.knots[self.control_points.len()],
+        )
+    }
+    /// Index of the last control point, `n`.
+    #[inline]
+    fn last(&self) -> usize {
+        self.control_points.len() - 1
+    }
+
+    /// Checks that `u` lies in the domain (up to a relative 1e-12 of its length).
+    pub fn check_parameter(&self, u: f64) -> Result<()> {
+        let (a, b) = self.domain();
+        let slack = 1e-12 * (b - a);
+        if !u.is_finite() || u < a - slack || u > b + slack {
+            return Err(Error::ParameterOutOfDomain {
+                value: u,
+                min: a,
+                max: b,
+            });
+        }
+        Ok(())
+    }
+
+    /// The knot span index holding `u`.
+    #[inline]
+    pub fn find_span(&self, u: f64) -> usize {
+        find_span(self.last(), self.degree, u, &self.knots)
+    }
+
+    /// The point `C(u)`. Parameters outside the domain evaluate the polynomial of the end span
+    /// (use [`NurbsCurve::check_parameter`] to reject them).
+    #[inline]
+    pub fn point(&self, u: f64) -> Vec3 {
+        let p = self.degree;
+        if p <= STACK_DEGREE {
+            let mut s = Scratch::new();
+            let mut n = [0.0; STACK_DEGREE + 1];
+            self.point_with(u, &mut s.left, &mut s.right, &mut n)
+        } else {
+            let mut buf = vec![0.0; 3 * (p + 1)];
+            let (l, rest) = buf.split_at_mut(p + 1);
+            let (r, n) = rest.split_at_mut(p + 1);
+            self.point_with(u, l, r, n)
+        }
+    }
+
+    #[inline]
+    fn point_with(&self, u: f64, left: &mut [f64], right: &mut [f64], n: &mut [f64]) -> Vec3 {
+        let p = self.degree;
+        let span = self.find_span(u);
+        basis_funs_into(span, u, p, &self.knots, left, right, n);
+        let mut c = [0.0; 4];
+        for (j, nj) in n.iter().take(p + 1).enumerate() {
+            let q = &self.cw[span - p + j];
+            c[0] += nj * q[0];
+            c[1] += nj * q[1];
+            c[2] += nj * q[2];
+            c[3] += nj * q[3];
+        }
+        if self.rational {
+            Vec3::new(c[0] / c[3], c[1] / c[3], c[2] / c[3])
+        } else {
+            Vec3::new(c[0], c[1], c[2])
+        }
+    }
+
+    /// Evaluates `C(u)` for every parameter in `us` into `out` (same length); no allocation for
+    /// degrees up to 15.
+    pub fn points_into(&self, us: &[f64], out: &mut [Vec3]) {
+        assert_eq!(us.len(), out.len(), "points_into: output length must match");
+        let p = self.degree;
+        let mut heap;
+        let mut s = Scratch::new();
+        let mut n_stack = [0.0; STACK_DEGREE + 1];
+        let (left, right, n): (&mut [f64], &mut [f64], &mut [f64]) = if p <= STACK_DEGREE {
+            (&mut s.left, &mut s.right, &mut n_stack)
+        } else {
+            heap = vec![0.0; 3 * (p + 1)];
+            let (l, rest) = heap.split_at_mut(p + 1);
+            let (r, n) = rest.split_at_mut(p + 1);
+            (l, r, n)
+        };
+        for (u, o) in us.iter().zip(out.iter_mut()) {
+            *o = self.point_with(*u, left, right, n);
+        }
+    }
+
+    /// Points at `us`, as a new vector.
+    pub fn points(&self, us: &[f64]) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; us.len()];
+        self.points_into(us, &mut out);
+        out
+    }
+
+    /// `C(u)` and its derivatives up to order `d`: `out[k]` receives `C^(k)(u)` for `k = 0..=d`
+    /// (rational derivatives by NURBS Book A4.2). `out` needs at least `d + 1` entries.
+    ///
+    /// At a knot, derivatives of order `>= p - m + 1` (m the multiplicity) are one-sided: the span
+    /// `[U[i], U[i+1])` holding `u` is used, i.e. the right-hand limit (the left-hand one at the domain end).
+    pub fn derivatives_into(&self, u: f64, d: usize, out: &mut [Vec3]) {
+        let p = self.degree;
+        let p1 = p + 1;
+        let span = self.find_span(u);
+        if p <= STACK_DEGREE
+            && d <= STACK_DERIV
+            && (d + 1) * p1 <= (STACK_DEGREE + 1) * (STACK_DEGREE + 1)
+        {
+            let mut s = Scratch::new();
+            let mut ders = [0.0; (STACK_DEGREE + 1) * (STACK_DEGREE + 1)];
+            let mut aders = [[0.0; 4]; STACK_DERIV + 1];
+            ders_basis_funs_into(
+                span,
+                u,
+                p,
+                d,
+                &self.knots,
+                &mut s.left,
+                &mut s.right,
+                &mut s.ndu,
+                &mut s.a,
+                &mut ders,
+            );
+            self.combine(span, d, &ders, &mut aders, out);
+        } else {
+            let mut left = vec![0.0; p1];
+            let mut right = vec![0.0; p1];
+            let mut ndu = vec![0.0; p1 * p1];
+            let mut a = vec![0.0; 2 * p1];
+            let mut ders = vec![0.0; (d + 1) * p1];
+            let mut aders = vec![[0.0; 4]; d + 1];
+            ders_basis_funs_into(
+                span,
+                u,
+                p,
+                d,
+                &self.knots,
+                &mut left,
+                &mut right,
+                &mut ndu,
+                &mut a,
+                &mut ders,
+            );
+            self.combine(span, d, &ders, &mut aders, out);
+        }
+    }
+
+    /// Homogeneous derivatives from basis derivatives, then the rational quotient rule (A4.2).
+    #[inline]
+    fn combine(
+        &self,
+        span: usize,
+        d: usize,
+        ders: &[f64],
+        aders: &mut [[f64; 4]],
+        out: &mut [Vec3],
+    ) {
+        let p = self.degree;
+        let p1 = p + 1;
+        for k in 0..=d {
+            let mut c = [0.0; 4];
+            let row = &ders[k * p1..k * p1 + p1];
+            for (j, nj) in row.iter().enumerate() {
+                let q = &self.cw[span - p + j];
+                c[0] += nj * q[0];
+                c[1] += nj * q[1];
+                c[2] += nj * q[2];
+                c[3] += nj * q[3];
+            }
+            aders[k] = c;
+        }
+        if !self.rational {
+            for k in 0..=d {
+                out[k] = Vec3::new(aders[k][0], aders[k][1], aders[k][2]);
+            }
+            return;
+        }
+        let w0 = aders[0][3];
+        for k in 0..=d {
+            let mut v = Vec3::new(aders[k][0], aders[k][1], aders[k][2]);
+            let mut bin = 1.0; // binom(k, i)
+            for i in 1..=k {
+                bin = bin * (k - i + 1) as f64 / i as f64;
+                v -= out[k - i] * (bin * aders[i][3]);
+            }
+            out[k] = v / w0;
+        }
+    }
+
+    /// `[C, C', ..., C^(d)]` at `u`, as a new vector.
+    pub fn derivatives(&self, u: f64, d: usize) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; d + 1];
+        self.derivatives_into(u, d, &mut out);
+        out
+    }
+
+    /// Derivatives up to order `d` at each parameter of `us`: `out[i * (d + 1) + k] = C^(k)(us[i])`.
+    pub fn derivatives_batch_into(&self, us: &[f64], d: usize, out: &mut [Vec3]) {
+        assert_eq!(
+            out.len(),
+            us.len() * (d + 1),
+            "derivatives_batch_into: output length"
+        );
+        for (u, chunk) in us.iter().zip(out.chunks_exact_mut(d + 1)) {
+            self.derivatives_into(*u, d, chunk);
+        }
+    }
+}
+
+/// Checks weights: right count, finite, strictly positive.
+pub(crate) fn validate_weights(weights: &[f64], n: usize) -> Result<()> {
+    if weights.len() != n {
+        return Err(Error::InvalidWeights(format!(
+            "expected {n} weights (one per control point), got {}",
+            weights.len()
+        )));
+    }
+    if let Some(i) = weights.iter().position(|w| !w.is_finite() || *w <= 0.0) {
+        return Err(Error::InvalidWeights(format!(
+            "weight {i} is {}; weights must be finite and > 0",
+            weights[i]
+        )));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The exact rational quadratic quarter-circles (NURBS Book Ex. 7.1, 9 control points, full circle).
+    fn circle(r: f64) -> NurbsCurve {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let pts = [
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (-1.0, 1.0),
+            (-1.0, 0.0),
+            (-1.0, -1.0),
+            (0.0, -1.0),
+            (1.0, -1.0),
+            (1.0, 0.0),
+        ]
+        .iter()
+        .map(|&(x, y)| Vec3::new(r * x, r * y, 0.0))
+        .collect();
+        let w = vec![1.0, h, 1.0, h, 1.0, h, 1.0, h, 1.0];
+        let k = vec![
+            0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
+        ];
+        NurbsCurve::new(2, k, pts, Some(w)).unwrap()
+    }
+
+    #[test]
+    fn rational_circle_is_exact() {
+        let c = circle(2.5);
+        for i in 0..=400 {
+            let u = i as f64 / 400.0;
+            let d = c.derivatives(u, 2);
+            assert!((d[0].norm() - 2.5).abs() < 1e-12);
+            // velocity orthogonal to radius
+            assert!(d[0].dot(d[1]).abs() < 1e-10 * d[1].norm());
+        }
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let c = circle(1.0);
+        let h = 1e-5;
+        for &u in &[0.1, 0.3, 0.6, 0.9] {
+            let d = c.derivatives(u, 3);
+            let dp = c.derivatives(u + h, 3);
+            let dm = c.derivatives(u - h, 3);
+            for k in 0..3 {
+                let fd = (dp[k] - dm[k]) / (2.0 * h);
+                assert!(
+                    (fd - d[k + 1]).norm() < 1e-5 * (1.0 + d[k + 1].norm()),
+                    "k={k} u={u}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,16 @@
+//! The NURBS geometry core: vectors, knot vectors, basis functions, curves and surfaces, and the
+//! knot operations that keep geometry exactly (insertion, refinement, degree elevation, reversal).
+//!
+//! Everything here follows *The NURBS Book* (Piegl & Tiller, 2nd ed.); algorithm numbers are cited in
+//! each item's documentation. Written in-house because fairfit needs allocation-free batched evaluation
+//! and exact rational derivatives that no maintained crate provides together.
+
+pub mod basis;
+pub mod curve;
+pub mod knots;
+pub mod surface;
+pub mod vec3;
+
+pub use curve::NurbsCurve;
+pub use surface::{NurbsSurface, SurfaceWorkspace};
+pub use vec3::Vec3;

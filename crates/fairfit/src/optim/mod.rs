@@ -1,0 +1,1 @@
+//! Particle swarm optimisation of knot vectors: the integrated fitting-and-fairing method.

@@ -1,0 +1,1 @@
+//! Plots a person can look at (SVG, PNG) and self-contained HTML reports.

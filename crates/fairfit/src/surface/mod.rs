@@ -1,0 +1,1 @@
+//! Surfaces from sections and point clouds: compatible fair section curves, skinning, surface measures.
