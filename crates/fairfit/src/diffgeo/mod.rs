@@ -1,3 +1,9 @@
 //! Differential geometry of NURBS curves and surfaces: curvature (signed for planar curves), torsion,
 //! dκ/ds with the guard for |C'×C''| → 0, arc length by Gauss-Legendre per knot span, closest-point
 //! projection, and Gaussian and mean curvature of surfaces.
+
+pub mod curvature;
+pub mod projection;
+
+pub use curvature::{curvature, differentials, is_xy_planar, CurveDifferentials};
+pub use projection::{project_point, CurveProjector, Projection};

@@ -1,0 +1,160 @@
+//! Curvature, torsion and the arc-length derivative of curvature of curves
+//! (method reconstruction §2.2), from the first three derivatives.
+//!
+//! With `r = C'`, `a = C''`, `b = C'''`, `v = |r|`, `c = r × a`:
+//! `κ = |c| / v³`, `τ = (c·b) / |c|²`,
+//! `dκ/du = [(c·(r×b)) v² − 3 |c|² (r·a)] / (|c| v⁵)`, `dκ/ds = (dκ/du) / v`.
+//! Planar curves (in the xy plane) also get the signed curvature `κ_s = (r_x a_y − r_y a_x)/v³`, which
+//! is smooth through inflections. Where `|c| → 0` the unsigned formula uses the one-sided limit
+//! `d|c|/du → |r × b|`.
+
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// `|c|` below this fraction of `v |a|` (and of `v³` times the inverse length scale) counts as zero.
+const PARALLEL_EPS: f64 = 1e-12;
+
+/// The differential quantities of a curve at one parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveDifferentials {
+    /// The parameter.
+    pub u: f64,
+    /// `C(u)`.
+    pub point: Vec3,
+    /// `C'(u)`.
+    pub d1: Vec3,
+    /// `C''(u)`.
+    pub d2: Vec3,
+    /// `C'''(u)`.
+    pub d3: Vec3,
+    /// Speed `|C'(u)|` (= ds/du).
+    pub speed: f64,
+    /// Unsigned curvature `|C' × C''| / |C'|³`.
+    pub curvature: f64,
+    /// Signed curvature of the projection onto the xy plane (positive turning counter-clockwise).
+    pub signed_curvature: f64,
+    /// Torsion `(c·C''') / |c|²`; 0 where the curvature vanishes.
+    pub torsion: f64,
+    /// dκ/ds of the unsigned curvature (guarded where κ → 0).
+    pub dkappa_ds: f64,
+    /// dκ_s/ds of the signed planar curvature.
+    pub dkappa_signed_ds: f64,
+}
+
+/// Differential quantities from `[C, C', C'', C''']` at `u`.
+///
+/// Near-zero speed gives zeros for every curvature quantity (the curve is degenerate there).
+pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
+    let (r, a, b) = (d[1], d[2], d[3]);
+    let v2 = r.norm_squared();
+    let v = v2.sqrt();
+    let mut out = CurveDifferentials {
+        u,
+        point: d[0],
+        d1: r,
+        d2: a,
+        d3: b,
+        speed: v,
+        curvature: 0.0,
+        signed_curvature: 0.0,
+        torsion: 0.0,
+        dkappa_ds: 0.0,
+        dkappa_signed_ds: 0.0,
+    };
+    if !(v > f64::MIN_POSITIVE.sqrt()) || !v.is_finite() {
+        return out;
+    }
+    let c = r.cross(a);
+    let cn = c.norm();
+    let v3 = v2 * v;
+    let v5 = v3 * v2;
+    let ra = r.dot(a);
+    let rxb = r.cross(b);
+    out.curvature = cn / v3;
+    let cz = r.x() * a.y() - r.y() * a.x();
+    out.signed_curvature = cz / v3;
+    let dks_du = (r.x() * b.y() - r.y() * b.x()) / v3 - 3.0 * cz * ra / v5;
+    out.dkappa_signed_ds = dks_du / v;
+    let degenerate = cn <= PARALLEL_EPS * v * a.norm() || cn == 0.0;
+    if degenerate {
+        // one-sided limit of d|c|/du at an isolated zero of c
+        let dk_du = (rxb.norm() * v2 - 3.0 * cn * ra) / v5;
+        out.dkappa_ds = dk_du / v;
+        out.torsion = 0.0;
+    } else {
+        let dk_du = (c.dot(rxb) * v2 - 3.0 * cn * cn * ra) / (cn * v5);
+        out.dkappa_ds = dk_du / v;
+        out.torsion = c.dot(b) / (cn * cn);
+    }
+    out
+}
+
+/// Differential quantities of `curve` at `u`.
+pub fn differentials(curve: &NurbsCurve, u: f64) -> CurveDifferentials {
+    let mut d = [Vec3::ZERO; 4];
+    curve.derivatives_into(u, 3, &mut d);
+    differentials_from(u, &d)
+}
+
+/// Unsigned curvature of `curve` at `u`.
+pub fn curvature(curve: &NurbsCurve, u: f64) -> f64 {
+    let mut d = [Vec3::ZERO; 3];
+    curve.derivatives_into(u, 2, &mut d);
+    let v = d[1].norm();
+    if v <= f64::MIN_POSITIVE.sqrt() {
+        return 0.0;
+    }
+    d[1].cross(d[2]).norm() / (v * v * v)
+}
+
+/// True when every control point of `curve` has the same z (a curve in a plane parallel to xy), so the
+/// signed planar curvature applies.
+pub fn is_xy_planar(curve: &NurbsCurve) -> bool {
+    let pts = curve.control_points();
+    let z0 = pts[0].z();
+    let scale = pts
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.max_abs()))
+        .max(f64::MIN_POSITIVE);
+    pts.iter().all(|p| (p.z() - z0).abs() <= 1e-12 * scale)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn helix_curvature_and_torsion() {
+        // C(t) = (R cos t, R sin t, h t): κ = R/(R²+h²), τ = h/(R²+h²), dκ/ds = 0
+        let (rr, h, t) = (2.0f64, 0.5f64, 0.7f64);
+        let d = [
+            Vec3::new(rr * t.cos(), rr * t.sin(), h * t),
+            Vec3::new(-rr * t.sin(), rr * t.cos(), h),
+            Vec3::new(-rr * t.cos(), -rr * t.sin(), 0.0),
+            Vec3::new(rr * t.sin(), -rr * t.cos(), 0.0),
+        ];
+        let g = differentials_from(t, &d);
+        let den = rr * rr + h * h;
+        assert!((g.curvature - rr / den).abs() < 1e-14);
+        assert!((g.torsion - h / den).abs() < 1e-14);
+        assert!(g.dkappa_ds.abs() < 1e-14);
+    }
+
+    #[test]
+    fn dkappa_matches_finite_difference_on_analytic_curve() {
+        // C(u) = (2 cos u, sin u, 0.3 u²), as in the method note
+        let f = |u: f64| {
+            [
+                Vec3::new(2.0 * u.cos(), u.sin(), 0.3 * u * u),
+                Vec3::new(-2.0 * u.sin(), u.cos(), 0.6 * u),
+                Vec3::new(-2.0 * u.cos(), -u.sin(), 0.6),
+                Vec3::new(2.0 * u.sin(), -u.cos(), 0.0),
+            ]
+        };
+        let (u, h) = (0.8, 1e-6);
+        let g = differentials_from(u, &f(u));
+        let kp = differentials_from(u + h, &f(u + h)).curvature;
+        let km = differentials_from(u - h, &f(u - h)).curvature;
+        let fd = (kp - km) / (2.0 * h) / g.speed;
+        assert!((fd - g.dkappa_ds).abs() < 1e-8, "{fd} vs {}", g.dkappa_ds);
+    }
+}
