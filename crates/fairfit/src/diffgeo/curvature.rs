@@ -60,7 +60,7 @@ pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
         dkappa_ds: 0.0,
         dkappa_signed_ds: 0.0,
     };
-    if !(v > f64::MIN_POSITIVE.sqrt()) || !v.is_finite() {
+    if !v.is_finite() || v <= f64::MIN_POSITIVE.sqrt() {
         return out;
     }
     let c = r.cross(a);
