@@ -6,13 +6,16 @@
 //! - [`evaluator`]: [`FairnessEvaluator`], the allocation-free adaptive span-by-span integrator used by
 //!   the optimiser (`F`, `max F_j`, `F_j`);
 //! - [`extrema`]: curvature extrema and inflections by sign changes above a scale-free noise floor;
-//! - [`metrics`]: [`curve_fairness`], the full [`CurveFairness`] summary.
+//! - [`metrics`]: [`curve_fairness`], the full [`CurveFairness`] summary;
+//! - [`surface`]: [`surface_fairness`], the metrics on iso-parametric curves in both directions.
 
 pub mod energy;
 pub mod evaluator;
 pub mod extrema;
 pub mod metrics;
+pub mod surface;
 
 pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
 pub use extrema::{count_extrema, ExtremaCounts};
 pub use metrics::{curve_fairness, CurveFairness};
+pub use surface::{surface_fairness, IsoCurveFairness, SurfaceFairness};
