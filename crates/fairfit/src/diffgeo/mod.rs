@@ -4,6 +4,8 @@
 
 pub mod curvature;
 pub mod projection;
+pub mod surface_curvature;
 
 pub use curvature::{curvature, differentials, is_xy_planar, CurveDifferentials};
 pub use projection::{project_point, CurveProjector, Projection};
+pub use surface_curvature::{surface_curvature, surface_curvature_from, SurfaceCurvature};
