@@ -126,6 +126,26 @@ fn exact_circle_has_constant_curvature_and_zero_energy() {
 }
 
 #[test]
+fn degree_elevated_circle_is_still_perfectly_fair() {
+    // elevated to cubic and quartic: C''' no longer vanishes, κ stays 1/r, so E ≈ 0
+    let r = 0.7;
+    let c = circle(Vec3::new(0.0, 3.0, -1.0), r);
+    for t in 1..=2 {
+        let e = c.elevate_degree(t).unwrap();
+        let f = curve_fairness(&e);
+        assert!(
+            f.fairness < 1e-12,
+            "degree {}: F = {}",
+            e.degree(),
+            f.fairness
+        );
+        assert!((f.length - 2.0 * PI * r).abs() < 1e-11);
+        assert!((f.bending_energy - 2.0 * PI / r).abs() < 1e-10);
+        assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
+    }
+}
+
+#[test]
 fn fairness_invariant_under_scaling_rotation_translation() {
     for c in [s_curve(), spatial_curve()] {
         let f0 = curve_fairness(&c);
