@@ -20,7 +20,7 @@ use crate::nurbs::{NurbsCurve, Vec3};
 pub struct EvaluatorOptions {
     /// Relative tolerance on the `|K15 − G7|` estimate of each (sub)span's energy.
     pub rel_tol: f64,
-    /// Maximum number of bisections of a knot span.
+    /// Maximum number of bisection levels of a knot span (0: one Gauss–Kronrod rule per span).
     pub max_depth: usize,
 }
 
@@ -162,7 +162,9 @@ impl FairnessEvaluator {
         let abs = (self.opts.rel_tol * e0).max(1e-14 / (l0 * l0 * l0)) / width;
         for j in 0..self.spans.len() {
             let s = self.spans[j];
-            if self.accept(self.errors[j], s.energy, abs * (s.u1 - s.u0)) {
+            if self.opts.max_depth == 0
+                || self.accept(self.errors[j], s.energy, abs * (s.u1 - s.u0))
+            {
                 continue;
             }
             let refined = self.refine(curve, planar, s.u0, s.u1, abs);
