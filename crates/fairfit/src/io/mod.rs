@@ -1,7 +1,14 @@
-//! Reading and writing: the fairfit JSON geometry format and file helpers shared by every writer.
+//! Reading and writing: the fairfit JSON geometry format, CAD files (STEP, IGES), meshes, and file
+//! helpers shared by every writer.
 
 pub mod atomic;
+pub mod cad_check;
+pub mod cad_common;
+pub mod iges;
+pub mod iso_curve;
 pub mod json;
+pub mod step;
 
 pub use atomic::write_atomic;
+pub use cad_common::LengthUnit;
 pub use json::{curve_to_json, read_geometry, surface_to_json, Geometry};
