@@ -7,7 +7,9 @@ pub mod cad_common;
 pub mod iges;
 pub mod iso_curve;
 pub mod json;
+pub mod mesh_write;
 pub mod step;
+pub mod tessellate;
 
 pub use atomic::write_atomic;
 pub use cad_common::LengthUnit;
