@@ -1,10 +1,9 @@
 //! Plots rendered for real: SVG text parsed and rasterised by resvg to PNGs of the requested size that
 //! are not blank; deviation numbers checked against points placed at known distances.
 
-use fairfit::io::iso_curve::IsoDirection;
 use fairfit::plot::curve_plots::{curvature_svg, curve_comb_svg, deviation_svg};
 use fairfit::plot::png::{png_size, svg_to_png};
-use fairfit::plot::surface_plots::{deviation_map_svg, iso_curvature_svg};
+use fairfit::plot::surface_plots::{deviation_map_svg, iso_curvature_svg, IsoDirection};
 use fairfit::plot::PlotSize;
 use fairfit::{NurbsCurve, NurbsSurface, Vec3};
 

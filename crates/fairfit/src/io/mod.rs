@@ -5,7 +5,6 @@ pub mod atomic;
 pub mod cad_check;
 pub mod cad_common;
 pub mod iges;
-pub mod iso_curve;
 pub mod json;
 pub mod mesh_write;
 pub mod points;

@@ -12,7 +12,6 @@
 use super::cad_common::{
     compress_knots, format_real, utc_now, validate_curve, validate_surface, LengthUnit,
 };
-use super::iso_curve::{iso_curve, IsoDirection};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use std::fmt::Write as _;
@@ -227,10 +226,10 @@ pub fn curve_to_step(c: &NurbsCurve, opts: &StepOptions) -> Result<String> {
 /// The boundary iso-curves `[v = v0, u = u1, v = v1, u = u0]` and whether u, v are closed.
 fn boundary(s: &NurbsSurface) -> Result<([NurbsCurve; 4], bool, bool)> {
     let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
-    let b0 = iso_curve(s, IsoDirection::FixedV, v0)?;
-    let r = iso_curve(s, IsoDirection::FixedU, u1)?;
-    let t = iso_curve(s, IsoDirection::FixedV, v1)?;
-    let l = iso_curve(s, IsoDirection::FixedU, u0)?;
+    let b0 = s.iso_curve_v(v0)?;
+    let r = s.iso_curve_u(u1)?;
+    let t = s.iso_curve_v(v1)?;
+    let l = s.iso_curve_u(u0)?;
     let same = |a: &NurbsCurve, b: &NurbsCurve| {
         let scale = super::cad_common::max_coordinate(a.control_points()).max(1.0);
         a.homogeneous_points()

@@ -6,9 +6,17 @@ use super::curve_plots::curvature_samples;
 use super::surface_projection::project_points;
 use super::svg::{bounds, Canvas, Frame, PlotSize};
 use crate::errors::{Error, Result};
-use crate::io::iso_curve::{iso_curve, IsoDirection};
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsSurface, Vec3};
+
+/// Which parameter is held fixed along an iso-curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IsoDirection {
+    /// `u` fixed: the curves run along v.
+    FixedU,
+    /// `v` fixed: the curves run along u.
+    FixedV,
+}
 
 const VIRIDIS: [(f64, f64, f64); 5] = [
     (68.0, 1.0, 84.0),
@@ -115,8 +123,11 @@ pub fn iso_curvature_svg(
     let count = count.max(1);
     let mut series = Vec::with_capacity(count);
     for k in 0..count {
-        let t = lo + (hi - lo) * k as f64 / (count - 1).max(1) as f64;
-        let c = iso_curve(s, dir, t)?;
+        let t = (lo + (hi - lo) * k as f64 / (count - 1).max(1) as f64).min(hi);
+        let c = match dir {
+            IsoDirection::FixedU => s.iso_curve_u(t)?,
+            IsoDirection::FixedV => s.iso_curve_v(t)?,
+        };
         let (samples, _) = curvature_samples(&c);
         let pts: Vec<(f64, f64)> = samples.iter().map(|x| (x.s, x.kappa_vec.norm())).collect();
         series.push((t, pts));

@@ -83,9 +83,33 @@ pub fn project_points(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
 mod tests {
     use super::*;
 
+    /// A rational bicubic-by-quadratic test surface with unclamped-free, non-uniform knots.
+    fn test_surface() -> NurbsSurface {
+        let ku = vec![0.0, 0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0, 1.0];
+        let kv = vec![0.0, 0.0, 0.0, 0.0, 0.6, 1.0, 1.0, 1.0, 1.0];
+        let net: Vec<Vec<Vec3>> = (0..5)
+            .map(|i| {
+                (0..5)
+                    .map(|j| {
+                        let (x, y) = (i as f64, j as f64);
+                        Vec3::new(x, y, 0.3 * (x - 2.0) * (y - 1.5) + 0.1 * x * x)
+                    })
+                    .collect()
+            })
+            .collect();
+        let w: Vec<Vec<f64>> = (0..5)
+            .map(|i| {
+                (0..5)
+                    .map(|j| 1.0 + 0.1 * ((i + 2 * j) % 3) as f64)
+                    .collect()
+            })
+            .collect();
+        NurbsSurface::new(3, 3, ku, kv, net, Some(w)).unwrap()
+    }
+
     #[test]
     fn points_off_a_surface_project_back_along_the_normal() {
-        let s = crate::io::iso_curve::tests::test_surface();
+        let s = test_surface();
         for &(u, v) in &[(0.2, 0.3), (0.71, 0.55), (0.5, 0.9)] {
             let d = s.derivatives(u, v, 1);
             let n = d[2].cross(d[1]);
