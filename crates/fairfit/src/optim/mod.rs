@@ -3,11 +3,17 @@
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
+//! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
+//! - [`prepare`]: scale-free normalisation, chord-length parameters, baseline averaging knots;
+//! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
 mod banded;
 pub mod encoding;
+pub mod integrated;
 pub mod objective;
+pub mod prepare;
+pub mod problem;
 pub mod pso;
