@@ -118,7 +118,8 @@ fn newton_in_bracket(curve: &NurbsCurve, q: Vec3, u0: f64, a: f64, b: f64) -> Pr
             lo = u;
         }
         let mut next = if fp > 0.0 { u - f / fp } else { f64::NAN };
-        if !(next > lo && next < hi) {
+        // a Newton step onto the bracket end is legitimate (already converged there)
+        if !(next >= lo && next <= hi) {
             next = 0.5 * (lo + hi);
         }
         if (next - u).abs() <= 1e-15 * scale.max(u.abs()) {

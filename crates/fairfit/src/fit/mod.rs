@@ -1,3 +1,14 @@
 //! Least-squares fitting of ordered points: point input, parameterisation, knot placement, banded
 //! least squares with optional smoothing, parameter correction, closed curves, corners and
 //! tolerance-driven knot counts.
+
+pub mod banded;
+pub mod deviation;
+pub mod gauss;
+pub mod knot_placement;
+pub mod lsq;
+pub mod parameterize;
+
+pub use deviation::{max_orthogonal_deviation, Deviation};
+pub use lsq::{fit_fixed_knots, LsqOptions, LsqSolver, SmoothingOrder};
+pub use parameterize::Parameterization;
