@@ -10,7 +10,6 @@
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
-mod banded;
 pub mod encoding;
 pub mod integrated;
 pub mod objective;

@@ -8,11 +8,10 @@
 //! Gauss–Legendre rule per knot span (nodes strictly inside spans, so C''' is never taken at a knot);
 //! the final result is re-measured by the fairness module.
 //!
-//! The least-squares solve is a private banded normal-equation solve (see `banded.rs`); the smoothing
-//! term is `λ_eff Σ_i |P_i − 3P_{i+1} + 3P_{i+2} − P_{i+3}|²` with `λ_eff = 10^{log λ} · (m − 1) / n`
-//! so λ is independent of the number of points and control points.
+//! The least-squares solve is the least-squares module's `LsqSolver` (one per particle, reused), with
+//! the scale-free smoothing term `λ ∫|C'''|² du` (third order: it penalises curvature variation).
 
-use super::banded::BandedSpd;
+use crate::fit::lsq::{LsqOptions, LsqSolver, SmoothingOrder};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
@@ -86,8 +85,7 @@ pub struct EvalWorkspace {
     pub span_fairness: Vec<f64>,
     /// Projected parameters of the data on the last candidate.
     pub foot_params: Vec<f64>,
-    mat: BandedSpd,
-    rhs: Vec<[f64; 3]>,
+    solver: Option<LsqSolver>,
     span_energy: Vec<f64>,
 }
 
@@ -141,99 +139,38 @@ pub fn set_knots(degree: usize, interior: &[f64], ws: &mut EvalWorkspace) {
     ws.knots.extend(std::iter::repeat_n(1.0, degree + 1));
 }
 
-/// Least squares with `P_0 = Q_0`, `P_n = Q_m`; false if the normal equations are singular.
+/// Least squares with `P_0 = Q_0`, `P_n = Q_m` and the smoothing `λ ∫|C'''|² du` (the least-squares
+/// module's [`LsqSolver`]); false if the normal equations are singular.
 fn solve_control_points(data: &FitData, log_lambda: f64, ws: &mut EvalWorkspace) -> bool {
     let p = data.degree;
-    let q = &data.points;
-    let m = q.len() - 1;
-    let n_ctrl = ws.knots.len() - p - 1;
-    if n_ctrl < p + 1 || n_ctrl < 2 || m < 1 || p > MAX_DEGREE {
+    if p > MAX_DEGREE || ws.knots.len() < 2 * (p + 1) {
         return false;
     }
-    let last = n_ctrl - 1;
-    ws.ctrl.clear();
-    ws.ctrl.resize(n_ctrl, Vec3::default());
-    ws.ctrl[0] = q[0];
-    ws.ctrl[last] = q[m];
-    let unknowns = n_ctrl - 2;
-    if unknowns == 0 {
-        return true;
+    let solver = ws.solver.get_or_insert_with(|| LsqSolver::new(p));
+    if solver.degree() != p {
+        *solver = LsqSolver::new(p);
     }
-    let band = p.max(3);
-    ws.mat.reset(unknowns, band);
-    ws.rhs.clear();
-    ws.rhs.resize(unknowns, [0.0; 3]);
-    let knots = &ws.knots;
-    let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
-    let mut nb = [0.0; P1];
-    for k in 1..m {
-        let u = data.params[k];
-        let span = find_span(last, p, u, knots);
-        crate::nurbs::basis::basis_funs_into(span, u, p, knots, &mut left, &mut right, &mut nb);
-        let first = span - p;
-        let mut r = q[k];
-        for (j, &b) in nb.iter().enumerate().take(p + 1) {
-            let i = first + j;
-            if i == 0 || i == last {
-                r -= ws.ctrl[i] * b;
-            }
-        }
-        for a in 0..=p {
-            let ia = first + a;
-            if ia == 0 || ia == last {
-                continue;
-            }
-            let row = &mut ws.rhs[ia - 1];
-            for c in 0..3 {
-                row[c] += nb[a] * r[c];
-            }
-            for b in 0..=a {
-                let ib = first + b;
-                if ib == 0 {
-                    continue;
-                }
-                ws.mat.add(ia - 1, ib - 1, nb[a] * nb[b]);
-            }
-        }
-    }
-    if log_lambda.is_finite() && n_ctrl >= 4 {
-        let lam = 10f64.powf(log_lambda) * (m as f64 - 1.0).max(1.0) / n_ctrl as f64;
-        const C: [f64; 4] = [1.0, -3.0, 3.0, -1.0];
-        for i in 0..n_ctrl - 3 {
-            for a in 0..4 {
-                let ia = i + a;
-                if ia == 0 || ia == last {
-                    continue;
-                }
-                for b in 0..4 {
-                    let ib = i + b;
-                    let v = lam * C[a] * C[b];
-                    if ib == 0 || ib == last {
-                        let pk = ws.ctrl[ib];
-                        let row = &mut ws.rhs[ia - 1];
-                        for c in 0..3 {
-                            row[c] -= v * pk[c];
-                        }
-                    } else if ib <= ia {
-                        ws.mat.add(ia - 1, ib - 1, v);
-                    }
-                }
-            }
-        }
-    }
-    let max_diag = (0..unknowns).map(|i| ws.mat.diag(i)).fold(0.0f64, f64::max);
-    if !ws.mat.factor(1e-13 * max_diag) {
-        return false;
-    }
-    ws.mat.solve3(&mut ws.rhs);
-    for i in 0..unknowns {
-        let v = Vec3(ws.rhs[i]);
-        if !v.is_finite() {
-            return false;
-        }
-        ws.ctrl[i + 1] = v;
-    }
-    true
+    let opts = LsqOptions {
+        smoothing: if log_lambda > super::encoding::LOG_LAMBDA_OFF {
+            10f64.powf(log_lambda)
+        } else {
+            0.0
+        },
+        smoothing_order: SmoothingOrder::Third,
+        end_tangents: None,
+        closed: false,
+    };
+    solver
+        .solve(
+            &data.points,
+            &data.params,
+            &ws.knots,
+            None,
+            &opts,
+            &mut ws.ctrl,
+        )
+        .is_ok()
+        && ws.ctrl.iter().all(|c| c.is_finite())
 }
 
 /// Max and RMS orthogonal deviation: Newton projection started at each point's own parameter.
