@@ -123,3 +123,29 @@ fn scaling_the_input_by_1000_gives_the_same_knots_and_count() {
         assert!((*p * 1000.0 - *q).norm() < 1e-9);
     }
 }
+
+#[test]
+fn pareto_front_trades_deviation_for_fairness_without_dominated_members() {
+    use fairfit::optim::pareto::{pareto_csv, pareto_front};
+    let pts = read_csv("naca4412.csv");
+    let r = fit_integrated(&pts, &opts()).unwrap();
+    let n = r.curve.n_control_points();
+    let knots = r.curve.knots();
+    let interior = &knots[4..knots.len() - 4];
+    let front = pareto_front(&pts, &opts(), n, Some((interior, r.log_lambda))).unwrap();
+    eprintln!("{}", pareto_csv(&front));
+    assert!(front.len() >= 5, "{}", front.len());
+    for w in front.windows(2) {
+        // sorted by deviation, so fairness strictly decreases along a non-dominated front
+        assert!(w[0].quality.max_deviation <= w[1].quality.max_deviation);
+        assert!(w[0].quality.fairness > w[1].quality.fairness);
+    }
+    for c in &front {
+        assert_eq!(c.curve.n_control_points(), n);
+        assert!(c.quality.max_deviation <= 10.0 * r.tolerance * (1.0 + 1e-12));
+    }
+    // the front reaches below the integrated result's F at larger deviations
+    let last = front.last().unwrap();
+    assert!(last.quality.fairness < r.quality.fairness);
+    assert_eq!(pareto_csv(&front).lines().count(), front.len() + 1);
+}

@@ -16,7 +16,7 @@ use super::encoding::KnotEncoding;
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::problem::KnotProblem;
-use super::pso::{run_pso, Fitness, PsoOptions};
+use super::pso::{run_pso, PsoOptions};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 use rayon::prelude::*;
@@ -154,10 +154,7 @@ pub fn fit_integrated_with_progress(
     let start = Instant::now();
     validate(opts)?;
     let prep = prepare(points, opts.degree)?;
-    let tol = match opts.tolerance {
-        Tolerance::Relative(r) => r,
-        Tolerance::Absolute(t) => t / prep.scale,
-    };
+    let tol = tolerance_of(opts, prep.scale);
     let p = opts.degree;
     let data = &prep.data;
     let m1 = data.points.len();
@@ -209,7 +206,7 @@ pub fn fit_integrated_with_progress(
     while best_n > p + 1 && best_n > 4 {
         let cand = best_n - 1;
         stats.counts_tried.push(cand);
-        let removals = removal_candidates(data, &best_knots, tol);
+        let removals = removal_candidates(data, &best_knots);
         stats.evaluations += best_knots.len();
         if let Some((dev, knots)) = removals.first() {
             if *dev <= tol {
@@ -293,7 +290,7 @@ pub fn fit_integrated_with_progress(
         ));
     }
     let log_lambda = pr.encoding.log_lambda(&r.position);
-    let result = finish(&prep, &kw.interior, log_lambda, tol, opts, r.fitness)?;
+    let result = finish(&prep, &kw.interior, log_lambda, tol, opts)?;
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(IntegratedResult {
         baseline_control_points: baseline,
@@ -318,12 +315,9 @@ pub fn fit_lsq_baseline(
             prep.data.points.len()
         )));
     }
-    let tol = match opts.tolerance {
-        Tolerance::Relative(r) => r,
-        Tolerance::Absolute(t) => t / prep.scale,
-    };
+    let tol = tolerance_of(opts, prep.scale);
     let knots = averaging_interior_knots(&prep.data.params, opts.degree, n_ctrl);
-    let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts, Fitness::WORST)?;
+    let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts)?;
     Ok(IntegratedResult {
         baseline_control_points: n_ctrl,
         ..r
@@ -367,7 +361,7 @@ fn validate(opts: &IntegratedOptions) -> Result<()> {
 /// Every way to remove one interior knot, refitted by least squares (no smoothing), sorted by the
 /// resulting maximum deviation (ties by knot index): `(deviation, knots)`. Evaluated in parallel,
 /// collected in order.
-fn removal_candidates(data: &FitData, knots: &[f64], tol: f64) -> Vec<(f64, Vec<f64>)> {
+fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
     let enc = KnotEncoding::new(knots.len().saturating_sub(1), 0.0, false);
     let mut out: Vec<(usize, f64, Vec<f64>)> = (0..knots.len())
         .into_par_iter()
@@ -387,7 +381,6 @@ fn removal_candidates(data: &FitData, knots: &[f64], tol: f64) -> Vec<(f64, Vec<
             (j, dev, k)
         })
         .collect();
-    let _ = tol;
     out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
     out.into_iter().map(|(_, d, k)| (d, k)).collect()
 }
@@ -409,17 +402,23 @@ fn insert_in_widest_span(knots: &[f64]) -> Vec<f64> {
     out
 }
 
-/// Builds the curve in input coordinates from normalised interior knots and measures it.
-fn finish(
+/// The tolerance in normalised units.
+pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
+    match opts.tolerance {
+        Tolerance::Relative(r) => r,
+        Tolerance::Absolute(t) => t / scale,
+    }
+}
+
+/// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
+pub(crate) fn finish_curve(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
-    tol: f64,
-    opts: &IntegratedOptions,
-    _fit: Fitness,
-) -> Result<IntegratedResult> {
+    degree: usize,
+) -> Result<(NurbsCurve, FitQuality)> {
     let mut ws = EvalWorkspace::default();
-    set_knots(opts.degree, interior, &mut ws);
+    set_knots(degree, interior, &mut ws);
     let e: CandidateEval = evaluate_candidate(&prep.data, log_lambda, &mut ws);
     if !e.solved {
         return Err(Error::Fit(
@@ -427,16 +426,34 @@ fn finish(
         ));
     }
     let ctrl: Vec<Vec3> = ws.ctrl.iter().map(|&c| prep.denormalise(c)).collect();
-    let curve = NurbsCurve::bspline(opts.degree, ws.knots.clone(), ctrl)?;
-    let met = e.max_deviation <= tol && opts.span_fairness.is_none_or(|t| e.max_span_fairness <= t);
-    Ok(IntegratedResult {
+    let curve = NurbsCurve::bspline(degree, ws.knots.clone(), ctrl)?;
+    Ok((
         curve,
-        quality: FitQuality {
+        FitQuality {
             max_deviation: e.max_deviation * prep.scale,
             rms_deviation: e.rms_deviation * prep.scale,
             fairness: e.fairness,
             max_span_fairness: e.max_span_fairness,
         },
+    ))
+}
+
+/// Builds the curve in input coordinates from normalised interior knots and measures it.
+fn finish(
+    prep: &Prepared,
+    interior: &[f64],
+    log_lambda: f64,
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> Result<IntegratedResult> {
+    let (curve, quality) = finish_curve(prep, interior, log_lambda, opts.degree)?;
+    let met = quality.max_deviation <= tol * prep.scale
+        && opts
+            .span_fairness
+            .is_none_or(|t| quality.max_span_fairness <= t);
+    Ok(IntegratedResult {
+        curve,
+        quality,
         tolerance: tol * prep.scale,
         met,
         log_lambda,
