@@ -170,3 +170,18 @@ fn missing_at_option_is_a_usage_error() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--at"));
 }
+
+#[test]
+fn degenerate_normal_gives_null_curvatures() {
+    // the edge u = 0 collapses to one point, so S_v = 0 there
+    let tri = r#"{"kind": "surface", "degree_u": 1, "degree_v": 1, "knots_u": [0,0,1,1], "knots_v": [0,0,1,1],
+      "control_points": [[[0,0,0],[0,0,0]],[[1,0,0],[1,1,0]]]}"#;
+    let f = file_with(tri.as_bytes());
+    let out = ok_json(f.path(), "0:0.5,0.5:0.5");
+    assert!(out[0]["gaussian_curvature"].is_null());
+    assert!(out[0]["mean_curvature"].is_null());
+    assert_eq!(vec3(&out[0]["dv"]), [0.0, 0.0, 0.0]);
+    // a planar triangle: zero curvature away from the collapsed edge
+    assert_eq!(out[1]["gaussian_curvature"].as_f64().unwrap(), 0.0);
+    assert_eq!(out[1]["mean_curvature"].as_f64().unwrap(), 0.0);
+}

@@ -97,3 +97,38 @@ fn surface_partials_match_finite_differences() {
     }
     assert!(checked > 150, "only {checked} parameters checked");
 }
+
+#[test]
+fn batch_single_and_high_degree_paths_agree() {
+    // degree 3 elevated to 10 (heap buffers) must have the same derivatives as the original
+    let mut r = rng(13);
+    for case in 0..10 {
+        let c = random_curve(&mut r, 3, 8, true, 1);
+        let e = c.elevate_degree(7).unwrap();
+        let (a, b) = c.domain();
+        let us: Vec<f64> = (0..200).map(|_| r.random_range(a..b)).collect();
+        let mut batch = vec![Vec3::ZERO; 4 * us.len()];
+        c.derivatives_batch_into(&us, 3, &mut batch);
+        let mut batch_e = vec![Vec3::ZERO; 4 * us.len()];
+        e.derivatives_batch_into(&us, 3, &mut batch_e);
+        for (i, &u) in us.iter().enumerate() {
+            let single = c.derivatives(u, 3);
+            let single_e = e.derivatives(u, 3);
+            for k in 0..=3 {
+                assert_eq!(
+                    single[k],
+                    batch[4 * i + k],
+                    "case {case}: batch and single differ"
+                );
+                assert_eq!(single_e[k], batch_e[4 * i + k]);
+                if local_step(c.knots(), u).is_some() {
+                    let size = single[k].norm().max(1.0);
+                    assert!(
+                        (single[k] - single_e[k]).norm() < 1e-9 * size,
+                        "case {case} k={k} u={u}"
+                    );
+                }
+            }
+        }
+    }
+}

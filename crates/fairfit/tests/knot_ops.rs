@@ -205,3 +205,13 @@ fn surface_refinement_elevation_and_iso_curves_keep_points() {
         assert!(s.iso_curve_u(u1 + 1.0).is_err());
     }
 }
+
+#[test]
+fn absurd_requests_are_errors_not_panics() {
+    let c = NurbsCurve::circle(Vec3::ZERO, 1.0).unwrap();
+    assert!(c.insert_knot(0.3, usize::MAX).is_err());
+    assert!(c.insert_knot(f64::INFINITY, 1).is_err());
+    assert!(c.elevate_degree(usize::MAX).is_err());
+    assert!(c.elevate_degree(39).is_err());
+    assert_eq!(c.elevate_degree(38).unwrap().degree(), 40);
+}

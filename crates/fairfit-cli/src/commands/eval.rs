@@ -4,7 +4,7 @@
 
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
-use fairfit::diffgeo::{differentials, surface_curvature};
+use fairfit::diffgeo::{differentials, surface_curvature_from};
 use fairfit::io::{read_geometry, Geometry};
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, SurfaceWorkspace, Vec3};
 use serde_json::{json, Value};
@@ -110,7 +110,8 @@ fn eval_surface(s: &NurbsSurface, uv: &[(f64, f64)]) -> Result<Vec<Value>, CliEr
         .map(|&(u, v)| {
             s.check_parameter(u, v)?;
             s.derivatives_with(u, v, 2, &mut ws, &mut d);
-            let curv = surface_curvature(s, u, v);
+            // null curvatures where the normal is degenerate (poles, collapsed edges)
+            let curv = surface_curvature_from(d[3], d[1], d[6], d[4], d[2]);
             Ok(json!({
                 "u": u,
                 "v": v,

@@ -7,6 +7,9 @@ use super::insert::{lerp, Hom};
 use super::surface::binom;
 use crate::errors::{Error, Result};
 
+/// Highest degree that degree elevation produces (binomial weights stay exact well beyond it).
+pub(crate) const MAX_DEGREE: usize = 40;
+
 /// Raises the degree `p` of the homogeneous curve `(knots, cw)` by `t` (NURBS Book A5.9).
 ///
 /// A line-by-line transcription of the book's index arithmetic, kept recognisable on purpose.
@@ -19,6 +22,11 @@ pub(crate) fn elevate_degree_hom(
 ) -> Result<(Vec<f64>, Vec<Hom>)> {
     if t == 0 {
         return Ok((knots.to_vec(), cw.to_vec()));
+    }
+    if t > MAX_DEGREE.saturating_sub(p) {
+        return Err(Error::KnotOperation(format!(
+            "degree {p} raised by {t} exceeds the supported maximum degree {MAX_DEGREE}"
+        )));
     }
     let (knots, pw) = clamp_hom(p, knots, cw)?;
     let m = knots.len() - 1;

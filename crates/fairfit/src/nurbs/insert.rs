@@ -41,7 +41,7 @@ pub(crate) fn insert_knot_hom(
         return Ok((knots.to_vec(), cw.to_vec()));
     }
     let s = knots.iter().filter(|&&k| k == u).count();
-    if s + times > p {
+    if s > p || times > p - s {
         return Err(Error::KnotOperation(format!(
             "knot {u} has multiplicity {s}; inserting it {times} more times exceeds the degree {p}"
         )));

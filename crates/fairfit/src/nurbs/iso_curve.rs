@@ -39,6 +39,19 @@ impl NurbsSurface {
     }
 
     /// The curve `u ↦ S(u, v0)` (degree `p`, the u knot vector). Errors when `v0` lies outside the v domain.
+    ///
+    /// ```
+    /// use fairfit::nurbs::{knots::uniform_clamped, NurbsSurface, Vec3};
+    /// let net: Vec<Vec<Vec3>> = (0..4)
+    ///     .map(|i| (0..3).map(|j| Vec3::new(i as f64, j as f64, (i * j) as f64)).collect())
+    ///     .collect();
+    /// let w: Vec<Vec<f64>> = (0..4).map(|i| (0..3).map(|j| 1.0 + 0.2 * ((i + j) % 2) as f64).collect()).collect();
+    /// let s = NurbsSurface::new(3, 2, uniform_clamped(3, 4), uniform_clamped(2, 3), net, Some(w)).unwrap();
+    /// let c = s.iso_curve_v(0.25).unwrap();
+    /// assert!(c.is_rational());
+    /// assert!((c.point(0.6) - s.point(0.6, 0.25)).norm() < 1e-14);
+    /// assert!(s.iso_curve_v(-0.5).is_err());
+    /// ```
     pub fn iso_curve_v(&self, v0: f64) -> Result<NurbsCurve> {
         self.check_parameter(self.domain_u().0, v0)?;
         let (n_u, n_v) = self.net_size();

@@ -82,6 +82,19 @@ impl NurbsSurface {
     }
 
     /// The same surface with `new_knots` inserted in the v direction (A5.4 on every row of the net).
+    ///
+    /// ```
+    /// use fairfit::nurbs::{knots::uniform_clamped, NurbsSurface, Vec3};
+    /// let net: Vec<Vec<Vec3>> = (0..4)
+    ///     .map(|i| (0..3).map(|j| Vec3::new(i as f64, j as f64, (i * j) as f64)).collect())
+    ///     .collect();
+    /// let w: Vec<Vec<f64>> = (0..4).map(|i| (0..3).map(|j| 1.0 + 0.2 * ((i + j) % 2) as f64).collect()).collect();
+    /// let s = NurbsSurface::new(3, 2, uniform_clamped(3, 4), uniform_clamped(2, 3), net, Some(w)).unwrap();
+    /// let r = s.refine_knots_v(&[0.2, 0.2, 0.9]).unwrap();
+    /// assert_eq!(r.net_size(), (4, 6));
+    /// assert!((r.point(0.45, 0.8) - s.point(0.45, 0.8)).norm() < 1e-14);
+    /// assert!(s.refine_knots_v(&[1.0]).is_err());
+    /// ```
     pub fn refine_knots_v(&self, new_knots: &[f64]) -> Result<NurbsSurface> {
         self.map_lines(Dir::V, 0, &|p, k, c| refine_knots_hom(p, k, c, new_knots))
     }
@@ -103,6 +116,18 @@ impl NurbsSurface {
     }
 
     /// The same surface with the v degree raised by `t` (NURBS Book A5.9 on every row).
+    ///
+    /// ```
+    /// use fairfit::nurbs::{knots::uniform_clamped, NurbsSurface, Vec3};
+    /// let net: Vec<Vec<Vec3>> = (0..4)
+    ///     .map(|i| (0..3).map(|j| Vec3::new(i as f64, j as f64, (i * j) as f64)).collect())
+    ///     .collect();
+    /// let w: Vec<Vec<f64>> = (0..4).map(|i| (0..3).map(|j| 1.0 + 0.2 * ((i + j) % 2) as f64).collect()).collect();
+    /// let s = NurbsSurface::new(3, 2, uniform_clamped(3, 4), uniform_clamped(2, 3), net, Some(w)).unwrap();
+    /// let e = s.elevate_degree_v(1).unwrap();
+    /// assert_eq!((e.degree_u(), e.degree_v()), (3, 3));
+    /// assert!((e.point(0.3, 0.6) - s.point(0.3, 0.6)).norm() < 1e-14);
+    /// ```
     pub fn elevate_degree_v(&self, t: usize) -> Result<NurbsSurface> {
         self.map_lines(Dir::V, t, &|p, k, c| elevate_degree_hom(p, k, c, t))
     }
