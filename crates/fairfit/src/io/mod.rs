@@ -3,6 +3,7 @@
 
 pub mod atomic;
 pub mod json;
+pub mod mesh_read;
 pub mod sections;
 
 pub use atomic::write_atomic;

@@ -6,6 +6,7 @@
 //! fixed knots), [`compatible`] (the shared knot vector), [`skinning`], [`measure`], [`iso`],
 //! [`pipeline`] (all steps together), plus private helpers.
 
+pub mod chain;
 pub mod compatible;
 mod fairness_proxy;
 pub mod iso;
@@ -15,6 +16,7 @@ pub mod orient;
 pub mod pipeline;
 pub mod section_fit;
 pub mod skinning;
+pub mod slicing;
 
 pub use compatible::{make_compatible, CompatibleOptions, CompatibleSections};
 pub use fairness_proxy::{curve_fairness as span_fairness, CurveFairness};
