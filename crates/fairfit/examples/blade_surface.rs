@@ -21,6 +21,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut opts = SurfaceOptions::default();
     opts.sections.tolerance = tol;
     opts.iso_curves = 11;
+    if let Some(sm) = std::env::args().nth(2) {
+        opts.sections.smoothing = sm.parse()?;
+    }
     let t0 = std::time::Instant::now();
     let r = reconstruct_surface(sections, &opts)?;
     let dt = t0.elapsed().as_secs_f64();
@@ -51,5 +54,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("iso fairness {:?}", r.fairness);
     println!("knots {:?}", r.compatible.knots);
+    if std::env::var("DEBUG_SEC").is_ok() {
+        let c = &r.compatible.fits[0].curve;
+        println!("cp {:?}", &c.control_points()[..5]);
+        for u in [0.0, 0.001, 0.003, 0.005, 0.01, 0.02] {
+            let d = fairfit::diffgeo::differentials(c, u);
+            println!(
+                "u {u} p {:?} speed {:.3e} k {:.3e} dk {:.3e}",
+                d.point, d.speed, d.curvature, d.dkappa_ds
+            );
+        }
+    }
+    for f in &r.compatible.fits {
+        let cf = fairfit::surface::span_fairness(&f.curve, 1);
+        println!(
+            "  F {:.3e} max span {:.3e} at {:?}",
+            cf.total,
+            cf.max_span(),
+            cf.per_span.iter().position(|&x| x == cf.max_span())
+        );
+    }
     Ok(())
 }

@@ -11,7 +11,7 @@
 
 use super::fairness_proxy::curve_fairness;
 use super::orient::Section;
-use super::section_fit::{chord_length_params, fit_section, SectionFit};
+use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
 use crate::errors::{Error, Result};
 use crate::nurbs::NurbsCurve;
 use rayon::prelude::*;
@@ -27,8 +27,12 @@ pub struct CompatibleOptions {
     pub max_control_points: usize,
     /// Parameter-correction passes per fit.
     pub corrections: usize,
-    /// Weight of the bending (smoothing) term, relative to the data term (0 = pure least squares).
+    /// Weight of the bending term `∫|C''|² du` against the mean squared residual during the knot search
+    /// (a small value keeps spans with little data from folding; 0 = pure least squares).
     pub smoothing: f64,
+    /// Fairing weights tried, largest first, for each section on the final knot vector: each section keeps
+    /// the largest weight that still meets the tolerance (none: keep the search fit).
+    pub fairing_weights: Vec<f64>,
     /// Blends of uniform and curvature-driven knot density tried for each control-point count
     /// (1 = uniform knots).
     pub uniform_blends: Vec<f64>,
@@ -41,7 +45,8 @@ impl Default for CompatibleOptions {
             tolerance: 1e-3,
             max_control_points: 60,
             corrections: 8,
-            smoothing: 0.0,
+            smoothing: 1e-11,
+            fairing_weights: vec![1e-7, 1e-8, 1e-9, 1e-10],
             uniform_blends: vec![0.5, 0.25],
         }
     }
@@ -154,18 +159,20 @@ fn evaluate(
     params: &[Vec<f64>],
     knots: Vec<f64>,
     opts: &CompatibleOptions,
+    global: bool,
 ) -> Option<Candidate> {
     let fits: Result<Vec<SectionFit>> = sections
         .par_iter()
         .zip(params.par_iter())
         .map(|(s, t)| {
-            fit_section(
+            fit_section_with(
                 &s.points,
                 t,
                 opts.degree,
                 &knots,
                 opts.smoothing,
                 opts.corrections,
+                global,
             )
         })
         .collect();
@@ -178,25 +185,80 @@ fn evaluate(
     })
 }
 
-/// Where to insert the next knot: at the worst point of the worst section, or at the middle of its span
-/// when that point lies too close to an existing knot.
-fn insertion_knot(c: &Candidate, p: usize) -> Option<f64> {
-    let worst = c
-        .fits
-        .iter()
-        .max_by(|a, b| a.max_deviation.total_cmp(&b.max_deviation))?;
-    let t = worst.params[worst.worst_point];
+/// Where to insert the next knots: in the (at most `count`) spans with the largest deviation over all
+/// sections above `tol`, at the worst point of that span, or at the span's middle when that point lies
+/// close to a knot.
+fn insertion_knots(c: &Candidate, p: usize, tol: f64, count: usize) -> Vec<f64> {
     let k = &c.knots;
     let n1 = k.len() - p - 1;
-    let span = crate::nurbs::knots::find_span(n1 - 1, p, t, k);
-    let (a, b) = (k[span], k[span + 1]);
-    let min_gap = 0.2 * (b - a);
-    let t = if t - a < min_gap || b - t < min_gap {
-        0.5 * (a + b)
-    } else {
-        t
-    };
-    (b - a > 1e-9 && t > a && t < b).then_some(t)
+    // per span: (largest deviation, its parameter)
+    let mut worst: Vec<(f64, f64)> = vec![(0.0, 0.0); n1];
+    for f in &c.fits {
+        for (&t, &d) in f.params.iter().zip(&f.deviations) {
+            let span = crate::nurbs::knots::find_span(n1 - 1, p, t, k);
+            if d > worst[span].0 {
+                worst[span] = (d, t);
+            }
+        }
+    }
+    let mut spans: Vec<usize> = (p..n1).filter(|&s| worst[s].0 > tol).collect();
+    spans.sort_by(|&a, &b| worst[b].0.total_cmp(&worst[a].0));
+    spans.truncate(count);
+    let mut out = Vec::new();
+    for s in spans {
+        let (a, b) = (k[s], k[s + 1]);
+        if b - a <= 1e-9 {
+            continue;
+        }
+        let t = worst[s].1;
+        let min_gap = 0.2 * (b - a);
+        let t = if t - a < min_gap || b - t < min_gap {
+            0.5 * (a + b)
+        } else {
+            t
+        };
+        out.push(t);
+    }
+    out.sort_by(|a, b| a.total_cmp(b));
+    out
+}
+
+/// Per section, the largest fairing weight whose fit (global projection) still meets the tolerance.
+fn fair_per_section(
+    sections: &[Section],
+    params: &[Vec<f64>],
+    mut c: Candidate,
+    opts: &CompatibleOptions,
+) -> Candidate {
+    if opts.fairing_weights.is_empty() {
+        return c;
+    }
+    let improved: Vec<Option<SectionFit>> = sections
+        .par_iter()
+        .zip(params.par_iter())
+        .map(|(s, t)| {
+            opts.fairing_weights.iter().find_map(|&w| {
+                fit_section_with(
+                    &s.points,
+                    t,
+                    opts.degree,
+                    &c.knots,
+                    w,
+                    opts.corrections,
+                    true,
+                )
+                .ok()
+                .filter(|f| f.max_deviation <= opts.tolerance)
+            })
+        })
+        .collect();
+    for (fit, new) in c.fits.iter_mut().zip(improved) {
+        if let Some(n) = new {
+            *fit = n;
+        }
+    }
+    c.max_dev = c.fits.iter().map(|f| f.max_deviation).fold(0.0, f64::max);
+    c
 }
 
 fn worst_span_fairness(fits: &[SectionFit]) -> f64 {
@@ -297,7 +359,7 @@ pub fn make_compatible_with_progress(
         loop {
             tried += 1;
             progress(tried);
-            let Some(c) = evaluate(sections, &params, knots.clone(), opts) else {
+            let Some(c) = evaluate(sections, &params, knots.clone(), opts, false) else {
                 break;
             };
             if c.max_dev <= opts.tolerance {
@@ -305,17 +367,18 @@ pub fn make_compatible_with_progress(
                 break;
             }
             let n_ctrl = knots.len() - p - 1;
-            let next = if n_ctrl < n_max {
-                insertion_knot(&c, p)
-            } else {
-                None
-            };
+            let room = n_max.saturating_sub(n_ctrl);
+            let next = insertion_knots(&c, p, opts.tolerance, room.min((n_ctrl / 6).max(1)));
             if best_fail.as_ref().is_none_or(|f| c.max_dev < f.max_dev) {
                 best_fail = Some(c);
             }
-            let Some(t) = next else { break };
-            let pos = knots.partition_point(|&k| k <= t);
-            knots.insert(pos, t);
+            if next.is_empty() {
+                break;
+            }
+            for t in next {
+                let pos = knots.partition_point(|&k| k <= t);
+                knots.insert(pos, t);
+            }
         }
         let Some(mut cur) = passed else { continue };
         // greedy knot removal, smallest spans first
@@ -325,7 +388,7 @@ pub fn make_compatible_with_progress(
             k2.remove(i);
             tried += 1;
             progress(tried);
-            match evaluate(sections, &params, k2, opts) {
+            match evaluate(sections, &params, k2, opts, false) {
                 Some(c) if c.max_dev <= opts.tolerance => cur = c,
                 _ => i += 1,
             }
@@ -336,6 +399,7 @@ pub fn make_compatible_with_progress(
         let c = best_fail.ok_or_else(|| {
             Error::Fit("no knot vector gave a well-posed fit for every section".into())
         })?;
+        let c = evaluate(sections, &params, c.knots.clone(), opts, true).unwrap_or(c);
         let msf = worst_span_fairness(&c.fits);
         return Ok(CompatibleSections {
             knots: c.knots,
@@ -356,12 +420,16 @@ pub fn make_compatible_with_progress(
         }
     }
     let (msf, c) = best.ok_or_else(|| Error::Fit("internal: lost the passing candidate".into()))?;
+    // final measurement with global projection (never larger than the search's estimate)
+    let c = evaluate(sections, &params, c.knots.clone(), opts, true).unwrap_or(c);
+    let c = fair_per_section(sections, &params, c, opts);
+    let msf = worst_span_fairness(&c.fits).min(msf);
     Ok(CompatibleSections {
         knots: c.knots,
+        within_tolerance: c.max_dev <= opts.tolerance,
         max_deviation: c.max_dev,
         fits: c.fits,
         max_span_fairness: msf,
-        within_tolerance: true,
         candidates_tried: tried,
     })
 }

@@ -91,7 +91,8 @@ pub(crate) fn bending_gram(degree: usize, knots: &[f64], n_ctrl: usize) -> Dense
 
 /// Least-squares control points (in `C` coordinates, e.g. 3 for points, 4 for homogeneous points) of a
 /// degree-`degree` B-spline on `knots` through `data` at `params`, first and last data interpolated.
-/// `smoothing` >= 0 weights the bending term relative to the data term (scaled by their traces).
+/// `smoothing` >= 0 weights the bending energy `∫ |C''(u)|² du` against the mean squared residual (both
+/// scale like length², so the weight is scale-free; parameters are assumed in `[0, 1]`).
 pub(crate) fn lsq_control_points<const C: usize>(
     data: &[[f64; C]],
     params: &[f64],
@@ -154,10 +155,9 @@ pub(crate) fn lsq_control_points<const C: usize>(
     }
     if smoothing > 0.0 {
         let g = bending_gram(p, knots, n_ctrl);
-        let tr_n: f64 = (0..nu).map(|i| ntn.get(i, i)).sum();
-        let tr_g: f64 = (1..=nu).map(|i| g.get(i, i)).sum();
-        if tr_g > 0.0 {
-            let lam = smoothing * tr_n / tr_g;
+        // objective / m = mean squared residual + smoothing * ∫ |C''(u)|² du: scale-free weight
+        {
+            let lam = smoothing * m as f64;
             for i in 1..=nu {
                 for j in 0..n_ctrl {
                     let gij = lam * g.get(i, j);
@@ -220,6 +220,8 @@ pub struct SectionFit {
     pub rms_deviation: f64,
     /// Index of the data point with the largest distance.
     pub worst_point: usize,
+    /// Orthogonal distance of every data point.
+    pub deviations: Vec<f64>,
 }
 
 /// Fits `points` (initial parameters `params`) on `knots`, then corrects the parameters by orthogonal
@@ -232,6 +234,20 @@ pub fn fit_section(
     smoothing: f64,
     corrections: usize,
 ) -> Result<SectionFit> {
+    fit_section_with(points, params, degree, knots, smoothing, corrections, true)
+}
+
+/// [`fit_section`]; with `global = false` the distances come from Newton started at each point's
+/// current parameter only (fast, may overestimate a distance, never underestimates it), for searches.
+pub(crate) fn fit_section_with(
+    points: &[Vec3],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    smoothing: f64,
+    corrections: usize,
+    global: bool,
+) -> Result<SectionFit> {
     let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
     let mut params = params.to_vec();
     let mut best: Option<SectionFit> = None;
@@ -239,18 +255,19 @@ pub fn fit_section(
         let ctrl = lsq_control_points(&data, &params, degree, knots, smoothing)?;
         let curve =
             NurbsCurve::bspline(degree, knots.to_vec(), ctrl.into_iter().map(Vec3).collect())?;
-        let proj = CurveProjector::new(&curve, 8);
+        let proj = global.then(|| CurveProjector::new(&curve, 8));
+        let mut devs = vec![0.0; points.len()];
         let mut new_params = params.clone();
         let mut der = [Vec3::ZERO; 3];
         let (mut maxd, mut sum2, mut worst) = (0.0f64, 0.0, 0);
         for (k, q) in points.iter().enumerate() {
-            let pr = proj.project_near(*q, params[k]);
-            let (u, d) = newton_from(&curve, *q, params[k], &mut der);
-            let (u, d) = if d <= pr.distance {
-                (u, d)
-            } else {
-                (pr.u, pr.distance)
-            };
+            let (mut u, mut d) = newton_from(&curve, *q, params[k], &mut der);
+            if let Some(pr) = proj.as_ref().map(|p| p.project_near(*q, params[k])) {
+                if pr.distance < d {
+                    (u, d) = (pr.u, pr.distance);
+                }
+            }
+            devs[k] = d;
             if k > 0 && k + 1 < points.len() {
                 new_params[k] = u;
             }
@@ -266,6 +283,7 @@ pub fn fit_section(
             max_deviation: maxd,
             rms_deviation: (sum2 / points.len() as f64).sqrt(),
             worst_point: worst,
+            deviations: devs,
         };
         let improved = best
             .as_ref()
