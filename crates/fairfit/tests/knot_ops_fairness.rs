@@ -47,7 +47,19 @@ fn reversal_refinement_and_elevation_keep_fairness() {
             .refine_knots(&[a + 0.37 * (b - a), a + 0.81 * (b - a)])
             .unwrap();
         let fr = curve_fairness(&refined);
-        assert!(rel(fr.length, f.length) < 1e-12);
+        // the exact arc length is invariant under refinement to rounding
+        let (la, lb) = (
+            fairfit::diffgeo::arc_length(&c),
+            fairfit::diffgeo::arc_length(&refined),
+        );
+        assert!(rel(la, lb) < 1e-12, "case {case}: length {la} vs {lb}");
+        // the fairness summary's length comes from the energy's adaptive GK15 pass (about 1e-11)
+        assert!(
+            rel(fr.length, f.length) < 1e-10,
+            "case {case}: length {} vs {}",
+            fr.length,
+            f.length
+        );
         assert!(
             rel(fr.fairness, f.fairness) < 1e-6,
             "case {case}: {} vs {}",
