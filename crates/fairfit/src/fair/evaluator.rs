@@ -19,6 +19,9 @@ use crate::nurbs::{NurbsCurve, Vec3};
 /// The length estimate must be this much tighter than `rel_tol` (F = L³ E triples its relative error).
 const LENGTH_TOL_FACTOR: f64 = 1e-3;
 
+/// Curves shorter than this times their largest coordinate are points (rounding noise only).
+const DEGENERATE_LENGTH: f64 = 1e-12;
+
 /// Tuning of the adaptive integration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EvaluatorOptions {
@@ -161,6 +164,18 @@ impl FairnessEvaluator {
             self.errors.push((p.error, p.length_error));
         }
         if self.spans.is_empty() || l0.is_nan() || l0 <= 0.0 {
+            return &self.spans;
+        }
+        // a curve no longer than the rounding of its coordinates is a point: no curvature to measure
+        let coord = curve
+            .control_points()
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.max_abs()));
+        if l0 <= DEGENERATE_LENGTH * coord {
+            for s in &mut self.spans {
+                s.energy = 0.0;
+                s.bending = 0.0;
+            }
             return &self.spans;
         }
         let width = self.breaks[self.breaks.len() - 1] - self.breaks[0];
