@@ -185,3 +185,18 @@ fn bad_input_gives_one_line_errors() {
     assert!(!ok);
     assert!(!stderr.contains("panicked"));
 }
+
+#[test]
+fn degenerate_point_curve_prints_zeros_not_nan() {
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 2, "knots": [0,0,0,1,1,1],
+            "control_points": [[1,2,3],[1,2,3],[1,2,3]]}"#,
+    );
+    let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["fairness"].as_f64(), Some(0.0));
+    assert_eq!(v["bending_energy"].as_f64(), Some(0.0));
+    assert!(v["length"].as_f64().unwrap() < 1e-12);
+    assert_eq!(v["inflections"], 0);
+}

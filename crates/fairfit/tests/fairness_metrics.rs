@@ -395,3 +395,31 @@ fn spatial_curve_through_zero_curvature_is_integrated_accurately() {
     let f0 = plain.evaluate(&c).0;
     assert!(rel(f0, fd) > 1e-6, "{f0} vs {fd}");
 }
+
+#[test]
+fn degenerate_curves_give_finite_zero_measures() {
+    // every control point equal: zero length, nothing to measure, no NaN
+    let p = Vec3::new(1.0, 2.0, 3.0);
+    let c = NurbsCurve::bspline(3, uniform_clamped(3, 5), vec![p; 5]).unwrap();
+    let f = curve_fairness(&c);
+    assert!(f.length < 1e-12);
+    assert_eq!(f.fairness, 0.0);
+    assert_eq!(f.bending_energy, 0.0);
+    assert_eq!(f.max_span_fairness, 0.0);
+    assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
+    // degree 1 and 2: C''' = 0 inside spans; a polyline is straight inside each span
+    let poly = NurbsCurve::bspline(
+        1,
+        vec![0.0, 0.0, 0.5, 1.0, 1.0],
+        vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(3.0, 4.0, 0.0),
+            Vec3::new(3.0, 10.0, 0.0),
+        ],
+    )
+    .unwrap();
+    let f = curve_fairness(&poly);
+    assert!((f.length - 11.0).abs() < 1e-12);
+    assert_eq!(f.fairness, 0.0);
+    assert_eq!(f.span_fairness.len(), 2);
+}

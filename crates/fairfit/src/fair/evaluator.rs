@@ -6,7 +6,8 @@
 //! ([`super::energy`]). Integration is span by span over the distinct knot spans (C''' jumps at knots, so no node ever sits
 //! on a knot): each span gets the Gauss–Kronrod 15-point rule, and a span whose Kronrod and embedded
 //! Gauss 7-point energies disagree by more than the tolerance is bisected adaptively. The tolerance is
-//! `max(rel_tol · |E_sub|, abs · (width of sub-interval) / (width of domain))`, where
+//! `max(rel_tol · |E_sub|, abs · (width of sub-interval) / (width of domain))` on the energy and
+//! `1e-3 · rel_tol · L_sub` on the arc length (F = L³E is three times as sensitive to L), where
 //! `abs = max(rel_tol · E₀, 1e-14 / L₀³)` uses the first-pass totals `E₀`, `L₀`; every quantity is
 //! scale- and motion-invariant, so the refinement decisions are too. The accepted value is the Kronrod
 //! one.
@@ -14,6 +15,12 @@
 use super::energy::{mvc_point, plane_normal};
 use crate::diffgeo::quadrature::gauss_kronrod_15;
 use crate::nurbs::{NurbsCurve, Vec3};
+
+/// The length estimate must be this much tighter than `rel_tol` (F = L³ E triples its relative error).
+const LENGTH_TOL_FACTOR: f64 = 1e-3;
+
+/// Curves shorter than this times their largest coordinate are points (rounding noise only).
+const DEGENERATE_LENGTH: f64 = 1e-12;
 
 /// Tuning of the adaptive integration.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,6 +62,7 @@ struct Piece {
     energy: f64,
     bending: f64,
     error: f64,
+    length_error: f64,
 }
 
 /// Reusable fairness evaluator; create once, call [`FairnessEvaluator::evaluate`] many times.
@@ -80,7 +88,7 @@ pub struct FairnessEvaluator {
     rule: [(f64, f64, f64); 15],
     breaks: Vec<f64>,
     spans: Vec<SpanIntegrals>,
-    errors: Vec<f64>,
+    errors: Vec<(f64, f64)>,
     stack: Vec<(f64, f64, usize)>,
 }
 
@@ -153,9 +161,21 @@ impl FairnessEvaluator {
                 energy: p.energy,
                 bending: p.bending,
             });
-            self.errors.push(p.error);
+            self.errors.push((p.error, p.length_error));
         }
         if self.spans.is_empty() || l0.is_nan() || l0 <= 0.0 {
+            return &self.spans;
+        }
+        // a curve no longer than the rounding of its coordinates is a point: no curvature to measure
+        let coord = curve
+            .control_points()
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.max_abs()));
+        if l0 <= DEGENERATE_LENGTH * coord {
+            for s in &mut self.spans {
+                s.energy = 0.0;
+                s.bending = 0.0;
+            }
             return &self.spans;
         }
         let width = self.breaks[self.breaks.len() - 1] - self.breaks[0];
@@ -163,7 +183,7 @@ impl FairnessEvaluator {
         for j in 0..self.spans.len() {
             let s = self.spans[j];
             if self.opts.max_depth == 0
-                || self.accept(self.errors[j], s.energy, abs * (s.u1 - s.u0))
+                || self.accept(self.errors[j], s.energy, s.length, abs * (s.u1 - s.u0))
             {
                 continue;
             }
@@ -189,8 +209,15 @@ impl FairnessEvaluator {
     }
 
     #[inline]
-    fn accept(&self, error: f64, energy: f64, abs_here: f64) -> bool {
+    fn accept(
+        &self,
+        (error, length_error): (f64, f64),
+        energy: f64,
+        length: f64,
+        abs_here: f64,
+    ) -> bool {
         error <= (self.opts.rel_tol * energy.abs()).max(abs_here)
+            && length_error <= LENGTH_TOL_FACTOR * self.opts.rel_tol * length.abs()
     }
 
     fn fill_breaks(&mut self, curve: &NurbsCurve) {
@@ -223,7 +250,11 @@ impl FairnessEvaluator {
         while let Some((x, y, depth)) = self.stack.pop() {
             let p = self.kronrod(curve, planar, x, y);
             let mid = 0.5 * (x + y);
-            if depth == 0 || mid <= x || mid >= y || self.accept(p.error, p.energy, abs * (y - x)) {
+            if depth == 0
+                || mid <= x
+                || mid >= y
+                || self.accept((p.error, p.length_error), p.energy, p.length, abs * (y - x))
+            {
                 total.length += p.length;
                 total.energy += p.energy;
                 total.bending += p.bending;
@@ -241,35 +272,44 @@ impl FairnessEvaluator {
         let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
         let mut d = [Vec3::ZERO; 4];
         let mut fe = [0.0; 15];
-        let (mut len, mut ek, mut eg, mut bend) = (0.0, 0.0, 0.0, 0.0);
+        let mut fl = [0.0; 15];
+        let (mut len, mut lg, mut ek, mut eg, mut bend) = (0.0, 0.0, 0.0, 0.0, 0.0);
         for (i, &(x, wk, wg)) in self.rule.iter().enumerate() {
             curve.derivatives_into(c + h * x, 3, &mut d);
             let m = mvc_point(&d, planar);
             let e = m.energy_density();
             fe[i] = e;
+            fl[i] = m.speed;
             len += wk * m.speed;
+            lg += wg * m.speed;
             ek += wk * e;
             eg += wg * e;
             bend += wk * m.bending_density();
-        }
-        // QUADPACK qk15 error estimate: |K15 − G7| scaled by the integrand's variation `resasc`
-        let mean = 0.5 * ek;
-        let resasc: f64 = self
-            .rule
-            .iter()
-            .zip(&fe)
-            .map(|(&(_, wk, _), &e)| wk * (e - mean).abs())
-            .sum::<f64>()
-            * h;
-        let mut error = ((ek - eg) * h).abs();
-        if resasc > 0.0 && error > 0.0 {
-            error = resasc * (200.0 * error / resasc).powf(1.5).min(1.0);
         }
         Piece {
             length: len * h,
             energy: ek * h,
             bending: bend * h,
-            error,
+            error: qk15_error(&self.rule, &fe, ek, eg, h),
+            length_error: qk15_error(&self.rule, &fl, len, lg, h),
         }
+    }
+}
+
+/// QUADPACK's `qk15` error estimate: `resasc · min(1, (200 |K15 − G7| / resasc)^1.5)` with
+/// `resasc = ∫ |f − K15/(b−a)|` (`k`, `g` are the rule sums before scaling by the half-width `h`).
+fn qk15_error(rule: &[(f64, f64, f64); 15], f: &[f64; 15], k: f64, g: f64, h: f64) -> f64 {
+    let mean = 0.5 * k;
+    let resasc: f64 = rule
+        .iter()
+        .zip(f)
+        .map(|(&(_, wk, _), &v)| wk * (v - mean).abs())
+        .sum::<f64>()
+        * h;
+    let error = ((k - g) * h).abs();
+    if resasc > 0.0 && error > 0.0 {
+        resasc * (200.0 * error / resasc).powf(1.5).min(1.0)
+    } else {
+        error
     }
 }

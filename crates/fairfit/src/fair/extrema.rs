@@ -36,7 +36,7 @@ pub struct ExtremaCounts {
 }
 
 /// Counts curvature extrema and inflections of `curve`, whose arc length is `length` (used for the
-/// scale-free noise floor; pass [`crate::diffgeo::arc_length`] or the `length` of a fairness summary).
+/// scale-free noise floor; pass [`crate::diffgeo::arc_length()`] or the `length` of a fairness summary).
 pub fn count_extrema(curve: &NurbsCurve, length: f64) -> ExtremaCounts {
     let planar = plane_normal(curve);
     let breaks = distinct_breakpoints(curve.knots(), curve.degree());
@@ -54,7 +54,11 @@ pub fn count_extrema(curve: &NurbsCurve, length: f64) -> ExtremaCounts {
             binormal.push(d[1].cross(d[2]));
         }
     }
-    if length.is_nan() || length <= 0.0 || kappa.is_empty() {
+    let coord = curve
+        .control_points()
+        .iter()
+        .fold(0.0f64, |m, p| m.max(p.max_abs()));
+    if length.is_nan() || length <= 1e-12 * coord || kappa.is_empty() {
         return ExtremaCounts::default();
     }
     let kmax = kappa.iter().fold(0.0f64, |m, k| m.max(k.abs()));
