@@ -74,6 +74,32 @@ fn tube() -> NurbsSurface {
     NurbsSurface::new(2, 3, ku, kv, net, Some(w)).unwrap()
 }
 
+/// A half cone: the boundary v = 1 collapses to the apex (a degenerate edge).
+fn cone() -> NurbsSurface {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let arc = [
+        (1.0, 0.0, 1.0),
+        (1.0, 1.0, h),
+        (0.0, 1.0, 1.0),
+        (-1.0, 1.0, h),
+        (-1.0, 0.0, 1.0),
+    ];
+    let net = arc
+        .iter()
+        .map(|&(x, y, _)| {
+            (0..3)
+                .map(|j| {
+                    let r = 20.0 * (1.0 - j as f64 / 2.0);
+                    Vec3::new(r * x, r * y, 10.0 * j as f64)
+                })
+                .collect()
+        })
+        .collect();
+    let w = arc.iter().map(|&(_, _, w)| vec![w; 3]).collect();
+    let ku = vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0];
+    NurbsSurface::new(2, 2, ku, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], net, Some(w)).unwrap()
+}
+
 fn samples_json(kind: &str, params: &[Vec<f64>], points: &[Vec3]) -> String {
     serde_json::json!({
         "kind": kind,
@@ -109,6 +135,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
     std::fs::write(&curve_samples, samples_json("curve", &params, &pts)).unwrap();
     let surface_samples = dir.join("surface.samples.json");
     std::fs::write(&surface_samples, surface_samples_json(&s)).unwrap();
+    let cone_samples = dir.join("cone.samples.json");
+    std::fs::write(&cone_samples, surface_samples_json(&cone())).unwrap();
     let tube_samples = dir.join("tube.samples.json");
     std::fs::write(&tube_samples, surface_samples_json(&tube())).unwrap();
     let (so, io) = (StepOptions::default(), IgesOptions::default());
@@ -118,6 +146,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
     write_surface_iges(dir.join("surface.igs"), &s, &io).unwrap();
     write_surface_step(dir.join("tube.step"), &tube(), &so).unwrap();
     write_surface_iges(dir.join("tube.igs"), &tube(), &io).unwrap();
+    write_surface_step(dir.join("cone.step"), &cone(), &so).unwrap();
+    write_surface_iges(dir.join("cone.igs"), &cone(), &io).unwrap();
     let names = [
         "curve.step",
         "curve.igs",
@@ -125,6 +155,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
         "surface.igs",
         "tube.step",
         "tube.igs",
+        "cone.step",
+        "cone.igs",
     ];
     names
         .iter()
@@ -132,6 +164,7 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
             let samples = match &f[..4] {
                 "curv" => &curve_samples,
                 "surf" => &surface_samples,
+                "cone" => &cone_samples,
                 _ => &tube_samples,
             };
             [dir.join(f), samples.clone()]
@@ -174,7 +207,7 @@ fn opencascade_reads_back_fairfit_step_and_iges() {
         .filter(|l| l.starts_with('{'))
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    assert_eq!(reports.len(), 6);
+    assert_eq!(reports.len(), 8);
     for r in &reports {
         assert!(r["samples"].as_u64().unwrap() >= 100, "{r}");
         assert!(r["relative_error"].as_f64().unwrap() <= 1e-9, "{r}");
