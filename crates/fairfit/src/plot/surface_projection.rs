@@ -2,7 +2,7 @@
 //! iterations on `(S - q)·S_u = (S - q)·S_v = 0`, clamped to the domain.
 
 use crate::nurbs::knots::distinct_breakpoints;
-use crate::nurbs::{NurbsSurface, Vec3};
+use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
 
 /// The closest point found: parameters and distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,6 +37,8 @@ pub fn project_points(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
         .map(|(u, v)| (u, v, s.point(u, v)))
         .collect();
     let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let mut ws = SurfaceWorkspace::new(s, 2);
+    let mut d = [Vec3::ZERO; 9];
     qs.iter()
         .map(|&q| {
             let (mut u, mut v, _) = samples
@@ -49,7 +51,7 @@ pub fn project_points(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
                 })
                 .unwrap_or((u0, v0, Vec3::ZERO));
             for _ in 0..20 {
-                let d = s.derivatives(u, v, 2);
+                s.derivatives_with(u, v, 2, &mut ws, &mut d);
                 let r = d[0] - q;
                 let (su, sv) = (d[3], d[1]);
                 let (suu, suv, svv) = (d[6], d[4], d[2]);
