@@ -15,8 +15,10 @@ pub struct SurfaceFoot {
     pub distance: f64,
 }
 
-fn grid(knots: &[f64], degree: usize, per_span: usize) -> Vec<f64> {
+/// Start grid: up to 8 samples per span, at most about 48 per direction in all (cost per point).
+fn grid(knots: &[f64], degree: usize) -> Vec<f64> {
     let bp = distinct_breakpoints(knots, degree);
+    let per_span = (48 / (bp.len() - 1).max(1)).clamp(1, 8);
     let mut out = Vec::new();
     for w in bp.windows(2) {
         for k in 0..per_span {
@@ -29,8 +31,8 @@ fn grid(knots: &[f64], degree: usize, per_span: usize) -> Vec<f64> {
 
 /// Projects every point of `qs` onto `s`.
 pub fn project_points(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
-    let us = grid(s.knots_u(), s.degree_u(), 8);
-    let vs = grid(s.knots_v(), s.degree_v(), 8);
+    let us = grid(s.knots_u(), s.degree_u());
+    let vs = grid(s.knots_v(), s.degree_v());
     let samples: Vec<(f64, f64, Vec3)> = us
         .iter()
         .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
