@@ -5,6 +5,7 @@
 //! `$FAIRFIT_PYTHON`. Unset: the test is skipped with a note, except under `CI=true`, where it fails.
 
 use fairfit::io::iges::{write_curve_iges, write_surface_iges, IgesOptions};
+use fairfit::io::samples::{curve_samples_json, surface_samples_json};
 use fairfit::io::step::{write_curve_step, write_surface_step, StepOptions};
 use fairfit::{NurbsCurve, NurbsSurface, Vec3};
 use std::path::{Path, PathBuf};
@@ -100,45 +101,16 @@ fn cone() -> NurbsSurface {
     NurbsSurface::new(2, 2, ku, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], net, Some(w)).unwrap()
 }
 
-fn samples_json(kind: &str, params: &[Vec<f64>], points: &[Vec3]) -> String {
-    serde_json::json!({
-        "kind": kind,
-        "params": params,
-        "points": points.iter().map(|p| p.0).collect::<Vec<_>>(),
-    })
-    .to_string()
-}
-
-fn surface_samples_json(s: &NurbsSurface) -> String {
-    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
-    let mut sp = Vec::new();
-    for i in 0..=12 {
-        for j in 0..=10 {
-            sp.push(vec![
-                u0 + (u1 - u0) * i as f64 / 12.0,
-                v0 + (v1 - v0) * j as f64 / 10.0,
-            ]);
-        }
-    }
-    let spts: Vec<Vec3> = sp.iter().map(|p| s.point(p[0], p[1])).collect();
-    samples_json("surface", &sp, &spts)
-}
-
 fn write_files(dir: &Path) -> Vec<PathBuf> {
     let (c, s) = (curve(), surface());
-    let (a, b) = c.domain();
-    let params: Vec<Vec<f64>> = (0..=120)
-        .map(|k| vec![a + (b - a) * k as f64 / 120.0])
-        .collect();
-    let pts: Vec<Vec3> = params.iter().map(|u| c.point(u[0])).collect();
     let curve_samples = dir.join("curve.samples.json");
-    std::fs::write(&curve_samples, samples_json("curve", &params, &pts)).unwrap();
+    std::fs::write(&curve_samples, curve_samples_json(&c, 120)).unwrap();
     let surface_samples = dir.join("surface.samples.json");
-    std::fs::write(&surface_samples, surface_samples_json(&s)).unwrap();
+    std::fs::write(&surface_samples, surface_samples_json(&s, 12, 10)).unwrap();
     let cone_samples = dir.join("cone.samples.json");
-    std::fs::write(&cone_samples, surface_samples_json(&cone())).unwrap();
+    std::fs::write(&cone_samples, surface_samples_json(&cone(), 12, 10)).unwrap();
     let tube_samples = dir.join("tube.samples.json");
-    std::fs::write(&tube_samples, surface_samples_json(&tube())).unwrap();
+    std::fs::write(&tube_samples, surface_samples_json(&tube(), 12, 10)).unwrap();
     let (so, io) = (StepOptions::default(), IgesOptions::default());
     write_curve_step(dir.join("curve.step"), &c, &so).unwrap();
     write_curve_iges(dir.join("curve.igs"), &c, &io).unwrap();
