@@ -56,11 +56,15 @@ fn export_writes_checked_step_iges_and_meshes() {
             .args(["--iges", &format!("{}/{stem}.igs", d.display())])
             .args(["--mesh", &format!("{}/{stem}.{mesh}", d.display())])
             .args(["--chord-tol", "0.01", "--units", "m"])
+            .args(["--samples", &format!("{}/{stem}.samples.json", d.display())])
             .assert()
             .success();
         let step = std::fs::read_to_string(d.join(format!("{stem}.step"))).unwrap();
         let entities = check_step(&step).unwrap().entities;
         assert!(step.contains("SI_UNIT($,.METRE.)"));
+        let samples = std::fs::read_to_string(d.join(format!("{stem}.samples.json"))).unwrap();
+        let samples: serde_json::Value = serde_json::from_str(&samples).unwrap();
+        assert!(samples["points"].as_array().unwrap().len() >= 100);
         let iges = std::fs::read_to_string(d.join(format!("{stem}.igs"))).unwrap();
         let summary = check_iges(&iges).unwrap();
         assert!(iges.contains(",6,1HM,"), "unit flag metres");

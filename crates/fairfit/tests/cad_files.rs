@@ -176,3 +176,27 @@ fn tempfile_dir(tag: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&d).unwrap();
     d
 }
+
+#[test]
+fn long_and_non_ascii_names_keep_the_files_valid() {
+    let name = format!("{}é'\\.igs", "very_long_file_name_".repeat(10));
+    let iges = curve_to_iges(
+        &rational_curve(),
+        &IgesOptions {
+            name: name.clone(),
+            ..IgesOptions::default()
+        },
+    )
+    .unwrap();
+    check_iges(&iges).unwrap();
+    let step = surface_to_step(
+        &bicubic(),
+        &StepOptions {
+            name,
+            ..StepOptions::default()
+        },
+    )
+    .unwrap();
+    check_step(&step).unwrap();
+    assert!(step.is_ascii());
+}

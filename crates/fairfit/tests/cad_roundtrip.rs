@@ -5,6 +5,7 @@
 //! `$FAIRFIT_PYTHON`. Unset: the test is skipped with a note, except under `CI=true`, where it fails.
 
 use fairfit::io::iges::{write_curve_iges, write_surface_iges, IgesOptions};
+use fairfit::io::samples::{curve_samples_json, surface_samples_json};
 use fairfit::io::step::{write_curve_step, write_surface_step, StepOptions};
 use fairfit::{NurbsCurve, NurbsSurface, Vec3};
 use std::path::{Path, PathBuf};
@@ -74,43 +75,42 @@ fn tube() -> NurbsSurface {
     NurbsSurface::new(2, 3, ku, kv, net, Some(w)).unwrap()
 }
 
-fn samples_json(kind: &str, params: &[Vec<f64>], points: &[Vec3]) -> String {
-    serde_json::json!({
-        "kind": kind,
-        "params": params,
-        "points": points.iter().map(|p| p.0).collect::<Vec<_>>(),
-    })
-    .to_string()
-}
-
-fn surface_samples_json(s: &NurbsSurface) -> String {
-    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
-    let mut sp = Vec::new();
-    for i in 0..=12 {
-        for j in 0..=10 {
-            sp.push(vec![
-                u0 + (u1 - u0) * i as f64 / 12.0,
-                v0 + (v1 - v0) * j as f64 / 10.0,
-            ]);
-        }
-    }
-    let spts: Vec<Vec3> = sp.iter().map(|p| s.point(p[0], p[1])).collect();
-    samples_json("surface", &sp, &spts)
+/// A half cone: the boundary v = 1 collapses to the apex (a degenerate edge).
+fn cone() -> NurbsSurface {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let arc = [
+        (1.0, 0.0, 1.0),
+        (1.0, 1.0, h),
+        (0.0, 1.0, 1.0),
+        (-1.0, 1.0, h),
+        (-1.0, 0.0, 1.0),
+    ];
+    let net = arc
+        .iter()
+        .map(|&(x, y, _)| {
+            (0..3)
+                .map(|j| {
+                    let r = 20.0 * (1.0 - j as f64 / 2.0);
+                    Vec3::new(r * x, r * y, 10.0 * j as f64)
+                })
+                .collect()
+        })
+        .collect();
+    let w = arc.iter().map(|&(_, _, w)| vec![w; 3]).collect();
+    let ku = vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0];
+    NurbsSurface::new(2, 2, ku, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], net, Some(w)).unwrap()
 }
 
 fn write_files(dir: &Path) -> Vec<PathBuf> {
     let (c, s) = (curve(), surface());
-    let (a, b) = c.domain();
-    let params: Vec<Vec<f64>> = (0..=120)
-        .map(|k| vec![a + (b - a) * k as f64 / 120.0])
-        .collect();
-    let pts: Vec<Vec3> = params.iter().map(|u| c.point(u[0])).collect();
     let curve_samples = dir.join("curve.samples.json");
-    std::fs::write(&curve_samples, samples_json("curve", &params, &pts)).unwrap();
+    std::fs::write(&curve_samples, curve_samples_json(&c, 120)).unwrap();
     let surface_samples = dir.join("surface.samples.json");
-    std::fs::write(&surface_samples, surface_samples_json(&s)).unwrap();
+    std::fs::write(&surface_samples, surface_samples_json(&s, 12, 10)).unwrap();
+    let cone_samples = dir.join("cone.samples.json");
+    std::fs::write(&cone_samples, surface_samples_json(&cone(), 12, 10)).unwrap();
     let tube_samples = dir.join("tube.samples.json");
-    std::fs::write(&tube_samples, surface_samples_json(&tube())).unwrap();
+    std::fs::write(&tube_samples, surface_samples_json(&tube(), 12, 10)).unwrap();
     let (so, io) = (StepOptions::default(), IgesOptions::default());
     write_curve_step(dir.join("curve.step"), &c, &so).unwrap();
     write_curve_iges(dir.join("curve.igs"), &c, &io).unwrap();
@@ -118,6 +118,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
     write_surface_iges(dir.join("surface.igs"), &s, &io).unwrap();
     write_surface_step(dir.join("tube.step"), &tube(), &so).unwrap();
     write_surface_iges(dir.join("tube.igs"), &tube(), &io).unwrap();
+    write_surface_step(dir.join("cone.step"), &cone(), &so).unwrap();
+    write_surface_iges(dir.join("cone.igs"), &cone(), &io).unwrap();
     let names = [
         "curve.step",
         "curve.igs",
@@ -125,6 +127,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
         "surface.igs",
         "tube.step",
         "tube.igs",
+        "cone.step",
+        "cone.igs",
     ];
     names
         .iter()
@@ -132,6 +136,7 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
             let samples = match &f[..4] {
                 "curv" => &curve_samples,
                 "surf" => &surface_samples,
+                "cone" => &cone_samples,
                 _ => &tube_samples,
             };
             [dir.join(f), samples.clone()]
@@ -174,7 +179,7 @@ fn opencascade_reads_back_fairfit_step_and_iges() {
         .filter(|l| l.starts_with('{'))
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    assert_eq!(reports.len(), 6);
+    assert_eq!(reports.len(), 8);
     for r in &reports {
         assert!(r["samples"].as_u64().unwrap() >= 100, "{r}");
         assert!(r["relative_error"].as_f64().unwrap() <= 1e-9, "{r}");

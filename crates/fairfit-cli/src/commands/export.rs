@@ -1,9 +1,11 @@
 //! `fairfit export FILE.json --step out.step --iges out.igs --mesh out.obj|.stl|.ply [--chord-tol T]
-//! [--units mm|m]`: any curve or surface JSON file to CAD files, meshes, plots or a report.
+//! [--units mm|m] [--samples S.json]`: any curve or surface JSON file to CAD files, meshes, plots or a
+//! report; `--samples` writes parameters and fairfit's points for checking the CAD file elsewhere.
 
 use super::outputs::{write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::Args;
+use fairfit::io::samples::{curve_samples_json, surface_samples_json};
 use fairfit::io::{read_geometry, read_points, Geometry};
 use std::path::PathBuf;
 
@@ -15,6 +17,9 @@ pub struct ExportArgs {
     /// Data points (CSV/text) for the plot and the report.
     #[arg(long, value_name = "FILE")]
     pub points: Option<PathBuf>,
+    /// Write sample parameters and fairfit's points (JSON) for checking a CAD file elsewhere.
+    #[arg(long, value_name = "FILE")]
+    pub samples: Option<PathBuf>,
     /// The output files.
     #[command(flatten)]
     pub outputs: OutputArgs,
@@ -22,9 +27,9 @@ pub struct ExportArgs {
 
 /// Runs `fairfit export`.
 pub fn run(args: ExportArgs) -> CmdResult {
-    if !args.outputs.any() {
+    if !args.outputs.any() && args.samples.is_none() {
         return Err(CliError(
-            "nothing to export: give --step, --iges, --mesh, --plot or --html".into(),
+            "nothing to export: give --step, --iges, --mesh, --plot, --html or --samples".into(),
         ));
     }
     let geometry = read_geometry(&args.input)?;
@@ -36,5 +41,13 @@ pub fn run(args: ExportArgs) -> CmdResult {
         Geometry::Curve(c) => OutputGeometry::Curve(c),
         Geometry::Surface(s) => OutputGeometry::Surface(s),
     };
-    write_outputs(g, points.as_deref(), None, &args.outputs)
+    write_outputs(g, points.as_deref(), None, &args.outputs)?;
+    if let Some(p) = &args.samples {
+        let text = match &geometry {
+            Geometry::Curve(c) => curve_samples_json(c, 120),
+            Geometry::Surface(s) => surface_samples_json(s, 12, 10),
+        };
+        fairfit::io::write_atomic(p, text.as_bytes())?;
+    }
+    Ok(())
 }

@@ -35,9 +35,11 @@ impl Default for IgesOptions {
     }
 }
 
+/// A Hollerith string (`nH...`), ASCII, at most 60 characters so it fits one Global line.
 fn hollerith(s: &str) -> String {
     let s: String = s
         .chars()
+        .take(60)
         .map(|c| {
             if c.is_ascii_graphic() || c == ' ' {
                 c

@@ -9,6 +9,7 @@ pub mod json;
 pub mod mesh_read;
 pub mod mesh_write;
 pub mod points;
+pub mod samples;
 pub mod sections;
 pub mod step;
 pub mod tessellate;

@@ -9,7 +9,7 @@
 
 use crate::errors::{Error, Result};
 use crate::nurbs::knots::distinct_breakpoints;
-use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+use crate::nurbs::{NurbsCurve, NurbsSurface, SurfaceWorkspace, Vec3};
 
 /// Triangles with per-vertex normals, and/or polylines (indices into `vertices`).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -179,12 +179,13 @@ fn surface_splits(s: &NurbsSurface, us: &[f64], vs: &[f64], tol: f64) -> (Vec<bo
     (split_u, split_v)
 }
 
-fn normal_at(s: &NurbsSurface, u: f64, v: f64) -> Vec3 {
+fn normal_at(s: &NurbsSurface, u: f64, v: f64, ws: &mut SurfaceWorkspace) -> Vec3 {
+    let mut d = [Vec3::ZERO; 4];
     let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
     let (uc, vc) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
     for shift in [0.0, 1e-6, 1e-4, 1e-2] {
         let (uu, vv) = (u + (uc - u) * shift, v + (vc - v) * shift);
-        let d = s.derivatives(uu, vv, 1);
+        s.derivatives_with(uu, vv, 1, ws, &mut d);
         let n = d[2].cross(d[1]);
         let len = n.norm();
         if len > 1e-14 * (d[2].norm() * d[1].norm()).max(f64::MIN_POSITIVE) {
@@ -211,10 +212,11 @@ pub fn tessellate_surface(s: &NurbsSurface, opts: &TessellationOptions) -> Resul
     }
     let nv = vs.len();
     let mut mesh = Mesh::default();
+    let mut ws = SurfaceWorkspace::new(s, 1);
     for &u in &us {
         for &v in &vs {
             mesh.vertices.push(s.point(u, v));
-            mesh.normals.push(normal_at(s, u, v));
+            mesh.normals.push(normal_at(s, u, v, &mut ws));
         }
     }
     let idx = |i: usize, j: usize| (i * nv + j) as u32;

@@ -4,7 +4,7 @@
 //! Curvature is sampled at nodes strictly inside each knot span (never at a knot), from first and
 //! second derivatives. A non-planar curve is drawn in the coordinate plane where it is widest.
 
-use super::svg::{bounds, Canvas, Frame, PlotSize};
+use super::svg::{bounds, marker_stride, Canvas, Frame, PlotSize};
 use crate::diffgeo::{is_xy_planar, CurveProjector};
 use crate::errors::{Error, Result};
 use crate::nurbs::knots::distinct_breakpoints;
@@ -139,7 +139,8 @@ pub fn curve_comb_svg(c: &NurbsCurve, points: Option<&[Vec3]>, size: PlotSize) -
     cv.polyline(&tip_px, "#d6604d", 1.0);
     let curve_px: Vec<(f64, f64)> = dense.iter().map(|&p| px(p)).collect();
     cv.polyline(&curve_px, "#2166ac", 2.0);
-    for &q in points.unwrap_or(&[]) {
+    let data = points.unwrap_or(&[]);
+    for &q in data.iter().step_by(marker_stride(data.len())) {
         cv.circle(px(q), 2.5, "#b2182b");
     }
     for u in distinct_breakpoints(c.knots(), c.degree()) {
@@ -210,7 +211,7 @@ pub fn deviation_svg(c: &NurbsCurve, points: &[Vec3], size: PlotSize) -> Result<
         "point index",
         "distance to the curve",
     );
-    for (i, &d) in dev.iter().enumerate() {
+    for (i, &d) in dev.iter().enumerate().step_by(marker_stride(dev.len())) {
         let (a, b) = (frame.map(i as f64, 0.0), frame.map(i as f64, d));
         cv.line(a, b, "#92c5de", 1.0, false);
         cv.circle(b, 2.0, "#2166ac");

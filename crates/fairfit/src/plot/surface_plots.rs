@@ -4,7 +4,7 @@
 
 use super::curve_plots::curvature_samples;
 use super::surface_projection::project_points;
-use super::svg::{bounds, Canvas, Frame, PlotSize};
+use super::svg::{bounds, marker_stride, Canvas, Frame, PlotSize};
 use crate::errors::{Error, Result};
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsSurface, Vec3};
@@ -79,7 +79,7 @@ pub fn deviation_map_svg(s: &NurbsSurface, points: &[Vec3], size: PlotSize) -> R
     }
     let top = if max > 0.0 { max } else { 1.0 };
     let radius = (600.0 / (feet.len() as f64).sqrt()).clamp(1.5, 6.0);
-    for f in &feet {
+    for f in feet.iter().step_by(marker_stride(feet.len())) {
         cv.circle(frame.map(f.u, f.v), radius, &colour(f.distance / top));
     }
     // colour bar

@@ -2,7 +2,7 @@
 //! iterations on `(S - q)·S_u = (S - q)·S_v = 0`, clamped to the domain.
 
 use crate::nurbs::knots::distinct_breakpoints;
-use crate::nurbs::{NurbsSurface, Vec3};
+use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
 
 /// The closest point found: parameters and distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -15,8 +15,10 @@ pub struct SurfaceFoot {
     pub distance: f64,
 }
 
-fn grid(knots: &[f64], degree: usize, per_span: usize) -> Vec<f64> {
+/// Start grid: up to 8 samples per span, at most about 48 per direction in all (cost per point).
+fn grid(knots: &[f64], degree: usize) -> Vec<f64> {
     let bp = distinct_breakpoints(knots, degree);
+    let per_span = (48 / (bp.len() - 1).max(1)).clamp(1, 8);
     let mut out = Vec::new();
     for w in bp.windows(2) {
         for k in 0..per_span {
@@ -29,14 +31,16 @@ fn grid(knots: &[f64], degree: usize, per_span: usize) -> Vec<f64> {
 
 /// Projects every point of `qs` onto `s`.
 pub fn project_points(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
-    let us = grid(s.knots_u(), s.degree_u(), 8);
-    let vs = grid(s.knots_v(), s.degree_v(), 8);
+    let us = grid(s.knots_u(), s.degree_u());
+    let vs = grid(s.knots_v(), s.degree_v());
     let samples: Vec<(f64, f64, Vec3)> = us
         .iter()
         .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
         .map(|(u, v)| (u, v, s.point(u, v)))
         .collect();
     let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let mut ws = SurfaceWorkspace::new(s, 2);
+    let mut d = [Vec3::ZERO; 9];
     qs.iter()
         .map(|&q| {
             let (mut u, mut v, _) = samples
@@ -49,7 +53,7 @@ pub fn project_points(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
                 })
                 .unwrap_or((u0, v0, Vec3::ZERO));
             for _ in 0..20 {
-                let d = s.derivatives(u, v, 2);
+                s.derivatives_with(u, v, 2, &mut ws, &mut d);
                 let r = d[0] - q;
                 let (su, sv) = (d[3], d[1]);
                 let (suu, suv, svv) = (d[6], d[4], d[2]);

@@ -241,6 +241,14 @@ impl Frame {
     }
 }
 
+/// Most data markers drawn in one plot; larger sets are thinned evenly (statistics use every point).
+pub const MAX_MARKERS: usize = 20_000;
+
+/// The stride that keeps `n` markers at or below [`MAX_MARKERS`].
+pub fn marker_stride(n: usize) -> usize {
+    n.div_ceil(MAX_MARKERS).max(1)
+}
+
 /// Bounds `(xmin, xmax, ymin, ymax)` of finite points; `None` when there are none.
 pub fn bounds(pts: impl IntoIterator<Item = (f64, f64)>) -> Option<(f64, f64, f64, f64)> {
     let mut b: Option<(f64, f64, f64, f64)> = None;
@@ -280,5 +288,14 @@ mod tests {
         let (l, _, r, _) = g.px;
         assert!(g.map(0.0, 0.5).0 > l && g.map(10.0, 0.5).0 < r);
         assert!(PlotSize::new(20, 300).is_err());
+    }
+
+    #[test]
+    fn marker_stride_caps_the_count() {
+        assert_eq!(marker_stride(0), 1);
+        assert_eq!(marker_stride(MAX_MARKERS), 1);
+        assert_eq!(marker_stride(MAX_MARKERS + 1), 2);
+        let n: usize = 1_000_003;
+        assert!(n.div_ceil(marker_stride(n)) <= MAX_MARKERS);
     }
 }
