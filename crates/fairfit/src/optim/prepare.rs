@@ -97,6 +97,7 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
             params,
             degree,
             planar,
+            corrections: 1,
         },
         origin: lo,
         scale,
