@@ -25,7 +25,7 @@ use std::time::Instant;
 /// The allowed maximum orthogonal deviation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Tolerance {
-    /// A fraction of the data's bounding-box diagonal.
+    /// A fraction of the largest side of the data's bounding box.
     Relative(f64),
     /// An absolute distance in the data's units.
     Absolute(f64),
