@@ -1,17 +1,185 @@
-//! `fairfit curve`.
+//! `fairfit curve`: fit a curve to ordered points within a tolerance.
+//!
+//! `--method lsq` is the least-squares pipeline of `fairfit::fit` (parameterisation, knots added where
+//! the orthogonal error is largest, parameter correction, knot removal, corners and closed curves).
+//! The other methods are listed so scripts can name them; they report that they are not available
+//! until they are wired in. Writes the curve JSON (`-o`, else stdout) and an optional JSON report with
+//! deviation, fairness and timing.
 
 use super::{CliError, CmdResult};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use fairfit::fair::curve_fairness;
+use fairfit::fit::tolerance::{fit_to_tolerance, ClosedMode, FitOptions, FitResult, Tolerance};
+use fairfit::fit::Parameterization;
+use fairfit::io::{curve_to_json, read_points, write_atomic};
+use serde_json::json;
 use std::path::PathBuf;
+use std::time::Instant;
+
+/// The fitting method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// Least squares with a tolerance-driven knot count (fast baseline).
+    Lsq,
+    /// Integrated fitting and fairing (knots by particle swarm optimisation).
+    Integrated,
+    /// Least squares, then fairing of the fitted curve.
+    FitThenFair,
+}
+
+/// Parameterisation choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ParamArg {
+    /// Equal parameter steps.
+    Uniform,
+    /// Steps proportional to chord length.
+    Chord,
+    /// Steps proportional to the square root of chord length (default).
+    Centripetal,
+}
+
+impl From<ParamArg> for Parameterization {
+    fn from(p: ParamArg) -> Self {
+        match p {
+            ParamArg::Uniform => Parameterization::Uniform,
+            ParamArg::Chord => Parameterization::ChordLength,
+            ParamArg::Centripetal => Parameterization::Centripetal,
+        }
+    }
+}
 
 /// Arguments of `fairfit curve`.
 #[derive(Args, Debug)]
 pub struct CurveArgs {
-    /// Input file(s).
-    pub input: Vec<PathBuf>,
+    /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file.
+    #[arg(required = true)]
+    pub input: PathBuf,
+    /// Fitting method.
+    #[arg(long, value_enum, default_value_t = Method::Lsq)]
+    pub method: Method,
+    /// Absolute tolerance on the maximum orthogonal deviation.
+    #[arg(long, conflicts_with = "rel_tol")]
+    pub tol: Option<f64>,
+    /// Tolerance relative to the largest side of the points' bounding box (default 1e-3).
+    #[arg(long)]
+    pub rel_tol: Option<f64>,
+    /// Degree of the curve.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=15))]
+    pub degree: u64,
+    /// Parameterisation of the points.
+    #[arg(long = "param", value_enum, default_value_t = ParamArg::Centripetal)]
+    pub param: ParamArg,
+    /// Treat the points as a closed curve (otherwise closed only when the last point repeats the first).
+    #[arg(long)]
+    pub closed: bool,
+    /// Turning angle (degrees) above which a point is a corner kept as a C0 knot.
+    #[arg(long, default_value_t = fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG)]
+    pub corner_angle: f64,
+    /// Do not detect corners.
+    #[arg(long)]
+    pub no_corners: bool,
+    /// Parameter-correction rounds per least-squares fit.
+    #[arg(long, default_value_t = 0)]
+    pub correction_rounds: usize,
+    /// Scale-free smoothing weight λ of ∫|C''|² (0 = plain least squares).
+    #[arg(long, default_value_t = 0.0)]
+    pub smoothing: f64,
+    /// Random seed (methods with a stochastic search).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Worker threads (0 = all cores; results do not depend on it).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Output curve JSON file (stdout when absent).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Write a JSON report (deviation, fairness, timing) to this file.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
 }
 
 /// Runs `fairfit curve`.
-pub fn run(_args: CurveArgs) -> CmdResult {
-    Err(CliError("`fairfit curve` is not implemented yet".into()))
+pub fn run(args: CurveArgs) -> CmdResult {
+    let wall = Instant::now();
+    match args.method {
+        Method::Lsq => {}
+        Method::Integrated | Method::FitThenFair => {
+            return Err(CliError(format!(
+                "method '{}' is not available yet; use --method lsq",
+                args.method
+                    .to_possible_value()
+                    .map(|v| v.get_name().to_string())
+                    .unwrap_or_default()
+            )))
+        }
+    }
+    if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
+        return Err(CliError(format!(
+            "--corner-angle must be in (0, 180] degrees, got {}",
+            args.corner_angle
+        )));
+    }
+    let set = read_points(&args.input)?;
+    if set.dropped_duplicates > 0 {
+        eprintln!(
+            "warning: {}: dropped {} consecutive duplicate point(s)",
+            args.input.display(),
+            set.dropped_duplicates
+        );
+    }
+    let opts = FitOptions {
+        degree: args.degree as usize,
+        parameterization: args.param.into(),
+        tolerance: match (args.tol, args.rel_tol) {
+            (Some(t), _) => Tolerance::Absolute(t),
+            (None, Some(r)) => Tolerance::Relative(r),
+            (None, None) => Tolerance::Relative(1e-3),
+        },
+        closed: if args.closed {
+            ClosedMode::Closed
+        } else {
+            ClosedMode::Auto
+        },
+        corner_angle_deg: (!args.no_corners).then_some(args.corner_angle),
+        correction_rounds: args.correction_rounds,
+        smoothing: args.smoothing,
+        ..FitOptions::default()
+    };
+    let fit = fit_to_tolerance(&set.points, &opts)?;
+    let text = curve_to_json(&fit.curve);
+    match &args.output {
+        Some(p) => write_atomic(p, text.as_bytes())?,
+        None => println!("{text}"),
+    }
+    if let Some(rp) = &args.report {
+        let report = report_json(&args, &fit, wall.elapsed().as_secs_f64());
+        let body = serde_json::to_string_pretty(&report)
+            .map_err(|e| CliError(format!("internal: {e}")))?;
+        write_atomic(rp, body.as_bytes())?;
+    }
+    Ok(())
+}
+
+fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_json::Value {
+    let f = curve_fairness(&fit.curve);
+    json!({
+        "input": args.input.display().to_string(),
+        "method": "lsq",
+        "degree": fit.curve.degree(),
+        "points": fit.points.len(),
+        "closed": fit.closed,
+        "corners": fit.corners,
+        "control_points": fit.n_control_points,
+        "tolerance": fit.tolerance,
+        "max_deviation": fit.deviation.max,
+        "rms_deviation": fit.deviation.rms,
+        "length": f.length,
+        "fairness": f.fairness,
+        "max_span_fairness": f.max_span_fairness,
+        "curvature_extrema": f.curvature_extrema,
+        "inflections": f.inflections,
+        "solves": fit.solves,
+        "fit_seconds": fit.fit_seconds,
+        "wall_seconds": wall_seconds,
+    })
 }

@@ -1,7 +1,7 @@
 //! Closest-point projection of points onto curves: global sampling, then a safeguarded Newton step on
 //! `f(u) = C'(u)·(C(u) − Q)` inside the bracket of the best sample (NURBS Book §6.1). The result is never
-//! worse than the best sample. Newton runs on each side of the best sample, so corners (C0 knots)
-//! are handled.
+//! worse than the best sample. A best sample on a knot also gets a Newton run on its left, so corners
+//! (C0 knots) are handled.
 
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -92,17 +92,18 @@ impl<'a> CurveProjector<'a> {
             point: self.pts[best],
             distance: best_d2.sqrt(),
         };
-        // Newton on each side of the best sample separately: at a C0 knot (a corner) the derivative
-        // jumps, and one Newton run from the sample would only explore the side its one-sided
-        // derivative points to
         let ub = self.us[best];
         let mut out = sample;
-        for (lo_u, hi_u) in [(a, ub), (ub, b)] {
-            if hi_u > lo_u {
-                let refined = newton_in_bracket(self.curve, q, 0.5 * (lo_u + hi_u), lo_u, hi_u);
-                if refined.distance < out.distance {
-                    out = refined;
-                }
+        let refined = newton_in_bracket(self.curve, q, ub, a, b);
+        if refined.distance < out.distance {
+            out = refined;
+        }
+        // at a knot the derivative may jump (a C0 corner): Newton from the knot follows the one-sided
+        // derivative to the right, so the left side gets its own run
+        if ub > a && self.breaks.binary_search_by(|k| k.total_cmp(&ub)).is_ok() {
+            let left = newton_in_bracket(self.curve, q, 0.5 * (a + ub), a, ub);
+            if left.distance < out.distance {
+                out = left;
             }
         }
         out
@@ -131,7 +132,7 @@ fn newton_in_bracket(curve: &NurbsCurve, q: Vec3, u0: f64, a: f64, b: f64) -> Pr
         if !(next >= lo && next <= hi) {
             next = 0.5 * (lo + hi);
         }
-        if (next - u).abs() <= 1e-15 * scale.max(u.abs()) {
+        if (next - u).abs() <= 1e-14 * scale.max(u.abs()) {
             u = next;
             break;
         }
