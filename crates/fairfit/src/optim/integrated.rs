@@ -25,7 +25,7 @@ use std::time::Instant;
 /// The allowed maximum orthogonal deviation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Tolerance {
-    /// A fraction of the data's bounding-box diagonal.
+    /// A fraction of the largest side of the data's bounding box.
     Relative(f64),
     /// An absolute distance in the data's units.
     Absolute(f64),
@@ -65,12 +65,12 @@ impl Default for IntegratedOptions {
             tolerance: Tolerance::Relative(1e-3),
             span_fairness: None,
             seed: 0,
-            particles: 20,
-            max_iterations: 40,
-            probe_iterations: 15,
-            refine_evaluations: 150,
+            particles: 16,
+            max_iterations: 30,
+            probe_iterations: 10,
+            refine_evaluations: 100,
             search_smoothing: true,
-            max_extra_control_points: 3,
+            max_extra_control_points: 2,
             fairness_gain: 1.5,
         }
     }
@@ -85,6 +85,8 @@ pub struct OptimStats {
     pub iterations: usize,
     /// Control-point counts tried, in order.
     pub counts_tried: Vec<usize>,
+    /// `(count, F)` of every full knot search (F infinite when the tolerance was not met).
+    pub fairness_by_count: Vec<(usize, f64)>,
     /// Wall time in seconds.
     pub seconds: f64,
 }
@@ -190,6 +192,7 @@ pub fn fit_integrated_with_progress(
         encoding: KnotEncoding::new(n - p - 1, MIN_GAP, opts.search_smoothing),
         tolerance: tol,
         span_target: opts.span_fairness,
+        fairness_cutoff: 1.0,
     };
     let seed_position = |pr: &KnotProblem, knots: &[f64]| {
         let mut x = vec![0.0; pr.encoding.dim()];
@@ -203,6 +206,8 @@ pub fn fit_integrated_with_progress(
     // 3. count search downwards from the baseline: greedy knot removal, then a swarm probe
     let mut best_n = baseline;
     let mut best_knots = averaging_interior_knots(&data.params, p, baseline);
+    // feasible knots met on the way down, by count: seeds for the searches with extra points
+    let mut descent: Vec<(usize, Vec<f64>)> = vec![(baseline, best_knots.clone())];
     while best_n > p + 1 && best_n > 4 {
         let cand = best_n - 1;
         stats.counts_tried.push(cand);
@@ -212,6 +217,7 @@ pub fn fit_integrated_with_progress(
             if *dev <= tol {
                 best_knots = knots.clone();
                 best_n = cand;
+                descent.push((cand, best_knots.clone()));
                 continue;
             }
         }
@@ -242,6 +248,7 @@ pub fn fit_integrated_with_progress(
         }
         best_knots = kw.interior;
         best_n = cand;
+        descent.push((cand, best_knots.clone()));
     }
 
     // 4. full search at the smallest feasible count, then at one more control point at a time
@@ -249,10 +256,17 @@ pub fn fit_integrated_with_progress(
     let full = |n: usize, knots: &[f64], stats: &mut OptimStats| {
         stats.counts_tried.push(n);
         let pr = problem_for(n);
-        let seeds = vec![
-            seed_position(&pr, knots),
-            seed_position(&pr, &averaging_interior_knots(&data.params, p, n)),
-        ];
+        let mut seeds = vec![seed_position(&pr, knots)];
+        if let Some((_, k)) = descent
+            .iter()
+            .find(|(c, k)| *c == n && k.as_slice() != knots)
+        {
+            seeds.push(seed_position(&pr, k));
+        }
+        seeds.push(seed_position(
+            &pr,
+            &averaging_interior_knots(&data.params, p, n),
+        ));
         let r = run_pso(
             &pr,
             &seeds,
@@ -261,26 +275,38 @@ pub fn fit_integrated_with_progress(
         );
         stats.evaluations += r.evaluations;
         stats.iterations += r.iterations;
+        let f = if r.fitness.feasible() {
+            r.output.fairness
+        } else {
+            f64::INFINITY
+        };
+        stats.fairness_by_count.push((n, f));
         (pr, r)
     };
     let (mut pr, mut r) = full(best_n, &best_knots, &mut stats);
-    for _ in 0..opts.max_extra_control_points {
-        let n = pr.encoding.interior + p + 2;
-        if n > m1 || r.output.fairness <= 0.0 {
+    // every extra control point must pay for itself: minimise F · gain^(extra)
+    let score = |f: f64, extra: usize| f * opts.fairness_gain.powi(extra as i32);
+    let mut best_score = score(r.output.fairness, 0);
+    let (mut prev_pr, mut prev_r) = (pr.clone(), r.clone());
+    for extra in 1..=opts.max_extra_control_points {
+        let n = best_n + extra;
+        if n > m1 || !prev_r.fitness.feasible() {
             break;
         }
         let mut kw = Default::default();
-        if !pr.decode_into(&r.position, &mut kw) {
+        if !prev_pr.decode_into(&prev_r.position, &mut kw) {
             break;
         }
         let knots = insert_in_widest_span(&kw.interior);
         let (pr2, r2) = full(n, &knots, &mut stats);
-        if r2.fitness.feasible() && r2.output.fairness * opts.fairness_gain <= r.output.fairness {
-            pr = pr2;
-            r = r2;
-        } else {
-            break;
+        let sc = score(r2.output.fairness, extra);
+        if r2.fitness.feasible() && sc < best_score {
+            best_score = sc;
+            pr = pr2.clone();
+            r = r2.clone();
         }
+        prev_pr = pr2;
+        prev_r = r2;
     }
 
     let mut kw = Default::default();

@@ -13,7 +13,6 @@
 
 use crate::fit::lsq::{LsqOptions, LsqSolver, SmoothingOrder};
 use crate::nurbs::basis::ders_basis_funs_into;
-use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
 
 /// Highest degree the allocation-free evaluator supports.
@@ -44,6 +43,8 @@ pub struct FitData {
     pub degree: usize,
     /// Whether all points lie in the xy plane (use the signed planar curvature).
     pub planar: bool,
+    /// Parameter-correction passes per candidate (refit at the foot points of the last fit).
+    pub corrections: usize,
 }
 
 /// The measured quality of one candidate.
@@ -86,14 +87,21 @@ pub struct EvalWorkspace {
     /// Projected parameters of the data on the last candidate.
     pub foot_params: Vec<f64>,
     solver: Option<LsqSolver>,
+    /// Parameters of the data in the last least-squares solve.
+    fit_params: Vec<f64>,
+    /// Span start parameters of the piecewise power form.
+    breaks: Vec<f64>,
+    /// `(p + 1)` Taylor coefficients `C^(k)(u_s) / k!` per span.
+    coef: Vec<Vec3>,
     span_energy: Vec<f64>,
 }
 
+#[cfg(test)]
 /// `[C, C', .., C^(nd)]` of the B-spline (`ctrl`, `knots`, degree `p`) at `u`.
 #[inline]
 fn bspline_ders(knots: &[f64], ctrl: &[Vec3], p: usize, u: f64, nd: usize, out: &mut [Vec3; 4]) {
     let n = ctrl.len() - 1;
-    let span = find_span(n, p, u, knots);
+    let span = crate::nurbs::knots::find_span(n, p, u, knots);
     let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
     let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
     let mut ders = [0.0; 4 * P1];
@@ -117,11 +125,53 @@ pub fn evaluate_candidate(
     log_lambda: f64,
     ws: &mut EvalWorkspace,
 ) -> CandidateEval {
-    if !solve_control_points(data, log_lambda, ws) {
+    evaluate_candidate_within(data, log_lambda, f64::INFINITY, ws)
+}
+
+/// [`evaluate_candidate`], skipping the fairness integral (reported as infinite) when the maximum
+/// deviation exceeds `fairness_cutoff`: a swarm ranks such candidates by their violation alone.
+pub fn evaluate_candidate_within(
+    data: &FitData,
+    log_lambda: f64,
+    fairness_cutoff: f64,
+    ws: &mut EvalWorkspace,
+) -> CandidateEval {
+    let mut params = std::mem::take(&mut ws.fit_params);
+    params.clear();
+    params.extend_from_slice(&data.params);
+    if !solve_control_points(data, &params, log_lambda, ws) {
+        ws.fit_params = params;
         return CandidateEval::failed();
     }
-    let (max_dev, rms) = deviations(data, ws);
-    let (f, fmax) = fairness(data, ws);
+    build_power_form(data.degree, ws);
+    let (mut max_dev, mut rms) = deviations(data, &params, ws);
+    for _ in 0..data.corrections {
+        // parameter correction: refit at the foot points of the last fit
+        std::mem::swap(&mut params, &mut ws.foot_params);
+        if solve_control_points(data, &params, log_lambda, ws) {
+            build_power_form(data.degree, ws);
+            let (d2, r2) = deviations(data, &params, ws);
+            if d2 <= max_dev {
+                (max_dev, rms) = (d2, r2);
+                continue;
+            }
+        }
+        // no better: restore the previous fit and stop
+        std::mem::swap(&mut params, &mut ws.foot_params);
+        if !solve_control_points(data, &params, log_lambda, ws) {
+            ws.fit_params = params;
+            return CandidateEval::failed();
+        }
+        build_power_form(data.degree, ws);
+        (max_dev, rms) = deviations(data, &params, ws);
+        break;
+    }
+    ws.fit_params = params;
+    let (f, fmax) = if max_dev <= fairness_cutoff {
+        fairness(data, ws)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    };
     CandidateEval {
         solved: true,
         max_deviation: max_dev,
@@ -141,7 +191,12 @@ pub fn set_knots(degree: usize, interior: &[f64], ws: &mut EvalWorkspace) {
 
 /// Least squares with `P_0 = Q_0`, `P_n = Q_m` and the smoothing `λ ∫|C'''|² du` (the least-squares
 /// module's [`LsqSolver`]); false if the normal equations are singular.
-fn solve_control_points(data: &FitData, log_lambda: f64, ws: &mut EvalWorkspace) -> bool {
+fn solve_control_points(
+    data: &FitData,
+    params: &[f64],
+    log_lambda: f64,
+    ws: &mut EvalWorkspace,
+) -> bool {
     let p = data.degree;
     if p > MAX_DEGREE || ws.knots.len() < 2 * (p + 1) {
         return false;
@@ -161,33 +216,92 @@ fn solve_control_points(data: &FitData, log_lambda: f64, ws: &mut EvalWorkspace)
         closed: false,
     };
     solver
-        .solve(
-            &data.points,
-            &data.params,
-            &ws.knots,
-            None,
-            &opts,
-            &mut ws.ctrl,
-        )
+        .solve(&data.points, params, &ws.knots, None, &opts, &mut ws.ctrl)
         .is_ok()
         && ws.ctrl.iter().all(|c| c.is_finite())
 }
 
+/// Converts the B-spline in `ws` to its piecewise power form (Taylor coefficients at each span start),
+/// so points and derivatives cost one Horner scheme instead of a basis-function recursion.
+fn build_power_form(p: usize, ws: &mut EvalWorkspace) {
+    let n = ws.ctrl.len() - 1;
+    ws.breaks.clear();
+    ws.coef.clear();
+    let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
+    let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
+    let mut ders = [0.0; P1 * P1];
+    for s in p..=n {
+        let (u0, u1) = (ws.knots[s], ws.knots[s + 1]);
+        if u1 <= u0 {
+            continue;
+        }
+        ders_basis_funs_into(
+            s, u0, p, p, &ws.knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
+        );
+        ws.breaks.push(u0);
+        let mut fact = 1.0;
+        for k in 0..=p {
+            if k > 0 {
+                fact *= k as f64;
+            }
+            let mut c = Vec3::default();
+            for j in 0..=p {
+                c += ws.ctrl[s - p + j] * ders[k * (p + 1) + j];
+            }
+            ws.coef.push(c / fact);
+        }
+    }
+}
+
+/// The point and derivatives 1..=3 at `u` from the power form, in span `j` (index into `breaks`).
+#[inline]
+fn power_eval(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
+    let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
+    // Horner for the value and the first three derivatives
+    let (mut v0, mut v1, mut v2, mut v3) =
+        (c[p], Vec3::default(), Vec3::default(), Vec3::default());
+    for k in (0..p).rev() {
+        v3 = v3 * t + v2;
+        v2 = v2 * t + v1;
+        v1 = v1 * t + v0;
+        v0 = v0 * t + c[k];
+    }
+    out[0] = v0;
+    out[1] = v1;
+    out[2] = v2 * 2.0;
+    out[3] = v3 * 6.0;
+}
+
+/// The span index in `breaks` holding `u` (last span for `u` at the end).
+#[inline]
+fn power_span(breaks: &[f64], u: f64) -> usize {
+    match breaks.binary_search_by(|b| b.total_cmp(&u)) {
+        Ok(i) => i,
+        Err(i) => i.saturating_sub(1),
+    }
+}
+
 /// Max and RMS orthogonal deviation: Newton projection started at each point's own parameter.
-fn deviations(data: &FitData, ws: &mut EvalWorkspace) -> (f64, f64) {
+fn deviations(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> (f64, f64) {
     let p = data.degree;
     let m = data.points.len();
     ws.foot_params.clear();
-    ws.foot_params.extend_from_slice(&data.params);
+    ws.foot_params.extend_from_slice(start);
     let mut d = [Vec3::default(); 4];
     let (mut max_d, mut sum2) = (0.0f64, 0.0);
+    let (breaks, coef) = (&ws.breaks, &ws.coef);
+    let eval = |u: f64, d: &mut [Vec3; 4]| {
+        let j = power_span(breaks, u);
+        power_eval(coef, p, j, u - breaks[j], d);
+    };
     for k in 1..m.saturating_sub(1) {
         let qk = data.points[k];
-        let mut u = data.params[k];
-        bspline_ders(&ws.knots, &ws.ctrl, p, u, 2, &mut d);
+        let mut u = start[k];
+        eval(u, &mut d);
+        // any curve point bounds the orthogonal distance from above; Newton steps tighten it
         let mut best = (d[0] - qk).norm_squared();
         let mut best_u = u;
-        for _ in 0..4 {
+        for _ in 0..3 {
             let diff = d[0] - qk;
             let f = d[1].dot(diff);
             let fp = d[2].dot(diff) + d[1].norm_squared();
@@ -196,13 +310,13 @@ fn deviations(data: &FitData, ws: &mut EvalWorkspace) -> (f64, f64) {
             }
             let step = (-f / fp).clamp(-0.05, 0.05);
             u = (u + step).clamp(0.0, 1.0);
-            bspline_ders(&ws.knots, &ws.ctrl, p, u, 2, &mut d);
+            eval(u, &mut d);
             let dist2 = (d[0] - qk).norm_squared();
             if dist2 < best {
                 best = dist2;
                 best_u = u;
             }
-            if step.abs() < 1e-12 {
+            if step.abs() < 1e-10 {
                 break;
             }
         }
@@ -216,23 +330,19 @@ fn deviations(data: &FitData, ws: &mut EvalWorkspace) -> (f64, f64) {
 /// `(F, max_j F_j)` by 8-point Gauss–Legendre per span; fills `ws.span_fairness`.
 fn fairness(data: &FitData, ws: &mut EvalWorkspace) -> (f64, f64) {
     let p = data.degree;
-    let knots = &ws.knots;
-    let n = ws.ctrl.len() - 1;
     ws.span_energy.clear();
     ws.span_fairness.clear();
     let mut length = 0.0;
     let mut d = [Vec3::default(); 4];
-    for s in p..=n {
-        let (a, b) = (knots[s], knots[s + 1]);
-        if b <= a {
-            continue;
-        }
-        let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+    for j in 0..ws.breaks.len() {
+        let a = ws.breaks[j];
+        let b = ws.breaks.get(j + 1).copied().unwrap_or(1.0);
+        let (mid, half) = (0.5 * (a + b) - a, 0.5 * (b - a));
         let mut e = 0.0;
         for i in 0..8 {
             let t = if i < 4 { -GL_X[i] } else { GL_X[i - 4] };
             let w = GL_W[i % 4] * half;
-            bspline_ders(knots, &ws.ctrl, p, mid + half * t, 3, &mut d);
+            power_eval(&ws.coef, p, j, mid + half * t, &mut d);
             let (speed, dk) = speed_and_dkappa_du(&d, data.planar);
             length += w * speed;
             if speed > 0.0 {
@@ -300,6 +410,7 @@ mod tests {
             params,
             degree: 3,
             planar: true,
+            corrections: 0,
         }
     }
 
@@ -329,6 +440,7 @@ mod tests {
             params,
             degree: 3,
             planar: true,
+            corrections: 0,
         };
         let mut ws = EvalWorkspace::default();
         set_knots(3, &[0.3, 0.7], &mut ws);
@@ -379,7 +491,9 @@ mod tests {
             params: vec![],
             degree: 3,
             planar: true,
+            corrections: 0,
         };
+        build_power_form(3, &mut ws);
         let (f, _) = fairness(&data, &mut ws);
         let n = 200_000;
         let (mut len, mut e) = (0.0, 0.0);

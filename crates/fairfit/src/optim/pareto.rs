@@ -48,6 +48,7 @@ pub fn pareto_front(
         encoding: KnotEncoding::new(n_ctrl - p - 1, 1e-4, true),
         tolerance: tol,
         span_target: None,
+        fairness_cutoff: DEVIATION_CAP,
     };
     let mut seeds = Vec::new();
     let avg = super::prepare::averaging_interior_knots(&prep.data.params, p, n_ctrl);

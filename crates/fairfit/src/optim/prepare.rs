@@ -1,7 +1,7 @@
 //! Scale-free preparation of the data for the knot search, and the least-squares baseline knots.
 //!
-//! Points are translated to their bounding-box minimum, divided by the bounding-box diagonal and
-//! snapped to a grid of `2^-36` (about 1.5e-11 of the diagonal). The snapping makes the normalised data
+//! Points are translated to their bounding-box minimum, divided by the bounding box's largest side and
+//! snapped to a grid of `2^-36` (about 1.5e-11 of that side). The snapping makes the normalised data
 //! bit-identical for inputs that differ only by a scale factor or a translation, so the whole search
 //! (and its knot vector) is exactly scale-invariant, far below any fitting tolerance.
 //! Parameters are chord length; the baseline knots are the averaging knots of the NURBS Book
@@ -21,7 +21,7 @@ pub struct Prepared {
     pub data: FitData,
     /// Bounding-box minimum of the input.
     pub origin: Vec3,
-    /// Bounding-box diagonal of the input.
+    /// Largest side of the input's bounding box.
     pub scale: f64,
 }
 
@@ -52,7 +52,8 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
             hi[c] = hi[c].max(p[c]);
         }
     }
-    let scale = (hi - lo).norm();
+    // the largest side of the bounding box: the unit of relative tolerances across fairfit
+    let scale = (hi - lo).max_abs();
     if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
         return Err(Error::InvalidData(
             "all points coincide (or are too far apart to measure)".into(),
@@ -97,6 +98,7 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
             params,
             degree,
             planar,
+            corrections: 1,
         },
         origin: lo,
         scale,

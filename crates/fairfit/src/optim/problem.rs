@@ -3,7 +3,9 @@
 //! max_j F_j / F* − 1)` when a per-span target `F*` is given), objective `F + max_j F_j`.
 
 use super::encoding::KnotEncoding;
-use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
+use super::objective::{
+    evaluate_candidate_within, set_knots, CandidateEval, EvalWorkspace, FitData,
+};
 use super::pso::{Fitness, SwarmProblem};
 
 /// One fixed number of control points to search knots for.
@@ -17,6 +19,8 @@ pub struct KnotProblem<'a> {
     pub tolerance: f64,
     /// Per-span fairness target `F*`.
     pub span_target: Option<f64>,
+    /// The fairness integral is only computed for candidates within this many tolerances.
+    pub fairness_cutoff: f64,
 }
 
 /// Buffers of one particle.
@@ -64,14 +68,26 @@ impl SwarmProblem for KnotProblem<'_> {
             return CandidateEval::failed();
         }
         set_knots(self.data.degree, &ws.interior, &mut ws.eval);
-        evaluate_candidate(self.data, self.encoding.log_lambda(x), &mut ws.eval)
+        evaluate_candidate_within(
+            self.data,
+            self.encoding.log_lambda(x),
+            self.fairness_cutoff * self.tolerance,
+            &mut ws.eval,
+        )
     }
 
     fn fitness(&self, e: &CandidateEval) -> Fitness {
-        if !e.solved || !e.fairness.is_finite() {
+        if !e.solved || e.fairness.is_nan() {
             return Fitness::WORST;
         }
         let mut violation = (e.max_deviation / self.tolerance - 1.0).max(0.0);
+        if violation > 0.0 {
+            // ranked by violation alone (the fairness may not have been computed)
+            return Fitness {
+                violation,
+                objective: f64::INFINITY,
+            };
+        }
         if let Some(t) = self.span_target {
             violation += (e.max_span_fairness / t - 1.0).max(0.0);
         }
