@@ -52,6 +52,10 @@ pub enum Error {
     /// A fit could not be computed (ill-posed system, tolerance unreachable, ...).
     #[error("fitting failed: {0}")]
     Fit(String),
+    /// A knot operation (insertion, refinement, degree elevation, reparametrisation) cannot be done as
+    /// asked: parameter outside the domain, multiplicity above the degree, bad target interval.
+    #[error("knot operation not possible: {0}")]
+    KnotOperation(String),
     /// An option value is out of range.
     #[error("invalid option: {0}")]
     InvalidOption(String),

@@ -1,17 +1,129 @@
-//! `fairfit eval`.
+//! `fairfit eval`: a curve or surface JSON file evaluated at given parameters, printed as a JSON array
+//! (points, derivatives, curvature, torsion and dκ/ds for curves; partials and Gaussian/mean curvature
+//! for surfaces).
 
-use super::{CliError, CmdResult};
+use super::{print_json, CliError, CmdResult};
 use clap::Args;
+use fairfit::diffgeo::{differentials, surface_curvature_from};
+use fairfit::io::{read_geometry, Geometry};
+use fairfit::nurbs::{NurbsCurve, NurbsSurface, SurfaceWorkspace, Vec3};
+use serde_json::{json, Value};
 use std::path::PathBuf;
 
 /// Arguments of `fairfit eval`.
 #[derive(Args, Debug)]
 pub struct EvalArgs {
-    /// Input file(s).
-    pub input: Vec<PathBuf>,
+    /// The curve or surface JSON file.
+    pub input: PathBuf,
+    /// Parameters: `U1,U2,...` for a curve, `U1:V1,U2:V2,...` for a surface.
+    #[arg(long, allow_hyphen_values = true)]
+    pub at: String,
 }
 
 /// Runs `fairfit eval`.
-pub fn run(_args: EvalArgs) -> CmdResult {
-    Err(CliError("`fairfit eval` is not implemented yet".into()))
+pub fn run(args: EvalArgs) -> CmdResult {
+    let geometry = read_geometry(&args.input)?;
+    let out = match geometry {
+        Geometry::Curve(c) => eval_curve(&c, &parse_curve_params(&args.at)?)?,
+        Geometry::Surface(s) => eval_surface(&s, &parse_surface_params(&args.at)?)?,
+    };
+    print_json(&Value::Array(out));
+    Ok(())
+}
+
+/// One number of the `--at` list.
+fn parse_number(text: &str) -> Result<f64, CliError> {
+    let t = text.trim();
+    match t.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(CliError(format!(
+            "--at: `{t}` is not a finite number (expected e.g. --at 0,0.5,1 or --at 0.2:0.3,0.5:0.5)"
+        ))),
+    }
+}
+
+/// The entries of a comma-separated `--at` list (none empty).
+fn entries(at: &str) -> Result<Vec<&str>, CliError> {
+    let items: Vec<&str> = at.split(',').map(str::trim).collect();
+    if items.iter().any(|s| s.is_empty()) {
+        return Err(CliError(format!(
+            "--at: empty entry in `{at}`; give comma-separated parameters like 0,0.5,1"
+        )));
+    }
+    Ok(items)
+}
+
+/// `U1,U2,...` for curves.
+fn parse_curve_params(at: &str) -> Result<Vec<f64>, CliError> {
+    entries(at)?
+        .into_iter()
+        .map(|s| {
+            if s.contains(':') {
+                Err(CliError(format!(
+                    "--at: `{s}` is a surface parameter pair, but the file holds a curve"
+                )))
+            } else {
+                parse_number(s)
+            }
+        })
+        .collect()
+}
+
+/// `U1:V1,U2:V2,...` for surfaces.
+fn parse_surface_params(at: &str) -> Result<Vec<(f64, f64)>, CliError> {
+    entries(at)?
+        .into_iter()
+        .map(|s| match s.split_once(':') {
+            Some((u, v)) if !v.contains(':') => Ok((parse_number(u)?, parse_number(v)?)),
+            _ => Err(CliError(format!(
+                "--at: `{s}` is not a U:V pair (the file holds a surface)"
+            ))),
+        })
+        .collect()
+}
+
+fn arr(v: Vec3) -> Value {
+    json!([v.x(), v.y(), v.z()])
+}
+
+fn eval_curve(c: &NurbsCurve, us: &[f64]) -> Result<Vec<Value>, CliError> {
+    us.iter()
+        .map(|&u| {
+            c.check_parameter(u)?;
+            let d = differentials(c, u);
+            Ok(json!({
+                "u": u,
+                "point": arr(d.point),
+                "derivatives": [arr(d.d1), arr(d.d2), arr(d.d3)],
+                "curvature": d.curvature,
+                "torsion": d.torsion,
+                "dkappa_ds": d.dkappa_ds,
+            }))
+        })
+        .collect()
+}
+
+fn eval_surface(s: &NurbsSurface, uv: &[(f64, f64)]) -> Result<Vec<Value>, CliError> {
+    let mut ws = SurfaceWorkspace::new(s, 2);
+    let mut d = [Vec3::ZERO; 9];
+    uv.iter()
+        .map(|&(u, v)| {
+            s.check_parameter(u, v)?;
+            s.derivatives_with(u, v, 2, &mut ws, &mut d);
+            // null curvatures where the normal is degenerate (poles, collapsed edges)
+            let curv = surface_curvature_from(d[3], d[1], d[6], d[4], d[2]);
+            Ok(json!({
+                "u": u,
+                "v": v,
+                "point": arr(d[0]),
+                "du": arr(d[3]),
+                "dv": arr(d[1]),
+                "duu": arr(d[6]),
+                "duv": arr(d[4]),
+                "dvv": arr(d[2]),
+                "gaussian_curvature": curv.map(|c| c.gaussian),
+                "mean_curvature": curv.map(|c| c.mean),
+            }))
+        })
+        .collect()
 }

@@ -1,17 +1,86 @@
-//! `fairfit info`.
+//! `fairfit info`: a summary of a curve or surface JSON file as a JSON object on stdout. Curves: size,
+//! knots, domain, length and every fairness measure of `fairfit::fair::curve_fairness`; surfaces: net
+//! size, degrees, domains and the fairness of iso-parametric curves in both directions.
 
-use super::{CliError, CmdResult};
+use super::{print_json, CliError, CmdResult};
 use clap::Args;
+use fairfit::fair::{curve_fairness, surface_fairness};
+use fairfit::io::{read_geometry, Geometry};
+use fairfit::nurbs::{NurbsCurve, NurbsSurface};
+use serde_json::{json, Value};
 use std::path::PathBuf;
 
 /// Arguments of `fairfit info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Input file(s).
+    /// Input file(s): one prints a JSON object, several print an array of objects.
+    #[arg(required = true)]
     pub input: Vec<PathBuf>,
+    /// Number of iso-parametric curves per direction for surfaces (ends included).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub iso: u64,
 }
 
 /// Runs `fairfit info`.
-pub fn run(_args: InfoArgs) -> CmdResult {
-    Err(CliError("`fairfit info` is not implemented yet".into()))
+pub fn run(args: InfoArgs) -> CmdResult {
+    let mut out = Vec::with_capacity(args.input.len());
+    for path in &args.input {
+        let mut v = match read_geometry(path)? {
+            Geometry::Curve(c) => curve_info(&c),
+            Geometry::Surface(s) => surface_info(&s, args.iso as usize)?,
+        };
+        if args.input.len() > 1 {
+            if let Value::Object(m) = &mut v {
+                m.insert("file".into(), json!(path.display().to_string()));
+            }
+        }
+        out.push(v);
+    }
+    match out.len() {
+        1 => print_json(&out[0]),
+        _ => print_json(&Value::Array(out)),
+    }
+    Ok(())
+}
+
+fn curve_info(c: &NurbsCurve) -> Value {
+    let f = curve_fairness(c);
+    let (a, b) = c.domain();
+    json!({
+        "kind": "curve",
+        "degree": c.degree(),
+        "control_points": c.n_control_points(),
+        "knots": c.knots().len(),
+        "spans": f.span_fairness.len(),
+        "rational": c.is_rational(),
+        "domain": [a, b],
+        "length": f.length,
+        "energy": f.energy,
+        "fairness": f.fairness,
+        "max_span_fairness": f.max_span_fairness,
+        "span_fairness": f.span_fairness,
+        "bending_energy": f.bending_energy,
+        "curvature_extrema": f.curvature_extrema,
+        "inflections": f.inflections,
+    })
+}
+
+fn surface_info(s: &NurbsSurface, n_iso: usize) -> Result<Value, CliError> {
+    let f = surface_fairness(s, n_iso)?;
+    let (n_u, n_v) = s.net_size();
+    let iso = serde_json::to_value(&f).map_err(|e| CliError(format!("internal: {e}")))?;
+    Ok(json!({
+        "kind": "surface",
+        "net_size": [n_u, n_v],
+        "degree_u": s.degree_u(),
+        "degree_v": s.degree_v(),
+        "knots_u": s.knots_u().len(),
+        "knots_v": s.knots_v().len(),
+        "rational": s.is_rational(),
+        "domain_u": [s.domain_u().0, s.domain_u().1],
+        "domain_v": [s.domain_v().0, s.domain_v().1],
+        "max_fairness_u": f.max_fairness_u,
+        "max_fairness_v": f.max_fairness_v,
+        "iso_curves": iso,
+    }))
 }

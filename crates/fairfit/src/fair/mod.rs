@@ -1,3 +1,27 @@
 //! Fairness metrics: the MVC energy E = ∫(dκ/ds)² ds integrated span by span, the scale-free F = L³·E and
 //! its per-span parts F_j (Σ F_j = F), bending energy, counts of curvature extrema and inflections, and
 //! the same measures on iso-parametric curves of surfaces.
+//!
+//! - [`energy`]: the MVC integrand at one parameter (signed planar or guarded spatial formula);
+//! - [`evaluator`]: [`FairnessEvaluator`], the allocation-free adaptive span-by-span integrator used by
+//!   the optimiser (`F`, `max F_j`, `F_j`);
+//! - [`extrema`]: curvature extrema and inflections by sign changes above a scale-free noise floor;
+//! - [`metrics`]: [`curve_fairness`], the full [`CurveFairness`] summary;
+//! - [`surface`]: [`surface_fairness`], the metrics on iso-parametric curves in both directions;
+//! - [`gram`]: Gram matrices of basis derivatives (parametric energies as quadratic forms);
+//! - [`fairing`]: [`fair_curve`], the fit-then-fair baseline (Eck–Hadenfeld local energy fairing held
+//!   to a tolerance).
+
+pub mod energy;
+pub mod evaluator;
+pub mod extrema;
+pub mod fairing;
+pub mod gram;
+pub mod metrics;
+pub mod surface;
+
+pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
+pub use extrema::{count_extrema, ExtremaCounts};
+pub use fairing::{fair_curve, FairingOptions, FairingResult};
+pub use metrics::{curve_fairness, CurveFairness};
+pub use surface::{surface_fairness, IsoCurveFairness, SurfaceFairness};

@@ -1,3 +1,18 @@
 //! Least-squares fitting of ordered points: point input, parameterisation, knot placement, banded
 //! least squares with optional smoothing, parameter correction, closed curves, corners and
 //! tolerance-driven knot counts.
+
+pub mod banded;
+pub mod correction;
+pub mod deviation;
+pub mod gauss;
+pub mod knot_placement;
+pub mod lsq;
+pub mod parameterize;
+pub mod shape;
+pub mod tolerance;
+
+pub use deviation::{max_orthogonal_deviation, Deviation};
+pub use lsq::{fit_fixed_knots, LsqOptions, LsqSolver, SmoothingOrder};
+pub use parameterize::Parameterization;
+pub use tolerance::{fit_to_tolerance, ClosedMode, FitOptions, FitResult, Tolerance};

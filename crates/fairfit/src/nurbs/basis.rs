@@ -6,7 +6,6 @@
 
 /// Degrees up to this value evaluate entirely on the stack.
 pub const STACK_DEGREE: usize = 15;
-const STACK_LEN: usize = (STACK_DEGREE + 1) * (STACK_DEGREE + 1);
 
 /// Working memory for [`basis_funs`] and [`ders_basis_funs`]: reuse one per thread or per batch.
 #[derive(Clone, Debug)]
@@ -36,12 +35,10 @@ impl BasisWorkspace {
     }
 }
 
-/// Fixed-size stack scratch space used by the evaluators for low degrees.
+/// Fixed-size stack scratch (knot differences) used by the point evaluators for low degrees.
 pub(crate) struct Scratch {
     pub left: [f64; STACK_DEGREE + 1],
     pub right: [f64; STACK_DEGREE + 1],
-    pub ndu: [f64; STACK_LEN],
-    pub a: [f64; 2 * (STACK_DEGREE + 1)],
 }
 
 impl Scratch {
@@ -50,8 +47,6 @@ impl Scratch {
         Scratch {
             left: [0.0; STACK_DEGREE + 1],
             right: [0.0; STACK_DEGREE + 1],
-            ndu: [0.0; STACK_LEN],
-            a: [0.0; 2 * (STACK_DEGREE + 1)],
         }
     }
 }

@@ -10,8 +10,52 @@ use super::knots::{find_span, validate_knots};
 use super::vec3::Vec3;
 use crate::errors::{Error, Result};
 
-/// Highest derivative order evaluated with stack buffers only.
-const STACK_DERIV: usize = 7;
+/// Degrees and derivative orders below this use small stack buffers in single evaluations.
+const SMALL: usize = 8;
+
+/// Scratch slices for one derivative evaluation (see [`ders_basis_funs_into`]).
+struct DerivBuffers<'a> {
+    left: &'a mut [f64],
+    right: &'a mut [f64],
+    ndu: &'a mut [f64],
+    a: &'a mut [f64],
+    ders: &'a mut [f64],
+    aders: &'a mut [[f64; 4]],
+}
+
+/// Heap scratch for derivative evaluation, sized exactly for degree `p` and order `d`.
+struct OwnedDerivBuffers {
+    left: Vec<f64>,
+    right: Vec<f64>,
+    ndu: Vec<f64>,
+    a: Vec<f64>,
+    ders: Vec<f64>,
+    aders: Vec<[f64; 4]>,
+}
+
+impl OwnedDerivBuffers {
+    fn new(p: usize, d: usize) -> Self {
+        let p1 = p + 1;
+        OwnedDerivBuffers {
+            left: vec![0.0; p1],
+            right: vec![0.0; p1],
+            ndu: vec![0.0; p1 * p1],
+            a: vec![0.0; 2 * p1],
+            ders: vec![0.0; (d + 1) * p1],
+            aders: vec![[0.0; 4]; d + 1],
+        }
+    }
+    fn borrow(&mut self) -> DerivBuffers<'_> {
+        DerivBuffers {
+            left: &mut self.left,
+            right: &mut self.right,
+            ndu: &mut self.ndu,
+            a: &mut self.a,
+            ders: &mut self.ders,
+            aders: &mut self.aders,
+        }
+    }
+}
 
 /// A NURBS curve of degree `p >= 1` with control points in 3D and positive weights.
 #[derive(Clone, Debug, PartialEq)]
@@ -186,9 +230,10 @@ impl NurbsCurve {
     pub fn point(&self, u: f64) -> Vec3 {
         let p = self.degree;
         if p <= STACK_DEGREE {
-            let mut s = Scratch::new();
+            let mut left = [0.0; STACK_DEGREE + 1];
+            let mut right = [0.0; STACK_DEGREE + 1];
             let mut n = [0.0; STACK_DEGREE + 1];
-            self.point_with(u, &mut s.left, &mut s.right, &mut n)
+            self.point_with(u, &mut left, &mut right, &mut n)
         } else {
             let mut buf = vec![0.0; 3 * (p + 1)];
             let (l, rest) = buf.split_at_mut(p + 1);
@@ -252,49 +297,46 @@ impl NurbsCurve {
     /// `[U[i], U[i+1])` holding `u` is used, i.e. the right-hand limit (the left-hand one at the domain end).
     pub fn derivatives_into(&self, u: f64, d: usize, out: &mut [Vec3]) {
         let p = self.degree;
-        let p1 = p + 1;
-        let span = self.find_span(u);
-        if p <= STACK_DEGREE
-            && d <= STACK_DERIV
-            && (d + 1) * p1 <= (STACK_DEGREE + 1) * (STACK_DEGREE + 1)
-        {
-            let mut s = Scratch::new();
-            let mut ders = [0.0; (STACK_DEGREE + 1) * (STACK_DEGREE + 1)];
-            let mut aders = [[0.0; 4]; STACK_DERIV + 1];
-            ders_basis_funs_into(
-                span,
-                u,
-                p,
-                d,
-                &self.knots,
-                &mut s.left,
-                &mut s.right,
-                &mut s.ndu,
-                &mut s.a,
-                &mut ders,
-            );
-            self.combine(span, d, &ders, &mut aders, out);
+        if p < SMALL && d < SMALL {
+            // small fixed buffers: cheap to zero, no heap
+            let mut left = [0.0; SMALL];
+            let mut right = [0.0; SMALL];
+            let mut ndu = [0.0; SMALL * SMALL];
+            let mut a = [0.0; 2 * SMALL];
+            let mut ders = [0.0; SMALL * SMALL];
+            let mut aders = [[0.0; 4]; SMALL];
+            let mut bufs = DerivBuffers {
+                left: &mut left,
+                right: &mut right,
+                ndu: &mut ndu,
+                a: &mut a,
+                ders: &mut ders,
+                aders: &mut aders,
+            };
+            self.derivatives_with(u, d, &mut bufs, out);
         } else {
-            let mut left = vec![0.0; p1];
-            let mut right = vec![0.0; p1];
-            let mut ndu = vec![0.0; p1 * p1];
-            let mut a = vec![0.0; 2 * p1];
-            let mut ders = vec![0.0; (d + 1) * p1];
-            let mut aders = vec![[0.0; 4]; d + 1];
-            ders_basis_funs_into(
-                span,
-                u,
-                p,
-                d,
-                &self.knots,
-                &mut left,
-                &mut right,
-                &mut ndu,
-                &mut a,
-                &mut ders,
-            );
-            self.combine(span, d, &ders, &mut aders, out);
+            let mut owned = OwnedDerivBuffers::new(p, d);
+            self.derivatives_with(u, d, &mut owned.borrow(), out);
         }
+    }
+
+    /// [`NurbsCurve::derivatives_into`] with caller-provided buffers.
+    #[inline]
+    fn derivatives_with(&self, u: f64, d: usize, b: &mut DerivBuffers<'_>, out: &mut [Vec3]) {
+        let span = self.find_span(u);
+        ders_basis_funs_into(
+            span,
+            u,
+            self.degree,
+            d,
+            &self.knots,
+            b.left,
+            b.right,
+            b.ndu,
+            b.a,
+            b.ders,
+        );
+        self.combine(span, d, b.ders, b.aders, out);
     }
 
     /// Homogeneous derivatives from basis derivatives, then the rational quotient rule (A4.2).
@@ -353,8 +395,11 @@ impl NurbsCurve {
             us.len() * (d + 1),
             "derivatives_batch_into: output length"
         );
+        // buffers sized once per batch, reused for every parameter
+        let mut owned = OwnedDerivBuffers::new(self.degree, d);
+        let mut bufs = owned.borrow();
         for (u, chunk) in us.iter().zip(out.chunks_exact_mut(d + 1)) {
-            self.derivatives_into(*u, d, chunk);
+            self.derivatives_with(*u, d, &mut bufs, chunk);
         }
     }
 }

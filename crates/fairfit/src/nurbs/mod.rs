@@ -6,9 +6,17 @@
 //! and exact rational derivatives that no maintained crate provides together.
 
 pub mod basis;
+mod circle;
+mod clamp;
 pub mod curve;
+mod elevate;
+mod insert;
+mod iso_curve;
 pub mod knots;
+mod refine;
+mod reparam;
 pub mod surface;
+mod surface_knot_ops;
 pub mod vec3;
 
 pub use curve::NurbsCurve;

@@ -185,6 +185,10 @@ impl NurbsSurface {
     pub fn control_points_flat(&self) -> &[Vec3] {
         &self.control_points
     }
+    /// The homogeneous control points `(w x, w y, w z, w)`, row-major flat.
+    pub fn homogeneous_points(&self) -> &[[f64; 4]] {
+        &self.cw
+    }
     /// The weights, row-major flat.
     pub fn weights_flat(&self) -> &[f64] {
         &self.weights

@@ -1,0 +1,152 @@
+"""Tests of the independent measurer on analytic cases.
+
+Run with `python -m pytest bench/test_measure.py` or `python bench/test_measure.py`.
+"""
+
+import os
+import sys
+
+import numpy as np
+from scipy.integrate import quad
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import measure  # noqa: E402
+
+S2 = np.sqrt(0.5)
+
+
+def full_circle(r=1.0, cx=0.0, cy=0.0):
+    """Exact circle: 9-point rational quadratic (4 quarter arcs)."""
+    ctrl = np.array(
+        [[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], float
+    )
+    ctrl = ctrl * r + [cx, cy]
+    w = np.array([1, S2, 1, S2, 1, S2, 1, S2, 1])
+    knots = [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1]
+    return 2, knots, ctrl, w
+
+
+def cubic_bezier(f, a, b):
+    """Cubic Bezier control points reproducing the cubic polynomial curve (t, f(t)), t in [a, b]."""
+    s = np.linspace(0, 1, 4)
+    t = a + (b - a) * s
+    B = np.array([[[1, 3, 3, 1][i] * si**i * (1 - si) ** (3 - i) for i in range(4)] for si in s])
+    cx = np.linalg.solve(B, t)
+    cy = np.linalg.solve(B, f(t))
+    return 3, [0, 0, 0, 0, 1, 1, 1, 1], np.column_stack([cx, cy]), None
+
+
+def test_circle_curvature_and_fairness():
+    r = 2.5
+    deg, knots, ctrl, w = full_circle(r, 1.0, -3.0)
+    c = measure.Curve(deg, knots, ctrl, w)
+    u = c.span_samples(20)
+    pts = c.points(u)
+    assert np.allclose(np.linalg.norm(pts - [1.0, -3.0], axis=1), r, atol=1e-12)
+    kappa, dkds, speed = measure._kappa_and_dkds(c, u, planar=True)
+    assert np.allclose(kappa, 1.0 / r, rtol=1e-10), kappa[:4]
+    assert np.max(np.abs(dkds)) < 1e-9
+    F, L = measure.fairness(c, planar=True)
+    assert abs(L - 2 * np.pi * r) < 1e-10 * r, L
+    assert F < 1e-16, F
+
+
+def test_circle_orthogonal_deviation_exact():
+    r = 1.0
+    deg, knots, ctrl, w = full_circle(r)
+    rng = np.random.default_rng(7)
+    ang = rng.uniform(0, 2 * np.pi, 300)
+    off = rng.uniform(-0.01, 0.01, 300)
+    pts = np.column_stack([(r + off) * np.cos(ang), (r + off) * np.sin(ang)])
+    m = measure.measure(deg, knots, ctrl, w, pts)
+    assert abs(m.max_dev - np.max(np.abs(off))) < 1e-12, (m.max_dev, np.max(np.abs(off)))
+    assert abs(m.rms_dev - np.sqrt(np.mean(off**2))) < 1e-12
+    assert m.n_ctrl == 9
+    assert m.extrema == 0 and m.inflections == 0
+    assert m.F < 1e-14
+
+
+def test_tilted_circle_in_3d_unsigned_curvature():
+    deg, knots, ctrl2, w = full_circle(3.0)
+    R = np.array([[1, 0, 0], [0, np.cos(0.7), -np.sin(0.7)], [0, np.sin(0.7), np.cos(0.7)]])
+    ctrl = np.column_stack([ctrl2, np.zeros(9)]) @ R.T
+    c = measure.Curve(deg, knots, ctrl, w)
+    kappa, dkds, _ = measure._kappa_and_dkds(c, c.span_samples(10), planar=False)
+    assert np.allclose(kappa, 1 / 3.0, rtol=1e-10)
+    F, L = measure.fairness(c, planar=False)
+    assert F < 1e-14 and abs(L - 6 * np.pi) < 1e-9
+
+
+def test_cubic_graph_fairness_against_quad():
+    # (t, t^3), t in [-1, 1]: signed kappa = 6t / (1 + 9t^4)^(3/2).
+    deg, knots, ctrl, w = cubic_bezier(lambda t: t**3, -1.0, 1.0)
+    c = measure.Curve(deg, knots, ctrl, w)
+    t = np.linspace(-1, 1, 11)
+    assert np.allclose(c.points((t + 1) / 2), np.column_stack([t, t**3]), atol=1e-13)
+
+    def kappa(t):
+        return 6 * t / (1 + 9 * t**4) ** 1.5
+
+    def dk_dt(t, h=1e-5):
+        return (kappa(t + h) - kappa(t - h)) / (2 * h)
+
+    def speed(t):
+        return np.sqrt(1 + 9 * t**4)
+
+    L = quad(speed, -1, 1, epsabs=1e-13)[0]
+    integ = quad(lambda t: dk_dt(t) ** 2 / speed(t), -1, 1, epsabs=1e-12, limit=200)[0]
+    F_true = L**3 * integ
+    F, Lm = measure.fairness(c, planar=True)
+    assert abs(Lm - L) < 1e-10, (Lm, L)
+    assert abs(F - F_true) < 1e-6 * F_true, (F, F_true)
+    # Signed curvature: one inflection (t = 0) and two extrema (t = +-(1/45)^(1/4)).
+    pts = c.points(np.linspace(0, 1, 50))
+    m = measure.measure(deg, knots, ctrl, w, pts)
+    assert m.inflections == 1, m
+    assert m.extrema == 2, m
+    assert m.max_dev < 1e-12
+
+
+def test_parabola_one_extremum_no_inflection_scale_free():
+    deg, knots, ctrl, w = cubic_bezier(lambda t: t**2, -1.0, 1.0)
+    pts = measure.Curve(deg, knots, ctrl, w).points(np.linspace(0, 1, 40))
+    m1 = measure.measure(deg, knots, ctrl, w, pts)
+    m2 = measure.measure(deg, knots, ctrl * 1000.0, w, pts * 1000.0)
+    assert m1.extrema == 1 and m1.inflections == 0, m1
+    assert (m2.extrema, m2.inflections) == (m1.extrema, m1.inflections)
+    assert abs(m2.F - m1.F) < 1e-9 * m1.F
+    # F of (t, t^2): independent quadrature.
+    k = lambda t: 2 / (1 + 4 * t * t) ** 1.5  # noqa: E731
+    dk = lambda t: -24 * t / (1 + 4 * t * t) ** 2.5  # noqa: E731
+    sp = lambda t: np.sqrt(1 + 4 * t * t)  # noqa: E731
+    L = quad(sp, -1, 1)[0]
+    F_true = L**3 * quad(lambda t: dk(t) ** 2 / sp(t), -1, 1, epsabs=1e-13)[0]
+    assert abs(m1.F - F_true) < 1e-8 * F_true, (m1.F, F_true)
+    assert k(0) == 2.0
+
+
+def test_tolerance_is_relative_to_bounding_box_and_exact_circle_fits():
+    deg, knots, ctrl, w = full_circle(1.0)
+    pts = np.array([[np.cos(a), np.sin(a)] for a in np.linspace(0, 2 * np.pi, 101)])
+    assert abs(measure.tolerance(pts) - 2e-3) < 1e-12
+    m = measure.measure(deg, knots, ctrl, w, pts)
+    assert m.max_dev < 1e-13
+
+
+def test_read_points_skips_comments_and_header(tmp_path=None):
+    import tempfile
+
+    d = tmp_path or tempfile.mkdtemp()
+    p = os.path.join(str(d), "pts.csv")
+    with open(p, "w") as fh:
+        fh.write("# comment\nx,y\n1,0\n0.5,0.25\n0,0\n")
+    P = measure.read_points(p)
+    assert P.shape == (3, 2) and P[1, 1] == 0.25
+
+
+if __name__ == "__main__":
+    for name, fn in list(globals().items()):
+        if name.startswith("test_") and callable(fn):
+            fn()
+            print("ok", name)

@@ -1,0 +1,187 @@
+//! `fairfit eval` end to end: numbers on the exact circle and a bilinear saddle, and every bad input
+//! (missing, malformed, truncated, binary file; bad `--at` list; parameter outside the domain) giving a
+//! one-line error with exit code 1 and no panic.
+
+use assert_cmd::Command;
+use serde_json::Value;
+use std::io::Write;
+use tempfile::NamedTempFile;
+
+/// The exact rational quadratic circle of radius 2 around (1, -1, 0.5).
+const CIRCLE: &str = r#"{"kind": "curve", "degree": 2,
+  "knots": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
+  "control_points": [[3,-1,0.5],[3,1,0.5],[1,1,0.5],[-1,1,0.5],[-1,-1,0.5],[-1,-3,0.5],[1,-3,0.5],[3,-3,0.5],[3,-1,0.5]],
+  "weights": [1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1]}"#;
+
+/// z = x y on [0,1]², bilinear.
+const SADDLE: &str = r#"{"kind": "surface", "degree_u": 1, "degree_v": 1, "knots_u": [0,0,1,1], "knots_v": [0,0,1,1],
+  "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#;
+
+fn file_with(bytes: &[u8]) -> NamedTempFile {
+    let mut f = NamedTempFile::new().unwrap();
+    f.write_all(bytes).unwrap();
+    f
+}
+
+fn eval(file: &std::path::Path, at: &str) -> std::process::Output {
+    Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(["eval", file.to_str().unwrap(), "--at", at])
+        .output()
+        .unwrap()
+}
+
+fn ok_json(file: &std::path::Path, at: &str) -> Vec<Value> {
+    let out = eval(file, at);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice::<Vec<Value>>(&out.stdout).unwrap()
+}
+
+/// Exit code 1, one stderr line starting with `error:` and containing `needle`, no panic text.
+fn assert_one_line_error(out: &std::process::Output, needle: &str) {
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: "), "{err}");
+    assert!(err.contains(needle), "expected `{needle}` in {err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("internal error"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+fn vec3(v: &Value) -> [f64; 3] {
+    let a = v.as_array().unwrap();
+    [0, 1, 2].map(|i| a[i].as_f64().unwrap())
+}
+
+#[test]
+fn circle_points_curvature_and_derivatives() {
+    let f = file_with(CIRCLE.as_bytes());
+    let us = [0.0, 0.1, 0.3, 0.55, 0.8, 0.97, 1.0];
+    let at = us.map(|u| u.to_string()).join(",");
+    let out = ok_json(f.path(), &at);
+    assert_eq!(out.len(), us.len());
+    for (o, &u) in out.iter().zip(&us) {
+        assert_eq!(o["u"].as_f64().unwrap(), u);
+        let p = vec3(&o["point"]);
+        let r = ((p[0] - 1.0).powi(2) + (p[1] + 1.0).powi(2)).sqrt();
+        assert!((r - 2.0).abs() < 1e-12, "{r}");
+        assert!((p[2] - 0.5).abs() < 1e-15);
+        assert!((o["curvature"].as_f64().unwrap() - 0.5).abs() < 1e-10);
+        assert!(o["torsion"].as_f64().unwrap().abs() < 1e-10);
+        assert!(o["dkappa_ds"].as_f64().unwrap().abs() < 1e-8);
+        let d = o["derivatives"].as_array().unwrap();
+        assert_eq!(d.len(), 3);
+        // C' is tangent: orthogonal to the radius
+        let d1 = vec3(&d[0]);
+        let dot = d1[0] * (p[0] - 1.0) + d1[1] * (p[1] + 1.0);
+        assert!(dot.abs() < 1e-10 * (d1[0].hypot(d1[1])));
+    }
+    // the quarter point is exactly the control point (1, 1, 0.5)
+    let q = ok_json(f.path(), "0.25");
+    let p = vec3(&q[0]["point"]);
+    assert!((p[0] - 1.0).abs() < 1e-15 && (p[1] - 1.0).abs() < 1e-15);
+}
+
+#[test]
+fn saddle_partials_and_curvatures() {
+    let f = file_with(SADDLE.as_bytes());
+    let out = ok_json(f.path(), "0.5:0.25, 0:0");
+    assert_eq!(out.len(), 2);
+    let o = &out[0];
+    assert_eq!(vec3(&o["point"]), [0.5, 0.25, 0.125]);
+    assert_eq!(vec3(&o["du"]), [1.0, 0.0, 0.25]);
+    assert_eq!(vec3(&o["dv"]), [0.0, 1.0, 0.5]);
+    assert_eq!(vec3(&o["duv"]), [0.0, 0.0, 1.0]);
+    assert_eq!(vec3(&o["duu"]), [0.0, 0.0, 0.0]);
+    // z = xy: K = -1/(1 + x² + y²)², H = -xy/(1 + x² + y²)^{3/2}
+    let (x, y) = (0.5f64, 0.25f64);
+    let w = 1.0 + x * x + y * y;
+    let k = o["gaussian_curvature"].as_f64().unwrap();
+    let h = o["mean_curvature"].as_f64().unwrap();
+    assert!((k + 1.0 / (w * w)).abs() < 1e-14, "{k}");
+    assert!((h + x * y / w.powf(1.5)).abs() < 1e-14, "{h}");
+    assert!((out[1]["gaussian_curvature"].as_f64().unwrap() + 1.0).abs() < 1e-14);
+}
+
+#[test]
+fn negative_parameter_is_parsed_and_rejected_as_outside_domain() {
+    let f = file_with(CIRCLE.as_bytes());
+    assert_one_line_error(&eval(f.path(), "-0.5"), "outside the domain");
+    assert_one_line_error(
+        &eval(f.path(), "0.5,1.2"),
+        "parameter 1.2 is outside the domain [0, 1]",
+    );
+    let s = file_with(SADDLE.as_bytes());
+    assert_one_line_error(&eval(s.path(), "0.5:1.5"), "outside the domain");
+}
+
+#[test]
+fn malformed_at_lists_are_errors() {
+    let f = file_with(CIRCLE.as_bytes());
+    assert_one_line_error(&eval(f.path(), "0.1,,0.2"), "empty entry");
+    assert_one_line_error(&eval(f.path(), "abc"), "`abc` is not a finite number");
+    assert_one_line_error(&eval(f.path(), "0.1,NaN"), "not a finite number");
+    assert_one_line_error(&eval(f.path(), "inf"), "not a finite number");
+    assert_one_line_error(&eval(f.path(), "0.2:0.3"), "holds a curve");
+    assert_one_line_error(&eval(f.path(), ""), "empty entry");
+    let s = file_with(SADDLE.as_bytes());
+    assert_one_line_error(&eval(s.path(), "0.5"), "not a U:V pair");
+    assert_one_line_error(&eval(s.path(), "0.1:0.2:0.3"), "not a U:V pair");
+    assert_one_line_error(&eval(s.path(), "0.1:x"), "`x` is not a finite number");
+}
+
+#[test]
+fn bad_files_are_errors() {
+    let missing = std::env::temp_dir().join("fairfit-eval-no-such-file.json");
+    assert_one_line_error(&eval(&missing, "0.5"), "fairfit-eval-no-such-file.json");
+    let truncated = file_with(&CIRCLE.as_bytes()[..120]);
+    assert_one_line_error(&eval(truncated.path(), "0.5"), "EOF");
+    let malformed = file_with(b"{\"kind\": \"curve\", \"degree\": 2, knots: []}");
+    assert_one_line_error(&eval(malformed.path(), "0.5"), "invalid JSON");
+    let binary = file_with(&[0xff, 0xfe, 0x00, 0x81, 0x9f, 0x00, 0x12]);
+    assert_one_line_error(&eval(binary.path(), "0.5"), "not a UTF-8 text file");
+    let wrong_knots = file_with(CIRCLE.replace("0.75, 0.75, 1", "0.75, 1").as_bytes());
+    assert_one_line_error(&eval(wrong_knots.path(), "0.5"), "expected 12 knots");
+    let zero_weight = file_with(
+        CIRCLE
+            .replace("[1, 0.7071067811865476, 1,", "[1, 0, 1,")
+            .as_bytes(),
+    );
+    assert_one_line_error(&eval(zero_weight.path(), "0.5"), "weights");
+    let empty = file_with(b"");
+    assert_one_line_error(&eval(empty.path(), "0.5"), "EOF");
+}
+
+#[test]
+fn missing_at_option_is_a_usage_error() {
+    let f = file_with(CIRCLE.as_bytes());
+    let out = Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(["eval", f.path().to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--at"));
+}
+
+#[test]
+fn degenerate_normal_gives_null_curvatures() {
+    // the edge u = 0 collapses to one point, so S_v = 0 there
+    let tri = r#"{"kind": "surface", "degree_u": 1, "degree_v": 1, "knots_u": [0,0,1,1], "knots_v": [0,0,1,1],
+      "control_points": [[[0,0,0],[0,0,0]],[[1,0,0],[1,1,0]]]}"#;
+    let f = file_with(tri.as_bytes());
+    let out = ok_json(f.path(), "0:0.5,0.5:0.5");
+    assert!(out[0]["gaussian_curvature"].is_null());
+    assert!(out[0]["mean_curvature"].is_null());
+    assert_eq!(vec3(&out[0]["dv"]), [0.0, 0.0, 0.0]);
+    // a planar triangle: zero curvature away from the collapsed edge
+    assert_eq!(out[1]["gaussian_curvature"].as_f64().unwrap(), 0.0);
+    assert_eq!(out[1]["mean_curvature"].as_f64().unwrap(), 0.0);
+}

@@ -1,0 +1,187 @@
+//! `fairfit info` on curves and surfaces with known fairness, and on bad input (one-line error, exit 1).
+
+use assert_cmd::Command;
+use serde_json::Value;
+use std::f64::consts::{FRAC_1_SQRT_2, PI};
+use std::io::Write;
+use tempfile::NamedTempFile;
+
+fn file_with(content: &[u8]) -> NamedTempFile {
+    let mut f = NamedTempFile::new().unwrap();
+    f.write_all(content).unwrap();
+    f.flush().unwrap();
+    f
+}
+
+fn circle_json(r: f64) -> String {
+    let h = FRAC_1_SQRT_2;
+    let pts: Vec<[f64; 3]> = [
+        (1.0, 0.0),
+        (1.0, 1.0),
+        (0.0, 1.0),
+        (-1.0, 1.0),
+        (-1.0, 0.0),
+        (-1.0, -1.0),
+        (0.0, -1.0),
+        (1.0, -1.0),
+        (1.0, 0.0),
+    ]
+    .iter()
+    .map(|&(x, y)| [r * x, r * y, 0.0])
+    .collect();
+    serde_json::json!({
+        "kind": "curve",
+        "degree": 2,
+        "knots": [0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0],
+        "control_points": pts,
+        "weights": [1.0, h, 1.0, h, 1.0, h, 1.0, h, 1.0],
+    })
+    .to_string()
+}
+
+fn info(args: &[&str]) -> (bool, String, String) {
+    let out = Command::cargo_bin("fairfit")
+        .unwrap()
+        .arg("info")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn circle_summary() {
+    let r = 2.5;
+    let f = file_with(circle_json(r).as_bytes());
+    let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["kind"], "curve");
+    assert_eq!(v["degree"], 2);
+    assert_eq!(v["control_points"], 9);
+    assert_eq!(v["knots"], 12);
+    assert_eq!(v["rational"], true);
+    assert_eq!(v["domain"], serde_json::json!([0.0, 1.0]));
+    assert!((v["length"].as_f64().unwrap() - 2.0 * PI * r).abs() < 1e-10);
+    assert!(v["fairness"].as_f64().unwrap() < 1e-12);
+    assert!(v["max_span_fairness"].as_f64().unwrap() < 1e-12);
+    assert_eq!(v["span_fairness"].as_array().unwrap().len(), 4);
+    assert!((v["bending_energy"].as_f64().unwrap() - 2.0 * PI / r).abs() < 1e-10);
+    assert_eq!(v["curvature_extrema"], 0);
+    assert_eq!(v["inflections"], 0);
+}
+
+#[test]
+fn s_curve_counts_and_span_sum() {
+    // y = 3t(1-t)(1-2t) over x = 3t: one inflection, two curvature extrema
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+            "control_points": [[0,0,0],[1,1,0],[2,-1,0],[3,0,0]]}"#,
+    );
+    let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["inflections"], 1);
+    assert_eq!(v["curvature_extrema"], 2);
+    assert_eq!(v["rational"], false);
+    let fj: f64 = v["span_fairness"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .sum();
+    let big_f = v["fairness"].as_f64().unwrap();
+    assert!(big_f > 1.0);
+    assert!((fj - big_f).abs() < 1e-12 * big_f);
+}
+
+#[test]
+fn surface_summary_and_several_files() {
+    // a ruled sheet: straight in v (u-iso curves have F = 0), a cubic graph in u
+    let f = file_with(
+        br#"{"kind": "surface", "degree_u": 3, "degree_v": 1,
+            "knots_u": [0,0,0,0,1,1,1,1], "knots_v": [0,0,1,1],
+            "control_points": [[[0,0,0],[0,0,1]], [[1,1,0],[1,1,1]], [[2,-1,0],[2,-1,1]], [[3,0,0],[3,0,1]]]}"#,
+    );
+    let c = file_with(circle_json(1.0).as_bytes());
+    let (ok, stdout, stderr) = info(&["--iso", "3", f.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["kind"], "surface");
+    assert_eq!(v["net_size"], serde_json::json!([4, 2]));
+    assert_eq!(v["degree_u"], 3);
+    assert_eq!(v["degree_v"], 1);
+    assert_eq!(v["iso_curves"]["u_iso"].as_array().unwrap().len(), 3);
+    assert!(v["max_fairness_u"].as_f64().unwrap() < 1e-20);
+    assert!(v["max_fairness_v"].as_f64().unwrap() > 1.0);
+    assert_eq!(v["iso_curves"]["v_iso"][1]["inflections"], 1);
+
+    let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap(), c.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    let arr = v.as_array().unwrap();
+    assert_eq!(arr.len(), 2);
+    assert_eq!(arr[1]["kind"], "curve");
+    let name = c.path().file_name().unwrap().to_str().unwrap();
+    assert!(arr[1]["file"].as_str().unwrap().ends_with(name));
+}
+
+fn assert_one_line_error(args: &[&str], needle: &str) {
+    let (ok, stdout, stderr) = info(args);
+    assert!(!ok, "should fail: {stdout}");
+    assert!(stdout.is_empty());
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "one line expected: {stderr}");
+    assert!(lines[0].starts_with("error: "), "{stderr}");
+    assert!(
+        !stderr.contains("panicked") && !stderr.contains("internal error"),
+        "{stderr}"
+    );
+    assert!(stderr.contains(needle), "`{needle}` not in: {stderr}");
+}
+
+#[test]
+fn bad_input_gives_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("nope.json");
+    assert_one_line_error(&[missing.to_str().unwrap()], "nope.json");
+    let cases: Vec<(&[u8], &str)> = vec![
+        (b"{ this is not json", "invalid JSON"),
+        (
+            br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1"#,
+            "invalid JSON",
+        ),
+        (&[0x89, 0x50, 0x4e, 0x47, 0x00, 0xff, 0xfe, 0x00], "UTF-8"),
+        (
+            br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,1,1,1], "control_points": [[0,0,0],[1,1,0],[2,-1,0],[3,0,0]]}"#,
+            "knots",
+        ),
+        (
+            br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1], "control_points": [[0,0,0],[1,1,0],[2,-1,0],[3,0,0]], "weights": [1, 0, 1, 1]}"#,
+            "weights",
+        ),
+        (
+            br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1], "control_points": [[0,0,0],[1,1,0],[2,-1,0],[3,0,0]], "weights": [1, -2, 1, 1]}"#,
+            "weights",
+        ),
+        (
+            br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,0.5,1,1], "control_points": [[0,0,0],[1,1,0],[2,-1,0],[3,0,0]]}"#,
+            "knots",
+        ),
+        (br#"{"kind": "surface", "degree_u": 1}"#, "invalid JSON"),
+        (b"", "invalid JSON"),
+    ];
+    for (content, needle) in cases {
+        let f = file_with(content);
+        assert_one_line_error(&[f.path().to_str().unwrap()], needle);
+    }
+    // a bad --iso value is a clap usage error, also without panic
+    let c = file_with(circle_json(1.0).as_bytes());
+    let (ok, _, stderr) = info(&["--iso", "0", c.path().to_str().unwrap()]);
+    assert!(!ok);
+    assert!(!stderr.contains("panicked"));
+}

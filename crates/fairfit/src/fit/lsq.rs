@@ -1,0 +1,622 @@
+//! Least-squares fitting of a curve with fixed knots and fixed weights (method reconstruction §6.1 and
+//! §6.4): minimise `Σ_k |C(ū_k) − Q_k|² / (m + 1) + λ ∫ |C^(r)(u)|² du` over the control points, with
+//! `r = 2` or `3`.
+//!
+//! - Open curves interpolate both end points (`P_0 = Q_0`, `P_n = Q_m`) and, optionally, given end
+//!   derivatives (which fix `P_1` and `P_{n−1}`).
+//! - Closed curves use a periodic (unclamped) knot vector with the first `p` control points repeated at
+//!   the end; every unknown is free and the seam is `C^(p−1)`.
+//! - Rational curves: the basis is `R_i = N_i w_i / Σ_j N_j w_j`, still linear in the control points. The
+//!   smoothing term uses the polynomial basis `N_i` (exact when all weights are 1).
+//! - The normal equations `(NᵀN + λ' K) P = Nᵀ Q` are assembled straight from the `p + 1` non-zero basis
+//!   values of each point into a band (an envelope for closed curves) and solved by Cholesky in O(n p²);
+//!   `K` is exact by Gauss–Legendre with `p − r + 1` nodes inside each span.
+//! - `λ` is scale-free: `λ' = λ (m + 1) D^{2r−1}` (`D` the domain length), so data term and smoothing term
+//!   both scale like length², and `λ` means the same for any number of points and any domain.
+//!
+//! [`LsqSolver`] keeps every buffer, so a repeated solve of the same size allocates nothing.
+
+use super::banded::EnvelopeCholesky;
+use super::gauss::gauss_legendre;
+use crate::errors::{Error, Result};
+use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
+use crate::nurbs::knots::{find_span, validate_knots};
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// Which derivative the smoothing term penalises.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SmoothingOrder {
+    /// `∫|C''|²` (bending-like energy).
+    #[default]
+    Second,
+    /// `∫|C'''|²` (penalises curvature variation more directly).
+    Third,
+}
+
+impl SmoothingOrder {
+    /// The derivative order `r`.
+    pub fn order(self) -> usize {
+        match self {
+            SmoothingOrder::Second => 2,
+            SmoothingOrder::Third => 3,
+        }
+    }
+}
+
+/// Options of one least-squares solve.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LsqOptions {
+    /// `λ >= 0`, scale-free (see the module docs); 0 is plain least squares.
+    pub smoothing: f64,
+    /// The derivative order of the smoothing term.
+    pub smoothing_order: SmoothingOrder,
+    /// Derivatives `C'(a)` and `C'(b)` with respect to the curve parameter at the domain ends (open
+    /// curves only).
+    pub end_tangents: Option<(Vec3, Vec3)>,
+    /// Periodic fit: the knot vector must be periodic (see [`periodic_knots`]) and the output holds the
+    /// `n_u + p` control points whose last `p` repeat the first.
+    pub closed: bool,
+}
+
+/// A least-squares solver for one degree, holding all working memory.
+///
+/// ```
+/// use fairfit::fit::lsq::{LsqOptions, LsqSolver};
+/// use fairfit::Vec3;
+/// // points on the parabola y = x², fitted by a single cubic Bézier segment: exact
+/// let q: Vec<Vec3> = (0..20).map(|k| { let x = k as f64 / 19.0; Vec3::new(x, x * x, 0.0) }).collect();
+/// let u: Vec<f64> = (0..20).map(|k| k as f64 / 19.0).collect();
+/// let knots = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+/// let mut solver = LsqSolver::new(3);
+/// let mut ctrl = Vec::new();
+/// solver.solve(&q, &u, &knots, None, &LsqOptions::default(), &mut ctrl).unwrap();
+/// assert!((ctrl[1] - Vec3::new(1.0 / 3.0, 0.0, 0.0)).norm() < 1e-12);
+/// assert!((ctrl[2] - Vec3::new(2.0 / 3.0, 1.0 / 3.0, 0.0)).norm() < 1e-12);
+/// ```
+#[derive(Clone, Debug)]
+pub struct LsqSolver {
+    degree: usize,
+    mat: EnvelopeCholesky,
+    rhs: Vec<Vec3>,
+    n_basis: Vec<f64>,
+    left: Vec<f64>,
+    right: Vec<f64>,
+    ndu: Vec<f64>,
+    a: Vec<f64>,
+    ders: Vec<f64>,
+    gl: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+/// How control-point columns map to unknowns.
+#[derive(Clone, Copy)]
+struct Layout {
+    n_ctrl: usize,
+    closed: bool,
+    /// open: first free column (1, or 2 with end tangents); closed: number of unique points
+    lo: usize,
+    n_unknown: usize,
+}
+
+impl Layout {
+    #[inline]
+    fn unknown(&self, col: usize) -> Option<usize> {
+        if self.closed {
+            Some(col % self.lo)
+        } else if col >= self.lo && col + self.lo < self.n_ctrl {
+            Some(col - self.lo)
+        } else {
+            None
+        }
+    }
+}
+
+impl LsqSolver {
+    /// A solver for curves of `degree`.
+    pub fn new(degree: usize) -> Self {
+        let p1 = degree + 1;
+        let gl = (0..=degree.max(1))
+            .map(|n| gauss_legendre(n.max(1)))
+            .collect();
+        LsqSolver {
+            degree,
+            mat: EnvelopeCholesky::new(),
+            rhs: Vec::new(),
+            n_basis: vec![0.0; p1],
+            left: vec![0.0; p1],
+            right: vec![0.0; p1],
+            ndu: vec![0.0; p1 * p1],
+            a: vec![0.0; 2 * p1],
+            ders: vec![0.0; 4 * p1],
+            gl,
+        }
+    }
+
+    /// The degree this solver fits.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// Fits control points for `knots` (and fixed `weights`, one per control point, if given) to
+    /// `points` at parameters `params`, writing them to `ctrl_out` (`knots.len() − p − 1` points).
+    pub fn solve(
+        &mut self,
+        points: &[Vec3],
+        params: &[f64],
+        knots: &[f64],
+        weights: Option<&[f64]>,
+        opts: &LsqOptions,
+        ctrl_out: &mut Vec<Vec3>,
+    ) -> Result<()> {
+        let p = self.degree;
+        let layout = self.check(points, params, knots, weights, opts)?;
+        let n_ctrl = layout.n_ctrl;
+        let n = n_ctrl - 1;
+        let nu = layout.n_unknown;
+        // fixed columns (open curves)
+        let fixed = |col: usize| -> Vec3 {
+            let m = points.len() - 1;
+            match (col, opts.end_tangents) {
+                (0, _) => points[0],
+                (1, Some((d0, _))) => points[0] + d0 * ((knots[p + 1] - knots[1]) / p as f64),
+                (c, Some((_, d1))) if c + 2 == n_ctrl => {
+                    points[m] - d1 * ((knots[n + p] - knots[n]) / p as f64)
+                }
+                _ => points[m],
+            }
+        };
+        ctrl_out.clear();
+        if nu == 0 {
+            ctrl_out.extend((0..n_ctrl).map(fixed));
+            return Ok(());
+        }
+        // shape
+        if layout.closed {
+            let first = self.mat.first_mut(nu);
+            for s in p..layout.lo + p {
+                for a in 0..=p {
+                    for b in 0..=p {
+                        let (ua, ub) = ((s - p + a) % layout.lo, (s - p + b) % layout.lo);
+                        if ub <= ua && ub < first[ua] {
+                            first[ua] = ub;
+                        }
+                    }
+                }
+            }
+            self.mat.reshape();
+        } else {
+            self.mat.reset_band(nu, p);
+        }
+        self.rhs.clear();
+        self.rhs.resize(nu, Vec3::ZERO);
+        // data term
+        for (q, &u) in points.iter().zip(params) {
+            let span = find_span(n, p, u, knots);
+            basis_funs_into(
+                span,
+                u,
+                p,
+                knots,
+                &mut self.left,
+                &mut self.right,
+                &mut self.n_basis,
+            );
+            if let Some(w) = weights {
+                let mut sum = 0.0;
+                for j in 0..=p {
+                    self.n_basis[j] *= w[span - p + j];
+                    sum += self.n_basis[j];
+                }
+                for j in 0..=p {
+                    self.n_basis[j] /= sum;
+                }
+            }
+            let mut target = *q;
+            for j in 0..=p {
+                let c = span - p + j;
+                if layout.unknown(c).is_none() {
+                    target -= fixed(c) * self.n_basis[j];
+                }
+            }
+            for a in 0..=p {
+                let Some(ua) = layout.unknown(span - p + a) else {
+                    continue;
+                };
+                let ra = self.n_basis[a];
+                self.rhs[ua] += target * ra;
+                for b in 0..=p {
+                    if let Some(ub) = layout.unknown(span - p + b) {
+                        if ub <= ua {
+                            self.mat.add(ua, ub, ra * self.n_basis[b]);
+                        }
+                    }
+                }
+            }
+        }
+        // smoothing term
+        let r = opts.smoothing_order.order();
+        if opts.smoothing > 0.0 && r <= p {
+            let (da, db) = (knots[p], knots[n + 1]);
+            let lam = opts.smoothing * points.len() as f64 * (db - da).powi(2 * r as i32 - 1);
+            let ng = (p - r + 1).min(self.gl.len() - 1);
+            let p1 = p + 1;
+            for s in p..=n {
+                let (u0, u1) = (knots[s], knots[s + 1]);
+                if u1 <= u0 {
+                    continue;
+                }
+                let half = 0.5 * (u1 - u0);
+                for g in 0..ng {
+                    let (xs, ws) = &self.gl[ng];
+                    let u = u0 + half * (xs[g] + 1.0);
+                    let wg = ws[g] * half * lam;
+                    ders_basis_funs_into(
+                        s,
+                        u,
+                        p,
+                        r,
+                        knots,
+                        &mut self.left,
+                        &mut self.right,
+                        &mut self.ndu,
+                        &mut self.a,
+                        &mut self.ders,
+                    );
+                    let d = &self.ders[r * p1..(r + 1) * p1];
+                    for a in 0..=p {
+                        let Some(ua) = layout.unknown(s - p + a) else {
+                            continue;
+                        };
+                        for b in 0..=p {
+                            let v = wg * d[a] * d[b];
+                            match layout.unknown(s - p + b) {
+                                Some(ub) if ub <= ua => self.mat.add(ua, ub, v),
+                                Some(_) => {}
+                                None => self.rhs[ua] -= fixed(s - p + b) * v,
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.mat.factor()?;
+        self.mat.solve_vec3(&mut self.rhs);
+        for c in 0..n_ctrl {
+            ctrl_out.push(match layout.unknown(c) {
+                Some(u) => self.rhs[u],
+                None => fixed(c),
+            });
+        }
+        Ok(())
+    }
+
+    fn check(
+        &self,
+        points: &[Vec3],
+        params: &[f64],
+        knots: &[f64],
+        weights: Option<&[f64]>,
+        opts: &LsqOptions,
+    ) -> Result<Layout> {
+        let p = self.degree;
+        if points.len() != params.len() {
+            return Err(Error::InvalidOption(format!(
+                "{} points but {} parameters",
+                points.len(),
+                params.len()
+            )));
+        }
+        if points.len() < 2 {
+            return Err(Error::InvalidData(format!(
+                "least squares needs at least 2 points, got {}",
+                points.len()
+            )));
+        }
+        if knots.len() < 2 * (p + 1) {
+            return Err(Error::InvalidKnots(format!(
+                "degree {p} needs at least {} knots, got {}",
+                2 * (p + 1),
+                knots.len()
+            )));
+        }
+        let n_ctrl = knots.len() - p - 1;
+        validate_knots(knots, p, n_ctrl, "least-squares fit")?;
+        if let Some(w) = weights {
+            if w.len() != n_ctrl || w.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
+                return Err(Error::InvalidWeights(format!(
+                    "{n_ctrl} finite positive weights expected, got {} values",
+                    w.len()
+                )));
+            }
+        }
+        if !(opts.smoothing >= 0.0 && opts.smoothing.is_finite()) {
+            return Err(Error::InvalidOption(format!(
+                "smoothing must be finite and >= 0, got {}",
+                opts.smoothing
+            )));
+        }
+        if opts.closed {
+            let n_u = n_ctrl - p;
+            if n_u < p + 1 {
+                return Err(Error::InvalidOption(format!(
+                    "a closed curve of degree {p} needs at least {} distinct control points, got {n_u}",
+                    p + 1
+                )));
+            }
+            return Ok(Layout {
+                n_ctrl,
+                closed: true,
+                lo: n_u,
+                n_unknown: n_u,
+            });
+        }
+        let lo = if opts.end_tangents.is_some() { 2 } else { 1 };
+        if n_ctrl < 2 * lo {
+            return Err(Error::InvalidOption(format!(
+                "end tangents need at least 4 control points, got {n_ctrl}"
+            )));
+        }
+        Ok(Layout {
+            n_ctrl,
+            closed: false,
+            lo,
+            n_unknown: n_ctrl - 2 * lo,
+        })
+    }
+}
+
+/// The periodic knot vector of degree `p` for the breakpoints `b_0 < … < b_{n_u}` (one period): the
+/// spans repeat with period `b_{n_u} − b_0` beyond both ends (`n_u + 2p + 1` knots, `n_u + p` control
+/// points of which the last `p` repeat the first).
+pub fn periodic_knots(breaks: &[f64], degree: usize) -> Vec<f64> {
+    let nu = breaks.len() - 1;
+    let period = breaks[nu] - breaks[0];
+    let mut k = Vec::with_capacity(nu + 2 * degree + 1);
+    for s in (1..=degree).rev() {
+        k.push(breaks[nu - s % nu] - period * (1 + s / nu) as f64);
+    }
+    k.extend_from_slice(breaks);
+    for s in 1..=degree {
+        k.push(breaks[s % nu] + period * (1 + s / nu) as f64);
+    }
+    k
+}
+
+/// Fits a non-rational curve with fixed knots (see [`LsqSolver`]); a one-off convenience.
+pub fn fit_fixed_knots(
+    points: &[Vec3],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    opts: &LsqOptions,
+) -> Result<NurbsCurve> {
+    let mut solver = LsqSolver::new(degree);
+    let mut ctrl = Vec::new();
+    solver.solve(points, params, knots, None, opts, &mut ctrl)?;
+    NurbsCurve::bspline(degree, knots.to_vec(), ctrl)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nurbs::knots::uniform_clamped;
+
+    fn known_curve() -> NurbsCurve {
+        let ctrl: Vec<Vec3> = [
+            (0.0, 0.0),
+            (1.0, 2.0),
+            (2.0, 3.0),
+            (3.0, 1.0),
+            (4.0, 0.0),
+            (5.0, 2.0),
+            (6.0, 1.0),
+            (7.0, -1.0),
+        ]
+        .iter()
+        .map(|&(x, y)| Vec3::new(x, y, 0.3 * x))
+        .collect();
+        let knots = vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.35, 0.5, 0.8, 1.0, 1.0, 1.0, 1.0];
+        NurbsCurve::bspline(3, knots, ctrl).unwrap()
+    }
+
+    #[test]
+    fn refit_of_a_known_bspline_with_its_knots_is_exact() {
+        let c = known_curve();
+        let u: Vec<f64> = (0..60).map(|k| (k as f64 / 59.0).powf(1.3)).collect();
+        let q = c.points(&u);
+        let f = fit_fixed_knots(&q, &u, 3, c.knots(), &LsqOptions::default()).unwrap();
+        for (a, b) in f.control_points().iter().zip(c.control_points()) {
+            assert!((*a - *b).norm() < 1e-10, "{a:?} vs {b:?}");
+        }
+        let dense: Vec<f64> = (0..500).map(|k| k as f64 / 499.0).collect();
+        let dev = f
+            .points(&dense)
+            .iter()
+            .zip(c.points(&dense))
+            .map(|(a, b)| (*a - b).norm())
+            .fold(0.0, f64::max);
+        assert!(dev <= 1e-10, "{dev}");
+    }
+
+    #[test]
+    fn rational_refit_with_known_weights_is_exact() {
+        // a quarter circle as a rational quadratic, refitted with its weights
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let c = NurbsCurve::new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            Some(vec![1.0, s, 1.0]),
+        )
+        .unwrap();
+        let u: Vec<f64> = (0..15).map(|k| k as f64 / 14.0).collect();
+        let q = c.points(&u);
+        let mut solver = LsqSolver::new(2);
+        let mut ctrl = Vec::new();
+        solver
+            .solve(
+                &q,
+                &u,
+                c.knots(),
+                Some(c.weights()),
+                &LsqOptions::default(),
+                &mut ctrl,
+            )
+            .unwrap();
+        assert!(
+            (ctrl[1] - Vec3::new(1.0, 1.0, 0.0)).norm() < 1e-12,
+            "{:?}",
+            ctrl[1]
+        );
+        // and every point is on the unit circle
+        assert!(q.iter().all(|p| (p.norm() - 1.0).abs() < 1e-14));
+    }
+
+    #[test]
+    fn end_tangents_are_honoured() {
+        let c = known_curve();
+        let u: Vec<f64> = (0..60).map(|k| k as f64 / 59.0).collect();
+        let q = c.points(&u);
+        let (d0, d1) = (Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, -2.0, 0.0));
+        let opts = LsqOptions {
+            end_tangents: Some((d0, d1)),
+            ..Default::default()
+        };
+        let f = fit_fixed_knots(&q, &u, 3, &uniform_clamped(3, 9), &opts).unwrap();
+        assert!((f.derivatives(0.0, 1)[1] - d0).norm() < 1e-12);
+        assert!((f.derivatives(1.0, 1)[1] - d1).norm() < 1e-12);
+        assert!((f.point(0.0) - q[0]).norm() < 1e-14 && (f.point(1.0) - q[59]).norm() < 1e-14);
+    }
+
+    #[test]
+    fn smoothing_drives_the_fit_toward_a_straight_line() {
+        // noisy-ish zigzag: with huge λ (second order) the interior control points become collinear
+        let q: Vec<Vec3> = (0..40)
+            .map(|k| Vec3::new(k as f64, if k % 2 == 0 { 0.0 } else { 1.0 }, 0.0))
+            .collect();
+        let u: Vec<f64> = (0..40).map(|k| k as f64 / 39.0).collect();
+        let knots = uniform_clamped(3, 12);
+        let e = |lam: f64, order| {
+            let o = LsqOptions {
+                smoothing: lam,
+                smoothing_order: order,
+                ..Default::default()
+            };
+            let f = fit_fixed_knots(&q, &u, 3, &knots, &o).unwrap();
+            let line = |p: Vec3| {
+                let a = q[0];
+                let d = q[39] - a;
+                (p - a).cross(d).norm() / d.norm()
+            };
+            f.control_points()
+                .iter()
+                .map(|&p| line(p))
+                .fold(0.0, f64::max)
+        };
+        let (e0, e1, e2) = (
+            e(0.0, SmoothingOrder::Second),
+            e(1e-3, SmoothingOrder::Second),
+            e(1e6, SmoothingOrder::Second),
+        );
+        assert!(e2 < 1e-4 && e1 < e0, "{e0} {e1} {e2}");
+        // third order with huge λ: the curve tends to a parabola, not a line; still bounded
+        assert!(e(1e6, SmoothingOrder::Third).is_finite());
+    }
+
+    #[test]
+    fn smoothing_is_scale_free_in_the_number_of_points() {
+        // same curve sampled at 50 and 400 points: same λ gives nearly the same fit
+        let c = known_curve();
+        let fit = |m: usize| {
+            let u: Vec<f64> = (0..m).map(|k| k as f64 / (m - 1) as f64).collect();
+            let q = c.points(&u);
+            let o = LsqOptions {
+                smoothing: 1e-4,
+                ..Default::default()
+            };
+            fit_fixed_knots(&q, &u, 3, c.knots(), &o).unwrap()
+        };
+        let (a, b) = (fit(50), fit(400));
+        let d = a
+            .control_points()
+            .iter()
+            .zip(b.control_points())
+            .map(|(x, y)| (*x - *y).norm())
+            .fold(0.0, f64::max);
+        let exact = fit(50)
+            .control_points()
+            .iter()
+            .zip(c.control_points())
+            .map(|(x, y)| (*x - *y).norm())
+            .fold(0.0, f64::max);
+        assert!(exact > 1e-3, "smoothing must act: {exact}");
+        assert!(d < 0.1 * exact, "{d} vs {exact}");
+    }
+
+    #[test]
+    fn repeated_solves_reuse_buffers() {
+        let c = known_curve();
+        let u: Vec<f64> = (0..60).map(|k| k as f64 / 59.0).collect();
+        let q = c.points(&u);
+        let mut s = LsqSolver::new(3);
+        let mut out = Vec::new();
+        let o = LsqOptions {
+            smoothing: 1e-6,
+            ..Default::default()
+        };
+        s.solve(&q, &u, c.knots(), None, &o, &mut out).unwrap();
+        let ptrs = (s.rhs.as_ptr(), out.as_ptr(), s.mat.n());
+        for _ in 0..5 {
+            s.solve(&q, &u, c.knots(), None, &o, &mut out).unwrap();
+        }
+        assert_eq!(ptrs, (s.rhs.as_ptr(), out.as_ptr(), s.mat.n()));
+    }
+
+    #[test]
+    fn periodic_knots_and_closed_fit_of_a_circle() {
+        let breaks: Vec<f64> = (0..=8).map(|k| k as f64 / 8.0).collect();
+        let k = periodic_knots(&breaks, 3);
+        assert_eq!(k.len(), 8 + 7);
+        assert!((k[0] + 3.0 / 8.0).abs() < 1e-15 && (k[14] - 11.0 / 8.0).abs() < 1e-15);
+        let m = 100;
+        let u: Vec<f64> = (0..m).map(|i| i as f64 / m as f64).collect();
+        let q: Vec<Vec3> = u
+            .iter()
+            .map(|t| {
+                let a = std::f64::consts::TAU * t;
+                Vec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        let o = LsqOptions {
+            closed: true,
+            ..Default::default()
+        };
+        let f = fit_fixed_knots(&q, &u, 3, &k, &o).unwrap();
+        assert_eq!(f.n_control_points(), 11);
+        let d0 = f.derivatives(0.0, 2);
+        let d1 = f.derivatives(1.0, 2);
+        for j in 0..3 {
+            assert!(
+                (d0[j] - d1[j]).norm() < 1e-12 * (1.0 + d0[j].norm()),
+                "order {j}"
+            );
+        }
+        let err = q
+            .iter()
+            .zip(&u)
+            .map(|(p, &t)| (f.point(t) - *p).norm())
+            .fold(0.0, f64::max);
+        assert!(err < 2e-3, "{err}");
+    }
+
+    #[test]
+    fn empty_span_is_a_clear_error() {
+        let u: Vec<f64> = (0..10).map(|k| 0.5 * k as f64 / 9.0).collect();
+        let q: Vec<Vec3> = u.iter().map(|&x| Vec3::new(x, x * x, 0.0)).collect();
+        let e = fit_fixed_knots(&q, &u, 3, &uniform_clamped(3, 8), &LsqOptions::default());
+        assert!(e.unwrap_err().to_string().contains("singular"));
+    }
+}
