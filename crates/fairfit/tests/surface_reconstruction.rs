@@ -190,10 +190,10 @@ fn approximation_across_many_noisy_sections_stays_close() {
     let ri = reconstruct_surface(noisy_cone(), &interp).unwrap();
     assert!(ri.deviation.max < 1e-3);
     assert!(
-        r.fairness.along_v.max < 0.05 * ri.fairness.along_v.max,
+        r.fairness.max_fairness_u < 0.05 * ri.fairness.max_fairness_u,
         "{:?} vs {:?}",
-        r.fairness.along_v,
-        ri.fairness.along_v
+        r.fairness.max_fairness_u,
+        ri.fairness.max_fairness_u
     );
 }
 

@@ -9,10 +9,10 @@
 //! bisected down to the smallest count that passes; among the passing candidates of that count the one
 //! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
 
-use super::fairness_proxy::curve_fairness;
 use super::orient::Section;
 use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
 use crate::errors::{Error, Result};
+use crate::fair::FairnessEvaluator;
 use crate::nurbs::NurbsCurve;
 use rayon::prelude::*;
 
@@ -268,7 +268,11 @@ fn fair_per_section(
 fn worst_span_fairness(fits: &[SectionFit]) -> f64 {
     let per: Vec<f64> = fits
         .par_iter()
-        .map(|f| curve_fairness(&f.curve, 1).max_span())
+        .map_init(FairnessEvaluator::new, |ev, f| {
+            let spans = ev.integrate(&f.curve);
+            let l: f64 = spans.iter().map(|s| s.length).sum();
+            spans.iter().map(|s| s.energy).fold(0.0, f64::max) * l * l * l
+        })
         .collect();
     per.into_iter().fold(0.0, f64::max)
 }
