@@ -21,58 +21,29 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut opts = SurfaceOptions::default();
     opts.sections.tolerance = tol;
     opts.iso_curves = 11;
-    if let Some(sm) = std::env::args().nth(2) {
-        opts.sections.smoothing = sm.parse()?;
-    }
     let t0 = std::time::Instant::now();
     let r = reconstruct_surface(sections, &opts)?;
     let dt = t0.elapsed().as_secs_f64();
     let (nu, nv) = r.surface.net_size();
     println!(
-        "tol {tol}: net {nu} x {nv}, time {dt:.3} s, candidates {}",
-        r.compatible.candidates_tried
-    );
-    println!(
-        "section deviations {:?}",
-        r.section_deviation
-            .iter()
-            .map(|d| format!("{d:.2e}"))
-            .collect::<Vec<_>>()
+        "tol {tol}: net {nu} x {nv}, {dt:.3} s, {} candidate knot vectors, within tolerance: {}",
+        r.compatible.candidates_tried, r.compatible.within_tolerance
     );
     println!(
         "surface deviation max {:.3e} rms {:.3e} over {} points",
         r.deviation.max, r.deviation.rms, r.deviation.points
     );
     println!(
-        "closed {:?}",
-        r.sections.iter().map(|s| s.closed).collect::<Vec<_>>()
+        "iso-curve F across sections (u_iso): max {:.3e} mean {:.3e}; along sections (v_iso): max {:.3e}",
+        r.fairness.max_fairness_u, r.fairness.mean_fairness_u, r.fairness.max_fairness_v
     );
-    println!("alignment {:?}", r.alignment);
-    println!(
-        "max span F of sections {:.3e}",
-        r.compatible.max_span_fairness
-    );
-    println!("iso fairness {:?}", r.fairness);
-    println!("knots {:?}", r.compatible.knots);
-    if std::env::var("DEBUG_SEC").is_ok() {
-        let c = &r.compatible.fits[0].curve;
-        println!("cp {:?}", &c.control_points()[..5]);
-        for u in [0.0, 0.001, 0.003, 0.005, 0.01, 0.02] {
-            let d = fairfit::diffgeo::differentials(c, u);
-            println!(
-                "u {u} p {:?} speed {:.3e} k {:.3e} dk {:.3e}",
-                d.point, d.speed, d.curvature, d.dkappa_ds
-            );
-        }
-    }
-    for f in &r.compatible.fits {
-        let cf = fairfit::surface::span_fairness(&f.curve, 1);
+    for (k, f) in r.compatible.fits.iter().enumerate() {
+        let cf = fairfit::fair::curve_fairness(&f.curve);
         println!(
-            "  F {:.3e} max span {:.3e} at {:?}",
-            cf.total,
-            cf.max_span(),
-            cf.per_span.iter().position(|&x| x == cf.max_span())
+            "  section {k}: closed {} deviation {:.3e} F {:.3e} max F_j {:.3e}",
+            r.sections[k].closed, f.max_deviation, cf.fairness, cf.max_span_fairness
         );
     }
+    println!("knots {:?}", r.compatible.knots);
     Ok(())
 }

@@ -278,14 +278,14 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         write_atomic(path, text.as_bytes())?;
     }
     println!(
-        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along u {:.3e}, along v {:.3e}; {} gap(s) reported",
+        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along the sections {:.3e}, across them {:.3e}; {} gap(s) reported",
         r.deviation.max,
         r.deviation.rms,
         r.deviation.points,
         tol,
         if within { "" } else { " NOT MET" },
-        r.fairness.along_u.max,
-        r.fairness.along_v.max,
+        r.fairness.max_fairness_v,
+        r.fairness.max_fairness_u,
         input.gaps.len()
     );
     if !within {

@@ -9,10 +9,10 @@
 //! bisected down to the smallest count that passes; among the passing candidates of that count the one
 //! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
 
-use super::fairness_proxy::curve_fairness;
 use super::orient::Section;
 use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
 use crate::errors::{Error, Result};
+use crate::fair::FairnessEvaluator;
 use crate::nurbs::NurbsCurve;
 use rayon::prelude::*;
 
@@ -30,6 +30,9 @@ pub struct CompatibleOptions {
     /// Weight of the bending term `∫|C''|² du` against the mean squared residual during the knot search
     /// (a small value keeps spans with little data from folding; 0 = pure least squares).
     pub smoothing: f64,
+    /// Parameters of the section points (one increasing list in `[0, 1]` per section, first 0, last 1),
+    /// e.g. from design data; `None` uses normalised chord lengths.
+    pub section_params: Option<Vec<Vec<f64>>>,
     /// Fairing weights tried, largest first, for each section on the final knot vector: each section keeps
     /// the largest weight that still meets the tolerance (none: keep the search fit).
     pub fairing_weights: Vec<f64>,
@@ -47,6 +50,7 @@ impl Default for CompatibleOptions {
             corrections: 8,
             smoothing: 1e-11,
             fairing_weights: vec![1e-7, 1e-8, 1e-9, 1e-10],
+            section_params: None,
             uniform_blends: vec![0.5, 0.25],
         }
     }
@@ -264,7 +268,11 @@ fn fair_per_section(
 fn worst_span_fairness(fits: &[SectionFit]) -> f64 {
     let per: Vec<f64> = fits
         .par_iter()
-        .map(|f| curve_fairness(&f.curve, 1).max_span())
+        .map_init(FairnessEvaluator::new, |ev, f| {
+            let spans = ev.integrate(&f.curve);
+            let l: f64 = spans.iter().map(|s| s.length).sum();
+            spans.iter().map(|s| s.energy).fold(0.0, f64::max) * l * l * l
+        })
         .collect();
     per.into_iter().fold(0.0, f64::max)
 }
@@ -324,10 +332,34 @@ pub fn make_compatible_with_progress(
             p + 1
         )));
     }
-    let params: Vec<Vec<f64>> = sections
-        .iter()
-        .map(|s| chord_length_params(&s.points))
-        .collect::<Result<_>>()?;
+    let params: Vec<Vec<f64>> = match &opts.section_params {
+        None => sections
+            .iter()
+            .map(|s| chord_length_params(&s.points))
+            .collect::<Result<_>>()?,
+        Some(given) => {
+            if given.len() != sections.len() {
+                return Err(Error::InvalidOption(format!(
+                    "{} parameter lists given for {} sections",
+                    given.len(),
+                    sections.len()
+                )));
+            }
+            for (k, (t, s)) in given.iter().zip(sections).enumerate() {
+                let ok = t.len() == s.points.len()
+                    && t.first() == Some(&0.0)
+                    && t.last() == Some(&1.0)
+                    && t.windows(2).all(|w| w[1] >= w[0]);
+                if !ok {
+                    return Err(Error::InvalidOption(format!(
+                        "parameters of section {k} must be {} non-decreasing values from 0 to 1",
+                        s.points.len()
+                    )));
+                }
+            }
+            given.clone()
+        }
+    };
     const GRID: usize = 2000;
     let cdfs: Vec<Vec<f64>> = sections
         .iter()
@@ -353,7 +385,24 @@ pub fn make_compatible_with_progress(
     let n0 = (p + 1 + 4).min(n_max);
     let mut finals: Vec<Candidate> = Vec::new();
     let mut best_fail: Option<Candidate> = None;
+    // a single span first: cheap, and exact when the sections are polynomial
+    tried += 1;
+    progress(tried);
+    if let Some(c) = evaluate(
+        sections,
+        &params,
+        knots_from_density(&cdf, 1.0, p, p + 1),
+        opts,
+        false,
+    ) {
+        if c.max_dev <= opts.tolerance {
+            finals.push(c);
+        }
+    }
     for &b in &blends {
+        if !finals.is_empty() {
+            break;
+        }
         let mut knots = knots_from_density(&cdf, b.clamp(0.0, 1.0), p, n0);
         let mut passed: Option<Candidate> = None;
         loop {

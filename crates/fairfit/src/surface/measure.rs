@@ -1,10 +1,7 @@
 //! Surface measures: orthogonal deviation of input points from a surface (projection: nearest sample of
-//! a dense parameter grid, then safeguarded Newton on `(u, v)`, never worse than the best sample), the
-//! fairness `F` of iso-curves in both directions, and the control-net size.
+//! a dense parameter grid, then safeguarded Newton on `(u, v)`, never worse than the best sample). The
+//! fairness of iso-curves comes from [`crate::fair::surface_fairness`].
 
-use super::fairness_proxy::curve_fairness;
-use super::iso::{iso_curve_at_u, iso_curve_at_v};
-use crate::errors::Result;
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
 use rayon::prelude::*;
@@ -187,62 +184,4 @@ pub fn surface_deviation(
         rms,
         points: d.len(),
     }
-}
-
-/// Fairness `F` of a family of iso-curves.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct IsoFairness {
-    /// Number of iso-curves.
-    pub curves: usize,
-    /// Largest `F` of one iso-curve.
-    pub max: f64,
-    /// Mean `F`.
-    pub mean: f64,
-    /// Largest per-span `F_j` over all iso-curves.
-    pub max_span: f64,
-}
-
-/// Surface fairness summary: iso-curves running along u (fixed v) and along v (fixed u, across sections).
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct SurfaceFairness {
-    /// Curves `u ↦ S(u, v)` at `count` evenly spaced v.
-    pub along_u: IsoFairness,
-    /// Curves `v ↦ S(u, v)` at `count` evenly spaced u (between the sections).
-    pub along_v: IsoFairness,
-}
-
-fn summarise(fs: Vec<(f64, f64)>) -> IsoFairness {
-    let n = fs.len();
-    IsoFairness {
-        curves: n,
-        max: fs.iter().map(|f| f.0).fold(0.0, f64::max),
-        mean: if n > 0 {
-            fs.iter().map(|f| f.0).sum::<f64>() / n as f64
-        } else {
-            0.0
-        },
-        max_span: fs.iter().map(|f| f.1).fold(0.0, f64::max),
-    }
-}
-
-/// `F` of `count` iso-curves in each direction, evenly spaced strictly inside the domain.
-pub fn iso_fairness(surface: &NurbsSurface, count: usize) -> Result<SurfaceFairness> {
-    let count = count.max(1);
-    let (u0, u1) = surface.domain_u();
-    let (v0, v1) = surface.domain_v();
-    let at = |a: f64, b: f64, i: usize| a + (b - a) * (i as f64 + 0.5) / count as f64;
-    let mut fu = Vec::with_capacity(count);
-    let mut fv = Vec::with_capacity(count);
-    for i in 0..count {
-        let c = iso_curve_at_v(surface, at(v0, v1, i))?;
-        let f = curve_fairness(&c, 2);
-        fu.push((f.total, f.max_span()));
-        let c = iso_curve_at_u(surface, at(u0, u1, i))?;
-        let f = curve_fairness(&c, 2);
-        fv.push((f.total, f.max_span()));
-    }
-    Ok(SurfaceFairness {
-        along_u: summarise(fu),
-        along_v: summarise(fv),
-    })
 }

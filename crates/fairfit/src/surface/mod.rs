@@ -3,13 +3,12 @@
 //! NURBS surface, and measured (orthogonal deviation, iso-curve fairness, net size).
 //!
 //! Files, one concept each: [`orient`] (sections, orientation, seams), [`section_fit`] (least squares on
-//! fixed knots), [`compatible`] (the shared knot vector), [`skinning`], [`measure`], [`iso`],
-//! [`pipeline`] (all steps together), plus private helpers.
+//! fixed knots), [`compatible`] (the shared knot vector), [`skinning`], [`measure`],
+//! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds to sections), plus a private dense solver. Fairness
+//! comes from [`crate::fair`], iso-curves from [`crate::nurbs::NurbsSurface`].
 
 pub mod chain;
 pub mod compatible;
-mod fairness_proxy;
-pub mod iso;
 mod linalg;
 pub mod measure;
 pub mod orient;
@@ -19,10 +18,7 @@ pub mod skinning;
 pub mod slicing;
 
 pub use compatible::{make_compatible, CompatibleOptions, CompatibleSections};
-pub use fairness_proxy::{curve_fairness as span_fairness, CurveFairness};
-pub use measure::{
-    iso_fairness, surface_deviation, Deviation, IsoFairness, SurfaceFairness, SurfaceProjector,
-};
+pub use measure::{surface_deviation, Deviation, SurfaceProjector};
 pub use orient::{align_sections, Section};
 pub use pipeline::{
     reconstruct_surface, reconstruct_surface_with_progress, validate_sections, Stage,

@@ -2,10 +2,11 @@
 //! on one shared knot vector, skinning, and the surface measures of the result.
 
 use super::compatible::{make_compatible_with_progress, CompatibleOptions, CompatibleSections};
-use super::measure::{iso_fairness, surface_deviation, Deviation, SurfaceFairness};
+use super::measure::{surface_deviation, Deviation};
 use super::orient::{align_sections, extent, Section};
 use super::skinning::{skin, SkinOptions};
 use crate::errors::{Error, Result};
+use crate::fair::{surface_fairness, SurfaceFairness};
 use crate::nurbs::NurbsSurface;
 
 /// Options of [`reconstruct_surface`].
@@ -47,7 +48,7 @@ pub struct SurfaceReconstruction {
     pub deviation: Deviation,
     /// Per section: largest orthogonal deviation from its fitted curve.
     pub section_deviation: Vec<f64>,
-    /// Fairness of iso-curves.
+    /// Fairness of iso-curves in both directions (`u_iso`: across the sections).
     pub fairness: SurfaceFairness,
 }
 
@@ -112,7 +113,7 @@ pub fn reconstruct_surface_with_progress(
         }
     }
     let deviation = surface_deviation(&sk.surface, &pts, Some(&hints));
-    let fairness = iso_fairness(&sk.surface, opts.iso_curves.max(1))?;
+    let fairness = surface_fairness(&sk.surface, opts.iso_curves.max(1))?;
     progress(Stage::Measured);
     Ok(SurfaceReconstruction {
         surface: sk.surface,

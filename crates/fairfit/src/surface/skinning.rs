@@ -55,7 +55,7 @@ pub struct Skin {
     pub v_params: Vec<f64>,
 }
 
-fn averaged_params(cols: &[Vec<[f64; 4]>], centripetal: bool) -> Vec<f64> {
+fn averaged_params(cols: &[Vec<[f64; 4]>], centripetal: bool) -> Result<Vec<f64>> {
     let k1 = cols[0].len();
     let mut v = vec![0.0; k1];
     let mut used = 0usize;
@@ -85,13 +85,15 @@ fn averaged_params(cols: &[Vec<[f64; 4]>], centripetal: bool) -> Vec<f64> {
         }
     }
     if used == 0 {
-        return (0..k1).map(|k| k as f64 / (k1 - 1) as f64).collect();
+        return Err(Error::InvalidData(
+            "all sections coincide: no distance between them to parameterise".into(),
+        ));
     }
     for x in v.iter_mut() {
         *x /= used as f64;
     }
     v[k1 - 1] = 1.0;
-    v
+    Ok(v)
 }
 
 /// Knot vector by averaging the parameters (NURBS Book eq. 9.8), for interpolation.
@@ -162,8 +164,8 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
         .map(|i| sections.iter().map(|s| s.homogeneous_points()[i]).collect())
         .collect();
     let v_params = match &opts.params {
-        VParams::ChordLength => averaged_params(&cols, false),
-        VParams::Centripetal => averaged_params(&cols, true),
+        VParams::ChordLength => averaged_params(&cols, false)?,
+        VParams::Centripetal => averaged_params(&cols, true)?,
         VParams::Given(v) => {
             if v.len() != k1 {
                 return Err(Error::InvalidOption(format!(

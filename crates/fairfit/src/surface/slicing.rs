@@ -5,8 +5,8 @@
 //!   segments are chained through their shared mesh edges, so chains follow the surface's connectivity.
 //!   A chain that ends (at a mesh boundary edge) meets a hole. Per slice the longest chain is kept; other
 //!   open pieces are appended end-to-nearest-end when close, and a remaining open end is closed when the
-//!   gap is short compared with the chain: every such bridge is reported as a [`Gap`]. Loops other than the
-//!   kept one are reported as dropped.
+//!   gap is short compared with the chain: every such bridge is reported as a [`Gap`], however short (a
+//!   mesh chain only ends at a hole). Loops other than the kept one are reported as dropped.
 //! - Point clouds: the points in a thin slab around the plane are projected onto it and ordered
 //!   ([`super::chain::order_points`]); tour edges much longer than the median spacing are gaps.
 
@@ -318,7 +318,8 @@ fn slice_triangles_at(
             if rev {
                 p.reverse();
             }
-            if d > opts.gap_factor * typical {
+            // a mesh chain only ends at a boundary edge: every bridge crosses a hole, whatever its size
+            {
                 gaps.push(Gap {
                     section: index,
                     from: end.0,
@@ -338,7 +339,7 @@ fn slice_triangles_at(
         } else {
             "open"
         };
-        if d > opts.gap_factor * typical || handling == "open" {
+        {
             gaps.push(Gap {
                 section: index,
                 from: main[main.len() - 1].0,
