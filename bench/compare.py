@@ -178,20 +178,8 @@ def run_splprep(pts, tol: float) -> Result:
         return evals[s]
 
     t0 = time.perf_counter()
-    base = m * tol * tol
-    lo, hi = base * 1e-4, base
-    while dev(lo)[1] > tol and lo > base * 1e-14:
-        lo /= 10.0
-    while dev(hi)[1] <= tol and hi < base * 1e6:
-        hi *= 4.0
-    for _ in range(30):
-        mid = np.sqrt(lo * hi)
-        if dev(mid)[1] <= tol:
-            lo = mid
-        else:
-            hi = mid
-        if hi / lo < 1.0 + 1e-4:
-            break
+    base = m * tol * tol  # s is a bound on the sum of squared residuals
+    grid_search(lambda s: dev(s)[1] <= tol, np.geomspace(base * 1e-4, base * 10.0, 26))
     total = (time.perf_counter() - t0) * 1e3
     ok = [(n, -s, s) for s, (n, d, _) in evals.items() if d <= tol]
     if not ok:
@@ -203,6 +191,28 @@ def run_splprep(pts, tol: float) -> Result:
     return Result(
         "scipy splprep", True, metrics=metrics, time_ms=total, single_ms=single, note=f"s={s_best:.3g}"
     )
+
+
+def grid_search(meets, grid, refine=10):
+    """Scan an ascending parameter grid (larger = coarser fit), then bisect (geometrically) between
+    the largest grid value that meets the tolerance and the next one. Robust to the
+    non-monotone behaviour of the baselines; the caller keeps every evaluation and reports the
+    fewest control points among those that met the tolerance."""
+    grid = list(grid)
+    flags = [meets(g) for g in grid]
+    good = [i for i, f in enumerate(flags) if f]
+    if not good:
+        return
+    i = good[-1]
+    if i + 1 >= len(grid):
+        return
+    lo, hi = grid[i], grid[i + 1]
+    for _ in range(refine):
+        mid = float(np.sqrt(lo * hi))
+        if meets(mid):
+            lo = mid
+        else:
+            hi = mid
 
 
 def _time_single(fn, repeat=5):
@@ -266,20 +276,7 @@ def run_occ(pts, tol: float, degmax: int) -> Result:
         return evals[tol3d]
 
     t0 = time.perf_counter()
-    lo, hi = tol * 1e-3, tol * 4.0
-    if dev(hi)[1] <= tol:
-        lo = hi
-    else:
-        while dev(lo)[1] > tol and lo > tol * 1e-9:
-            lo /= 10.0
-        for _ in range(20):
-            mid = np.sqrt(lo * hi)
-            if dev(mid)[1] <= tol:
-                lo = mid
-            else:
-                hi = mid
-            if hi / lo < 1.01:
-                break
+    grid_search(lambda t3: dev(t3)[1] <= tol, tol * np.geomspace(0.02, 5.0, 25))
     total = (time.perf_counter() - t0) * 1e3
     ok = [(n, -t3, t3) for t3, (n, d, cur, _) in evals.items() if d <= tol and cur is not None]
     if not ok:
@@ -324,11 +321,12 @@ def run_geomdl(pts, tol: float) -> Result:
         return evals[n]
 
     t0 = time.perf_counter()
-    # Doubling search, then bisection on the count (deviation is close to monotone in n);
-    # the smallest count found that meets the tolerance is reported.
+    # Geometric growth (x1.25) until the tolerance is met, then bisection on the count
+    # (deviation is only roughly monotone in n: geomdl's fixed knots can get worse with more
+    # control points); the smallest count found that meets the tolerance is reported.
     lo, hi = 3, 4
     while hi < m - 1 and dev(hi)[0] > tol:
-        lo, hi = hi, min(m - 1, hi * 2)
+        lo, hi = hi, min(m - 1, max(hi + 1, int(hi * 1.25)))
     if dev(hi)[0] <= tol:
         while hi - lo > 1:
             mid = (lo + hi) // 2
