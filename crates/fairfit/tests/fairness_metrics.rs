@@ -4,7 +4,7 @@
 
 use fairfit::diffgeo::quadrature::GaussLegendre;
 use fairfit::diffgeo::{arc_length, differentials};
-use fairfit::fair::{curve_fairness, FairnessEvaluator};
+use fairfit::fair::{curve_fairness, EvaluatorOptions, FairnessEvaluator};
 use fairfit::nurbs::knots::uniform_clamped;
 use fairfit::nurbs::{NurbsCurve, Vec3};
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
@@ -123,6 +123,26 @@ fn exact_circle_has_constant_curvature_and_zero_energy() {
     assert!((f.bending_energy - 2.0 * PI / r).abs() < 1e-11);
     assert_eq!(f.span_fairness.len(), 4);
     assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
+}
+
+#[test]
+fn degree_elevated_circle_is_still_perfectly_fair() {
+    // elevated to cubic and quartic: C''' no longer vanishes, κ stays 1/r, so E ≈ 0
+    let r = 0.7;
+    let c = circle(Vec3::new(0.0, 3.0, -1.0), r);
+    for t in 1..=2 {
+        let e = c.elevate_degree(t).unwrap();
+        let f = curve_fairness(&e);
+        assert!(
+            f.fairness < 1e-12,
+            "degree {}: F = {}",
+            e.degree(),
+            f.fairness
+        );
+        assert!((f.length - 2.0 * PI * r).abs() < 1e-11);
+        assert!((f.bending_energy - 2.0 * PI / r).abs() < 1e-10);
+        assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
+    }
 }
 
 #[test]
@@ -318,4 +338,60 @@ fn lines_are_perfectly_fair() {
     assert!(f.bending_energy * f.length < 1e-20);
     assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
     assert!((f.length - 5.0 * (0.09f64 + 0.49).sqrt()).abs() < 1e-12);
+}
+
+/// Bézier control points of the polynomial curve `Σ_k coeffs[k] t^k` on `[0, 1]` (power → Bernstein).
+fn bezier_from_power(coeffs: &[Vec3]) -> Vec<Vec3> {
+    let n = coeffs.len() - 1;
+    let binom = |n: usize, k: usize| -> f64 {
+        (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+    };
+    (0..=n)
+        .map(|i| {
+            let mut b = Vec3::ZERO;
+            for (k, c) in coeffs.iter().enumerate().take(i + 1) {
+                b += *c * (binom(i, k) / binom(n, k));
+            }
+            b
+        })
+        .collect()
+}
+
+#[test]
+fn spatial_curve_through_zero_curvature_is_integrated_accurately() {
+    // C(t) = (t, (t-a)³, (t-a)⁴): C' × C'' = (12s⁴, -12s², 6s) with s = t - a vanishes at t = a only,
+    // where the unsigned κ has a kink (|dκ/du| → 6 from both sides); the adaptive rule must resolve it.
+    let a: f64 = 0.37;
+    // expand (t-a)³ and (t-a)⁴ in powers of t
+    let y = [-a * a * a, 3.0 * a * a, -3.0 * a, 1.0, 0.0];
+    let z = [a.powi(4), -4.0 * a.powi(3), 6.0 * a * a, -4.0 * a, 1.0];
+    let coeffs: Vec<Vec3> = (0..5)
+        .map(|k| Vec3::new(if k == 1 { 1.0 } else { 0.0 }, y[k], z[k]))
+        .collect();
+    let pts = bezier_from_power(&coeffs);
+    let c = NurbsCurve::bspline(
+        4,
+        vec![0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 1.0],
+        pts,
+    )
+    .unwrap();
+    for &t in &[0.0, 0.2, 0.37, 0.9] {
+        let s: f64 = t - a;
+        assert!((c.point(t) - Vec3::new(t, s.powi(3), s.powi(4))).norm() < 1e-14);
+    }
+    let f = curve_fairness(&c);
+    // reference on [0, a] and [a, 1] separately (kink at the junction), as in the FD helper
+    // the same curve with a knot of full multiplicity at a (exact split)
+    let split = c.insert_knot(a, 4).unwrap();
+    assert_eq!(split.knots().iter().filter(|&&k| k == a).count(), 4);
+    let fd = fairness_by_finite_differences(&split, false);
+    assert!(rel(f.fairness, fd) < 1e-8, "{} vs {fd}", f.fairness);
+    assert_eq!(f.inflections, 1);
+    // without bisection a single Gauss–Kronrod rule over the kink is visibly worse
+    let mut plain = FairnessEvaluator::with_options(EvaluatorOptions {
+        max_depth: 0,
+        ..EvaluatorOptions::default()
+    });
+    let f0 = plain.evaluate(&c).0;
+    assert!(rel(f0, fd) > 1e-6, "{f0} vs {fd}");
 }

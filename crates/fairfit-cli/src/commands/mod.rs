@@ -4,6 +4,7 @@ pub mod curve;
 pub mod eval;
 pub mod export;
 pub mod info;
+pub mod outputs;
 pub mod plot;
 pub mod surface;
 

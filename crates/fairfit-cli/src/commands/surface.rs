@@ -1,17 +1,298 @@
-//! `fairfit surface`.
+//! `fairfit surface`: a fair NURBS surface through section files, or through a mesh / point cloud sliced
+//! into planar sections; writes the surface JSON and optionally a report of its measures.
 
 use super::{CliError, CmdResult};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use fairfit::io::mesh_read::read_mesh;
+use fairfit::io::sections::{expand_section_inputs, read_section_file};
+use fairfit::io::{json::write_surface, write_atomic};
+use fairfit::surface::chain::Gap;
+use fairfit::surface::orient::extent;
+use fairfit::surface::slicing::{slice_mesh, SliceOptions};
+use fairfit::surface::{
+    reconstruct_surface_with_progress, Section, Stage, SurfaceOptions, VParams,
+};
+use fairfit::Vec3;
+use serde_json::json;
 use std::path::PathBuf;
+
+/// Axis perpendicular to the slicing planes.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Axis {
+    /// Planes x = const.
+    X,
+    /// Planes y = const.
+    Y,
+    /// Planes z = const.
+    Z,
+}
+
+/// Section parameterisation across the sections (v direction).
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum VParam {
+    /// Averaged chord lengths of the control columns.
+    Chord,
+    /// Averaged centripetal (square-root) lengths.
+    Centripetal,
+}
 
 /// Arguments of `fairfit surface`.
 #[derive(Args, Debug)]
 pub struct SurfaceArgs {
-    /// Input file(s).
+    /// Section files or folders (all .csv/.txt/.dat/.xyz files, sorted by name); with --slices, one mesh
+    /// or point cloud (.ply, .stl, .obj, .xyz, .csv).
+    #[arg(required = true)]
     pub input: Vec<PathBuf>,
+    /// Absolute tolerance: largest allowed distance of a section point from the surface.
+    #[arg(long, conflicts_with = "rel_tol")]
+    pub tol: Option<f64>,
+    /// Relative tolerance: R times the largest bounding-box extent of the largest section [default: 1e-3].
+    #[arg(long)]
+    pub rel_tol: Option<f64>,
+    /// Output surface JSON.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Slice a mesh or point cloud into this many planar sections.
+    #[arg(long)]
+    pub slices: Option<usize>,
+    /// Axis perpendicular to the slicing planes.
+    #[arg(long, value_enum, default_value = "z")]
+    pub axis: Axis,
+    /// Slicing plane normal "nx,ny,nz" (overrides --axis).
+    #[arg(long)]
+    pub normal: Option<String>,
+    /// Degree of the section curves (u).
+    #[arg(long, default_value_t = 3)]
+    pub degree: usize,
+    /// Degree across the sections (v); lowered to sections - 1 when there are few sections.
+    #[arg(long, default_value_t = 3)]
+    pub degree_v: usize,
+    /// Largest number of control points per section.
+    #[arg(long, default_value_t = 60)]
+    pub max_ctrl: usize,
+    /// Parameterisation of the sections across the surface.
+    #[arg(long, value_enum, default_value = "chord")]
+    pub v_params: VParam,
+    /// Approximate across the sections with this many control points (for many or noisy sections)
+    /// instead of interpolating every section.
+    #[arg(long)]
+    pub approximate_v: Option<usize>,
+    /// Smoothing weight of the approximation across the sections (relative to the data term).
+    #[arg(long, default_value_t = 1e-3)]
+    pub smooth_v: f64,
+    /// A chain edge longer than this many median spacings is reported as a gap (slicing).
+    #[arg(long, default_value_t = 5.0)]
+    pub gap_factor: f64,
+    /// Write a JSON report of the measures here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+}
+
+fn parse_normal(s: &str) -> Result<Vec3, CliError> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| {
+            CliError(format!(
+                "--normal must be three numbers \"nx,ny,nz\", got `{s}`"
+            ))
+        })?;
+    if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+        return Err(CliError(format!(
+            "--normal must be three numbers \"nx,ny,nz\", got `{s}`"
+        )));
+    }
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+fn is_mesh(p: &std::path::Path) -> bool {
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| matches!(e.to_ascii_lowercase().as_str(), "ply" | "stl" | "obj"))
+}
+
+struct Input {
+    sections: Vec<Section>,
+    names: Vec<String>,
+    gaps: Vec<Gap>,
+    empty_planes: Vec<f64>,
+    dropped_chains: Vec<usize>,
+}
+
+fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
+    if let Some(n) = args.slices {
+        if args.input.len() != 1 {
+            return Err(CliError(
+                "--slices takes exactly one mesh or point-cloud file".into(),
+            ));
+        }
+        let normal = match &args.normal {
+            Some(s) => parse_normal(s)?,
+            None => match args.axis {
+                Axis::X => Vec3::new(1.0, 0.0, 0.0),
+                Axis::Y => Vec3::new(0.0, 1.0, 0.0),
+                Axis::Z => Vec3::new(0.0, 0.0, 1.0),
+            },
+        };
+        let mesh = read_mesh(&args.input[0])?;
+        let opts = SliceOptions {
+            slices: n,
+            normal,
+            gap_factor: args.gap_factor,
+            ..Default::default()
+        };
+        let s = slice_mesh(&mesh, &opts)?;
+        if s.sections.len() < 2 {
+            return Err(CliError(format!(
+                "slicing gave {} usable section(s) from {n} planes ({} empty); a surface needs at least 2",
+                s.sections.len(),
+                s.empty_planes.len()
+            )));
+        }
+        return Ok(Input {
+            names: s
+                .offsets
+                .iter()
+                .map(|h| format!("plane at {h:.6}"))
+                .collect(),
+            sections: s.sections,
+            gaps: s.gaps,
+            empty_planes: s.empty_planes,
+            dropped_chains: s.dropped_chains,
+        });
+    }
+    if args.input.len() == 1 && is_mesh(&args.input[0]) {
+        return Err(CliError(format!(
+            "{} is a mesh: give --slices N to cut it into sections",
+            args.input[0].display()
+        )));
+    }
+    let files = expand_section_inputs(&args.input)?;
+    let mut sections = Vec::with_capacity(files.len());
+    for f in &files {
+        let pts = read_section_file(f)?;
+        if pts.len() < 3 {
+            return Err(CliError(format!(
+                "{}: a section needs at least 3 points, got {}",
+                f.display(),
+                pts.len()
+            )));
+        }
+        sections.push(Section::from_points(pts));
+    }
+    if sections.len() < 2 {
+        return Err(CliError(format!(
+            "a surface needs at least 2 sections, got {}",
+            sections.len()
+        )));
+    }
+    Ok(Input {
+        names: files.iter().map(|f| f.display().to_string()).collect(),
+        dropped_chains: vec![0; sections.len()],
+        sections,
+        gaps: Vec::new(),
+        empty_planes: Vec::new(),
+    })
 }
 
 /// Runs `fairfit surface`.
-pub fn run(_args: SurfaceArgs) -> CmdResult {
-    Err(CliError("`fairfit surface` is not implemented yet".into()))
+pub fn run(args: SurfaceArgs) -> CmdResult {
+    let input = read_input(&args)?;
+    let largest = input
+        .sections
+        .iter()
+        .map(|s| extent(&s.points))
+        .fold(0.0, f64::max);
+    let tol = match (args.tol, args.rel_tol) {
+        (Some(t), _) => t,
+        (None, r) => r.unwrap_or(1e-3) * largest,
+    };
+    if !tol.is_finite() || tol <= 0.0 {
+        return Err(CliError(format!(
+            "the tolerance must be positive, got {tol}"
+        )));
+    }
+    let mut opts = SurfaceOptions::default();
+    opts.sections.degree = args.degree;
+    opts.sections.tolerance = tol;
+    opts.sections.max_control_points = args.max_ctrl;
+    opts.skin.degree_v = args.degree_v;
+    opts.skin.params = match args.v_params {
+        VParam::Chord => VParams::ChordLength,
+        VParam::Centripetal => VParams::Centripetal,
+    };
+    opts.skin.approximate_with = args.approximate_v;
+    opts.skin.smoothing = args.smooth_v;
+    opts.iso_curves = 11;
+    let pb = crate::progress::bar(3, "surface");
+    pb.set_message("fitting sections");
+    let result = reconstruct_surface_with_progress(input.sections, &opts, &mut |st| match st {
+        Stage::Compatible(n) => pb.set_message(format!("knot vectors {n}")),
+        Stage::Skinned => {
+            pb.inc(1);
+            pb.set_message("measuring");
+        }
+        Stage::Measured => pb.inc(1),
+    });
+    pb.finish_and_clear();
+    let r = result?;
+    write_surface(&args.output, &r.surface)?;
+    let (nu, nv) = r.surface.net_size();
+    let within = r.deviation.max <= tol;
+    if let Some(path) = &args.report {
+        let sections: Vec<serde_json::Value> = r
+            .sections
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                json!({
+                    "name": input.names.get(k),
+                    "points": s.points.len(),
+                    "closed": s.closed,
+                    "reversed": r.alignment[k].0,
+                    "seam_shift": r.alignment[k].1,
+                    "v": r.v_params[k],
+                    "max_deviation": r.section_deviation[k],
+                    "dropped_chains": input.dropped_chains.get(k),
+                })
+            })
+            .collect();
+        let rep = json!({
+            "tolerance": tol,
+            "within_tolerance": within,
+            "net": [nu, nv],
+            "degree": [r.surface.degree_u(), r.surface.degree_v()],
+            "deviation": r.deviation,
+            "section_fit_max_deviation": r.compatible.max_deviation,
+            "section_max_span_fairness": r.compatible.max_span_fairness,
+            "iso_fairness": r.fairness,
+            "knots_u": r.compatible.knots,
+            "v_params": r.v_params,
+            "candidates_tried": r.compatible.candidates_tried,
+            "sections": sections,
+            "gaps": input.gaps,
+            "empty_planes": input.empty_planes,
+        });
+        let text = serde_json::to_string_pretty(&rep).map_err(|e| CliError(e.to_string()))?;
+        write_atomic(path, text.as_bytes())?;
+    }
+    println!(
+        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along u {:.3e}, along v {:.3e}; {} gap(s) reported",
+        r.deviation.max,
+        r.deviation.rms,
+        r.deviation.points,
+        tol,
+        if within { "" } else { " NOT MET" },
+        r.fairness.along_u.max,
+        r.fairness.along_v.max,
+        input.gaps.len()
+    );
+    if !within {
+        eprintln!(
+            "warning: the tolerance {tol:.3e} is not met (max deviation {:.3e}); raise --max-ctrl or the tolerance",
+            r.deviation.max
+        );
+    }
+    Ok(())
 }

@@ -1,6 +1,7 @@
 //! Closest-point projection of points onto curves: global sampling, then a safeguarded Newton step on
 //! `f(u) = C'(u)·(C(u) − Q)` inside the bracket of the best sample (NURBS Book §6.1). The result is never
-//! worse than the best sample.
+//! worse than the best sample. Newton runs on each side of the best sample, so corners (C0 knots)
+//! are handled.
 
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -91,12 +92,20 @@ impl<'a> CurveProjector<'a> {
             point: self.pts[best],
             distance: best_d2.sqrt(),
         };
-        let refined = newton_in_bracket(self.curve, q, self.us[best], a, b);
-        if refined.distance <= sample.distance {
-            refined
-        } else {
-            sample
+        // Newton on each side of the best sample separately: at a C0 knot (a corner) the derivative
+        // jumps, and one Newton run from the sample would only explore the side its one-sided
+        // derivative points to
+        let ub = self.us[best];
+        let mut out = sample;
+        for (lo_u, hi_u) in [(a, ub), (ub, b)] {
+            if hi_u > lo_u {
+                let refined = newton_in_bracket(self.curve, q, 0.5 * (lo_u + hi_u), lo_u, hi_u);
+                if refined.distance < out.distance {
+                    out = refined;
+                }
+            }
         }
+        out
     }
 }
 

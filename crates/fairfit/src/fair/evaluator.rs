@@ -9,7 +9,7 @@
 //! `max(rel_tol · |E_sub|, abs · (width of sub-interval) / (width of domain))`, where
 //! `abs = max(rel_tol · E₀, 1e-14 / L₀³)` uses the first-pass totals `E₀`, `L₀`; every quantity is
 //! scale- and motion-invariant, so the refinement decisions are too. The accepted value is the Kronrod
-//! one, whose error is far below the `|K15 − G7|` estimate on smooth integrands.
+//! one.
 
 use super::energy::{mvc_point, plane_normal};
 use crate::diffgeo::quadrature::gauss_kronrod_15;
@@ -18,16 +18,16 @@ use crate::nurbs::{NurbsCurve, Vec3};
 /// Tuning of the adaptive integration.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EvaluatorOptions {
-    /// Relative tolerance on the `|K15 − G7|` estimate of each (sub)span's energy.
+    /// Relative tolerance on the error estimate of each (sub)span's energy.
     pub rel_tol: f64,
-    /// Maximum number of bisections of a knot span.
+    /// Maximum number of bisection levels of a knot span (0: one Gauss–Kronrod rule per span).
     pub max_depth: usize,
 }
 
 impl Default for EvaluatorOptions {
     fn default() -> Self {
         EvaluatorOptions {
-            rel_tol: 1e-8,
+            rel_tol: 1e-6,
             max_depth: 12,
         }
     }
@@ -162,7 +162,9 @@ impl FairnessEvaluator {
         let abs = (self.opts.rel_tol * e0).max(1e-14 / (l0 * l0 * l0)) / width;
         for j in 0..self.spans.len() {
             let s = self.spans[j];
-            if self.accept(self.errors[j], s.energy, abs * (s.u1 - s.u0)) {
+            if self.opts.max_depth == 0
+                || self.accept(self.errors[j], s.energy, abs * (s.u1 - s.u0))
+            {
                 continue;
             }
             let refined = self.refine(curve, planar, s.u0, s.u1, abs);
@@ -238,21 +240,36 @@ impl FairnessEvaluator {
     fn kronrod(&self, curve: &NurbsCurve, planar: Option<Vec3>, a: f64, b: f64) -> Piece {
         let (c, h) = (0.5 * (a + b), 0.5 * (b - a));
         let mut d = [Vec3::ZERO; 4];
+        let mut fe = [0.0; 15];
         let (mut len, mut ek, mut eg, mut bend) = (0.0, 0.0, 0.0, 0.0);
-        for &(x, wk, wg) in &self.rule {
+        for (i, &(x, wk, wg)) in self.rule.iter().enumerate() {
             curve.derivatives_into(c + h * x, 3, &mut d);
             let m = mvc_point(&d, planar);
             let e = m.energy_density();
+            fe[i] = e;
             len += wk * m.speed;
             ek += wk * e;
             eg += wg * e;
             bend += wk * m.bending_density();
         }
+        // QUADPACK qk15 error estimate: |K15 − G7| scaled by the integrand's variation `resasc`
+        let mean = 0.5 * ek;
+        let resasc: f64 = self
+            .rule
+            .iter()
+            .zip(&fe)
+            .map(|(&(_, wk, _), &e)| wk * (e - mean).abs())
+            .sum::<f64>()
+            * h;
+        let mut error = ((ek - eg) * h).abs();
+        if resasc > 0.0 && error > 0.0 {
+            error = resasc * (200.0 * error / resasc).powf(1.5).min(1.0);
+        }
         Piece {
             length: len * h,
             energy: ek * h,
             bending: bend * h,
-            error: ((ek - eg) * h).abs(),
+            error,
         }
     }
 }

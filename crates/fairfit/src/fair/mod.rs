@@ -7,15 +7,21 @@
 //!   the optimiser (`F`, `max F_j`, `F_j`);
 //! - [`extrema`]: curvature extrema and inflections by sign changes above a scale-free noise floor;
 //! - [`metrics`]: [`curve_fairness`], the full [`CurveFairness`] summary;
-//! - [`surface`]: [`surface_fairness`], the metrics on iso-parametric curves in both directions.
+//! - [`surface`]: [`surface_fairness`], the metrics on iso-parametric curves in both directions;
+//! - [`gram`]: Gram matrices of basis derivatives (parametric energies as quadratic forms);
+//! - [`fairing`]: [`fair_curve`], the fit-then-fair baseline (Eck–Hadenfeld local energy fairing held
+//!   to a tolerance).
 
 pub mod energy;
 pub mod evaluator;
 pub mod extrema;
+pub mod fairing;
+pub mod gram;
 pub mod metrics;
 pub mod surface;
 
 pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
 pub use extrema::{count_extrema, ExtremaCounts};
+pub use fairing::{fair_curve, FairingOptions, FairingResult};
 pub use metrics::{curve_fairness, CurveFairness};
 pub use surface::{surface_fairness, IsoCurveFairness, SurfaceFairness};

@@ -2,15 +2,12 @@
 //! section curves and skins them, so the practical surface check is the curve metric on iso-curves in
 //! both directions).
 //!
-//! The iso-curves are extracted exactly by contracting the homogeneous control net with the basis
-//! functions of one direction (a private helper here; `NurbsSurface::iso_curve_u/v` from the geometry
-//! core do the same once available).
+//! The iso-curves are extracted exactly by [`NurbsSurface::iso_curve_u`] / [`NurbsSurface::iso_curve_v`]
+//! (the homogeneous control net contracted with the basis functions of one direction).
 
 use super::metrics::{curve_fairness, CurveFairness};
 use crate::errors::Result;
-use crate::nurbs::basis::basis_funs_into;
-use crate::nurbs::knots::find_span;
-use crate::nurbs::{NurbsCurve, NurbsSurface};
+use crate::nurbs::NurbsSurface;
 use serde::Serialize;
 
 /// Fairness of one iso-parametric curve (the [`CurveFairness`] summary without the per-span list).
@@ -103,14 +100,14 @@ pub fn surface_fairness(surface: &NurbsSurface, n_iso: usize) -> Result<SurfaceF
     let mut u_iso = Vec::new();
     let mut max_span_fairness_u = 0.0f64;
     for u in params(surface.domain_u()) {
-        let f = curve_fairness(&iso_curve_at_u(surface, u)?);
+        let f = curve_fairness(&surface.iso_curve_u(u)?);
         max_span_fairness_u = max_span_fairness_u.max(f.max_span_fairness);
         u_iso.push(IsoCurveFairness::from_curve(u, &f));
     }
     let mut v_iso = Vec::new();
     let mut max_span_fairness_v = 0.0f64;
     for v in params(surface.domain_v()) {
-        let f = curve_fairness(&iso_curve_at_v(surface, v)?);
+        let f = curve_fairness(&surface.iso_curve_v(v)?);
         max_span_fairness_v = max_span_fairness_v.max(f.max_span_fairness);
         v_iso.push(IsoCurveFairness::from_curve(v, &f));
     }
@@ -134,107 +131,11 @@ pub fn surface_fairness(surface: &NurbsSurface, n_iso: usize) -> Result<SurfaceF
     })
 }
 
-/// Non-zero basis functions of degree `p` at `t` and the span index.
-fn basis_at(t: f64, p: usize, knots: &[f64], n_ctrl: usize) -> (usize, Vec<f64>) {
-    let span = find_span(n_ctrl - 1, p, t, knots);
-    let (mut left, mut right, mut n) = (vec![0.0; p + 1], vec![0.0; p + 1], vec![0.0; p + 1]);
-    basis_funs_into(span, t, p, knots, &mut left, &mut right, &mut n);
-    (span, n)
-}
-
-/// The curve `v ↦ S(u0, v)`, exact (degree q, the v knots).
-pub(crate) fn iso_curve_at_u(s: &NurbsSurface, u0: f64) -> Result<NurbsCurve> {
-    s.check_parameter(u0, s.domain_v().0)?;
-    let (n_u, n_v) = s.net_size();
-    let p = s.degree_u();
-    let (span, n) = basis_at(u0, p, s.knots_u(), n_u);
-    let cw: Vec<[f64; 4]> = (0..n_v)
-        .map(|j| {
-            let mut q = [0.0; 4];
-            for (r, nr) in n.iter().enumerate() {
-                let (pt, w) = (s.control_point(span - p + r, j), s.weight(span - p + r, j));
-                q[0] += nr * w * pt.x();
-                q[1] += nr * w * pt.y();
-                q[2] += nr * w * pt.z();
-                q[3] += nr * w;
-            }
-            q
-        })
-        .collect();
-    NurbsCurve::from_homogeneous(s.degree_v(), s.knots_v().to_vec(), &cw)
-}
-
-/// The curve `u ↦ S(u, v0)`, exact (degree p, the u knots).
-pub(crate) fn iso_curve_at_v(s: &NurbsSurface, v0: f64) -> Result<NurbsCurve> {
-    s.check_parameter(s.domain_u().0, v0)?;
-    let (n_u, n_v) = s.net_size();
-    let q = s.degree_v();
-    let (span, n) = basis_at(v0, q, s.knots_v(), n_v);
-    let cw: Vec<[f64; 4]> = (0..n_u)
-        .map(|i| {
-            let mut h = [0.0; 4];
-            for (r, nr) in n.iter().enumerate() {
-                let (pt, w) = (s.control_point(i, span - q + r), s.weight(i, span - q + r));
-                h[0] += nr * w * pt.x();
-                h[1] += nr * w * pt.y();
-                h[2] += nr * w * pt.z();
-                h[3] += nr * w;
-            }
-            h
-        })
-        .collect();
-    NurbsCurve::from_homogeneous(s.degree_u(), s.knots_u().to_vec(), &cw)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::nurbs::knots::uniform_clamped;
-    use crate::nurbs::Vec3;
-
-    fn wavy_surface() -> NurbsSurface {
-        let net: Vec<Vec<Vec3>> = (0..6)
-            .map(|i| {
-                (0..5)
-                    .map(|j| {
-                        let (x, y) = (i as f64, j as f64 * 0.8);
-                        Vec3::new(x, y, (0.7 * x).sin() * (0.5 * y).cos())
-                    })
-                    .collect()
-            })
-            .collect();
-        let w: Vec<Vec<f64>> = (0..6)
-            .map(|i| {
-                (0..5)
-                    .map(|j| 1.0 + 0.1 * ((i + 2 * j) % 3) as f64)
-                    .collect()
-            })
-            .collect();
-        NurbsSurface::new(
-            3,
-            2,
-            uniform_clamped(3, 6),
-            uniform_clamped(2, 5),
-            net,
-            Some(w),
-        )
-        .unwrap()
-    }
-
-    #[test]
-    fn iso_curves_lie_on_the_surface() {
-        let s = wavy_surface();
-        for &t0 in &[0.0, 0.37, 0.5, 1.0] {
-            let cu = iso_curve_at_u(&s, t0).unwrap();
-            let cv = iso_curve_at_v(&s, t0).unwrap();
-            for k in 0..=50 {
-                let t = k as f64 / 50.0;
-                assert!((cu.point(t) - s.point(t0, t)).norm() < 1e-13);
-                assert!((cv.point(t) - s.point(t, t0)).norm() < 1e-13);
-            }
-        }
-        assert!(iso_curve_at_u(&s, 1.5).is_err());
-    }
+    use crate::nurbs::{NurbsCurve, Vec3};
 
     #[test]
     fn ruled_sheet_over_a_curve_has_the_curve_fairness_one_way_and_zero_the_other() {

@@ -3,12 +3,16 @@
 //! tolerance-driven knot counts.
 
 pub mod banded;
+pub mod correction;
 pub mod deviation;
 pub mod gauss;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;
+pub mod shape;
+pub mod tolerance;
 
 pub use deviation::{max_orthogonal_deviation, Deviation};
 pub use lsq::{fit_fixed_knots, LsqOptions, LsqSolver, SmoothingOrder};
 pub use parameterize::Parameterization;
+pub use tolerance::{fit_to_tolerance, ClosedMode, FitOptions, FitResult, Tolerance};

@@ -1,1 +1,22 @@
 //! Particle swarm optimisation of knot vectors: the integrated fitting-and-fairing method.
+//!
+//! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
+//! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
+//! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
+//! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
+//! - [`prepare`]: scale-free normalisation, chord-length parameters, baseline averaging knots;
+//! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
+//! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
+//! - [`pareto`]: the Pareto front of curves for `--pareto`.
+
+// index loops over bands and spans read like the formulas they implement
+#![allow(clippy::needless_range_loop)]
+
+pub mod encoding;
+pub mod integrated;
+pub mod mopso;
+pub mod objective;
+pub mod pareto;
+pub mod prepare;
+pub mod problem;
+pub mod pso;

@@ -1,0 +1,223 @@
+//! Output flags shared by `fairfit export`, `fairfit curve` and `fairfit surface`: `--step`, `--iges`,
+//! `--mesh`, `--plot`, `--html` (with `--chord-tol` and `--units`). Subcommands `#[command(flatten)]`
+//! [`OutputArgs`] and call [`write_outputs`].
+//!
+//! Every output is produced in memory first, so invalid geometry or options fail before any file is
+//! written; each file is then written atomically (a failed write leaves no partial file).
+
+use super::{CliError, CmdResult};
+use clap::Args;
+use fairfit::io::cad_common::{validate_curve, validate_surface, LengthUnit};
+use fairfit::io::iges::{curve_to_iges, surface_to_iges, IgesOptions};
+use fairfit::io::mesh_write::{mesh_bytes, MeshFormat};
+use fairfit::io::step::{curve_to_step, surface_to_step, StepOptions};
+use fairfit::io::tessellate::{tessellate_curve, tessellate_surface, TessellationOptions};
+use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+use fairfit::plot::curve_plots::{curvature_svg, curve_comb_svg, deviation_svg};
+use fairfit::plot::html::{html_report, rows_from_json, Report};
+use fairfit::plot::png::svg_to_png;
+use fairfit::plot::surface_plots::{deviation_map_svg, iso_curvature_svg, IsoDirection};
+use fairfit::plot::PlotSize;
+use std::path::{Path, PathBuf};
+
+/// The geometry to write.
+#[derive(Clone, Copy, Debug)]
+pub enum OutputGeometry<'a> {
+    /// A curve.
+    Curve(&'a NurbsCurve),
+    /// A surface.
+    Surface(&'a NurbsSurface),
+}
+
+/// Output files for a curve or surface.
+#[derive(Args, Debug, Clone, Default)]
+pub struct OutputArgs {
+    /// Write the geometry as STEP (AP214): a face for a surface, a wireframe curve for a curve.
+    #[arg(long, value_name = "FILE")]
+    pub step: Option<PathBuf>,
+    /// Write the geometry as IGES 5.3 (entity 126 or 128).
+    #[arg(long, value_name = "FILE")]
+    pub iges: Option<PathBuf>,
+    /// Write a mesh: .obj, .stl (surfaces only) or .ply; curves become polylines.
+    #[arg(long, value_name = "FILE")]
+    pub mesh: Option<PathBuf>,
+    /// Write a plot, .svg or .png (curve: curvature comb; surface: deviation map with points, else
+    /// iso-curve curvature).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Write a self-contained HTML report with metrics and plots.
+    #[arg(long, value_name = "FILE")]
+    pub html: Option<PathBuf>,
+    /// Maximum chord height of the mesh, in model units (default: 8 samples per knot span).
+    #[arg(long, value_name = "T")]
+    pub chord_tol: Option<f64>,
+    /// Length unit declared in STEP and IGES files.
+    #[arg(long, default_value = "mm", value_parser = ["mm", "m"])]
+    pub units: String,
+}
+
+impl OutputArgs {
+    /// True when at least one output file was asked for.
+    pub fn any(&self) -> bool {
+        self.step.is_some()
+            || self.iges.is_some()
+            || self.mesh.is_some()
+            || self.plot.is_some()
+            || self.html.is_some()
+    }
+}
+
+fn stem(path: &Path) -> String {
+    path.file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "fairfit".into())
+}
+
+/// The main plot of a geometry as SVG.
+pub fn main_plot(
+    g: OutputGeometry<'_>,
+    points: Option<&[Vec3]>,
+    size: PlotSize,
+) -> Result<String, CliError> {
+    Ok(match (g, points) {
+        (OutputGeometry::Curve(c), _) => curve_comb_svg(c, points, size)?,
+        (OutputGeometry::Surface(s), Some(p)) if !p.is_empty() => deviation_map_svg(s, p, size)?,
+        (OutputGeometry::Surface(s), _) => iso_curvature_svg(s, IsoDirection::FixedV, 5, size)?,
+    })
+}
+
+/// SVG or PNG bytes of `svg` as the extension of `path` asks.
+pub fn plot_bytes(path: &Path, svg: String, size: PlotSize) -> Result<Vec<u8>, CliError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("svg") => Ok(svg.into_bytes()),
+        Some("png") => Ok(svg_to_png(&svg, size.width, size.height)?),
+        _ => Err(CliError(format!(
+            "{}: unknown plot format, expected a .svg or .png file name",
+            path.display()
+        ))),
+    }
+}
+
+fn report(
+    g: OutputGeometry<'_>,
+    points: Option<&[Vec3]>,
+    metrics: Option<&serde_json::Value>,
+) -> Result<String, CliError> {
+    let size = PlotSize::default();
+    let mut r = Report {
+        title: "fairfit report".into(),
+        ..Default::default()
+    };
+    let pts = points.unwrap_or(&[]);
+    r.inputs.push(("data points".into(), pts.len().to_string()));
+    match g {
+        OutputGeometry::Curve(c) => {
+            r.parameters.push(("kind".into(), "curve".into()));
+            r.parameters.push(("degree".into(), c.degree().to_string()));
+            r.parameters
+                .push(("control points".into(), c.n_control_points().to_string()));
+            r.parameters
+                .push(("knots".into(), c.knots().len().to_string()));
+            r.plots.push((
+                "Curve, data and curvature comb".into(),
+                curve_comb_svg(c, points, size)?,
+            ));
+            r.plots.push((
+                "Curvature against arc length".into(),
+                curvature_svg(c, size)?,
+            ));
+            if !pts.is_empty() {
+                r.plots
+                    .push(("Deviation per point".into(), deviation_svg(c, pts, size)?));
+            }
+        }
+        OutputGeometry::Surface(s) => {
+            let (n_u, n_v) = s.net_size();
+            r.parameters.push(("kind".into(), "surface".into()));
+            r.parameters.push((
+                "degrees".into(),
+                format!("{} x {}", s.degree_u(), s.degree_v()),
+            ));
+            r.parameters
+                .push(("control net".into(), format!("{n_u} x {n_v}")));
+            if !pts.is_empty() {
+                r.plots
+                    .push(("Deviation map".into(), deviation_map_svg(s, pts, size)?));
+            }
+            for (name, dir) in [("u", IsoDirection::FixedV), ("v", IsoDirection::FixedU)] {
+                let caption = format!("Curvature of iso-curves along {name}");
+                r.plots.push((caption, iso_curvature_svg(s, dir, 5, size)?));
+            }
+        }
+    }
+    if let Some(m) = metrics {
+        r.metrics = rows_from_json(m);
+    }
+    Ok(html_report(&r))
+}
+
+/// Writes every output asked for in `args`. Nothing is written when the geometry or an option is
+/// invalid; each file is written atomically.
+pub fn write_outputs(
+    geometry: OutputGeometry<'_>,
+    points: Option<&[Vec3]>,
+    report_json: Option<&serde_json::Value>,
+    args: &OutputArgs,
+) -> CmdResult {
+    match geometry {
+        OutputGeometry::Curve(c) => validate_curve(c)?,
+        OutputGeometry::Surface(s) => validate_surface(s)?,
+    }
+    let unit: LengthUnit = args.units.parse()?;
+    let mut files: Vec<(&PathBuf, Vec<u8>)> = Vec::new();
+    if let Some(p) = &args.step {
+        let opts = StepOptions {
+            unit,
+            name: stem(p),
+            ..Default::default()
+        };
+        let text = match geometry {
+            OutputGeometry::Curve(c) => curve_to_step(c, &opts)?,
+            OutputGeometry::Surface(s) => surface_to_step(s, &opts)?,
+        };
+        files.push((p, text.into_bytes()));
+    }
+    if let Some(p) = &args.iges {
+        let opts = IgesOptions {
+            unit,
+            name: stem(p),
+            ..Default::default()
+        };
+        let text = match geometry {
+            OutputGeometry::Curve(c) => curve_to_iges(c, &opts)?,
+            OutputGeometry::Surface(s) => surface_to_iges(s, &opts)?,
+        };
+        files.push((p, text.into_bytes()));
+    }
+    if let Some(p) = &args.mesh {
+        let format = MeshFormat::from_path(p)?;
+        let opts = TessellationOptions {
+            chord_tol: args.chord_tol,
+            ..Default::default()
+        };
+        let mesh = match geometry {
+            OutputGeometry::Curve(c) => tessellate_curve(c, &opts)?,
+            OutputGeometry::Surface(s) => tessellate_surface(s, &opts)?,
+        };
+        files.push((p, mesh_bytes(&mesh, format)?));
+    }
+    if let Some(p) = &args.plot {
+        let size = PlotSize::default();
+        files.push((p, plot_bytes(p, main_plot(geometry, points, size)?, size)?));
+    }
+    if let Some(p) = &args.html {
+        files.push((p, report(geometry, points, report_json)?.into_bytes()));
+    }
+    for (path, bytes) in files {
+        fairfit::io::write_atomic(path, &bytes)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,215 @@
+//! Fit-then-fair baseline: classic post-processing fairing of a fitted curve held to a tolerance
+//! (issue 4 item 6), by Eck & Hadenfeld's local energy fairing ("Local energy fairing of B-spline
+//! curves", 1995).
+//!
+//! The parametric energy `E_k = ∫ |C^(k)|² du = Σ_ij G_ij P_i·P_j` ([`super::gram`], `k = 3` for cubics
+//! and above, the "jerk") is quadratic in each control point, so moving `P_r` alone to the minimiser
+//! `P_r* = P_r − g_r / G_rr` (with `g_r = Σ_j G_rj P_j`) lowers it by `|g_r|² / G_rr`. Each iteration
+//! ranks the movable control points by that gain and tries them in order, with steps `t = 1, 1/2, 1/4,
+//! ...` along `P_r* − P_r`; a move is accepted when
+//!
+//! 1. the scale-free MVC fairness `F = L³ ∫ (dκ/ds)² ds` of the whole curve decreases, and
+//! 2. every data point stays within its allowance of the curve: `tol`, or its initial distance when the
+//!    input curve already missed it (so the fairing never makes any point worse than the fit left it).
+//!    Distances are orthogonal, by [`crate::diffgeo::CurveProjector`] started from each point's last
+//!    foot parameter; a local search can only overestimate a distance, so the check is conservative.
+//!
+//! The iteration stops when no candidate is accepted or after `max_iterations` moves. End control points
+//! stay fixed by default (a clamped curve keeps its end points). For rational curves the step is computed
+//! on the Euclidean control points with the weights held fixed, which is only a model of the true energy;
+//! every move is still judged on the true curve. Everything is deterministic (ties broken by index).
+
+use super::evaluator::FairnessEvaluator;
+use super::gram::Gram;
+use crate::diffgeo::CurveProjector;
+use crate::errors::{Error, Result};
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// Options of [`fair_curve`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FairingOptions {
+    /// Maximum number of accepted control-point moves.
+    pub max_iterations: usize,
+    /// Keep the first and last control points fixed.
+    pub fix_ends: bool,
+    /// Derivative order of the parametric energy (default `min(3, degree)`).
+    pub energy_order: Option<usize>,
+    /// Step halvings tried per candidate after the full step.
+    pub step_halvings: usize,
+    /// Candidates (by decreasing energy gain) tried per iteration before giving up.
+    pub max_candidates: usize,
+    /// Curve samples per knot span for the closest-point search.
+    pub projection_samples: usize,
+}
+
+impl Default for FairingOptions {
+    fn default() -> Self {
+        FairingOptions {
+            max_iterations: 300,
+            fix_ends: true,
+            energy_order: None,
+            step_halvings: 6,
+            max_candidates: 8,
+            projection_samples: 16,
+        }
+    }
+}
+
+/// Result of [`fair_curve`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FairingResult {
+    /// The faired curve (same degree, knots and weights as the input).
+    pub curve: NurbsCurve,
+    /// Number of accepted control-point moves.
+    pub iterations: usize,
+    /// `F` of the input curve.
+    pub fairness_before: f64,
+    /// `F` of the faired curve (never above `fairness_before`).
+    pub fairness_after: f64,
+    /// Largest orthogonal distance of a data point to the input curve.
+    pub max_deviation_before: f64,
+    /// Largest orthogonal distance of a data point to the faired curve.
+    pub max_deviation_after: f64,
+}
+
+/// Fairs `curve` while every point of `points` stays within `tol` (absolute) of it.
+///
+/// ```
+/// use fairfit::nurbs::{NurbsCurve, Vec3, knots::uniform_clamped};
+/// use fairfit::fair::{fair_curve, FairingOptions};
+/// // a wobbly cubic and the points it was "fitted" to (the smooth parabola y = x²/10)
+/// let pts: Vec<Vec3> = (0..10)
+///     .map(|i| { let x = i as f64; Vec3::new(x, x * x / 10.0 + 0.02 * (-1f64).powi(i), 0.0) })
+///     .collect();
+/// let c = NurbsCurve::bspline(3, uniform_clamped(3, 10), pts).unwrap();
+/// let data: Vec<Vec3> = (0..=90).map(|i| { let x = i as f64 / 10.0; Vec3::new(x, x * x / 10.0, 0.0) }).collect();
+/// let r = fair_curve(&c, &data, 0.05, &FairingOptions::default()).unwrap();
+/// assert!(r.fairness_after < r.fairness_before);
+/// assert!(r.max_deviation_after <= 0.05f64.max(r.max_deviation_before));
+/// ```
+pub fn fair_curve(
+    curve: &NurbsCurve,
+    points: &[Vec3],
+    tol: f64,
+    opts: &FairingOptions,
+) -> Result<FairingResult> {
+    if !(tol.is_finite() && tol > 0.0) {
+        return Err(Error::InvalidOption(format!(
+            "fairing tolerance must be a positive finite number, got {tol}"
+        )));
+    }
+    if points.is_empty() {
+        return Err(Error::InvalidData(
+            "fairing needs at least one data point".into(),
+        ));
+    }
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(Error::InvalidData(format!("data point {i} is not finite")));
+    }
+    let p = curve.degree();
+    let n = curve.n_control_points();
+    let knots = curve.knots().to_vec();
+    let weights = curve.weights().to_vec();
+    let order = opts.energy_order.unwrap_or(3).clamp(1, p);
+    let gram = Gram::new(p, &knots, n, order);
+    let samples = opts.projection_samples.max(2);
+
+    let mut ctrl = curve.control_points().to_vec();
+    let mut current = curve.clone();
+    let mut ev = FairnessEvaluator::new();
+    let fairness_before = ev.evaluate(&current).0;
+    let mut f_cur = fairness_before;
+
+    let (mut params, mut dist) = (
+        Vec::with_capacity(points.len()),
+        Vec::with_capacity(points.len()),
+    );
+    {
+        let proj = CurveProjector::new(&current, samples);
+        for &q in points {
+            let pr = proj.project(q);
+            params.push(pr.u);
+            dist.push(pr.distance);
+        }
+    }
+    let max_deviation_before = dist.iter().fold(0.0f64, |m, &d| m.max(d));
+    let allowance: Vec<f64> = dist.iter().map(|&d| d.max(tol)).collect();
+
+    let movable: Vec<usize> = (0..n)
+        .filter(|&r| !(opts.fix_ends && (r == 0 || r + 1 == n)))
+        .collect();
+    let mut iterations = 0;
+    let mut candidates: Vec<(f64, usize, Vec3)> = Vec::with_capacity(movable.len());
+    let (mut trial_params, mut trial_dist) = (params.clone(), dist.clone());
+    while iterations < opts.max_iterations {
+        candidates.clear();
+        for &r in &movable {
+            let grr = gram.get(r, r);
+            if grr <= 0.0 {
+                continue;
+            }
+            let lo = r.saturating_sub(p);
+            let hi = (r + p).min(n - 1);
+            let mut g = Vec3::ZERO;
+            for (j, cj) in ctrl.iter().enumerate().take(hi + 1).skip(lo) {
+                g += *cj * gram.get(r, j);
+            }
+            let gain = g.norm_squared() / grr;
+            if gain > 0.0 && gain.is_finite() {
+                candidates.push((gain, r, g * (-1.0 / grr)));
+            }
+        }
+        candidates.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        let mut accepted = false;
+        'candidates: for &(_, r, delta) in candidates.iter().take(opts.max_candidates.max(1)) {
+            let mut t = 1.0;
+            for _ in 0..=opts.step_halvings {
+                let mut trial_ctrl = ctrl.clone();
+                trial_ctrl[r] += delta * t;
+                t *= 0.5;
+                let Ok(trial) =
+                    NurbsCurve::new(p, knots.clone(), trial_ctrl.clone(), Some(weights.clone()))
+                else {
+                    continue;
+                };
+                let f_trial = ev.evaluate(&trial).0;
+                if f_trial.is_nan() || f_trial >= f_cur * (1.0 - 1e-12) {
+                    continue;
+                }
+                let proj = CurveProjector::new(&trial, samples);
+                let mut ok = true;
+                for (i, &q) in points.iter().enumerate() {
+                    let pr = proj.project_near(q, params[i]);
+                    if pr.distance > allowance[i] {
+                        ok = false;
+                        break;
+                    }
+                    trial_params[i] = pr.u;
+                    trial_dist[i] = pr.distance;
+                }
+                if ok {
+                    ctrl = trial_ctrl;
+                    current = trial;
+                    f_cur = f_trial;
+                    params.copy_from_slice(&trial_params);
+                    dist.copy_from_slice(&trial_dist);
+                    accepted = true;
+                    break 'candidates;
+                }
+            }
+        }
+        if !accepted {
+            break;
+        }
+        iterations += 1;
+    }
+    let max_deviation_after = dist.iter().fold(0.0f64, |m, &d| m.max(d));
+    Ok(FairingResult {
+        curve: current,
+        iterations,
+        fairness_before,
+        fairness_after: f_cur,
+        max_deviation_before,
+        max_deviation_after,
+    })
+}

@@ -1,0 +1,659 @@
+//! Tolerance-driven least-squares fitting: the fewest control points (found greedily) whose curve
+//! stays within a tolerance of every point, measured orthogonally.
+//!
+//! Per piece of data (the whole curve, or the stretches between corners): start from one Bézier
+//! segment (or `p + 1` periodic spans for a closed curve), fit with parameter correction, and while the
+//! maximum orthogonal deviation exceeds the tolerance, split every knot span whose points miss it at
+//! the median of its data parameters (so both halves keep data: Schoenberg–Whitney holds). A final pass
+//! tries removing each interior knot and keeps the removal when the tolerance still holds. Pieces are
+//! joined with knots of multiplicity `p` (C0 corners); a closed curve without corners is fitted
+//! periodically (C^(p−1) at the seam).
+
+use super::correction::{fit_with_correction, CorrectedFit};
+use super::deviation::{max_orthogonal_deviation, Deviation};
+use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
+use super::parameterize::{parameterize_into, Parameterization};
+use super::shape::{detect_corners, looks_closed, DEFAULT_CORNER_ANGLE_DEG};
+use crate::errors::{Error, Result};
+use crate::io::points::{bounding_box_extent, drop_consecutive_duplicates};
+use crate::nurbs::{NurbsCurve, Vec3};
+use std::time::Instant;
+
+/// The tolerance on the maximum orthogonal deviation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tolerance {
+    /// In the units of the data.
+    Absolute(f64),
+    /// Times the largest side of the data's bounding box.
+    Relative(f64),
+}
+
+/// Whether the data form a closed curve.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ClosedMode {
+    /// Closed when the last point equals the first (see [`super::shape::looks_closed`]).
+    #[default]
+    Auto,
+    /// Always open.
+    Open,
+    /// Always closed (the closing chord from the last point to the first is part of the curve).
+    Closed,
+}
+
+/// Options of [`fit_to_tolerance`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitOptions {
+    /// Degree `p` (default 3).
+    pub degree: usize,
+    /// Parameterisation (default centripetal).
+    pub parameterization: Parameterization,
+    /// Tolerance (default relative 1e-3).
+    pub tolerance: Tolerance,
+    /// Closed-curve handling.
+    pub closed: ClosedMode,
+    /// Corner threshold in degrees; `None` disables corner detection.
+    pub corner_angle_deg: Option<f64>,
+    /// Parameter-correction rounds per fit (default 2).
+    pub correction_rounds: usize,
+    /// Scale-free smoothing `λ` (default 0; see [`super::lsq`]).
+    pub smoothing: f64,
+    /// Smoothing derivative order.
+    pub smoothing_order: SmoothingOrder,
+    /// Try removing knots once the tolerance is met (default true).
+    pub knot_removal: bool,
+    /// Upper bound on control points per piece; 0 means the number of points.
+    pub max_control_points: usize,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            degree: 3,
+            parameterization: Parameterization::default(),
+            tolerance: Tolerance::Relative(1e-3),
+            closed: ClosedMode::Auto,
+            corner_angle_deg: Some(DEFAULT_CORNER_ANGLE_DEG),
+            correction_rounds: 2,
+            smoothing: 0.0,
+            smoothing_order: SmoothingOrder::Second,
+            knot_removal: true,
+            max_control_points: 0,
+        }
+    }
+}
+
+/// The result of [`fit_to_tolerance`].
+#[derive(Clone, Debug)]
+pub struct FitResult {
+    /// The fitted curve (domain `[0, 1]`).
+    pub curve: NurbsCurve,
+    /// The points as fitted (duplicates removed; a closed curve with corners starts at its first
+    /// corner; the repeated closing point of closed data is dropped).
+    pub points: Vec<Vec3>,
+    /// Parameter of each of [`FitResult::points`] (its foot point on the curve).
+    pub params: Vec<f64>,
+    /// Orthogonal deviation of the points from the curve.
+    pub deviation: Deviation,
+    /// Number of control points (for a closed periodic curve, the distinct ones).
+    pub n_control_points: usize,
+    /// The absolute tolerance that was met.
+    pub tolerance: f64,
+    /// True when the curve is closed.
+    pub closed: bool,
+    /// Indices in [`FitResult::points`] of the corners kept as C0 knots.
+    pub corners: Vec<usize>,
+    /// Least-squares solves performed.
+    pub solves: usize,
+    /// Wall time of the fit, seconds.
+    pub fit_seconds: f64,
+}
+
+/// Fits a curve within a tolerance of `points` with few control points.
+///
+/// ```
+/// use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
+/// use fairfit::Vec3;
+/// let q: Vec<Vec3> = (0..100).map(|k| { let t = 1.5707963 * k as f64 / 99.0;
+///     Vec3::new(t.cos(), 0.5 * t.sin(), 0.0) }).collect();
+/// let opts = FitOptions { tolerance: Tolerance::Absolute(1e-4), ..Default::default() };
+/// let r = fit_to_tolerance(&q, &opts).unwrap();
+/// assert!(r.deviation.max <= 1e-4);
+/// assert!(r.n_control_points <= 10);
+/// ```
+pub fn fit_to_tolerance(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
+    let start = Instant::now();
+    let p = opts.degree;
+    if p == 0 || p > 15 {
+        return Err(Error::InvalidDegree {
+            degree: p,
+            reason: "the degree must be between 1 and 15".into(),
+        });
+    }
+    if let Some(i) = points.iter().position(|q| !q.is_finite()) {
+        return Err(Error::InvalidData(format!("point {i} is not finite")));
+    }
+    let (mut pts, _) = drop_consecutive_duplicates(points);
+    let extent = bounding_box_extent(&pts);
+    if pts.len() < 2 || extent <= 0.0 {
+        return Err(Error::InvalidData(
+            "all points coincide: nothing to fit".into(),
+        ));
+    }
+    let tol = match opts.tolerance {
+        Tolerance::Absolute(t) => t,
+        Tolerance::Relative(r) => r * extent,
+    };
+    if tol.is_nan() || tol <= 0.0 || tol.is_infinite() {
+        return Err(Error::InvalidOption(format!(
+            "the tolerance must be positive and finite, got {tol}"
+        )));
+    }
+    let closed = match opts.closed {
+        ClosedMode::Auto => looks_closed(&pts),
+        ClosedMode::Open => false,
+        ClosedMode::Closed => true,
+    };
+    if closed && looks_closed(&pts) {
+        pts.pop();
+    }
+    let needed = if closed { p + 2 } else { p + 1 };
+    if pts.len() < needed {
+        return Err(Error::InvalidData(format!(
+            "a{} curve of degree {p} needs at least {needed} distinct points, got {}",
+            if closed { " closed" } else { "n open" },
+            pts.len()
+        )));
+    }
+    let corners = match opts.corner_angle_deg {
+        Some(a) => detect_corners(&pts, closed, a),
+        None => Vec::new(),
+    };
+    let mut ctx = Ctx {
+        solver: LsqSolver::new(p),
+        opts,
+        tol,
+        solves: 0,
+    };
+    let (curve, seq, params, corners_out, n_ctrl) = if closed && corners.is_empty() {
+        let f = ctx.fit_piece(&pts, true)?;
+        let n = f.curve.n_control_points() - p;
+        (f.curve, pts, f.params, Vec::new(), n)
+    } else {
+        // a sequence that starts and ends at corners (closed) or at the data ends (open)
+        let (seq, cuts) = if closed {
+            let c0 = corners[0];
+            let mut seq: Vec<Vec3> = pts[c0..].iter().chain(&pts[..c0]).copied().collect();
+            seq.push(pts[c0]);
+            let mut cuts: Vec<usize> = corners.iter().map(|&c| c - c0).collect();
+            cuts.push(seq.len() - 1);
+            (seq, cuts)
+        } else {
+            let mut cuts = vec![0];
+            cuts.extend(&corners);
+            cuts.push(pts.len() - 1);
+            (pts.clone(), cuts)
+        };
+        let mut pieces = Vec::with_capacity(cuts.len() - 1);
+        for w in cuts.windows(2) {
+            pieces.push(ctx.fit_piece(&seq[w[0]..=w[1]], false)?);
+        }
+        let lengths: Vec<f64> = cuts
+            .windows(2)
+            .map(|w| {
+                seq[w[0]..=w[1]]
+                    .windows(2)
+                    .map(|s| (s[1] - s[0]).norm())
+                    .sum()
+            })
+            .collect();
+        let (curve, params) = join_pieces(&pieces, &lengths, p)?;
+        let inner: Vec<usize> = cuts[1..cuts.len() - 1].to_vec();
+        let mut corners_out = if closed { vec![0] } else { Vec::new() };
+        corners_out.extend(inner);
+        let n = curve.n_control_points();
+        (curve, seq, params, corners_out, n)
+    };
+    let deviation = max_orthogonal_deviation(&curve, &seq, &params);
+    Ok(FitResult {
+        params: deviation.params.clone(),
+        curve,
+        points: seq,
+        deviation,
+        n_control_points: n_ctrl,
+        tolerance: tol,
+        closed,
+        corners: corners_out,
+        solves: ctx.solves,
+        fit_seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+struct Ctx<'a> {
+    solver: LsqSolver,
+    opts: &'a FitOptions,
+    tol: f64,
+    solves: usize,
+}
+
+/// Knot vector from distinct breakpoints `0 = b_0 < … < b_k = 1`.
+fn knots_from_breaks(breaks: &[f64], p: usize, closed: bool) -> Vec<f64> {
+    if closed {
+        return periodic_knots(breaks, p);
+    }
+    let mut k = Vec::with_capacity(breaks.len() + 2 * p);
+    k.extend(std::iter::repeat_n(breaks[0], p + 1));
+    k.extend_from_slice(&breaks[1..breaks.len() - 1]);
+    k.extend(std::iter::repeat_n(breaks[breaks.len() - 1], p + 1));
+    k
+}
+
+impl Ctx<'_> {
+    fn fit(
+        &mut self,
+        pts: &[Vec3],
+        params: &[f64],
+        breaks: &[f64],
+        lsq: &LsqOptions,
+    ) -> Result<CorrectedFit> {
+        let knots = knots_from_breaks(breaks, self.opts.degree, lsq.closed);
+        let f = fit_with_correction(
+            &mut self.solver,
+            pts,
+            params,
+            &knots,
+            lsq,
+            self.opts.correction_rounds,
+            self.tol,
+        );
+        self.solves += 1 + f.as_ref().map(|f| f.rounds_kept).unwrap_or(0);
+        f
+    }
+
+    /// Fits one piece on `[0, 1]`.
+    fn fit_piece(&mut self, pts: &[Vec3], closed: bool) -> Result<CorrectedFit> {
+        let p = self.opts.degree;
+        let mut params = Vec::with_capacity(pts.len());
+        parameterize_into(pts, self.opts.parameterization, closed, &mut params)?;
+        let mut lsq = LsqOptions {
+            smoothing: self.opts.smoothing,
+            smoothing_order: self.opts.smoothing_order,
+            end_tangents: None,
+            closed,
+        };
+        if !closed && pts.len() < p + 1 {
+            // a short stretch between corners: one Bézier segment, regularised toward a line
+            lsq.smoothing = lsq.smoothing.max(1e-8);
+            lsq.smoothing_order = SmoothingOrder::Second;
+            return self.fit(pts, &params, &[0.0, 1.0], &lsq);
+        }
+        let mut breaks = if closed {
+            initial_periodic_breaks(&params, p + 1)
+        } else {
+            vec![0.0, 1.0]
+        };
+        let max_ctrl = match self.opts.max_control_points {
+            0 => pts.len(),
+            m => m.min(pts.len()),
+        };
+        let ctrl_count = |b: &[f64]| if closed { b.len() - 1 } else { b.len() + p - 1 };
+        let mut best = self.fit(pts, &params, &breaks, &lsq)?;
+        while best.deviation.max > self.tol {
+            params.clone_from(&best.params);
+            let added = split_bad_spans(&mut breaks, &best.deviation.per_point, &params, self.tol);
+            if added == 0 || ctrl_count(&breaks) > max_ctrl {
+                return Err(Error::Fit(format!(
+                    "tolerance {:.3e} not reached: max deviation {:.3e} with {} control points \
+                     (too few points per knot span to refine further; noisy data need a larger tolerance)",
+                    self.tol,
+                    best.deviation.max,
+                    best.curve.n_control_points()
+                )));
+            }
+            best = self.fit(pts, &params, &breaks, &lsq)?;
+        }
+        if self.opts.knot_removal {
+            self.remove_knots(pts, &mut breaks, &mut best, &lsq, closed);
+        }
+        Ok(best)
+    }
+}
+
+impl Ctx<'_> {
+    /// Knot removal from both ends inward, pairwise (outermost left with outermost right, ...), so that
+    /// reversed data make the same decisions mirrored: a pair goes when both can go; otherwise the one
+    /// whose removal leaves the smaller deviation goes if it keeps the tolerance.
+    fn remove_knots(
+        &mut self,
+        pts: &[Vec3],
+        breaks: &mut Vec<f64>,
+        best: &mut CorrectedFit,
+        lsq: &LsqOptions,
+        closed: bool,
+    ) {
+        let min_breaks = if closed { self.opts.degree + 2 } else { 2 };
+        let (mut lo, mut hi) = (1usize, breaks.len().saturating_sub(2));
+        while lo <= hi && hi + 1 < breaks.len() && lo >= 1 {
+            let try_remove = |ctx: &mut Self, idx: &[usize]| -> Option<(Vec<f64>, CorrectedFit)> {
+                if breaks.len() - idx.len() < min_breaks {
+                    return None;
+                }
+                let trial: Vec<f64> = breaks
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, _)| !idx.contains(i))
+                    .map(|(_, &b)| b)
+                    .collect();
+                match ctx.fit(pts, &best.params, &trial, lsq) {
+                    Ok(f) if f.deviation.max <= ctx.tol => Some((trial, f)),
+                    _ => None,
+                }
+            };
+            if lo == hi {
+                if let Some((t, f)) = try_remove(self, &[lo]) {
+                    *breaks = t;
+                    *best = f;
+                }
+                break;
+            }
+            if let Some((t, f)) = try_remove(self, &[lo, hi]) {
+                *breaks = t;
+                *best = f;
+                hi -= 2;
+                continue;
+            }
+            let left = try_remove(self, &[lo]);
+            let right = try_remove(self, &[hi]);
+            match (left, right) {
+                (Some(l), Some(r)) if l.1.deviation.max <= r.1.deviation.max => {
+                    (*breaks, *best) = l;
+                    hi -= 1;
+                }
+                (_, Some(r)) => {
+                    (*breaks, *best) = r;
+                    hi -= 1;
+                }
+                (Some(l), None) => {
+                    (*breaks, *best) = l;
+                    hi -= 1;
+                }
+                (None, None) => {
+                    lo += 1;
+                    hi -= 1;
+                }
+            }
+        }
+    }
+}
+
+/// `count` periodic spans at equal steps of the cyclic data index.
+fn initial_periodic_breaks(params: &[f64], count: usize) -> Vec<f64> {
+    let m = params.len();
+    let mut b = Vec::with_capacity(count + 1);
+    b.push(0.0);
+    for j in 1..count {
+        let t = (j * m) as f64 / count as f64;
+        let i = t.floor() as usize;
+        let a = t - i as f64;
+        let next = if i + 1 < m { params[i + 1] } else { 1.0 };
+        b.push((1.0 - a) * params[i] + a * next);
+    }
+    b.push(1.0);
+    b
+}
+
+/// Splits every span whose points exceed `tol` at the median of its parameters; returns the number of
+/// knots added.
+fn split_bad_spans(breaks: &mut Vec<f64>, err: &[f64], params: &[f64], tol: f64) -> usize {
+    let nspan = breaks.len() - 1;
+    let span_of = |u: f64| -> usize {
+        match breaks.binary_search_by(|b| b.total_cmp(&u)) {
+            Ok(i) => i.min(nspan - 1),
+            Err(i) => i.saturating_sub(1).min(nspan - 1),
+        }
+    };
+    let mut bad = vec![false; nspan];
+    for (e, &u) in err.iter().zip(params) {
+        if *e > tol {
+            let s = span_of(u);
+            bad[s] = true;
+            // a point exactly on a knot belongs to both spans (keeps reversal symmetric)
+            if s > 0 && u == breaks[s] {
+                bad[s - 1] = true;
+            }
+        }
+    }
+    let mut inside: Vec<Vec<f64>> = vec![Vec::new(); nspan];
+    for &u in params {
+        let s = span_of(u);
+        if bad[s] && u > breaks[s] && u < breaks[s + 1] {
+            inside[s].push(u);
+        }
+    }
+    let mut new_knots = Vec::new();
+    for (s, us) in inside.iter_mut().enumerate() {
+        if !bad[s] || us.len() < 2 {
+            continue;
+        }
+        us.sort_by(f64::total_cmp);
+        // the median, placed symmetrically: reversed data split at the mirrored value
+        let c = us.len();
+        let h = c / 2;
+        let k = if c % 2 == 0 {
+            0.5 * (us[h - 1] + us[h])
+        } else {
+            0.25 * (us[h - 1] + 2.0 * us[h] + us[h + 1])
+        };
+        let (lo, hi) = if c % 2 == 0 {
+            (us[h - 1], us[h])
+        } else {
+            (us[h - 1], us[h + 1])
+        };
+        if k > lo && k < hi {
+            new_knots.push(k);
+        }
+    }
+    let added = new_knots.len();
+    breaks.extend(new_knots);
+    breaks.sort_by(f64::total_cmp);
+    added
+}
+
+/// Joins open pieces (each on `[0, 1]`, clamped, sharing end points) into one curve with knots of
+/// multiplicity `p` at the joins; piece `i` gets a share of `[0, 1]` proportional to `lengths[i]`.
+fn join_pieces(
+    pieces: &[CorrectedFit],
+    lengths: &[f64],
+    p: usize,
+) -> Result<(NurbsCurve, Vec<f64>)> {
+    let total: f64 = lengths.iter().sum();
+    let mut a = vec![0.0];
+    let mut acc = 0.0;
+    for l in lengths {
+        acc += l;
+        a.push(acc / total);
+    }
+    let last = a.len() - 1;
+    a[last] = 1.0;
+    let mut knots = vec![0.0; p + 1];
+    let mut ctrl: Vec<Vec3> = Vec::new();
+    let mut params: Vec<f64> = Vec::new();
+    for (i, f) in pieces.iter().enumerate() {
+        let (lo, hi) = (a[i], a[i + 1]);
+        let k = f.curve.knots();
+        let cps = f.curve.control_points();
+        let skip = usize::from(i > 0);
+        ctrl.extend_from_slice(&cps[skip..]);
+        knots.extend(k[p + 1..k.len() - p - 1].iter().map(|u| lo + (hi - lo) * u));
+        if i + 1 < pieces.len() {
+            knots.extend(std::iter::repeat_n(hi, p));
+        }
+        params.extend(f.params[skip..].iter().map(|u| lo + (hi - lo) * u));
+    }
+    knots.extend(std::iter::repeat_n(1.0, p + 1));
+    Ok((NurbsCurve::bspline(p, knots, ctrl)?, params))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(name: &str) -> Vec<Vec3> {
+        let p = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
+        crate::io::read_points(p).unwrap().points
+    }
+
+    #[test]
+    fn quarter_ellipse_meets_rel_tol_measured_by_global_projection() {
+        let q = read("quarter_ellipse_200.csv");
+        let r = fit_to_tolerance(&q, &FitOptions::default()).unwrap();
+        let tol = 1e-3 * 1.0; // extent of the quarter ellipse is 1 (x from 0 to 1)
+        assert!((r.tolerance - tol).abs() < 1e-12);
+        // independent measure: dense global projection with a fresh projector
+        let proj = crate::diffgeo::CurveProjector::new(&r.curve, 64);
+        let worst = q
+            .iter()
+            .map(|&p| proj.project(p).distance)
+            .fold(0.0, f64::max);
+        assert!(worst <= tol, "{worst}");
+        assert!(r.n_control_points <= 8, "{}", r.n_control_points);
+    }
+
+    #[test]
+    fn reversed_input_gives_the_mirrored_curve() {
+        let q = read("quarter_ellipse_200.csv");
+        let rev: Vec<Vec3> = q.iter().rev().copied().collect();
+        let opts = FitOptions {
+            tolerance: Tolerance::Absolute(1e-5),
+            ..Default::default()
+        };
+        let a = fit_to_tolerance(&q, &opts).unwrap();
+        let b = fit_to_tolerance(&rev, &opts).unwrap();
+        assert_eq!(a.n_control_points, b.n_control_points);
+        for (x, y) in a
+            .curve
+            .control_points()
+            .iter()
+            .zip(b.curve.control_points().iter().rev())
+        {
+            assert!((*x - *y).norm() < 1e-9, "{x:?} vs {y:?}");
+        }
+    }
+
+    #[test]
+    fn closed_circle_is_periodic_with_matching_seam_derivatives() {
+        let mut q: Vec<Vec3> = (0..100)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 100.0;
+                Vec3::new(2.0 * a.cos(), 2.0 * a.sin(), 0.0)
+            })
+            .collect();
+        q.push(q[0]);
+        let r = fit_to_tolerance(&q, &FitOptions::default()).unwrap();
+        assert!(r.closed && r.corners.is_empty());
+        let d0 = r.curve.derivatives(0.0, 2);
+        let d1 = r.curve.derivatives(1.0, 2);
+        for j in 0..3 {
+            assert!(
+                (d0[j] - d1[j]).norm() <= 1e-10 * (1.0 + d0[j].norm()),
+                "order {j}: {:?} vs {:?}",
+                d0[j],
+                d1[j]
+            );
+        }
+        assert!(r.deviation.max <= 4e-3, "{}", r.deviation.max);
+        // and the curve is round: radius 2 within the tolerance along a dense sampling
+        for k in 0..400 {
+            let p = r.curve.point(k as f64 / 400.0);
+            assert!((p.norm() - 2.0).abs() <= 4e-3 + 1e-12);
+        }
+    }
+
+    #[test]
+    fn blunt_trailing_edge_keeps_its_corners_when_closed() {
+        let q = read("fx77w343.csv");
+        let opts = FitOptions {
+            closed: ClosedMode::Closed,
+            ..Default::default()
+        };
+        let r = fit_to_tolerance(&q, &opts).unwrap();
+        let tol = r.tolerance;
+        let worst = r
+            .deviation
+            .per_point
+            .iter()
+            .enumerate()
+            .fold((0, 0.0), |a, (i, &e)| if e > a.1 { (i, e) } else { a });
+        assert!(
+            r.deviation.max <= tol,
+            "{} > {tol} at {worst:?} of {}, corners {:?}",
+            r.deviation.max,
+            r.points.len(),
+            r.corners
+        );
+        // two corners: the first and the last data points (the TE base is the closing chord)
+        assert_eq!(r.corners.len(), 2, "{:?}", r.corners);
+        let k = r.curve.knots();
+        let p = 3;
+        let c0_knots: Vec<f64> = k
+            .iter()
+            .enumerate()
+            .filter(|&(i, &u)| {
+                i > p
+                    && i < k.len() - p - 1
+                    && k[i - 1] != u
+                    && crate::nurbs::knots::multiplicity(k, u) == p
+            })
+            .map(|(_, &u)| u)
+            .collect();
+        assert_eq!(
+            c0_knots.len(),
+            1,
+            "one interior C0 knot besides the seam: {k:?}"
+        );
+        // the TE base between the two corners stays straight: no overshoot beyond tol
+        let (a, b) = (q[q.len() - 1], q[0]);
+        let u0 = c0_knots[0];
+        for j in 0..=50 {
+            let u = u0 + (1.0 - u0) * j as f64 / 50.0;
+            let c = r.curve.point(u);
+            let d = (c - a).cross(b - a).norm() / (b - a).norm();
+            assert!(d <= tol, "{d} at u={u}");
+            let t = (c - a).dot(b - a) / (b - a).norm_squared();
+            assert!((-1e-9..=1.0 + 1e-9).contains(&t), "overshoot t={t}");
+        }
+    }
+
+    #[test]
+    fn open_airfoil_interpolates_its_trailing_edge_points() {
+        let q = read("fx77w343.csv");
+        let r = fit_to_tolerance(&q, &FitOptions::default()).unwrap();
+        assert!(!r.closed);
+        assert!((r.curve.point(0.0) - q[0]).norm() < 1e-14);
+        assert!((r.curve.point(1.0) - q[q.len() - 1]).norm() < 1e-14);
+        assert!(r.deviation.max <= r.tolerance);
+    }
+
+    #[test]
+    fn collinear_points_fit_a_line_with_few_control_points() {
+        let q: Vec<Vec3> = (0..30)
+            .map(|k| Vec3::new(k as f64, 2.0 * k as f64, -1.0))
+            .collect();
+        let r = fit_to_tolerance(&q, &FitOptions::default()).unwrap();
+        assert_eq!(r.n_control_points, 4);
+        assert!(r.deviation.max < 1e-9);
+    }
+
+    #[test]
+    fn ill_posed_inputs_are_errors() {
+        let two = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0)];
+        assert!(fit_to_tolerance(&two, &FitOptions::default())
+            .unwrap_err()
+            .to_string()
+            .contains("at least 4"));
+        let same = [Vec3::new(1.0, 1.0, 1.0); 10];
+        assert!(fit_to_tolerance(&same, &FitOptions::default())
+            .unwrap_err()
+            .to_string()
+            .contains("coincide"));
+    }
+}

@@ -1,0 +1,235 @@
+//! Tessellation of NURBS surfaces into triangle meshes with vertex normals, and of curves into
+//! polylines, with an optional chordal tolerance.
+//!
+//! The parameter grid starts at `min_per_span` samples per knot span in each direction and is refined
+//! interval by interval until the chord height, measured at the quarter points of every grid edge and
+//! at every cell centre, is at most the tolerance (or a size limit is hit, which is an error naming the
+//! tolerance). Normals are `S_u × S_v`, normalised; at a degenerate point (collapsed edge, pole) the
+//! normal is taken a little inside the domain.
+
+use crate::errors::{Error, Result};
+use crate::nurbs::knots::distinct_breakpoints;
+use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+
+/// Triangles with per-vertex normals, and/or polylines (indices into `vertices`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions.
+    pub vertices: Vec<Vec3>,
+    /// Unit normals, one per vertex (empty for polylines).
+    pub normals: Vec<Vec3>,
+    /// Triangles, counter-clockwise seen from the normal side.
+    pub triangles: Vec<[u32; 3]>,
+    /// Polylines as vertex index lists.
+    pub polylines: Vec<Vec<u32>>,
+}
+
+/// Options of the tessellation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TessellationOptions {
+    /// Maximum chord height (absolute, in model units); `None`: just the initial grid.
+    pub chord_tol: Option<f64>,
+    /// Initial samples per knot span and direction (at least 1).
+    pub min_per_span: usize,
+    /// Largest number of intervals per direction before refinement gives up.
+    pub max_intervals: usize,
+}
+
+impl Default for TessellationOptions {
+    fn default() -> Self {
+        TessellationOptions {
+            chord_tol: None,
+            min_per_span: 8,
+            max_intervals: 4096,
+        }
+    }
+}
+
+fn initial_params(knots: &[f64], degree: usize, per_span: usize) -> Vec<f64> {
+    let bp = distinct_breakpoints(knots, degree);
+    let per = per_span.max(1);
+    let mut out = Vec::with_capacity((bp.len() - 1) * per + 1);
+    for w in bp.windows(2) {
+        for k in 0..per {
+            out.push(w[0] + (w[1] - w[0]) * k as f64 / per as f64);
+        }
+    }
+    if let Some(&last) = bp.last() {
+        out.push(last);
+    }
+    out
+}
+
+fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + ab * t)).norm()
+}
+
+fn check_tol(opts: &TessellationOptions) -> Result<()> {
+    match opts.chord_tol {
+        Some(t) if !(t.is_finite() && t > 0.0) => Err(Error::InvalidOption(format!(
+            "chord tolerance must be positive and finite, got {t}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+fn refine(ts: &mut Vec<f64>, split: &[bool], max: usize, tol: f64) -> Result<bool> {
+    if !split.iter().any(|&s| s) {
+        return Ok(false);
+    }
+    let mut out = Vec::with_capacity(ts.len() * 2);
+    for (k, w) in ts.windows(2).enumerate() {
+        out.push(w[0]);
+        if split[k] {
+            out.push(0.5 * (w[0] + w[1]));
+        }
+    }
+    out.extend(ts.last());
+    if out.len() > max + 1 {
+        return Err(Error::InvalidOption(format!(
+            "chord tolerance {tol} not reached with {max} intervals per direction; use a larger tolerance"
+        )));
+    }
+    *ts = out;
+    Ok(true)
+}
+
+/// A curve as one polyline meeting the chord tolerance.
+pub fn tessellate_curve(c: &NurbsCurve, opts: &TessellationOptions) -> Result<Mesh> {
+    check_tol(opts)?;
+    let mut ts = initial_params(c.knots(), c.degree(), opts.min_per_span);
+    if let Some(tol) = opts.chord_tol {
+        loop {
+            let split: Vec<bool> = ts
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (c.point(w[0]), c.point(w[1]));
+                    [0.25, 0.5, 0.75]
+                        .iter()
+                        .any(|&f| segment_distance(c.point(w[0] + f * (w[1] - w[0])), a, b) > tol)
+                })
+                .collect();
+            if !refine(&mut ts, &split, opts.max_intervals, tol)? {
+                break;
+            }
+        }
+    }
+    let vertices = c.points(&ts);
+    Ok(Mesh {
+        polylines: vec![(0..vertices.len() as u32).collect()],
+        vertices,
+        ..Mesh::default()
+    })
+}
+
+/// Chord errors of the grid: (per u interval, per v interval) flags.
+fn surface_splits(s: &NurbsSurface, us: &[f64], vs: &[f64], tol: f64) -> (Vec<bool>, Vec<bool>) {
+    let grid: Vec<Vec3> = us
+        .iter()
+        .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+        .map(|(u, v)| s.point(u, v))
+        .collect();
+    let nv = vs.len();
+    let at = |i: usize, j: usize| grid[i * nv + j];
+    let mut split_u = vec![false; us.len() - 1];
+    let mut split_v = vec![false; nv - 1];
+    let quarter = [0.25, 0.5, 0.75];
+    for i in 0..us.len() - 1 {
+        for (j, &v) in vs.iter().enumerate() {
+            let (a, b) = (at(i, j), at(i + 1, j));
+            let du = us[i + 1] - us[i];
+            if quarter
+                .iter()
+                .any(|&f| segment_distance(s.point(us[i] + f * du, v), a, b) > tol)
+            {
+                split_u[i] = true;
+            }
+        }
+    }
+    for (i, &u) in us.iter().enumerate() {
+        for j in 0..nv - 1 {
+            let (a, b) = (at(i, j), at(i, j + 1));
+            let dv = vs[j + 1] - vs[j];
+            if quarter
+                .iter()
+                .any(|&f| segment_distance(s.point(u, vs[j] + f * dv), a, b) > tol)
+            {
+                split_v[j] = true;
+            }
+        }
+    }
+    for i in 0..us.len() - 1 {
+        for j in 0..nv - 1 {
+            let centre = s.point(0.5 * (us[i] + us[i + 1]), 0.5 * (vs[j] + vs[j + 1]));
+            let avg = (at(i, j) + at(i + 1, j) + at(i, j + 1) + at(i + 1, j + 1)) * 0.25;
+            // Edges refine first; a cell whose edges are fine but whose centre is not (twist) splits both ways.
+            if !(split_u[i] || split_v[j]) && (centre - avg).norm() > tol {
+                split_u[i] = true;
+                split_v[j] = true;
+            }
+        }
+    }
+    (split_u, split_v)
+}
+
+fn normal_at(s: &NurbsSurface, u: f64, v: f64) -> Vec3 {
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let (uc, vc) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    for shift in [0.0, 1e-6, 1e-4, 1e-2] {
+        let (uu, vv) = (u + (uc - u) * shift, v + (vc - v) * shift);
+        let d = s.derivatives(uu, vv, 1);
+        let n = d[2].cross(d[1]);
+        let len = n.norm();
+        if len > 1e-14 * (d[2].norm() * d[1].norm()).max(f64::MIN_POSITIVE) {
+            return n / len;
+        }
+    }
+    Vec3::ZERO
+}
+
+/// A surface as a triangle mesh with vertex normals meeting the chord tolerance.
+pub fn tessellate_surface(s: &NurbsSurface, opts: &TessellationOptions) -> Result<Mesh> {
+    check_tol(opts)?;
+    let mut us = initial_params(s.knots_u(), s.degree_u(), opts.min_per_span);
+    let mut vs = initial_params(s.knots_v(), s.degree_v(), opts.min_per_span);
+    if let Some(tol) = opts.chord_tol {
+        loop {
+            let (su, sv) = surface_splits(s, &us, &vs, tol);
+            let a = refine(&mut us, &su, opts.max_intervals, tol)?;
+            let b = refine(&mut vs, &sv, opts.max_intervals, tol)?;
+            if !(a || b) {
+                break;
+            }
+        }
+    }
+    let nv = vs.len();
+    let mut mesh = Mesh::default();
+    for &u in &us {
+        for &v in &vs {
+            mesh.vertices.push(s.point(u, v));
+            mesh.normals.push(normal_at(s, u, v));
+        }
+    }
+    let idx = |i: usize, j: usize| (i * nv + j) as u32;
+    for i in 0..us.len() - 1 {
+        for j in 0..nv - 1 {
+            for t in [
+                [idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)],
+                [idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)],
+            ] {
+                let [a, b, c] = t.map(|k| mesh.vertices[k as usize]);
+                if (b - a).cross(c - a).norm() > 0.0 {
+                    mesh.triangles.push(t);
+                }
+            }
+        }
+    }
+    Ok(mesh)
+}

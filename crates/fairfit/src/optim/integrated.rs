@@ -1,0 +1,463 @@
+//! The integrated fitting-and-fairing method (method reconstruction §3.2, §7): the knot vector is
+//! searched by particle swarm optimisation so that the curve stays within the tolerance of the data
+//! while its fairness `F` (and the worst span's `F_j`) is as small as possible, with the fewest
+//! control points that allow it.
+//!
+//! 1. The data are normalised (scale-free) and parameterised by chord length.
+//! 2. Baseline: the least-squares fit with averaging knots and the smallest control-point count that
+//!    meets the tolerance.
+//! 3. Count search: for one control point fewer at a time, a short swarm probe (seeded with the
+//!    averaging knots and with the last feasible knots minus one) looks for any knot vector meeting
+//!    the tolerance (and `F*`); the first count where none is found ends the search.
+//! 4. At the smallest feasible count, the full swarm minimises `F + max_j F_j` subject to the
+//!    tolerance (ε-constraint, feasibility-first), then a pattern search refines the best particle.
+
+use super::encoding::KnotEncoding;
+use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
+use super::prepare::{averaging_interior_knots, prepare, Prepared};
+use super::problem::KnotProblem;
+use super::pso::{run_pso, PsoOptions};
+use crate::errors::{Error, Result};
+use crate::nurbs::{NurbsCurve, Vec3};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// The allowed maximum orthogonal deviation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tolerance {
+    /// A fraction of the data's bounding-box diagonal.
+    Relative(f64),
+    /// An absolute distance in the data's units.
+    Absolute(f64),
+}
+
+/// Settings of [`fit_integrated`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntegratedOptions {
+    /// Curve degree (3; the fairness metric needs ≥ 3).
+    pub degree: usize,
+    /// The fitting tolerance.
+    pub tolerance: Tolerance,
+    /// Per-span fairness target `F*` (every span must reach `F_j ≤ F*`).
+    pub span_fairness: Option<f64>,
+    /// Seed of the swarm's random streams.
+    pub seed: u64,
+    /// Particles per swarm.
+    pub particles: usize,
+    /// Iterations of the full swarm at the final count.
+    pub max_iterations: usize,
+    /// Iterations of a feasibility probe at a smaller count.
+    pub probe_iterations: usize,
+    /// Evaluations of the final pattern search.
+    pub refine_evaluations: usize,
+    /// Whether the smoothing weight λ is searched along with the knots.
+    pub search_smoothing: bool,
+    /// Most control points added above the smallest feasible count for fairness.
+    pub max_extra_control_points: usize,
+    /// An added control point is kept only if F shrinks by at least this factor.
+    pub fairness_gain: f64,
+}
+
+impl Default for IntegratedOptions {
+    fn default() -> Self {
+        IntegratedOptions {
+            degree: 3,
+            tolerance: Tolerance::Relative(1e-3),
+            span_fairness: None,
+            seed: 0,
+            particles: 20,
+            max_iterations: 40,
+            probe_iterations: 15,
+            refine_evaluations: 150,
+            search_smoothing: true,
+            max_extra_control_points: 3,
+            fairness_gain: 1.5,
+        }
+    }
+}
+
+/// What the optimiser did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OptimStats {
+    /// Candidate evaluations (least-squares solves) in total.
+    pub evaluations: usize,
+    /// Swarm iterations in total.
+    pub iterations: usize,
+    /// Control-point counts tried, in order.
+    pub counts_tried: Vec<usize>,
+    /// Wall time in seconds.
+    pub seconds: f64,
+}
+
+/// The measured quality of a fitted curve (in the input's units).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitQuality {
+    /// Maximum orthogonal deviation.
+    pub max_deviation: f64,
+    /// RMS orthogonal deviation.
+    pub rms_deviation: f64,
+    /// Whole-curve fairness F.
+    pub fairness: f64,
+    /// max_j F_j.
+    pub max_span_fairness: f64,
+}
+
+/// The result of [`fit_integrated`].
+#[derive(Clone, Debug)]
+pub struct IntegratedResult {
+    /// The fitted curve.
+    pub curve: NurbsCurve,
+    /// Its quality.
+    pub quality: FitQuality,
+    /// The tolerance in the input's units.
+    pub tolerance: f64,
+    /// Whether the tolerance (and `F*`) was met.
+    pub met: bool,
+    /// `log10 λ` of the smoothing weight used (`-inf` for none).
+    pub log_lambda: f64,
+    /// Control points of the least-squares baseline (averaging knots) meeting the tolerance.
+    pub baseline_control_points: usize,
+    /// Optimiser statistics.
+    pub stats: OptimStats,
+}
+
+/// Smallest knot gap as a fraction of the parameter domain.
+const MIN_GAP: f64 = 1e-4;
+
+/// Fits a fair cubic B-spline to ordered `points` by the integrated method.
+///
+/// ```
+/// use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+/// use fairfit::Vec3;
+/// let pts: Vec<Vec3> = (0..60)
+///     .map(|i| {
+///         let t = i as f64 / 59.0 * 1.5;
+///         Vec3([2.0 * t.cos(), t.sin(), 0.0])
+///     })
+///     .collect();
+/// let opts = IntegratedOptions { tolerance: Tolerance::Relative(1e-3), ..Default::default() };
+/// let r = fit_integrated(&pts, &opts).unwrap();
+/// assert!(r.met && r.quality.max_deviation <= r.tolerance);
+/// assert!(r.curve.n_control_points() <= r.baseline_control_points);
+/// ```
+pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<IntegratedResult> {
+    fit_integrated_with_progress(points, opts, &|_, _| {})
+}
+
+/// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
+/// between swarm iterations (stage = control-point count being searched).
+pub fn fit_integrated_with_progress(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<IntegratedResult> {
+    let start = Instant::now();
+    validate(opts)?;
+    let prep = prepare(points, opts.degree)?;
+    let tol = tolerance_of(opts, prep.scale);
+    let p = opts.degree;
+    let data = &prep.data;
+    let m1 = data.points.len();
+    let mut stats = OptimStats::default();
+
+    // 2. least-squares baseline count
+    let mut ws = EvalWorkspace::default();
+    let mut baseline = m1;
+    for n in p + 1..=m1 {
+        let knots = averaging_interior_knots(&data.params, p, n);
+        set_knots(p, &knots, &mut ws);
+        let e = evaluate_candidate(data, f64::NEG_INFINITY, &mut ws);
+        stats.evaluations += 1;
+        if e.solved && e.max_deviation <= tol {
+            baseline = n;
+            break;
+        }
+    }
+
+    let pso_opts = |iters: usize, probe: bool, salt: u64| PsoOptions {
+        particles: opts.particles,
+        max_iterations: iters,
+        stall_iterations: if probe { iters } else { 10 },
+        stall_rel: 1e-4,
+        seed_spread: 0.03,
+        random_fraction: 0.1,
+        stop_when_feasible: probe,
+        refine_evaluations: if probe { 0 } else { opts.refine_evaluations },
+        seed: opts.seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15),
+    };
+    let problem_for = |n: usize| KnotProblem {
+        data,
+        encoding: KnotEncoding::new(n - p - 1, MIN_GAP, opts.search_smoothing),
+        tolerance: tol,
+        span_target: opts.span_fairness,
+    };
+    let seed_position = |pr: &KnotProblem, knots: &[f64]| {
+        let mut x = vec![0.0; pr.encoding.dim()];
+        pr.encoding.encode(knots, &mut x);
+        if pr.encoding.with_smoothing {
+            x[pr.encoding.interior + 1] = super::encoding::LOG_LAMBDA_RANGE.0;
+        }
+        x
+    };
+
+    // 3. count search downwards from the baseline: greedy knot removal, then a swarm probe
+    let mut best_n = baseline;
+    let mut best_knots = averaging_interior_knots(&data.params, p, baseline);
+    while best_n > p + 1 && best_n > 4 {
+        let cand = best_n - 1;
+        stats.counts_tried.push(cand);
+        let removals = removal_candidates(data, &best_knots);
+        stats.evaluations += best_knots.len();
+        if let Some((dev, knots)) = removals.first() {
+            if *dev <= tol {
+                best_knots = knots.clone();
+                best_n = cand;
+                continue;
+            }
+        }
+        let pr = problem_for(cand);
+        let mut seeds: Vec<Vec<f64>> = removals
+            .iter()
+            .take(3)
+            .map(|(_, k)| seed_position(&pr, k))
+            .collect();
+        seeds.push(seed_position(
+            &pr,
+            &averaging_interior_knots(&data.params, p, cand),
+        ));
+        let r = run_pso(
+            &pr,
+            &seeds,
+            &pso_opts(opts.probe_iterations, true, cand as u64),
+            &|it| progress(cand, it),
+        );
+        stats.evaluations += r.evaluations;
+        stats.iterations += r.iterations;
+        if !r.fitness.feasible() {
+            break;
+        }
+        let mut kw = Default::default();
+        if !pr.decode_into(&r.position, &mut kw) {
+            break;
+        }
+        best_knots = kw.interior;
+        best_n = cand;
+    }
+
+    // 4. full search at the smallest feasible count, then at one more control point at a time
+    //    while that buys a factor `fairness_gain` in F (and F* is not yet met)
+    let full = |n: usize, knots: &[f64], stats: &mut OptimStats| {
+        stats.counts_tried.push(n);
+        let pr = problem_for(n);
+        let seeds = vec![
+            seed_position(&pr, knots),
+            seed_position(&pr, &averaging_interior_knots(&data.params, p, n)),
+        ];
+        let r = run_pso(
+            &pr,
+            &seeds,
+            &pso_opts(opts.max_iterations, false, n as u64 + 1_000_003),
+            &|it| progress(n, it),
+        );
+        stats.evaluations += r.evaluations;
+        stats.iterations += r.iterations;
+        (pr, r)
+    };
+    let (mut pr, mut r) = full(best_n, &best_knots, &mut stats);
+    for _ in 0..opts.max_extra_control_points {
+        let n = pr.encoding.interior + p + 2;
+        if n > m1 || r.output.fairness <= 0.0 {
+            break;
+        }
+        let mut kw = Default::default();
+        if !pr.decode_into(&r.position, &mut kw) {
+            break;
+        }
+        let knots = insert_in_widest_span(&kw.interior);
+        let (pr2, r2) = full(n, &knots, &mut stats);
+        if r2.fitness.feasible() && r2.output.fairness * opts.fairness_gain <= r.output.fairness {
+            pr = pr2;
+            r = r2;
+        } else {
+            break;
+        }
+    }
+
+    let mut kw = Default::default();
+    if !pr.decode_into(&r.position, &mut kw) {
+        return Err(Error::Fit(
+            "no valid knot vector for the data (too few points?)".into(),
+        ));
+    }
+    let log_lambda = pr.encoding.log_lambda(&r.position);
+    let result = finish(&prep, &kw.interior, log_lambda, tol, opts)?;
+    stats.seconds = start.elapsed().as_secs_f64();
+    Ok(IntegratedResult {
+        baseline_control_points: baseline,
+        stats,
+        ..result
+    })
+}
+
+/// The least-squares fit with averaging knots and `n_ctrl` control points (the baseline the
+/// integrated method starts from), measured like the integrated result.
+pub fn fit_lsq_baseline(
+    points: &[Vec3],
+    n_ctrl: usize,
+    opts: &IntegratedOptions,
+) -> Result<IntegratedResult> {
+    validate(opts)?;
+    let prep = prepare(points, opts.degree)?;
+    if n_ctrl < opts.degree + 1 || n_ctrl > prep.data.points.len() {
+        return Err(Error::InvalidOption(format!(
+            "{n_ctrl} control points: need between {} and {}",
+            opts.degree + 1,
+            prep.data.points.len()
+        )));
+    }
+    let tol = tolerance_of(opts, prep.scale);
+    let knots = averaging_interior_knots(&prep.data.params, opts.degree, n_ctrl);
+    let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts)?;
+    Ok(IntegratedResult {
+        baseline_control_points: n_ctrl,
+        ..r
+    })
+}
+
+fn validate(opts: &IntegratedOptions) -> Result<()> {
+    if opts.degree < 3 || opts.degree > super::objective::MAX_DEGREE {
+        return Err(Error::InvalidDegree {
+            degree: opts.degree,
+            reason: format!(
+                "the integrated method needs a degree from 3 to {}",
+                super::objective::MAX_DEGREE
+            ),
+        });
+    }
+    let t = match opts.tolerance {
+        Tolerance::Relative(r) => r,
+        Tolerance::Absolute(t) => t,
+    };
+    if !(t.is_finite() && t > 0.0) {
+        return Err(Error::InvalidOption(format!(
+            "the tolerance must be positive, got {t}"
+        )));
+    }
+    if let Some(f) = opts.span_fairness {
+        if !(f.is_finite() && f > 0.0) {
+            return Err(Error::InvalidOption(format!(
+                "the span fairness target must be positive, got {f}"
+            )));
+        }
+    }
+    if opts.particles == 0 {
+        return Err(Error::InvalidOption(
+            "at least one particle is needed".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Every way to remove one interior knot, refitted by least squares (no smoothing), sorted by the
+/// resulting maximum deviation (ties by knot index): `(deviation, knots)`. Evaluated in parallel,
+/// collected in order.
+fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
+    let enc = KnotEncoding::new(knots.len().saturating_sub(1), 0.0, false);
+    let mut out: Vec<(usize, f64, Vec<f64>)> = (0..knots.len())
+        .into_par_iter()
+        .map_init(EvalWorkspace::default, |ws, j| {
+            let mut k: Vec<f64> = knots.to_vec();
+            k.remove(j);
+            if !enc.repair(&mut k, &data.params) {
+                return (j, f64::INFINITY, k);
+            }
+            set_knots(data.degree, &k, ws);
+            let e = evaluate_candidate(data, f64::NEG_INFINITY, ws);
+            let dev = if e.solved {
+                e.max_deviation
+            } else {
+                f64::INFINITY
+            };
+            (j, dev, k)
+        })
+        .collect();
+    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    out.into_iter().map(|(_, d, k)| (d, k)).collect()
+}
+
+/// The interior knots with one more knot in the middle of the widest span.
+fn insert_in_widest_span(knots: &[f64]) -> Vec<f64> {
+    let mut edges = Vec::with_capacity(knots.len() + 2);
+    edges.push(0.0);
+    edges.extend_from_slice(knots);
+    edges.push(1.0);
+    let mut widest = 0;
+    for j in 1..edges.len() - 1 {
+        if edges[j + 1] - edges[j] > edges[widest + 1] - edges[widest] {
+            widest = j;
+        }
+    }
+    let mut out = knots.to_vec();
+    out.insert(widest, 0.5 * (edges[widest] + edges[widest + 1]));
+    out
+}
+
+/// The tolerance in normalised units.
+pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
+    match opts.tolerance {
+        Tolerance::Relative(r) => r,
+        Tolerance::Absolute(t) => t / scale,
+    }
+}
+
+/// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
+pub(crate) fn finish_curve(
+    prep: &Prepared,
+    interior: &[f64],
+    log_lambda: f64,
+    degree: usize,
+) -> Result<(NurbsCurve, FitQuality)> {
+    let mut ws = EvalWorkspace::default();
+    set_knots(degree, interior, &mut ws);
+    let e: CandidateEval = evaluate_candidate(&prep.data, log_lambda, &mut ws);
+    if !e.solved {
+        return Err(Error::Fit(
+            "the least-squares system is singular for these knots".into(),
+        ));
+    }
+    let ctrl: Vec<Vec3> = ws.ctrl.iter().map(|&c| prep.denormalise(c)).collect();
+    let curve = NurbsCurve::bspline(degree, ws.knots.clone(), ctrl)?;
+    Ok((
+        curve,
+        FitQuality {
+            max_deviation: e.max_deviation * prep.scale,
+            rms_deviation: e.rms_deviation * prep.scale,
+            fairness: e.fairness,
+            max_span_fairness: e.max_span_fairness,
+        },
+    ))
+}
+
+/// Builds the curve in input coordinates from normalised interior knots and measures it.
+fn finish(
+    prep: &Prepared,
+    interior: &[f64],
+    log_lambda: f64,
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> Result<IntegratedResult> {
+    let (curve, quality) = finish_curve(prep, interior, log_lambda, opts.degree)?;
+    let met = quality.max_deviation <= tol * prep.scale
+        && opts
+            .span_fairness
+            .is_none_or(|t| quality.max_span_fairness <= t);
+    Ok(IntegratedResult {
+        curve,
+        quality,
+        tolerance: tol * prep.scale,
+        met,
+        log_lambda,
+        baseline_control_points: 0,
+        stats: OptimStats::default(),
+    })
+}

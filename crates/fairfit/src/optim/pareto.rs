@@ -1,0 +1,116 @@
+//! The Pareto front of (maximum orthogonal deviation, F) at a fixed number of control points, for
+//! `--pareto`: a user picks the trade-off between closeness to the data and fairness.
+//!
+//! The multi-objective swarm of [`super::mopso`] runs over the same encoded knot vectors (and smoothing
+//! weight) as the integrated method, seeded with its knots; candidates deviating more than
+//! [`DEVIATION_CAP`] times the tolerance are left out, so the front covers the useful range.
+
+use super::encoding::{KnotEncoding, LOG_LAMBDA_RANGE};
+use super::integrated::{finish_curve, tolerance_of, FitQuality, IntegratedOptions};
+use super::mopso::{run_mopso, MopsoOptions};
+use super::prepare::prepare;
+use super::problem::KnotProblem;
+use crate::errors::{Error, Result};
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// Front members deviate at most this many times the tolerance.
+pub const DEVIATION_CAP: f64 = 10.0;
+
+/// One curve of the front.
+#[derive(Clone, Debug)]
+pub struct ParetoCurve {
+    /// The curve (in the input's coordinates).
+    pub curve: NurbsCurve,
+    /// Its deviation and fairness.
+    pub quality: FitQuality,
+}
+
+/// The front for `n_ctrl` control points, sorted by increasing deviation (so decreasing F), seeded with
+/// the interior knots `seed_knots` (normalised to `[0, 1]`, e.g. the integrated result's) when given.
+pub fn pareto_front(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    n_ctrl: usize,
+    seed_knots: Option<(&[f64], f64)>,
+) -> Result<Vec<ParetoCurve>> {
+    let prep = prepare(points, opts.degree)?;
+    let p = opts.degree;
+    if n_ctrl < p + 1 || n_ctrl > prep.data.points.len() {
+        return Err(Error::InvalidOption(format!(
+            "{n_ctrl} control points: need between {} and {}",
+            p + 1,
+            prep.data.points.len()
+        )));
+    }
+    let tol = tolerance_of(opts, prep.scale);
+    let problem = KnotProblem {
+        data: &prep.data,
+        encoding: KnotEncoding::new(n_ctrl - p - 1, 1e-4, true),
+        tolerance: tol,
+        span_target: None,
+    };
+    let mut seeds = Vec::new();
+    let avg = super::prepare::averaging_interior_knots(&prep.data.params, p, n_ctrl);
+    for (knots, ll) in seed_knots
+        .into_iter()
+        .chain(std::iter::once((avg.as_slice(), LOG_LAMBDA_RANGE.0)))
+    {
+        if knots.len() != problem.encoding.interior {
+            continue;
+        }
+        let mut x = vec![0.0; problem.encoding.dim()];
+        problem.encoding.encode(knots, &mut x);
+        x[problem.encoding.interior + 1] = ll.clamp(LOG_LAMBDA_RANGE.0, LOG_LAMBDA_RANGE.1);
+        seeds.push(x);
+    }
+    let mopts = MopsoOptions {
+        seed: opts.seed,
+        particles: opts.particles.max(20),
+        ..MopsoOptions::default()
+    };
+    let archive = run_mopso(
+        &problem,
+        &seeds,
+        &|e: &super::objective::CandidateEval| {
+            if e.solved && e.max_deviation <= DEVIATION_CAP * tol {
+                [e.max_deviation, e.fairness]
+            } else {
+                [f64::INFINITY; 2]
+            }
+        },
+        &mopts,
+    );
+    let mut out = Vec::with_capacity(archive.members.len());
+    let mut kw = Default::default();
+    for m in &archive.members {
+        if !problem.decode_into(&m.position, &mut kw) {
+            continue;
+        }
+        let (curve, quality) = finish_curve(
+            &prep,
+            &kw.interior,
+            problem.encoding.log_lambda(&m.position),
+            p,
+        )?;
+        out.push(ParetoCurve { curve, quality });
+    }
+    Ok(out)
+}
+
+/// The front as CSV: `index,control_points,max_deviation,rms_deviation,fairness,max_span_fairness`.
+pub fn pareto_csv(front: &[ParetoCurve]) -> String {
+    let mut s = String::from(
+        "index,control_points,max_deviation,rms_deviation,fairness,max_span_fairness\n",
+    );
+    for (i, c) in front.iter().enumerate() {
+        s.push_str(&format!(
+            "{i},{},{:e},{:e},{:e},{:e}\n",
+            c.curve.n_control_points(),
+            c.quality.max_deviation,
+            c.quality.rms_deviation,
+            c.quality.fairness,
+            c.quality.max_span_fairness
+        ));
+    }
+    s
+}

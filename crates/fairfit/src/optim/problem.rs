@@ -1,0 +1,83 @@
+//! The knot search as a [`SwarmProblem`]: a particle is an encoded interior-knot vector (and smoothing
+//! weight); its fitness is feasibility-first: violation `max(0, d_max/tol − 1)` (+ `max(0,
+//! max_j F_j / F* − 1)` when a per-span target `F*` is given), objective `F + max_j F_j`.
+
+use super::encoding::KnotEncoding;
+use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
+use super::pso::{Fitness, SwarmProblem};
+
+/// One fixed number of control points to search knots for.
+#[derive(Clone, Debug)]
+pub struct KnotProblem<'a> {
+    /// The normalised data.
+    pub data: &'a FitData,
+    /// How particles encode the knots.
+    pub encoding: KnotEncoding,
+    /// Maximum orthogonal deviation allowed (normalised units).
+    pub tolerance: f64,
+    /// Per-span fairness target `F*`.
+    pub span_target: Option<f64>,
+}
+
+/// Buffers of one particle.
+#[derive(Clone, Debug, Default)]
+pub struct KnotWorkspace {
+    /// Interior knots of the last decoded position.
+    pub interior: Vec<f64>,
+    /// Evaluation buffers.
+    pub eval: EvalWorkspace,
+}
+
+impl KnotProblem<'_> {
+    /// Decodes and repairs `x` into `ws.interior`; false if no valid knot vector exists.
+    pub fn decode_into(&self, x: &[f64], ws: &mut KnotWorkspace) -> bool {
+        ws.interior.resize(self.encoding.interior, 0.0);
+        self.encoding.decode(x, &mut ws.interior);
+        self.encoding.repair(&mut ws.interior, &self.data.params)
+    }
+}
+
+impl SwarmProblem for KnotProblem<'_> {
+    type Workspace = KnotWorkspace;
+    type Output = CandidateEval;
+
+    fn dim(&self) -> usize {
+        self.encoding.dim()
+    }
+
+    fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        self.encoding.bounds()
+    }
+
+    fn workspace(&self) -> KnotWorkspace {
+        KnotWorkspace::default()
+    }
+
+    fn repair(&self, x: &mut [f64], ws: &mut KnotWorkspace) {
+        if self.decode_into(x, ws) {
+            self.encoding.encode(&ws.interior, x);
+        }
+    }
+
+    fn evaluate(&self, x: &[f64], ws: &mut KnotWorkspace) -> CandidateEval {
+        if !self.decode_into(x, ws) {
+            return CandidateEval::failed();
+        }
+        set_knots(self.data.degree, &ws.interior, &mut ws.eval);
+        evaluate_candidate(self.data, self.encoding.log_lambda(x), &mut ws.eval)
+    }
+
+    fn fitness(&self, e: &CandidateEval) -> Fitness {
+        if !e.solved || !e.fairness.is_finite() {
+            return Fitness::WORST;
+        }
+        let mut violation = (e.max_deviation / self.tolerance - 1.0).max(0.0);
+        if let Some(t) = self.span_target {
+            violation += (e.max_span_fairness / t - 1.0).max(0.0);
+        }
+        Fitness {
+            violation,
+            objective: e.fairness + e.max_span_fairness,
+        }
+    }
+}

@@ -1,0 +1,218 @@
+//! Ordering unorganised planar points into one chain: a nearest-neighbour tour from an extreme point,
+//! improved by 2-opt, then gaps found as tour edges much longer than the typical spacing. The tour is
+//! never bridged silently: every gap is returned with its length, so callers report it.
+//!
+//! Written here (no crate orders scan slices): the point counts per slice are small (hundreds to a few
+//! thousand), so the O(n²) nearest-neighbour and windowed 2-opt passes are fast enough.
+
+use crate::nurbs::Vec3;
+
+/// A long edge of a chain: likely a hole in the data.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Gap {
+    /// Index of the section (slice) in which the gap lies.
+    pub section: usize,
+    /// The point before the gap.
+    pub from: [f64; 3],
+    /// The point after the gap.
+    pub to: [f64; 3],
+    /// Length of the gap.
+    pub length: f64,
+    /// Typical (median) spacing of the chain's points, for comparison.
+    pub typical_spacing: f64,
+    /// What was done about it: "bridged" (the chain continues across it) or "open" (the chain ends there).
+    pub handling: String,
+}
+
+/// Median of the distances between consecutive points (cyclic when `closed`).
+pub fn median_spacing(points: &[Vec3], closed: bool) -> f64 {
+    let n = points.len();
+    if n < 2 {
+        return 0.0;
+    }
+    let mut d: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    if closed {
+        d.push(points[n - 1].distance(points[0]));
+    }
+    d.sort_by(|a, b| a.total_cmp(b));
+    d[d.len() / 2]
+}
+
+/// Orders `points` (already near one plane) into a closed tour: nearest neighbour from the point with the
+/// largest coordinate along `dir`, then 2-opt passes over a window of following edges.
+pub fn order_points(points: &[Vec3], dir: Vec3) -> Vec<Vec3> {
+    let n = points.len();
+    if n < 3 {
+        return points.to_vec();
+    }
+    let start = (0..n)
+        .max_by(|&a, &b| points[a].dot(dir).total_cmp(&points[b].dot(dir)))
+        .unwrap_or(0);
+    let mut used = vec![false; n];
+    let mut tour = Vec::with_capacity(n);
+    let mut cur = start;
+    used[cur] = true;
+    tour.push(cur);
+    for _ in 1..n {
+        let mut best = usize::MAX;
+        let mut bd = f64::INFINITY;
+        for (j, &u) in used.iter().enumerate() {
+            if !u {
+                let d = (points[j] - points[cur]).norm_squared();
+                if d < bd {
+                    bd = d;
+                    best = j;
+                }
+            }
+        }
+        if best == usize::MAX {
+            break;
+        }
+        used[best] = true;
+        tour.push(best);
+        cur = best;
+    }
+    // 2-opt on the closed tour, window-limited
+    let window = 60.min(n - 1);
+    let mut t = tour;
+    for _pass in 0..20 {
+        let mut improved = false;
+        for i in 0..n - 1 {
+            let (a, b) = (t[i], t[i + 1]);
+            for k in i + 2..(i + 2 + window).min(n) {
+                let (c, e) = (t[k], t[(k + 1) % n]);
+                if e == a {
+                    continue;
+                }
+                let before = points[a].distance(points[b]) + points[c].distance(points[e]);
+                let after = points[a].distance(points[c]) + points[b].distance(points[e]);
+                if after < before - 1e-12 * before {
+                    t[i + 1..=k].reverse();
+                    improved = true;
+                    break;
+                }
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    // global 2-opt between long edges (a nearest-neighbour tour that jumps across a hole and back)
+    let long = |t: &[usize]| -> Vec<usize> {
+        let pts: Vec<Vec3> = t.iter().map(|&i| points[i]).collect();
+        let typical = median_spacing(&pts, true);
+        (0..n)
+            .filter(|&i| points[t[i]].distance(points[t[(i + 1) % n]]) > 3.0 * typical)
+            .collect()
+    };
+    for _ in 0..n {
+        let l = long(&t);
+        let mut best: Option<(f64, usize, usize)> = None;
+        for (x, &i) in l.iter().enumerate() {
+            for &k in &l[x + 1..] {
+                let (a, b, c, e) = (t[i], t[(i + 1) % n], t[k], t[(k + 1) % n]);
+                let before = points[a].distance(points[b]) + points[c].distance(points[e]);
+                let after = points[a].distance(points[c]) + points[b].distance(points[e]);
+                let gain = before - after;
+                if gain > 1e-12 * before && best.is_none_or(|bb| gain > bb.0) {
+                    best = Some((gain, i, k));
+                }
+            }
+        }
+        let Some((_, i, k)) = best else { break };
+        t[i + 1..=k].reverse();
+    }
+    t.into_iter().map(|i| points[i]).collect()
+}
+
+/// Splits a closed tour at gaps longer than `factor` times its median spacing. Returns the open chain
+/// starting right after the largest gap (or the tour unchanged, closed, when there is no gap) and the gaps.
+pub fn break_at_gaps(tour: Vec<Vec3>, factor: f64, section: usize) -> (Vec<Vec3>, bool, Vec<Gap>) {
+    let n = tour.len();
+    if n < 3 {
+        return (tour, false, Vec::new());
+    }
+    let typical = median_spacing(&tour, true);
+    let mut gaps = Vec::new();
+    let mut largest = (usize::MAX, 0.0);
+    for i in 0..n {
+        let (a, b) = (tour[i], tour[(i + 1) % n]);
+        let l = a.distance(b);
+        if l > factor * typical {
+            gaps.push(Gap {
+                section,
+                from: a.0,
+                to: b.0,
+                length: l,
+                typical_spacing: typical,
+                handling: "bridged".into(),
+            });
+            if l > largest.1 {
+                largest = (i, l);
+            }
+        }
+    }
+    if largest.0 == usize::MAX {
+        return (tour, true, gaps);
+    }
+    // open the tour at the largest gap; the others stay bridged
+    for g in gaps.iter_mut() {
+        if g.length == largest.1 {
+            g.handling = "open".into();
+            break;
+        }
+    }
+    let mut t = tour;
+    t.rotate_left((largest.0 + 1) % n);
+    (t, false, gaps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shuffled_circle_is_ordered_and_a_missing_arc_is_a_gap() {
+        let n = 200;
+        let mut pts: Vec<Vec3> = (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                Vec3::new(2.0 * t.cos(), 2.0 * t.sin(), 0.0)
+            })
+            .collect();
+        // deterministic shuffle
+        let mut s = 12345u64;
+        for i in (1..n).rev() {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            pts.swap(i, (s >> 33) as usize % (i + 1));
+        }
+        let tour = order_points(&pts, Vec3::new(1.0, 0.0, 0.0));
+        let h = 2.0 * 2.0 * (std::f64::consts::PI / n as f64).sin();
+        let (chain, closed, gaps) = break_at_gaps(tour, 4.0, 0);
+        assert!(closed && gaps.is_empty());
+        for w in chain.windows(2) {
+            assert!((w[0].distance(w[1]) - h).abs() < 1e-12);
+        }
+        // remove an arc of 20 points: one gap of the right length, chain opened there
+        let kept: Vec<Vec3> = pts
+            .iter()
+            .copied()
+            .filter(|p| !(p.x() < 0.0 && p.y().abs() < 0.6))
+            .collect();
+        let removed = n - kept.len();
+        let tour = order_points(&kept, Vec3::new(1.0, 0.0, 0.0));
+        let (chain, closed, gaps) = break_at_gaps(tour, 4.0, 3);
+        assert!(!closed);
+        assert_eq!(gaps.len(), 1);
+        let want = 2.0 * 2.0 * (std::f64::consts::PI * (removed + 1) as f64 / n as f64).sin();
+        assert!(
+            (gaps[0].length - want).abs() < 1e-9,
+            "{} vs {want}",
+            gaps[0].length
+        );
+        assert_eq!(gaps[0].section, 3);
+        assert!(chain[0].distance(chain[chain.len() - 1]) > 10.0 * h);
+    }
+}

@@ -1,0 +1,435 @@
+//! Compatible section curves: ONE clamped knot vector shared by all sections, each section fitted by
+//! least squares on it (approximate compatibility by multiple curve refitting, Park et al. 2000;
+//! method reconstruction §4).
+//!
+//! Deterministic search: every section gets normalised chord-length parameters; candidate knot vectors
+//! equidistribute a blend of the uniform density and the sections' averaged turning-angle density (so
+//! knots gather where any section bends sharply, e.g. airfoil leading edges). The number of control
+//! points grows geometrically until the worst section's orthogonal deviation is within tolerance, then is
+//! bisected down to the smallest count that passes; among the passing candidates of that count the one
+//! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
+
+use super::fairness_proxy::curve_fairness;
+use super::orient::Section;
+use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
+use crate::errors::{Error, Result};
+use crate::nurbs::NurbsCurve;
+use rayon::prelude::*;
+
+/// Options of [`make_compatible`].
+#[derive(Clone, Debug)]
+pub struct CompatibleOptions {
+    /// Degree of the section curves (3 = cubic).
+    pub degree: usize,
+    /// Largest allowed orthogonal distance of a section point from its curve.
+    pub tolerance: f64,
+    /// Upper bound on the number of control points per section.
+    pub max_control_points: usize,
+    /// Parameter-correction passes per fit.
+    pub corrections: usize,
+    /// Weight of the bending term `∫|C''|² du` against the mean squared residual during the knot search
+    /// (a small value keeps spans with little data from folding; 0 = pure least squares).
+    pub smoothing: f64,
+    /// Fairing weights tried, largest first, for each section on the final knot vector: each section keeps
+    /// the largest weight that still meets the tolerance (none: keep the search fit).
+    pub fairing_weights: Vec<f64>,
+    /// Blends of uniform and curvature-driven knot density tried for each control-point count
+    /// (1 = uniform knots).
+    pub uniform_blends: Vec<f64>,
+}
+
+impl Default for CompatibleOptions {
+    fn default() -> Self {
+        CompatibleOptions {
+            degree: 3,
+            tolerance: 1e-3,
+            max_control_points: 60,
+            corrections: 8,
+            smoothing: 1e-11,
+            fairing_weights: vec![1e-7, 1e-8, 1e-9, 1e-10],
+            uniform_blends: vec![0.5, 0.25],
+        }
+    }
+}
+
+/// Sections fitted on one shared knot vector.
+#[derive(Clone, Debug)]
+pub struct CompatibleSections {
+    /// The shared knot vector.
+    pub knots: Vec<f64>,
+    /// One fit per section, in input order.
+    pub fits: Vec<SectionFit>,
+    /// Worst orthogonal deviation over all sections.
+    pub max_deviation: f64,
+    /// Worst per-span fairness `F_j` over all sections.
+    pub max_span_fairness: f64,
+    /// True when `max_deviation <= tolerance`.
+    pub within_tolerance: bool,
+    /// Number of candidate knot vectors evaluated.
+    pub candidates_tried: usize,
+}
+
+impl CompatibleSections {
+    /// The section curves.
+    pub fn curves(&self) -> Vec<NurbsCurve> {
+        self.fits.iter().map(|f| f.curve.clone()).collect()
+    }
+}
+
+/// Cumulative turning-angle density of one section sampled on a uniform grid of `grid + 1` parameters.
+fn turning_cdf(points: &[crate::nurbs::Vec3], params: &[f64], grid: usize) -> Vec<f64> {
+    let m = points.len();
+    let mut w = vec![0.0; m];
+    for k in 1..m.saturating_sub(1) {
+        let a = points[k] - points[k - 1];
+        let b = points[k + 1] - points[k];
+        let (na, nb) = (a.norm(), b.norm());
+        if na > 0.0 && nb > 0.0 {
+            let c = (a.dot(b) / (na * nb)).clamp(-1.0, 1.0);
+            // softened: sqrt of the turning angle spreads knots over the whole bend
+            w[k] = c.acos().sqrt();
+        }
+    }
+    let total: f64 = w.iter().sum();
+    let mut cdf = vec![0.0; grid + 1];
+    if total.is_nan() || total <= 0.0 {
+        for (g, v) in cdf.iter_mut().enumerate() {
+            *v = g as f64 / grid as f64;
+        }
+        return cdf;
+    }
+    let mut acc = 0.0;
+    let mut k = 0;
+    for (g, v) in cdf.iter_mut().enumerate() {
+        let u = g as f64 / grid as f64;
+        while k < m && params[k] <= u {
+            acc += w[k];
+            k += 1;
+        }
+        *v = acc / total;
+    }
+    cdf
+}
+
+/// Interior knots equidistributing `blend * u + (1 - blend) * cdf(u)` into `spans` spans.
+fn knots_from_density(cdf: &[f64], blend: f64, degree: usize, n_ctrl: usize) -> Vec<f64> {
+    let grid = cdf.len() - 1;
+    let h: Vec<f64> = cdf
+        .iter()
+        .enumerate()
+        .map(|(g, &c)| blend * g as f64 / grid as f64 + (1.0 - blend) * c)
+        .collect();
+    let spans = n_ctrl - degree;
+    let mut knots = vec![0.0; degree + 1];
+    let mut g = 0;
+    for i in 1..spans {
+        let target = i as f64 / spans as f64;
+        while g + 1 < grid && h[g + 1] < target {
+            g += 1;
+        }
+        let (h0, h1) = (h[g], h[g + 1]);
+        let t = if h1 > h0 {
+            (target - h0) / (h1 - h0)
+        } else {
+            0.5
+        };
+        let u = (g as f64 + t.clamp(0.0, 1.0)) / grid as f64;
+        knots.push(u);
+    }
+    // keep knots strictly increasing and away from the ends
+    let min_gap = 1e-6;
+    for i in degree + 1..knots.len() {
+        let lo = knots[i - 1] + min_gap;
+        if knots[i] < lo {
+            knots[i] = lo;
+        }
+    }
+    knots.extend(std::iter::repeat_n(1.0, degree + 1));
+    knots
+}
+
+struct Candidate {
+    knots: Vec<f64>,
+    fits: Vec<SectionFit>,
+    max_dev: f64,
+}
+
+fn evaluate(
+    sections: &[Section],
+    params: &[Vec<f64>],
+    knots: Vec<f64>,
+    opts: &CompatibleOptions,
+    global: bool,
+) -> Option<Candidate> {
+    let fits: Result<Vec<SectionFit>> = sections
+        .par_iter()
+        .zip(params.par_iter())
+        .map(|(s, t)| {
+            fit_section_with(
+                &s.points,
+                t,
+                opts.degree,
+                &knots,
+                opts.smoothing,
+                opts.corrections,
+                global,
+            )
+        })
+        .collect();
+    let fits = fits.ok()?;
+    let max_dev = fits.iter().map(|f| f.max_deviation).fold(0.0, f64::max);
+    Some(Candidate {
+        knots,
+        fits,
+        max_dev,
+    })
+}
+
+/// Where to insert the next knots: in the (at most `count`) spans with the largest deviation over all
+/// sections above `tol`, at the worst point of that span, or at the span's middle when that point lies
+/// close to a knot.
+fn insertion_knots(c: &Candidate, p: usize, tol: f64, count: usize) -> Vec<f64> {
+    let k = &c.knots;
+    let n1 = k.len() - p - 1;
+    // per span: (largest deviation, its parameter)
+    let mut worst: Vec<(f64, f64)> = vec![(0.0, 0.0); n1];
+    for f in &c.fits {
+        for (&t, &d) in f.params.iter().zip(&f.deviations) {
+            let span = crate::nurbs::knots::find_span(n1 - 1, p, t, k);
+            if d > worst[span].0 {
+                worst[span] = (d, t);
+            }
+        }
+    }
+    let mut spans: Vec<usize> = (p..n1).filter(|&s| worst[s].0 > tol).collect();
+    spans.sort_by(|&a, &b| worst[b].0.total_cmp(&worst[a].0));
+    spans.truncate(count);
+    let mut out = Vec::new();
+    for s in spans {
+        let (a, b) = (k[s], k[s + 1]);
+        if b - a <= 1e-9 {
+            continue;
+        }
+        let t = worst[s].1;
+        let min_gap = 0.2 * (b - a);
+        let t = if t - a < min_gap || b - t < min_gap {
+            0.5 * (a + b)
+        } else {
+            t
+        };
+        out.push(t);
+    }
+    out.sort_by(|a, b| a.total_cmp(b));
+    out
+}
+
+/// Per section, the largest fairing weight whose fit (global projection) still meets the tolerance.
+fn fair_per_section(
+    sections: &[Section],
+    params: &[Vec<f64>],
+    mut c: Candidate,
+    opts: &CompatibleOptions,
+) -> Candidate {
+    if opts.fairing_weights.is_empty() {
+        return c;
+    }
+    let improved: Vec<Option<SectionFit>> = sections
+        .par_iter()
+        .zip(params.par_iter())
+        .map(|(s, t)| {
+            opts.fairing_weights.iter().find_map(|&w| {
+                fit_section_with(
+                    &s.points,
+                    t,
+                    opts.degree,
+                    &c.knots,
+                    w,
+                    opts.corrections,
+                    true,
+                )
+                .ok()
+                .filter(|f| f.max_deviation <= opts.tolerance)
+            })
+        })
+        .collect();
+    for (fit, new) in c.fits.iter_mut().zip(improved) {
+        if let Some(n) = new {
+            *fit = n;
+        }
+    }
+    c.max_dev = c.fits.iter().map(|f| f.max_deviation).fold(0.0, f64::max);
+    c
+}
+
+fn worst_span_fairness(fits: &[SectionFit]) -> f64 {
+    let per: Vec<f64> = fits
+        .par_iter()
+        .map(|f| curve_fairness(&f.curve, 1).max_span())
+        .collect();
+    per.into_iter().fold(0.0, f64::max)
+}
+
+/// Fits all `sections` on one shared knot vector (see the module documentation).
+///
+/// ```
+/// use fairfit::surface::{make_compatible, CompatibleOptions, Section};
+/// use fairfit::Vec3;
+/// // three ellipses of different size: one shared cubic knot vector fits all within 1e-4
+/// let sections: Vec<Section> = (0..3)
+///     .map(|k| {
+///         let a = 1.0 + 0.5 * k as f64;
+///         Section::from_points((0..=60).map(|i| {
+///             let t = std::f64::consts::TAU * i as f64 / 60.0;
+///             Vec3::new(a * t.cos(), 0.5 * t.sin(), k as f64)
+///         }).collect())
+///     })
+///     .collect();
+/// let opts = CompatibleOptions { tolerance: 1e-4, ..Default::default() };
+/// let c = make_compatible(&sections, &opts).unwrap();
+/// assert!(c.within_tolerance && c.max_deviation <= 1e-4);
+/// assert!(c.fits.iter().all(|f| f.curve.knots() == c.knots.as_slice()));
+/// ```
+pub fn make_compatible(
+    sections: &[Section],
+    opts: &CompatibleOptions,
+) -> Result<CompatibleSections> {
+    make_compatible_with_progress(sections, opts, &mut |_| {})
+}
+
+/// [`make_compatible`] reporting the number of candidates evaluated so far to `progress`.
+pub fn make_compatible_with_progress(
+    sections: &[Section],
+    opts: &CompatibleOptions,
+    progress: &mut dyn FnMut(usize),
+) -> Result<CompatibleSections> {
+    let p = opts.degree;
+    if p == 0 {
+        return Err(Error::InvalidOption(
+            "section degree must be at least 1".into(),
+        ));
+    }
+    if opts.tolerance.is_nan() || opts.tolerance <= 0.0 || !opts.tolerance.is_finite() {
+        return Err(Error::InvalidOption(format!(
+            "tolerance must be positive, got {}",
+            opts.tolerance
+        )));
+    }
+    if sections.is_empty() {
+        return Err(Error::InvalidData("no sections given".into()));
+    }
+    let min_pts = sections.iter().map(|s| s.points.len()).min().unwrap_or(0);
+    if min_pts < p + 1 {
+        return Err(Error::InvalidData(format!(
+            "every section needs at least {} points for degree {p}, one has {min_pts}",
+            p + 1
+        )));
+    }
+    let params: Vec<Vec<f64>> = sections
+        .iter()
+        .map(|s| chord_length_params(&s.points))
+        .collect::<Result<_>>()?;
+    const GRID: usize = 2000;
+    let cdfs: Vec<Vec<f64>> = sections
+        .iter()
+        .zip(&params)
+        .map(|(s, t)| turning_cdf(&s.points, t, GRID))
+        .collect();
+    let cdf: Vec<f64> = (0..=GRID)
+        .map(|g| cdfs.iter().map(|c| c[g]).sum::<f64>() / cdfs.len() as f64)
+        .collect();
+    // a span needs data in it: at most (points - 1) control points for the sparsest section
+    let n_max = opts
+        .max_control_points
+        .max(p + 1)
+        .min(min_pts.saturating_sub(1).max(p + 1));
+    let blends = if opts.uniform_blends.is_empty() {
+        vec![1.0]
+    } else {
+        opts.uniform_blends.clone()
+    };
+    let mut tried = 0usize;
+    // Park-style refinement from each initial density: insert a knot where the worst section is worst
+    // until every section is within tolerance, then greedily remove knots that are not needed.
+    let n0 = (p + 1 + 4).min(n_max);
+    let mut finals: Vec<Candidate> = Vec::new();
+    let mut best_fail: Option<Candidate> = None;
+    for &b in &blends {
+        let mut knots = knots_from_density(&cdf, b.clamp(0.0, 1.0), p, n0);
+        let mut passed: Option<Candidate> = None;
+        loop {
+            tried += 1;
+            progress(tried);
+            let Some(c) = evaluate(sections, &params, knots.clone(), opts, false) else {
+                break;
+            };
+            if c.max_dev <= opts.tolerance {
+                passed = Some(c);
+                break;
+            }
+            let n_ctrl = knots.len() - p - 1;
+            let room = n_max.saturating_sub(n_ctrl);
+            let next = insertion_knots(&c, p, opts.tolerance, room.min((n_ctrl / 6).max(1)));
+            if best_fail.as_ref().is_none_or(|f| c.max_dev < f.max_dev) {
+                best_fail = Some(c);
+            }
+            if next.is_empty() {
+                break;
+            }
+            for t in next {
+                let pos = knots.partition_point(|&k| k <= t);
+                knots.insert(pos, t);
+            }
+        }
+        let Some(mut cur) = passed else { continue };
+        // greedy knot removal, smallest spans first
+        let mut i = p + 1;
+        while i < cur.knots.len() - p - 1 {
+            let mut k2 = cur.knots.clone();
+            k2.remove(i);
+            tried += 1;
+            progress(tried);
+            match evaluate(sections, &params, k2, opts, false) {
+                Some(c) if c.max_dev <= opts.tolerance => cur = c,
+                _ => i += 1,
+            }
+        }
+        finals.push(cur);
+    }
+    if finals.is_empty() {
+        let c = best_fail.ok_or_else(|| {
+            Error::Fit("no knot vector gave a well-posed fit for every section".into())
+        })?;
+        let c = evaluate(sections, &params, c.knots.clone(), opts, true).unwrap_or(c);
+        let msf = worst_span_fairness(&c.fits);
+        return Ok(CompatibleSections {
+            knots: c.knots,
+            max_deviation: c.max_dev,
+            fits: c.fits,
+            max_span_fairness: msf,
+            within_tolerance: false,
+            candidates_tried: tried,
+        });
+    }
+    // fewest control points, then the fairest (smallest worst-span F over all sections)
+    let n_min = finals.iter().map(|c| c.knots.len()).min().unwrap_or(0);
+    let mut best: Option<(f64, Candidate)> = None;
+    for c in finals.into_iter().filter(|c| c.knots.len() == n_min) {
+        let f = worst_span_fairness(&c.fits);
+        if best.as_ref().is_none_or(|b| f < b.0) {
+            best = Some((f, c));
+        }
+    }
+    let (msf, c) = best.ok_or_else(|| Error::Fit("internal: lost the passing candidate".into()))?;
+    // final measurement with global projection (never larger than the search's estimate)
+    let c = evaluate(sections, &params, c.knots.clone(), opts, true).unwrap_or(c);
+    let c = fair_per_section(sections, &params, c, opts);
+    let msf = worst_span_fairness(&c.fits).min(msf);
+    Ok(CompatibleSections {
+        knots: c.knots,
+        within_tolerance: c.max_dev <= opts.tolerance,
+        max_deviation: c.max_dev,
+        fits: c.fits,
+        max_span_fairness: msf,
+        candidates_tried: tried,
+    })
+}

@@ -1,0 +1,187 @@
+//! Small dense linear solvers for the surface module: Cholesky for the (small, symmetric positive definite)
+//! normal equations of section fitting and LU with partial pivoting for the skinning interpolation systems.
+//!
+//! Written here rather than pulling in a linear-algebra crate: the systems are at most a few dozen unknowns
+//! (control points of one section, or one control column), solved once per refinement step; a dense
+//! O(n³) factorisation with explicit pivot checks is both fast enough and simple to audit.
+
+#![allow(clippy::needless_range_loop)]
+
+use crate::errors::{Error, Result};
+
+/// A dense row-major square matrix.
+#[derive(Clone, Debug)]
+pub(crate) struct Dense {
+    pub n: usize,
+    pub a: Vec<f64>,
+}
+
+impl Dense {
+    pub fn zeros(n: usize) -> Self {
+        Dense {
+            n,
+            a: vec![0.0; n * n],
+        }
+    }
+    #[inline]
+    pub fn at(&mut self, i: usize, j: usize) -> &mut f64 {
+        &mut self.a[i * self.n + j]
+    }
+    #[inline]
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.a[i * self.n + j]
+    }
+}
+
+/// Cholesky factorisation in place (lower triangle); fails when the matrix is not positive definite.
+pub(crate) fn cholesky(m: &mut Dense) -> Result<()> {
+    let n = m.n;
+    let scale = (0..n).map(|i| m.get(i, i).abs()).fold(0.0, f64::max);
+    for j in 0..n {
+        let mut d = m.get(j, j);
+        for k in 0..j {
+            d -= m.get(j, k) * m.get(j, k);
+        }
+        if d.is_nan() || d <= 1e-14 * scale || !d.is_finite() {
+            return Err(Error::Fit(format!(
+                "least-squares system is singular (pivot {j} of {n}): too few points in some knot span"
+            )));
+        }
+        let d = d.sqrt();
+        *m.at(j, j) = d;
+        for i in j + 1..n {
+            let mut s = m.get(i, j);
+            for k in 0..j {
+                s -= m.get(i, k) * m.get(j, k);
+            }
+            *m.at(i, j) = s / d;
+        }
+    }
+    Ok(())
+}
+
+/// Solves `L Lᵀ x = b` for several right-hand sides stored as `b[i][c]` (in place).
+pub(crate) fn cholesky_solve<const C: usize>(l: &Dense, b: &mut [[f64; C]]) {
+    let n = l.n;
+    for i in 0..n {
+        for k in 0..i {
+            let lik = l.get(i, k);
+            for c in 0..C {
+                b[i][c] -= lik * b[k][c];
+            }
+        }
+        let d = l.get(i, i);
+        for v in b[i].iter_mut() {
+            *v /= d;
+        }
+    }
+    for i in (0..n).rev() {
+        for k in i + 1..n {
+            let lki = l.get(k, i);
+            for c in 0..C {
+                b[i][c] -= lki * b[k][c];
+            }
+        }
+        let d = l.get(i, i);
+        for v in b[i].iter_mut() {
+            *v /= d;
+        }
+    }
+}
+
+/// Solves `A x = b` (several right-hand sides) by LU with partial pivoting; `A` is overwritten.
+pub(crate) fn lu_solve<const C: usize>(m: &mut Dense, b: &mut [[f64; C]]) -> Result<()> {
+    let n = m.n;
+    let scale = m.a.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+    for k in 0..n {
+        let (piv, pmax) = (k..n)
+            .map(|i| (i, m.get(i, k).abs()))
+            .fold((k, -1.0), |acc, x| if x.1 > acc.1 { x } else { acc });
+        if pmax.is_nan() || pmax <= 1e-14 * scale {
+            return Err(Error::Fit(format!(
+                "interpolation system is singular at pivot {k} of {n}"
+            )));
+        }
+        if piv != k {
+            for j in 0..n {
+                m.a.swap(k * n + j, piv * n + j);
+            }
+            b.swap(k, piv);
+        }
+        let d = m.get(k, k);
+        for i in k + 1..n {
+            let f = m.get(i, k) / d;
+            if f == 0.0 {
+                continue;
+            }
+            for j in k..n {
+                let v = m.get(k, j);
+                *m.at(i, j) -= f * v;
+            }
+            let bk = b[k];
+            for c in 0..C {
+                b[i][c] -= f * bk[c];
+            }
+        }
+    }
+    for i in (0..n).rev() {
+        for j in i + 1..n {
+            let mij = m.get(i, j);
+            let bj = b[j];
+            for c in 0..C {
+                b[i][c] -= mij * bj[c];
+            }
+        }
+        let d = m.get(i, i);
+        for v in b[i].iter_mut() {
+            *v /= d;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solvers_reproduce_a_known_solution() {
+        // SPD matrix A = B Bᵀ + I with known x
+        let n = 5;
+        let mut a = Dense::zeros(n);
+        for i in 0..n {
+            for j in 0..n {
+                let mut s = if i == j { 1.0 } else { 0.0 };
+                for k in 0..n {
+                    s += ((i + 2 * k) as f64).sin() * ((j + 2 * k) as f64).sin();
+                }
+                *a.at(i, j) = s;
+            }
+        }
+        let x: Vec<[f64; 2]> = (0..n).map(|i| [i as f64 - 1.5, (i * i) as f64]).collect();
+        let mut b = vec![[0.0; 2]; n];
+        for i in 0..n {
+            for j in 0..n {
+                for c in 0..2 {
+                    b[i][c] += a.get(i, j) * x[j][c];
+                }
+            }
+        }
+        let mut l = a.clone();
+        cholesky(&mut l).unwrap();
+        let mut b1 = b.clone();
+        cholesky_solve(&l, &mut b1);
+        let mut a2 = a.clone();
+        let mut b2 = b.clone();
+        lu_solve(&mut a2, &mut b2).unwrap();
+        for i in 0..n {
+            for c in 0..2 {
+                assert!((b1[i][c] - x[i][c]).abs() < 1e-10);
+                assert!((b2[i][c] - x[i][c]).abs() < 1e-10);
+            }
+        }
+        let mut sing = Dense::zeros(2);
+        assert!(lu_solve(&mut sing, &mut [[1.0], [1.0]]).is_err());
+        assert!(cholesky(&mut Dense::zeros(2)).is_err());
+    }
+}

@@ -1,0 +1,127 @@
+//! The whole section-to-surface pipeline: orientation and seam alignment, compatible fair section curves
+//! on one shared knot vector, skinning, and the surface measures of the result.
+
+use super::compatible::{make_compatible_with_progress, CompatibleOptions, CompatibleSections};
+use super::measure::{iso_fairness, surface_deviation, Deviation, SurfaceFairness};
+use super::orient::{align_sections, extent, Section};
+use super::skinning::{skin, SkinOptions};
+use crate::errors::{Error, Result};
+use crate::nurbs::NurbsSurface;
+
+/// Options of [`reconstruct_surface`].
+#[derive(Clone, Debug, Default)]
+pub struct SurfaceOptions {
+    /// Section fitting (degree in u, tolerance, ...).
+    pub sections: CompatibleOptions,
+    /// Skinning (degree in v, parameterisation, approximation).
+    pub skin: SkinOptions,
+    /// Number of iso-curves per direction for the fairness report.
+    pub iso_curves: usize,
+}
+
+/// Progress stages reported by [`reconstruct_surface_with_progress`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Candidate knot vectors evaluated so far.
+    Compatible(usize),
+    /// Skinning done.
+    Skinned,
+    /// Measures done.
+    Measured,
+}
+
+/// A reconstructed surface with its measures.
+#[derive(Clone, Debug)]
+pub struct SurfaceReconstruction {
+    /// The skinned surface.
+    pub surface: NurbsSurface,
+    /// The compatible section fits (after alignment) and the shared knot vector.
+    pub compatible: CompatibleSections,
+    /// The aligned sections that were fitted.
+    pub sections: Vec<Section>,
+    /// Per section: (reversed, seam shift in points) applied by the alignment.
+    pub alignment: Vec<(bool, usize)>,
+    /// v parameter of each section on the surface.
+    pub v_params: Vec<f64>,
+    /// Orthogonal deviation of every section point from the surface.
+    pub deviation: Deviation,
+    /// Per section: largest orthogonal deviation from its fitted curve.
+    pub section_deviation: Vec<f64>,
+    /// Fairness of iso-curves.
+    pub fairness: SurfaceFairness,
+}
+
+/// Checks that sections can make a surface; the message names the offending section.
+pub fn validate_sections(sections: &[Section], degree: usize) -> Result<()> {
+    if sections.len() < 2 {
+        return Err(Error::InvalidData(format!(
+            "a surface needs at least 2 sections, got {}",
+            sections.len()
+        )));
+    }
+    for (k, s) in sections.iter().enumerate() {
+        if s.points.len() < degree + 1 || s.points.len() < 3 {
+            return Err(Error::InvalidData(format!(
+                "section {k} has {} points; at least {} are needed for degree {degree}",
+                s.points.len(),
+                (degree + 1).max(3)
+            )));
+        }
+        if let Some(i) = s.points.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidData(format!(
+                "section {k}, point {i} is not finite"
+            )));
+        }
+        if extent(&s.points).is_nan() || extent(&s.points) <= 0.0 {
+            return Err(Error::InvalidData(format!(
+                "section {k} has all its points at one place"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Sections to a fair skinned surface (see the module documentation).
+pub fn reconstruct_surface(
+    sections: Vec<Section>,
+    opts: &SurfaceOptions,
+) -> Result<SurfaceReconstruction> {
+    reconstruct_surface_with_progress(sections, opts, &mut |_| {})
+}
+
+/// [`reconstruct_surface`] with a progress callback.
+pub fn reconstruct_surface_with_progress(
+    mut sections: Vec<Section>,
+    opts: &SurfaceOptions,
+    progress: &mut dyn FnMut(Stage),
+) -> Result<SurfaceReconstruction> {
+    validate_sections(&sections, opts.sections.degree)?;
+    let alignment = align_sections(&mut sections);
+    let compatible = make_compatible_with_progress(&sections, &opts.sections, &mut |n| {
+        progress(Stage::Compatible(n))
+    })?;
+    let curves = compatible.curves();
+    let sk = skin(&curves, &opts.skin)?;
+    progress(Stage::Skinned);
+    let mut pts = Vec::new();
+    let mut hints = Vec::new();
+    for ((s, f), &v) in sections.iter().zip(&compatible.fits).zip(&sk.v_params) {
+        for (p, &u) in s.points.iter().zip(&f.params) {
+            pts.push(*p);
+            hints.push((u, v));
+        }
+    }
+    let deviation = surface_deviation(&sk.surface, &pts, Some(&hints));
+    let fairness = iso_fairness(&sk.surface, opts.iso_curves.max(1))?;
+    progress(Stage::Measured);
+    Ok(SurfaceReconstruction {
+        surface: sk.surface,
+        section_deviation: compatible.fits.iter().map(|f| f.max_deviation).collect(),
+        compatible,
+        sections,
+        alignment,
+        v_params: sk.v_params,
+        deviation,
+        fairness,
+    })
+}

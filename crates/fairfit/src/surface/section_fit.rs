@@ -1,0 +1,344 @@
+//! Least-squares fitting of one ordered section on a given (shared) knot vector, with the end points
+//! interpolated, an optional smoothing term and orthogonal parameter correction (Hoschek).
+//!
+//! A private stand-in for the fitting engineer's `fit::lsq` so the surface pipeline works on its own:
+//! the systems here are small (a few dozen control points), so dense normal equations with a Cholesky
+//! factorisation are used.
+
+#![allow(clippy::needless_range_loop)]
+
+use super::linalg::{cholesky, cholesky_solve, Dense};
+use crate::diffgeo::CurveProjector;
+use crate::errors::{Error, Result};
+use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
+use crate::nurbs::knots::find_span;
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// Chord-length parameters of ordered points, normalised to `[0, 1]`.
+pub fn chord_length_params(points: &[Vec3]) -> Result<Vec<f64>> {
+    if points.len() < 2 {
+        return Err(Error::InvalidData(format!(
+            "a section needs at least 2 points, got {}",
+            points.len()
+        )));
+    }
+    let mut t = Vec::with_capacity(points.len());
+    t.push(0.0);
+    let mut s = 0.0;
+    for w in points.windows(2) {
+        s += w[0].distance(w[1]);
+        t.push(s);
+    }
+    if s.is_nan() || s <= 0.0 || !s.is_finite() {
+        return Err(Error::InvalidData(
+            "a section has zero length (all points coincide)".into(),
+        ));
+    }
+    for v in t.iter_mut() {
+        *v /= s;
+    }
+    if let Some(last) = t.last_mut() {
+        *last = 1.0;
+    }
+    Ok(t)
+}
+
+/// Gram matrix of second derivatives `G_ij = ∫ N_i''(u) N_j''(u) du` (Gauss-Legendre, 4 nodes per span),
+/// the parametric bending energy used as smoothing term.
+pub(crate) fn bending_gram(degree: usize, knots: &[f64], n_ctrl: usize) -> Dense {
+    const GX: [f64; 4] = [
+        -0.861_136_311_594_052_6,
+        -0.339_981_043_584_856_3,
+        0.339_981_043_584_856_3,
+        0.861_136_311_594_052_6,
+    ];
+    const GW: [f64; 4] = [
+        0.347_854_845_137_453_9,
+        0.652_145_154_862_546_1,
+        0.652_145_154_862_546_1,
+        0.347_854_845_137_453_9,
+    ];
+    let p = degree;
+    let mut g = Dense::zeros(n_ctrl);
+    if p < 2 {
+        return g;
+    }
+    let (mut left, mut right) = (vec![0.0; p + 1], vec![0.0; p + 1]);
+    let mut ndu = vec![0.0; (p + 1) * (p + 1)];
+    let mut a = vec![0.0; 2 * (p + 1)];
+    let mut ders = vec![0.0; 3 * (p + 1)];
+    for span in p..n_ctrl {
+        let (a0, b0) = (knots[span], knots[span + 1]);
+        if b0 <= a0 {
+            continue;
+        }
+        for (x, w) in GX.iter().zip(GW) {
+            let u = 0.5 * (a0 + b0) + 0.5 * (b0 - a0) * x;
+            let jac = 0.5 * (b0 - a0) * w;
+            ders_basis_funs_into(
+                span, u, p, 2, knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
+            );
+            let d2 = &ders[2 * (p + 1)..3 * (p + 1)];
+            for r in 0..=p {
+                for c in 0..=p {
+                    *g.at(span - p + r, span - p + c) += jac * d2[r] * d2[c];
+                }
+            }
+        }
+    }
+    g
+}
+
+/// Least-squares control points (in `C` coordinates, e.g. 3 for points, 4 for homogeneous points) of a
+/// degree-`degree` B-spline on `knots` through `data` at `params`, first and last data interpolated.
+/// `smoothing` >= 0 weights the bending energy `∫ |C''(u)|² du` against the mean squared residual (both
+/// scale like length², so the weight is scale-free; parameters are assumed in `[0, 1]`).
+pub(crate) fn lsq_control_points<const C: usize>(
+    data: &[[f64; C]],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    smoothing: f64,
+) -> Result<Vec<[f64; C]>> {
+    let p = degree;
+    let n_ctrl = knots.len() - p - 1;
+    let m = data.len();
+    if m < 2 || params.len() != m {
+        return Err(Error::Fit("least squares needs at least 2 points".into()));
+    }
+    if n_ctrl < 2 {
+        return Err(Error::Fit(
+            "least squares needs at least 2 control points".into(),
+        ));
+    }
+    let mut ctrl = vec![[0.0; C]; n_ctrl];
+    ctrl[0] = data[0];
+    ctrl[n_ctrl - 1] = data[m - 1];
+    if n_ctrl == 2 {
+        return Ok(ctrl);
+    }
+    let nu = n_ctrl - 2;
+    let mut ntn = Dense::zeros(nu);
+    let mut rhs = vec![[0.0; C]; nu];
+    let (mut left, mut right, mut nb) = (vec![0.0; p + 1], vec![0.0; p + 1], vec![0.0; p + 1]);
+    for k in 1..m - 1 {
+        let u = params[k];
+        let span = find_span(n_ctrl - 1, p, u, knots);
+        basis_funs_into(span, u, p, knots, &mut left, &mut right, &mut nb);
+        let first = span - p;
+        // residual after the fixed end points
+        let mut r = data[k];
+        for (j, &nj) in nb.iter().enumerate() {
+            let idx = first + j;
+            if idx == 0 || idx == n_ctrl - 1 {
+                for c in 0..C {
+                    r[c] -= nj * ctrl[idx][c];
+                }
+            }
+        }
+        for (j, &nj) in nb.iter().enumerate() {
+            let idx = first + j;
+            if idx == 0 || idx == n_ctrl - 1 {
+                continue;
+            }
+            for c in 0..C {
+                rhs[idx - 1][c] += nj * r[c];
+            }
+            for (l, &nl) in nb.iter().enumerate() {
+                let jdx = first + l;
+                if jdx == 0 || jdx == n_ctrl - 1 {
+                    continue;
+                }
+                *ntn.at(idx - 1, jdx - 1) += nj * nl;
+            }
+        }
+    }
+    if smoothing > 0.0 {
+        let g = bending_gram(p, knots, n_ctrl);
+        // objective / m = mean squared residual + smoothing * ∫ |C''(u)|² du: scale-free weight
+        {
+            let lam = smoothing * m as f64;
+            for i in 1..=nu {
+                for j in 0..n_ctrl {
+                    let gij = lam * g.get(i, j);
+                    if j == 0 || j == n_ctrl - 1 {
+                        for c in 0..C {
+                            rhs[i - 1][c] -= gij * ctrl[j][c];
+                        }
+                    } else {
+                        *ntn.at(i - 1, j - 1) += gij;
+                    }
+                }
+            }
+        }
+    }
+    cholesky(&mut ntn)?;
+    cholesky_solve(&ntn, &mut rhs);
+    ctrl[1..n_ctrl - 1].copy_from_slice(&rhs);
+    Ok(ctrl)
+}
+
+/// Newton on `f(u) = C'(u)·(C(u) − q)` from `u0`, clamped to the domain, accepting only improving steps;
+/// returns the best parameter and its distance (never worse than at `u0`).
+fn newton_from(curve: &NurbsCurve, q: Vec3, u0: f64, d: &mut [Vec3; 3]) -> (f64, f64) {
+    let (a, b) = curve.domain();
+    let mut u = u0.clamp(a, b);
+    curve.derivatives_into(u, 2, d);
+    let mut best = (u, (d[0] - q).norm());
+    for _ in 0..12 {
+        let r = d[0] - q;
+        let f = d[1].dot(r);
+        let fp = d[2].dot(r) + d[1].norm_squared();
+        if fp <= 0.0 {
+            break;
+        }
+        let next = (u - f / fp).clamp(a, b);
+        if next == u {
+            break;
+        }
+        curve.derivatives_into(next, 2, d);
+        let dist = (d[0] - q).norm();
+        if dist >= best.1 {
+            break;
+        }
+        u = next;
+        best = (u, dist);
+    }
+    best
+}
+
+/// One section fitted on a given knot vector.
+#[derive(Clone, Debug)]
+pub struct SectionFit {
+    /// The fitted B-spline curve.
+    pub curve: NurbsCurve,
+    /// The parameters of the data points on the curve after parameter correction.
+    pub params: Vec<f64>,
+    /// Largest orthogonal distance from a data point to the curve.
+    pub max_deviation: f64,
+    /// Root mean square of the orthogonal distances.
+    pub rms_deviation: f64,
+    /// Index of the data point with the largest distance.
+    pub worst_point: usize,
+    /// Orthogonal distance of every data point.
+    pub deviations: Vec<f64>,
+}
+
+/// Fits `points` (initial parameters `params`) on `knots`, then corrects the parameters by orthogonal
+/// projection `corrections` times (keeping the best fit seen), and measures orthogonal deviations.
+pub fn fit_section(
+    points: &[Vec3],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    smoothing: f64,
+    corrections: usize,
+) -> Result<SectionFit> {
+    fit_section_with(points, params, degree, knots, smoothing, corrections, true)
+}
+
+/// [`fit_section`]; with `global = false` the distances come from Newton started at each point's
+/// current parameter only (fast, may overestimate a distance, never underestimates it), for searches.
+pub(crate) fn fit_section_with(
+    points: &[Vec3],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    smoothing: f64,
+    corrections: usize,
+    global: bool,
+) -> Result<SectionFit> {
+    let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
+    let mut params = params.to_vec();
+    let mut best: Option<SectionFit> = None;
+    for it in 0..=corrections {
+        let ctrl = lsq_control_points(&data, &params, degree, knots, smoothing)?;
+        let curve =
+            NurbsCurve::bspline(degree, knots.to_vec(), ctrl.into_iter().map(Vec3).collect())?;
+        let proj = global.then(|| CurveProjector::new(&curve, 8));
+        let mut devs = vec![0.0; points.len()];
+        let mut new_params = params.clone();
+        let mut der = [Vec3::ZERO; 3];
+        let (mut maxd, mut sum2, mut worst) = (0.0f64, 0.0, 0);
+        for (k, q) in points.iter().enumerate() {
+            let (mut u, mut d) = newton_from(&curve, *q, params[k], &mut der);
+            if let Some(pr) = proj.as_ref().map(|p| p.project_near(*q, params[k])) {
+                if pr.distance < d {
+                    (u, d) = (pr.u, pr.distance);
+                }
+            }
+            devs[k] = d;
+            if k > 0 && k + 1 < points.len() {
+                new_params[k] = u;
+            }
+            sum2 += d * d;
+            if d > maxd {
+                maxd = d;
+                worst = k;
+            }
+        }
+        let fit = SectionFit {
+            curve,
+            params: params.clone(),
+            max_deviation: maxd,
+            rms_deviation: (sum2 / points.len() as f64).sqrt(),
+            worst_point: worst,
+            deviations: devs,
+        };
+        let improved = best
+            .as_ref()
+            .is_none_or(|b| fit.max_deviation < b.max_deviation);
+        if improved {
+            best = Some(fit);
+        } else if it > 1 {
+            break;
+        }
+        // keep parameters strictly increasing so the next system stays well posed
+        for k in 1..new_params.len() {
+            if new_params[k] < new_params[k - 1] {
+                new_params[k] = new_params[k - 1];
+            }
+        }
+        params = new_params;
+    }
+    best.ok_or_else(|| Error::Fit("no section fit computed".into()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reproduces_a_cubic_on_its_own_knots() {
+        let knots = vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0];
+        let ctrl = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(2.0, -1.0, 0.5),
+            Vec3::new(3.0, 1.0, 0.0),
+            Vec3::new(4.0, 0.0, 1.0),
+        ];
+        let truth = NurbsCurve::bspline(3, knots.clone(), ctrl).unwrap();
+        let us: Vec<f64> = (0..40).map(|k| (k as f64 / 39.0).powf(1.3)).collect();
+        let pts = truth.points(&us);
+        // exact parameters: exact reproduction
+        let f = fit_section(&pts, &us, 3, &knots, 0.0, 0).unwrap();
+        assert!(f.max_deviation < 1e-12, "{}", f.max_deviation);
+        // chord-length parameters plus parameter correction converge towards the same curve
+        let t = chord_length_params(&pts).unwrap();
+        let f0 = fit_section(&pts, &t, 3, &knots, 0.0, 0).unwrap();
+        let f = fit_section(&pts, &t, 3, &knots, 0.0, 30).unwrap();
+        assert!(
+            f.max_deviation < 0.2 * f0.max_deviation,
+            "{} vs {}",
+            f.max_deviation,
+            f0.max_deviation
+        );
+    }
+
+    #[test]
+    fn degenerate_sections_are_errors() {
+        assert!(chord_length_params(&[Vec3::ZERO]).is_err());
+        assert!(chord_length_params(&[Vec3::ZERO, Vec3::ZERO]).is_err());
+    }
+}

@@ -1,0 +1,255 @@
+//! Skinning compatible section curves into a tensor-product surface (NURBS Book §10.3): v parameters of
+//! the sections by averaged chord or centripetal lengths over the control-point columns, v knots by
+//! averaging (eq. 9.8), interpolation of every control column in homogeneous coordinates (weights must
+//! stay positive); or, for many or noisy sections, least-squares approximation of the columns with a
+//! bending (smoothing) term and fewer v control points.
+
+use super::linalg::{lu_solve, Dense};
+use super::section_fit::lsq_control_points;
+use crate::errors::{Error, Result};
+use crate::nurbs::basis::basis_funs_into;
+use crate::nurbs::knots::find_span;
+use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+
+/// How the sections' v parameters are chosen.
+#[derive(Clone, Debug, PartialEq)]
+pub enum VParams {
+    /// Averaged chord lengths of the control columns.
+    ChordLength,
+    /// Averaged square roots of the chord lengths (centripetal).
+    Centripetal,
+    /// Given parameters, one per section, increasing from 0 to 1.
+    Given(Vec<f64>),
+}
+
+/// Options of [`skin`].
+#[derive(Clone, Debug)]
+pub struct SkinOptions {
+    /// Degree in v; lowered to `sections - 1` when there are too few sections.
+    pub degree_v: usize,
+    /// Parameterisation of the sections in v.
+    pub params: VParams,
+    /// `None` interpolates every section; `Some(n)` approximates with `n` control points in v.
+    pub approximate_with: Option<usize>,
+    /// Bending weight of the approximation (relative to the data term); unused for interpolation.
+    pub smoothing: f64,
+}
+
+impl Default for SkinOptions {
+    fn default() -> Self {
+        SkinOptions {
+            degree_v: 3,
+            params: VParams::ChordLength,
+            approximate_with: None,
+            smoothing: 0.0,
+        }
+    }
+}
+
+/// A skinned surface and the v parameter of each section on it.
+#[derive(Clone, Debug)]
+pub struct Skin {
+    /// The surface: u along the sections, v across them.
+    pub surface: NurbsSurface,
+    /// `S(u, v_params[k])` is section `k` (exactly when interpolating).
+    pub v_params: Vec<f64>,
+}
+
+fn averaged_params(cols: &[Vec<[f64; 4]>], centripetal: bool) -> Vec<f64> {
+    let k1 = cols[0].len();
+    let mut v = vec![0.0; k1];
+    let mut used = 0usize;
+    for col in cols {
+        let d: Vec<f64> = col
+            .windows(2)
+            .map(|w| {
+                let a = Vec3::new(w[0][0] / w[0][3], w[0][1] / w[0][3], w[0][2] / w[0][3]);
+                let b = Vec3::new(w[1][0] / w[1][3], w[1][1] / w[1][3], w[1][2] / w[1][3]);
+                let l = a.distance(b);
+                if centripetal {
+                    l.sqrt()
+                } else {
+                    l
+                }
+            })
+            .collect();
+        let total: f64 = d.iter().sum();
+        if total.is_nan() || total <= 0.0 || !total.is_finite() {
+            continue;
+        }
+        used += 1;
+        let mut acc = 0.0;
+        for (k, dk) in d.iter().enumerate() {
+            acc += dk;
+            v[k + 1] += acc / total;
+        }
+    }
+    if used == 0 {
+        return (0..k1).map(|k| k as f64 / (k1 - 1) as f64).collect();
+    }
+    for x in v.iter_mut() {
+        *x /= used as f64;
+    }
+    v[k1 - 1] = 1.0;
+    v
+}
+
+/// Knot vector by averaging the parameters (NURBS Book eq. 9.8), for interpolation.
+pub fn averaging_knots(params: &[f64], degree: usize) -> Vec<f64> {
+    let n = params.len() - 1;
+    let mut k = vec![0.0; degree + 1];
+    for j in 1..=n.saturating_sub(degree) {
+        let s: f64 = params[j..j + degree].iter().sum();
+        k.push(s / degree as f64);
+    }
+    k.extend(std::iter::repeat_n(1.0, degree + 1));
+    k
+}
+
+/// Knot vector for least-squares approximation with `n_ctrl` control points (NURBS Book eq. 9.69).
+pub fn approximation_knots(params: &[f64], degree: usize, n_ctrl: usize) -> Vec<f64> {
+    let m = params.len() - 1;
+    let n = n_ctrl - 1;
+    let d = (m + 1) as f64 / (n - degree + 1) as f64;
+    let mut k = vec![0.0; degree + 1];
+    for j in 1..=n - degree {
+        let i = (j as f64 * d).floor() as usize;
+        let a = j as f64 * d - i as f64;
+        let i = i.clamp(1, m);
+        k.push((1.0 - a) * params[i - 1] + a * params[i]);
+    }
+    k.extend(std::iter::repeat_n(1.0, degree + 1));
+    k
+}
+
+/// Skins compatible `sections` (same degree and knot vector) into a surface.
+///
+/// ```
+/// use fairfit::nurbs::{NurbsCurve, Vec3};
+/// use fairfit::surface::{skin, SkinOptions};
+/// let knots = vec![0.0, 0.0, 1.0, 1.0];
+/// let sec = |z: f64, s: f64| NurbsCurve::bspline(1, knots.clone(),
+///     vec![Vec3::new(0.0, 0.0, z), Vec3::new(s, 0.0, z)]).unwrap();
+/// let sections = vec![sec(0.0, 1.0), sec(1.0, 2.0), sec(2.0, 1.5)];
+/// let sk = skin(&sections, &SkinOptions::default()).unwrap();
+/// // the surface passes through every section at its v parameter
+/// let p = sk.surface.point(1.0, sk.v_params[1]);
+/// assert!((p - Vec3::new(2.0, 0.0, 1.0)).norm() < 1e-12);
+/// ```
+pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
+    let k1 = sections.len();
+    if k1 < 2 {
+        return Err(Error::InvalidData(format!(
+            "skinning needs at least 2 sections, got {k1}"
+        )));
+    }
+    let first = &sections[0];
+    for (k, s) in sections.iter().enumerate() {
+        if s.degree() != first.degree() || s.knots() != first.knots() {
+            return Err(Error::InvalidData(format!(
+                "section {k} is not compatible with section 0 (degree or knot vector differ)"
+            )));
+        }
+    }
+    if opts.degree_v == 0 {
+        return Err(Error::InvalidOption(
+            "degree in v must be at least 1".into(),
+        ));
+    }
+    let n_u = first.n_control_points();
+    // columns: cols[i][k] = homogeneous control point i of section k
+    let cols: Vec<Vec<[f64; 4]>> = (0..n_u)
+        .map(|i| sections.iter().map(|s| s.homogeneous_points()[i]).collect())
+        .collect();
+    let v_params = match &opts.params {
+        VParams::ChordLength => averaged_params(&cols, false),
+        VParams::Centripetal => averaged_params(&cols, true),
+        VParams::Given(v) => {
+            if v.len() != k1 {
+                return Err(Error::InvalidOption(format!(
+                    "{} v parameters given for {k1} sections",
+                    v.len()
+                )));
+            }
+            v.clone()
+        }
+    };
+    if v_params.windows(2).any(|w| w[1].is_nan() || w[1] <= w[0])
+        || v_params[0] != 0.0
+        || v_params[k1 - 1] != 1.0
+    {
+        return Err(Error::InvalidData(
+            "section v parameters must increase strictly from 0 to 1 (two sections coincide?)"
+                .into(),
+        ));
+    }
+    let (q, knots_v, net_cw) = match opts.approximate_with {
+        Some(n_v) if n_v < k1 => {
+            let q = opts.degree_v.min(n_v.saturating_sub(1)).max(1);
+            if n_v < 2 {
+                return Err(Error::InvalidOption(
+                    "approximation in v needs at least 2 control points".into(),
+                ));
+            }
+            let kv = approximation_knots(&v_params, q, n_v);
+            let mut net = Vec::with_capacity(n_u);
+            for col in &cols {
+                net.push(lsq_control_points(col, &v_params, q, &kv, opts.smoothing)?);
+            }
+            (q, kv, net)
+        }
+        _ => {
+            let q = opts.degree_v.min(k1 - 1);
+            let kv = averaging_knots(&v_params, q);
+            let mut a = Dense::zeros(k1);
+            let (mut left, mut right, mut nb) =
+                (vec![0.0; q + 1], vec![0.0; q + 1], vec![0.0; q + 1]);
+            for (k, &v) in v_params.iter().enumerate() {
+                let span = find_span(k1 - 1, q, v, &kv);
+                basis_funs_into(span, v, q, &kv, &mut left, &mut right, &mut nb);
+                for (j, &b) in nb.iter().enumerate() {
+                    *a.at(k, span - q + j) = b;
+                }
+            }
+            let mut net = Vec::with_capacity(n_u);
+            for col in &cols {
+                let mut m = a.clone();
+                let mut b = col.clone();
+                lu_solve(&mut m, &mut b)?;
+                net.push(b);
+            }
+            (q, kv, net)
+        }
+    };
+    let mut pts = Vec::with_capacity(n_u);
+    let mut wts = Vec::with_capacity(n_u);
+    let mut rational = false;
+    for row in &net_cw {
+        let mut pr = Vec::with_capacity(row.len());
+        let mut wr = Vec::with_capacity(row.len());
+        for c in row {
+            let w = c[3];
+            if w.is_nan() || w <= 0.0 || !w.is_finite() {
+                return Err(Error::Fit(format!(
+                    "skinning produced a non-positive weight {w}: the sections' weights vary too much"
+                )));
+            }
+            if (w - 1.0).abs() > 1e-14 {
+                rational = true;
+            }
+            pr.push(Vec3::new(c[0] / w, c[1] / w, c[2] / w));
+            wr.push(w);
+        }
+        pts.push(pr);
+        wts.push(wr);
+    }
+    let surface = NurbsSurface::new(
+        first.degree(),
+        q,
+        first.knots().to_vec(),
+        knots_v,
+        pts,
+        if rational { Some(wts) } else { None },
+    )?;
+    Ok(Skin { surface, v_params })
+}

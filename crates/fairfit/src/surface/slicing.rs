@@ -1,0 +1,579 @@
+//! Slicing meshes and point clouds into planar sections: `N` planes perpendicular to an axis (or a given
+//! normal), evenly spaced strictly inside the data's extent.
+//!
+//! - Meshes: every triangle crossing a plane gives an exact segment between two crossed mesh edges; the
+//!   segments are chained through their shared mesh edges, so chains follow the surface's connectivity.
+//!   A chain that ends (at a mesh boundary edge) meets a hole. Per slice the longest chain is kept; other
+//!   open pieces are appended end-to-nearest-end when close, and a remaining open end is closed when the
+//!   gap is short compared with the chain: every such bridge is reported as a [`Gap`]. Loops other than the
+//!   kept one are reported as dropped.
+//! - Point clouds: the points in a thin slab around the plane are projected onto it and ordered
+//!   ([`super::chain::order_points`]); tour edges much longer than the median spacing are gaps.
+
+use super::chain::{break_at_gaps, median_spacing, order_points, Gap};
+use super::orient::Section;
+use crate::errors::{Error, Result};
+use crate::io::mesh_read::Mesh;
+use crate::nurbs::Vec3;
+use std::collections::HashMap;
+
+/// Options of [`slice_mesh`].
+#[derive(Clone, Debug)]
+pub struct SliceOptions {
+    /// Number of planes.
+    pub slices: usize,
+    /// Plane normal (need not be unit length).
+    pub normal: Vec3,
+    /// Slab half-thickness for point clouds, as a fraction of the plane spacing.
+    pub slab: f64,
+    /// A chain edge longer than this many median spacings is a gap.
+    pub gap_factor: f64,
+    /// Open chains are closed (and the bridge reported) when the gap is below this fraction of their length.
+    pub close_fraction: f64,
+}
+
+impl Default for SliceOptions {
+    fn default() -> Self {
+        SliceOptions {
+            slices: 20,
+            normal: Vec3::new(0.0, 0.0, 1.0),
+            slab: 0.1,
+            gap_factor: 5.0,
+            close_fraction: 0.25,
+        }
+    }
+}
+
+/// Sections cut from a mesh or cloud, with everything that was not a clean loop reported.
+#[derive(Clone, Debug, Default)]
+pub struct Slices {
+    /// One section per non-empty plane, in plane order.
+    pub sections: Vec<Section>,
+    /// Signed plane offset along the unit normal, per section.
+    pub offsets: Vec<f64>,
+    /// Gaps (holes) met, with how they were handled; `section` indexes [`Slices::sections`].
+    pub gaps: Vec<Gap>,
+    /// Planes that cut nothing usable (offset along the unit normal).
+    pub empty_planes: Vec<f64>,
+    /// Per section, the number of further chains (other loops or pieces) that were dropped.
+    pub dropped_chains: Vec<usize>,
+}
+
+fn unit(n: Vec3) -> Result<Vec3> {
+    let l = n.norm();
+    if !l.is_finite() || l <= 0.0 {
+        return Err(Error::InvalidOption(
+            "the slicing normal must be a non-zero vector".into(),
+        ));
+    }
+    Ok(n / l)
+}
+
+fn plane_offsets(points: &[Vec3], n: Vec3, count: usize) -> Result<Vec<f64>> {
+    if count < 2 {
+        return Err(Error::InvalidOption(format!(
+            "a surface needs at least 2 slices, got {count}"
+        )));
+    }
+    let (lo, hi) = points
+        .iter()
+        .map(|p| p.dot(n))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    if hi.is_nan() || hi <= lo {
+        return Err(Error::InvalidData(
+            "the data has no extent along the slicing direction".into(),
+        ));
+    }
+    Ok((0..count)
+        .map(|k| lo + (hi - lo) * (k as f64 + 0.5) / count as f64)
+        .collect())
+}
+
+/// A direction in the plane used to pick seams and start points (the axis least aligned with `n`).
+fn in_plane_dir(n: Vec3) -> Vec3 {
+    let a = [
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    ];
+    let e = a
+        .iter()
+        .copied()
+        .min_by(|x, y| x.dot(n).abs().total_cmp(&y.dot(n).abs()))
+        .unwrap_or(a[0]);
+    let d = e - n * e.dot(n);
+    d / d.norm().max(f64::MIN_POSITIVE)
+}
+
+fn chain_length(c: &[Vec3]) -> f64 {
+    c.windows(2).map(|w| w[0].distance(w[1])).sum()
+}
+
+/// Slices a mesh (triangles) or a point cloud (no triangles) into sections.
+pub fn slice_mesh(mesh: &Mesh, opts: &SliceOptions) -> Result<Slices> {
+    let n = unit(opts.normal)?;
+    let offsets = plane_offsets(&mesh.vertices, n, opts.slices)?;
+    let dir = in_plane_dir(n);
+    let mut out = Slices::default();
+    for &h in &offsets {
+        let cut = if mesh.triangles.is_empty() {
+            slice_cloud_at(
+                &mesh.vertices,
+                n,
+                h,
+                opts,
+                &offsets,
+                dir,
+                out.sections.len(),
+            )
+        } else {
+            slice_triangles_at(mesh, n, h, opts, dir, out.sections.len())
+        };
+        match cut {
+            Some((sec, gaps, dropped)) => {
+                out.sections.push(sec);
+                out.offsets.push(h);
+                out.gaps.extend(gaps);
+                out.dropped_chains.push(dropped);
+            }
+            None => out.empty_planes.push(h),
+        }
+    }
+    Ok(out)
+}
+
+type Cut = Option<(Section, Vec<Gap>, usize)>;
+
+fn slice_cloud_at(
+    pts: &[Vec3],
+    n: Vec3,
+    h: f64,
+    opts: &SliceOptions,
+    offsets: &[f64],
+    dir: Vec3,
+    index: usize,
+) -> Cut {
+    let spacing = if offsets.len() > 1 {
+        offsets[1] - offsets[0]
+    } else {
+        1.0
+    };
+    let half = opts.slab * spacing;
+    let near: Vec<Vec3> = pts
+        .iter()
+        .filter(|p| (p.dot(n) - h).abs() <= half)
+        .map(|&p| p - n * (p.dot(n) - h))
+        .collect();
+    if near.len() < 4 {
+        return None;
+    }
+    let tour = order_points(&near, dir);
+    let (chain, closed, gaps) = break_at_gaps(tour, opts.gap_factor, index);
+    let sec = if closed {
+        Section::closed_loop(chain)
+    } else {
+        Section {
+            points: chain,
+            closed: false,
+        }
+    };
+    Some((sec, gaps, 0))
+}
+
+fn slice_triangles_at(
+    mesh: &Mesh,
+    n: Vec3,
+    h: f64,
+    opts: &SliceOptions,
+    dir: Vec3,
+    index: usize,
+) -> Cut {
+    let v = &mesh.vertices;
+    // signed distances; exact zeros count as positive so every crossing is a strict sign change
+    let side = |i: usize| v[i].dot(n) - h >= 0.0;
+    let key = |a: usize, b: usize| if a < b { (a, b) } else { (b, a) };
+    let point_on = |a: usize, b: usize| {
+        let (da, db) = (v[a].dot(n) - h, v[b].dot(n) - h);
+        let t = da / (da - db);
+        let p = v[a] + (v[b] - v[a]) * t;
+        p - n * (p.dot(n) - h)
+    };
+    // segments between crossed edges
+    let mut segs: Vec<[(usize, usize); 2]> = Vec::new();
+    for t in &mesh.triangles {
+        let s = [side(t[0]), side(t[1]), side(t[2])];
+        if s[0] == s[1] && s[1] == s[2] {
+            continue;
+        }
+        let mut e = Vec::with_capacity(2);
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if s[k] != s[(k + 1) % 3] {
+                e.push(key(a, b));
+            }
+        }
+        if e.len() == 2 {
+            segs.push([e[0], e[1]]);
+        }
+    }
+    if segs.is_empty() {
+        return None;
+    }
+    let mut by_edge: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+    for (i, s) in segs.iter().enumerate() {
+        by_edge.entry(s[0]).or_default().push(i);
+        by_edge.entry(s[1]).or_default().push(i);
+    }
+    let mut used = vec![false; segs.len()];
+    let mut chains: Vec<(Vec<(usize, usize)>, bool)> = Vec::new();
+    // walk from open ends first (edges used once), then loops; iterate in segment order (deterministic)
+    let mut starts: Vec<usize> = (0..segs.len())
+        .filter(|&i| {
+            segs[i]
+                .iter()
+                .any(|e| by_edge.get(e).is_some_and(|l| l.len() == 1))
+        })
+        .collect();
+    starts.extend(0..segs.len());
+    for s0 in starts {
+        if used[s0] {
+            continue;
+        }
+        used[s0] = true;
+        let (a, b) = (segs[s0][0], segs[s0][1]);
+        // orient so that we walk away from an open end if there is one
+        let (first, mut cur) = if by_edge.get(&b).is_some_and(|l| l.len() == 1) {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        let mut chain = vec![first, cur];
+        let mut closed = false;
+        loop {
+            let next = by_edge
+                .get(&cur)
+                .and_then(|l| l.iter().copied().find(|&j| !used[j]));
+            let Some(j) = next else { break };
+            used[j] = true;
+            let other = if segs[j][0] == cur {
+                segs[j][1]
+            } else {
+                segs[j][0]
+            };
+            if other == first {
+                closed = true;
+                break;
+            }
+            chain.push(other);
+            cur = other;
+        }
+        chains.push((chain, closed));
+    }
+    let mut pieces: Vec<(Vec<Vec3>, bool)> = chains
+        .into_iter()
+        .map(|(c, closed)| {
+            let mut pts: Vec<Vec3> = Vec::with_capacity(c.len());
+            for (a, b) in c {
+                let p = point_on(a, b);
+                if pts.last().is_none_or(|q: &Vec3| q.distance(p) > 0.0) {
+                    pts.push(p);
+                }
+            }
+            (pts, closed)
+        })
+        .filter(|(p, _)| p.len() >= 2)
+        .collect();
+    if pieces.is_empty() {
+        return None;
+    }
+    // longest piece first
+    pieces.sort_by(|a, b| chain_length(&b.0).total_cmp(&chain_length(&a.0)));
+    let (mut main, mut closed) = pieces.remove(0);
+    let mut gaps = Vec::new();
+    let typical = median_spacing(&main, closed).max(f64::MIN_POSITIVE);
+    let mut dropped = 0usize;
+    if !closed {
+        // append open pieces end to nearest end while they are close compared with the chain
+        loop {
+            let len = chain_length(&main);
+            let end = main[main.len() - 1];
+            let best = pieces
+                .iter()
+                .enumerate()
+                .filter(|(_, p)| !p.1)
+                .flat_map(|(i, p)| {
+                    [
+                        (i, false, end.distance(p.0[0])),
+                        (i, true, end.distance(p.0[p.0.len() - 1])),
+                    ]
+                })
+                .min_by(|a, b| a.2.total_cmp(&b.2));
+            let Some((i, rev, d)) = best else { break };
+            if d > opts.close_fraction * len || d > main[0].distance(end) {
+                break;
+            }
+            let (mut p, _) = pieces.remove(i);
+            if rev {
+                p.reverse();
+            }
+            if d > opts.gap_factor * typical {
+                gaps.push(Gap {
+                    section: index,
+                    from: end.0,
+                    to: p[0].0,
+                    length: d,
+                    typical_spacing: typical,
+                    handling: "bridged".into(),
+                });
+            }
+            main.extend(p);
+        }
+        let len = chain_length(&main);
+        let d = main[0].distance(main[main.len() - 1]);
+        let handling = if d <= opts.close_fraction * len {
+            closed = true;
+            "bridged"
+        } else {
+            "open"
+        };
+        if d > opts.gap_factor * typical || handling == "open" {
+            gaps.push(Gap {
+                section: index,
+                from: main[main.len() - 1].0,
+                to: main[0].0,
+                length: d,
+                typical_spacing: typical,
+                handling: handling.into(),
+            });
+        }
+    }
+    dropped += pieces.len();
+    if main.len() < 4 {
+        return None;
+    }
+    let sec = if closed {
+        // start the loop at its extreme point along `dir`, like point-cloud tours
+        let s = (0..main.len())
+            .max_by(|&a, &b| main[a].dot(dir).total_cmp(&main[b].dot(dir)))
+            .unwrap_or(0);
+        main.rotate_left(s);
+        Section::closed_loop(main)
+    } else {
+        Section {
+            points: main,
+            closed: false,
+        }
+    };
+    Some((sec, gaps, dropped))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A triangulated open cylinder of radius `r`, `na` segments around, `nz` rings from z = 0 to 2;
+    /// triangles whose centre falls in `hole` (angle range, z range) are left out.
+    fn cylinder(r: f64, na: usize, nz: usize, hole: Option<((f64, f64), (f64, f64))>) -> Mesh {
+        let mut m = Mesh::default();
+        for j in 0..=nz {
+            for i in 0..na {
+                let t = std::f64::consts::TAU * i as f64 / na as f64;
+                m.vertices.push(Vec3::new(
+                    r * t.cos(),
+                    r * t.sin(),
+                    2.0 * j as f64 / nz as f64,
+                ));
+            }
+        }
+        for j in 0..nz {
+            for i in 0..na {
+                let (a, b) = (j * na + i, j * na + (i + 1) % na);
+                let (c, d) = (a + na, b + na);
+                let tc = std::f64::consts::TAU * (i as f64 + 0.5) / na as f64;
+                let zc = 2.0 * (j as f64 + 0.5) / nz as f64;
+                if let Some(((t0, t1), (z0, z1))) = hole {
+                    if tc > t0 && tc < t1 && zc > z0 && zc < z1 {
+                        continue;
+                    }
+                }
+                m.triangles.push([a, b, d]);
+                m.triangles.push([a, d, c]);
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn slicing_a_cylinder_mesh_gives_circles_of_its_radius() {
+        let (r, na) = (1.5, 256);
+        let m = cylinder(r, na, 7, None);
+        let s = slice_mesh(
+            &m,
+            &SliceOptions {
+                slices: 5,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(s.sections.len(), 5);
+        assert!(s.gaps.is_empty() && s.empty_planes.is_empty());
+        let chord = r * (std::f64::consts::PI / na as f64).cos();
+        for (sec, &h) in s.sections.iter().zip(&s.offsets) {
+            assert!(sec.closed);
+            // one crossing per vertical and per diagonal edge, plus the repeated start
+            assert_eq!(sec.points.len(), 2 * na + 1);
+            for p in &sec.points {
+                let rho = (p.x() * p.x() + p.y() * p.y()).sqrt();
+                // crossing points lie on the chords between vertices: chord distance <= rho <= r
+                assert!(rho <= r + 1e-12 && rho >= chord - 1e-12, "{rho}");
+                assert!((p.z() - h).abs() < 1e-12);
+            }
+        }
+        assert!((s.offsets[0] - 0.2).abs() < 1e-12 && (s.offsets[4] - 1.8).abs() < 1e-12);
+    }
+
+    #[test]
+    fn slicing_a_cylinder_cloud_gives_exact_circles_and_a_hole_is_reported() {
+        let r = 0.75;
+        let mut pts = Vec::new();
+        for j in 0..=100 {
+            for i in 0..90 {
+                let t = std::f64::consts::TAU * i as f64 / 90.0 + 0.01 * j as f64;
+                pts.push(Vec3::new(r * t.cos(), r * t.sin(), j as f64 / 100.0));
+            }
+        }
+        let cloud = Mesh {
+            vertices: pts.clone(),
+            triangles: vec![],
+        };
+        let s = slice_mesh(
+            &cloud,
+            &SliceOptions {
+                slices: 4,
+                slab: 0.05,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(s.sections.len(), 4);
+        assert!(s.gaps.is_empty(), "{:?}", s.gaps);
+        for sec in &s.sections {
+            assert!(sec.closed);
+            for p in &sec.points {
+                assert!(((p.x() * p.x() + p.y() * p.y()).sqrt() - r).abs() < 1e-12);
+            }
+        }
+        // remove a window (angles 1..2 rad, z 0.3..0.7): the slices through it report one gap each
+        let holed: Vec<Vec3> = pts
+            .into_iter()
+            .filter(|p| {
+                let t = p.y().atan2(p.x());
+                !(t > 1.0 && t < 2.0 && p.z() > 0.3 && p.z() < 0.7)
+            })
+            .collect();
+        let s = slice_mesh(
+            &Mesh {
+                vertices: holed,
+                triangles: vec![],
+            },
+            &SliceOptions {
+                slices: 4,
+                slab: 0.05,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        // planes at z = 0.125, 0.375, 0.625, 0.875: the middle two cross the hole
+        let secs: Vec<usize> = s.gaps.iter().map(|g| g.section).collect();
+        assert_eq!(secs, vec![1, 2], "{:?}", s.gaps);
+        for g in &s.gaps {
+            // the missing arc spans about 1 rad: chord 2 r sin(0.5) plus up to one point spacing
+            assert!(
+                g.length > 2.0 * r * 0.5f64.sin() * 0.9 && g.length < 2.0 * r * 0.6f64.sin(),
+                "{}",
+                g.length
+            );
+            assert_eq!(g.handling, "open");
+        }
+        assert!(!s.sections[1].closed && s.sections[0].closed);
+    }
+
+    #[test]
+    fn a_hole_in_a_mesh_is_reported_not_bridged_silently() {
+        let m = cylinder(1.0, 128, 20, Some(((0.5, 1.2), (0.8, 1.2))));
+        let s = slice_mesh(
+            &m,
+            &SliceOptions {
+                slices: 2,
+                normal: Vec3::new(0.0, 0.0, 1.0),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        // planes at z = 0.5 (intact) and 1.5 (intact); use a plane through the hole instead
+        assert!(s.gaps.is_empty());
+        let s = slice_mesh(
+            &m,
+            &SliceOptions {
+                slices: 1 + 1,
+                normal: Vec3::new(0.0, 0.0, 1.0),
+                ..Default::default()
+            },
+        );
+        assert!(s.is_ok());
+        let s = slice_mesh(
+            &m,
+            &SliceOptions {
+                slices: 4,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        // planes at 0.25, 0.75, 1.25, 1.75: none inside (0.8, 1.2)
+        assert!(s.gaps.is_empty());
+        let s = slice_mesh(
+            &m,
+            &SliceOptions {
+                slices: 5,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        // plane at z = 1.0 crosses the hole: one gap of about the hole's angular width (0.7 rad)
+        assert_eq!(s.gaps.len(), 1, "{:?}", s.gaps);
+        let g = &s.gaps[0];
+        assert_eq!(g.section, 2);
+        let want = 2.0 * (0.35f64).sin();
+        assert!((g.length - want).abs() < 0.06, "{} vs {want}", g.length);
+        assert!(g.length > 5.0 * g.typical_spacing);
+        assert_eq!(g.handling, "bridged");
+    }
+
+    #[test]
+    fn bad_slicing_options_are_errors() {
+        let m = cylinder(1.0, 16, 2, None);
+        assert!(slice_mesh(
+            &m,
+            &SliceOptions {
+                slices: 1,
+                ..Default::default()
+            }
+        )
+        .is_err());
+        assert!(slice_mesh(
+            &m,
+            &SliceOptions {
+                normal: Vec3::ZERO,
+                ..Default::default()
+            }
+        )
+        .is_err());
+        let flat = Mesh {
+            vertices: vec![Vec3::new(0.0, 0.0, 1.0); 5],
+            triangles: vec![],
+        };
+        assert!(slice_mesh(&flat, &SliceOptions::default()).is_err());
+    }
+}

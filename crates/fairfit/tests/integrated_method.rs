@@ -1,0 +1,151 @@
+//! The integrated fitting-and-fairing method on the example data: tolerance met, lower F than the
+//! least-squares baseline with the same number of control points, exact scale invariance, and
+//! thread-count independent results.
+
+use fairfit::optim::integrated::{fit_integrated, fit_lsq_baseline, IntegratedOptions, Tolerance};
+use fairfit::Vec3;
+
+/// Reads an `x,y[,z]` CSV with `#` comments and a header line (test helper, not the library reader).
+fn read_csv(name: &str) -> Vec<Vec3> {
+    let path = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap();
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| {
+            let v: Vec<f64> = l.split(',').filter_map(|s| s.trim().parse().ok()).collect();
+            (v.len() >= 2).then(|| Vec3([v[0], v[1], v.get(2).copied().unwrap_or(0.0)]))
+        })
+        .collect()
+}
+
+fn opts() -> IntegratedOptions {
+    IntegratedOptions {
+        tolerance: Tolerance::Relative(1e-3),
+        seed: 42,
+        ..IntegratedOptions::default()
+    }
+}
+
+#[test]
+fn beats_the_least_squares_baseline_on_fairness_within_tolerance() {
+    for name in ["quarter_ellipse_200.csv", "naca4412.csv", "e387.csv"] {
+        let pts = read_csv(name);
+        let r = fit_integrated(&pts, &opts()).unwrap();
+        let n = r.curve.n_control_points();
+        let base = fit_lsq_baseline(&pts, n, &opts()).unwrap();
+        let base_tol = fit_lsq_baseline(&pts, r.baseline_control_points, &opts()).unwrap();
+        eprintln!(
+            "{name}: n={n} (lsq {}) dev={:.3e} tol={:.3e} F={:.4} maxFj={:.4} | lsq same n: dev={:.3e} F={:.4} | lsq at its n: F={:.4} | logλ={:.2} evals={} its={} t={:.3}s tried={:?}",
+            r.baseline_control_points,
+            r.quality.max_deviation,
+            r.tolerance,
+            r.quality.fairness,
+            r.quality.max_span_fairness,
+            base.quality.max_deviation,
+            base.quality.fairness,
+            base_tol.quality.fairness,
+            r.log_lambda,
+            r.stats.evaluations,
+            r.stats.iterations,
+            r.stats.seconds,
+            r.stats.counts_tried,
+        );
+        assert!(r.met);
+        assert!(r.quality.max_deviation <= r.tolerance);
+        assert!(n <= r.baseline_control_points);
+        // fewer control points than the least-squares fit meeting the same tolerance, and fairer
+        assert!(n <= r.baseline_control_points);
+        assert!(base_tol.quality.max_deviation <= base_tol.tolerance);
+        assert!(r.quality.fairness < base_tol.quality.fairness, "{name}");
+        // and fairer than least squares with the same number of control points (which, with its
+        // averaging knots, does not even meet the tolerance on the airfoils)
+        assert!(r.quality.fairness < base.quality.fairness, "{name}");
+    }
+}
+
+fn curve_bits(r: &fairfit::optim::integrated::IntegratedResult) -> Vec<u64> {
+    let c = &r.curve;
+    c.knots()
+        .iter()
+        .map(|k| k.to_bits())
+        .chain(
+            c.control_points()
+                .iter()
+                .flat_map(|p| p.0.map(f64::to_bits)),
+        )
+        .collect()
+}
+
+#[test]
+fn same_seed_gives_identical_bits_with_one_and_two_threads() {
+    let pts = read_csv("naca4412.csv");
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| fit_integrated(&pts, &opts()).unwrap())
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(curve_bits(&a), curve_bits(&b));
+    assert_eq!(a.stats.evaluations, b.stats.evaluations);
+    assert_eq!(
+        fairfit::io::json::curve_to_json(&a.curve),
+        fairfit::io::json::curve_to_json(&b.curve)
+    );
+}
+
+#[test]
+fn scaling_the_input_by_1000_gives_the_same_knots_and_count() {
+    let pts = read_csv("e387.csv");
+    let big: Vec<Vec3> = pts.iter().map(|p| *p * 1000.0).collect();
+    let (a, b) = (
+        fit_integrated(&pts, &opts()).unwrap(),
+        fit_integrated(&big, &opts()).unwrap(),
+    );
+    assert_eq!(a.curve.n_control_points(), b.curve.n_control_points());
+    let bits = |r: &fairfit::optim::integrated::IntegratedResult| {
+        r.curve
+            .knots()
+            .iter()
+            .map(|k| k.to_bits())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&a), bits(&b));
+    assert!((b.quality.fairness - a.quality.fairness).abs() <= 1e-9 * a.quality.fairness);
+    assert!((b.quality.max_deviation / 1000.0 - a.quality.max_deviation).abs() < 1e-12);
+    for (p, q) in a
+        .curve
+        .control_points()
+        .iter()
+        .zip(b.curve.control_points())
+    {
+        assert!((*p * 1000.0 - *q).norm() < 1e-9);
+    }
+}
+
+#[test]
+fn pareto_front_trades_deviation_for_fairness_without_dominated_members() {
+    use fairfit::optim::pareto::{pareto_csv, pareto_front};
+    let pts = read_csv("naca4412.csv");
+    let r = fit_integrated(&pts, &opts()).unwrap();
+    let n = r.curve.n_control_points();
+    let knots = r.curve.knots();
+    let interior = &knots[4..knots.len() - 4];
+    let front = pareto_front(&pts, &opts(), n, Some((interior, r.log_lambda))).unwrap();
+    eprintln!("{}", pareto_csv(&front));
+    assert!(front.len() >= 5, "{}", front.len());
+    for w in front.windows(2) {
+        // sorted by deviation, so fairness strictly decreases along a non-dominated front
+        assert!(w[0].quality.max_deviation <= w[1].quality.max_deviation);
+        assert!(w[0].quality.fairness > w[1].quality.fairness);
+    }
+    for c in &front {
+        assert_eq!(c.curve.n_control_points(), n);
+        assert!(c.quality.max_deviation <= 10.0 * r.tolerance * (1.0 + 1e-12));
+    }
+    // the front reaches below the integrated result's F at larger deviations
+    let last = front.last().unwrap();
+    assert!(last.quality.fairness < r.quality.fairness);
+    assert_eq!(pareto_csv(&front).lines().count(), front.len() + 1);
+}
