@@ -133,13 +133,12 @@ class Curve:
 
 
 def is_planar(points, ctrl):
-    """True if data and control points are 2D, or 3D with a (numerically) constant z."""
+    """True if the control points (and points) lie in a plane z = const (or are 2D)."""
     pts = np.asarray(points, dtype=float)
     c = np.asarray(ctrl, dtype=float)
-    if pts.shape[1] == 2 and c.shape[1] == 2:
-        return True
-    ext = max(np.ptp(pts, axis=0).max(), 1e-300)
-    return c.shape[1] >= 3 and np.ptp(c[:, 2]) <= PLANAR_REL * ext and np.ptp(pts[:, 2]) <= PLANAR_REL * ext
+    ext = max(float(np.max(np.ptp(pts, axis=0))), 1e-300)
+    flat = [a[:, 2] for a in (pts, c) if a.shape[1] >= 3]
+    return all(np.ptp(z) <= PLANAR_REL * ext for z in flat)
 
 
 def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, candidates=3):
