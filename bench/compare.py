@@ -292,7 +292,7 @@ def run_occ(pts, tol: float, degmax: int) -> Result:
         return evals[tol3d]
 
     t0 = time.perf_counter()
-    grid_search(lambda t3: dev(t3)[1] <= tol, tol * np.geomspace(0.02, 5.0, 25))
+    grid_search(lambda t3: dev(t3)[1] <= tol, tol * np.geomspace(0.03, 5.0, 18), refine=8)
     total = (time.perf_counter() - t0) * 1e3
     ok = [(n, -t3, t3) for t3, (n, d, cur, _) in evals.items() if d <= tol and cur is not None]
     if not ok:
