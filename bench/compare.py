@@ -400,9 +400,10 @@ def summary(all_rows):
     """Per fairfit method (and per baseline): counts against splprep on the same curves."""
     lines = [
         "| method | curves | tolerance met | ctrl pts <= splprep | ctrl pts <= 1.5x splprep | F <= 0.5x splprep | extrema <= splprep | "
+        "time <= 0.2 s | max time s | "
         "median time ratio vs splprep (one call) | median time ratio vs splprep (with its s search) | "
         "median ratio, method's own time (fairfit: internal fit time; baselines: one call) / splprep one call |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     methods = []
     for _, _, _, results in all_rows:
@@ -410,7 +411,8 @@ def summary(all_rows):
             if r.method != "scipy splprep" and r.method not in methods:
                 methods.append(r.method)
     for meth in methods:
-        n = tm = cp = cp15 = ff = ex = 0
+        n = tm = cp = cp15 = ff = ex = fast = 0
+        tmax = float("nan")
         r1, r2, r3 = [], [], []
         for _, _, tol, results in all_rows:
             by = {r.method: r for r in results}
@@ -421,6 +423,8 @@ def summary(all_rows):
             if not met(r, tol):
                 continue
             tm += 1
+            fast += r.time_ms <= 200.0
+            tmax = r.time_ms / 1e3 if not np.isfinite(tmax) else max(tmax, r.time_ms / 1e3)
             if s is None or not met(s, tol):
                 continue
             a, b = r.metrics, s.metrics
@@ -436,7 +440,7 @@ def summary(all_rows):
         med1 = fmt_g(statistics.median(r1)) if r1 else "n/a"
         med2 = fmt_g(statistics.median(r2)) if r2 else "n/a"
         med3 = fmt_g(statistics.median(r3)) if r3 else "n/a"
-        lines.append(f"| {meth} | {n} | {tm} | {cp} | {cp15} | {ff} | {ex} | {med1} | {med2} | {med3} |")
+        lines.append(f"| {meth} | {n} | {tm} | {cp} | {cp15} | {ff} | {ex} | {fast} | {fmt_g(tmax)} | {med1} | {med2} | {med3} |")
     wins = total = 0
     for _, _, tol, results in all_rows:
         by = {r.method: r for r in results}
@@ -558,7 +562,9 @@ def write_report(path, groups_rows, args, data):
         "",
         "## Summary",
         "",
-        "Counts are numbers of curves. A comparison with splprep is only counted when both meet the tolerance. "
+        "Counts are numbers of curves. A comparison with splprep is only counted when both meet the tolerance; "
+        "time <= 0.2 s and max time count the curves where the method met the tolerance (fairfit: whole CLI "
+        "process; baselines: whole tolerance search). "
         "Time ratio = method's time / splprep's time in the same run (one final splprep call, or splprep's whole "
         "s search).",
         "",
