@@ -459,6 +459,7 @@ def summary(all_rows):
 def shortfalls(all_rows):
     """Per-curve list of where a fairfit method misses an issue-4 target."""
     out = []
+    failed = {}
     for name, _, tol, results in all_rows:
         by = {r.method: r for r in results}
         s = by.get("scipy splprep")
@@ -467,7 +468,7 @@ def shortfalls(all_rows):
             if r is None:
                 continue
             if not r.ok:
-                out.append(f"- {name}, {meth}: n/a ({r.reason})")
+                failed.setdefault((meth, r.reason), []).append(name)
                 continue
             a = r.metrics
             probs = []
@@ -489,6 +490,9 @@ def shortfalls(all_rows):
                 f"- {name}: integrated F {fi.metrics.F:.3g} > fit-then-fair F {ff.metrics.F:.3g} "
                 f"(ctrl pts {fi.metrics.n_ctrl} vs {ff.metrics.n_ctrl})"
             )
+    for (meth, reason), names in failed.items():
+        which = "all curves" if len(names) == len(all_rows) else ", ".join(names)
+        out.append(f"- {meth}: n/a on {len(names)} curve(s) ({which}): {reason}")
     return "\n".join(out) if out else "None."
 
 
