@@ -133,13 +133,12 @@ class Curve:
 
 
 def is_planar(points, ctrl):
-    """True if data and control points are 2D, or 3D with a (numerically) constant z."""
+    """True if the control points (and points) lie in a plane z = const (or are 2D)."""
     pts = np.asarray(points, dtype=float)
     c = np.asarray(ctrl, dtype=float)
-    if pts.shape[1] == 2 and c.shape[1] == 2:
-        return True
-    ext = max(np.ptp(pts, axis=0).max(), 1e-300)
-    return c.shape[1] >= 3 and np.ptp(c[:, 2]) <= PLANAR_REL * ext and np.ptp(pts[:, 2]) <= PLANAR_REL * ext
+    ext = max(float(np.max(np.ptp(pts, axis=0))), 1e-300)
+    flat = [a[:, 2] for a in (pts, c) if a.shape[1] >= 3]
+    return all(np.ptp(z) <= PLANAR_REL * ext for z in flat)
 
 
 def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, candidates=3):
@@ -159,33 +158,39 @@ def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, candidat
     d0, idx = tree.query(P, k=kq)
     d0 = d0.reshape(len(P), kq)
     idx = idx.reshape(len(P), kq)
-    best = d0[:, 0].copy()
-    for j in range(kq):
-        i = idx[:, j]
-        lo = us[np.maximum(i - 1, 0)]
-        hi = us[np.minimum(i + 1, len(us) - 1)]
-        u = us[i].copy()
-        for _ in range(12):
-            C0, C1, C2 = curve.derivs(u, 2)
-            r = C0 - P
-            f = np.einsum("ij,ij->i", r, C1)
-            fp = np.einsum("ij,ij->i", C1, C1) + np.einsum("ij,ij->i", r, C2)
-            step = np.where(fp > 0, -f / np.where(fp > 0, fp, 1.0), 0.0)
-            u = np.clip(u + step, lo, hi)
-        d_newton = np.linalg.norm(curve.points(u) - P, axis=1)
-        # Fallback: Brent where Newton did not beat the sampled distance.
-        bad = np.nonzero(d_newton > d0[:, j] * (1 + 1e-12))[0]
-        for b in bad:
-            p = P[b]
-            res = minimize_scalar(
-                lambda x: float(np.sum((curve.points(np.array([x]))[0] - p) ** 2)),
-                bounds=(lo[b], hi[b]),
-                method="bounded",
-                options={"xatol": 1e-14 * max(1.0, abs(curve.hi - curve.lo))},
-            )
-            d_newton[b] = min(d0[b, j], float(np.sqrt(res.fun)))
-        best = np.minimum(best, d_newton)
-    return best
+    # All (point, candidate) pairs are refined together, vectorised.
+    i = idx.reshape(-1)
+    Q = np.repeat(P, kq, axis=0)
+    ds = d0.reshape(-1)
+    lo = us[np.maximum(i - 1, 0)]
+    hi = us[np.minimum(i + 1, len(us) - 1)]
+    u = us[i].copy()
+    eps = 1e-15 * max(1.0, abs(curve.hi - curve.lo))
+    for _ in range(16):
+        C0, C1, C2 = curve.derivs(u, 2)
+        r = C0 - Q
+        f = np.einsum("ij,ij->i", r, C1)
+        fp = np.einsum("ij,ij->i", C1, C1) + np.einsum("ij,ij->i", r, C2)
+        step = np.where(fp > 0, -f / np.where(fp > 0, fp, 1.0), 0.0)
+        u_new = np.clip(u + step, lo, hi)
+        moved = np.max(np.abs(u_new - u))
+        u = u_new
+        if moved <= eps:
+            break
+    d_newton = np.linalg.norm(curve.points(u) - Q, axis=1)
+    # Fallback: bounded Brent where Newton did not beat the sampled distance.
+    bad = np.nonzero(d_newton > ds * (1 + 1e-12))[0]
+    for b in bad:
+        q = Q[b]
+        res = minimize_scalar(
+            lambda x: float(np.sum((curve.points(np.array([x]))[0] - q) ** 2)),
+            bounds=(lo[b], hi[b]),
+            method="bounded",
+            options={"xatol": eps},
+        )
+        d_newton[b] = min(ds[b], float(np.sqrt(res.fun)))
+    d = np.minimum(d_newton, ds).reshape(len(P), kq)
+    return d.min(axis=1)
 
 
 def _kappa_and_dkds(curve: Curve, u, planar):

@@ -134,6 +134,25 @@ def test_tolerance_is_relative_to_bounding_box_and_exact_circle_fits():
     assert m.max_dev < 1e-13
 
 
+def test_deviation_matches_brute_force_on_random_rational_spline():
+    from scipy.spatial import cKDTree
+
+    rng = np.random.default_rng(3)
+    n, k = 12, 3
+    knots = np.r_[[0.0] * 4, np.sort(rng.uniform(0, 1, n - k - 1)), [1.0] * 4]
+    ctrl = np.cumsum(rng.normal(size=(n, 2)), axis=0)
+    w = rng.uniform(0.5, 2.0, n)
+    c = measure.Curve(k, knots, ctrl, w)
+    pts = c.points(rng.uniform(0, 1, 80)) + rng.normal(scale=0.05, size=(80, 2))
+    dense = c.points(np.linspace(0, 1, 400_001))
+    brute, _ = cKDTree(dense).query(pts)
+    d = measure.deviations(c, pts)
+    # the measurer is never worse than brute force and within its sampling error
+    assert np.all(d <= brute + 1e-12)
+    spacing = np.max(np.linalg.norm(np.diff(dense, axis=0), axis=1))
+    assert np.max(brute - d) <= spacing, (np.max(brute - d), spacing)
+
+
 def test_read_points_skips_comments_and_header(tmp_path=None):
     import tempfile
 
