@@ -165,9 +165,17 @@ fn ill_posed_inputs_fail_with_one_line() {
     fails_cleanly(&["curve", "/nonexistent/points.csv"], "nonexistent");
     let ok = data("quarter_ellipse_200.csv");
     fails_cleanly(
-        &["curve", &ok, "--method", "integrated"],
-        "not available yet",
+        &[
+            "curve",
+            &ok,
+            "--method",
+            "integrated",
+            "--span-fairness",
+            "-1",
+        ],
+        "span fairness",
     );
+    fails_cleanly(&["curve", &ok, "--pareto-curves", "/tmp/x"], "--pareto");
     fails_cleanly(&["curve", &ok, "--tol=-1"], "tolerance");
     fails_cleanly(&["curve", &ok, "--corner-angle", "0"], "corner-angle");
 }

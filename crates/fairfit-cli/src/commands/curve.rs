@@ -1,11 +1,14 @@
 //! `fairfit curve`: fit a curve to ordered points within a tolerance.
 //!
-//! `--method lsq` is the least-squares pipeline of `fairfit::fit` (parameterisation, knots added where
-//! the orthogonal error is largest, parameter correction, knot removal, corners and closed curves).
-//! The other methods are listed so scripts can name them; they report that they are not available
-//! until they are wired in. Writes the curve JSON (`-o`, else stdout) and an optional JSON report with
+//! `--method integrated` (the default) is fairfit's integrated fitting and fairing (knot vector by
+//! particle swarm optimisation, see `curve_optim.rs`); `--method lsq` is the least-squares pipeline of
+//! `fairfit::fit` (parameterisation, knots added where the orthogonal error is largest, parameter
+//! correction, knot removal, corners and closed curves); `--method fit-then-fair` fairs the
+//! least-squares fit afterwards within the same tolerance. Writes the curve JSON (`-o`, else stdout) and an optional JSON report with
 //! deviation, fairness and timing.
 
+use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
+use super::outputs::{write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::fair::curve_fairness;
@@ -55,7 +58,7 @@ pub struct CurveArgs {
     #[arg(required = true)]
     pub input: PathBuf,
     /// Fitting method.
-    #[arg(long, value_enum, default_value_t = Method::Lsq)]
+    #[arg(long, value_enum, default_value_t = Method::Integrated)]
     pub method: Method,
     /// Absolute tolerance on the maximum orthogonal deviation.
     #[arg(long, conflicts_with = "rel_tol")]
@@ -84,6 +87,15 @@ pub struct CurveArgs {
     /// Scale-free smoothing weight λ of ∫|C''|² (0 = plain least squares).
     #[arg(long, default_value_t = 0.0)]
     pub smoothing: f64,
+    /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
+    #[arg(long)]
+    pub span_fairness: Option<f64>,
+    /// Write the Pareto front of (max deviation, F) as CSV (integrated method).
+    #[arg(long)]
+    pub pareto: Option<PathBuf>,
+    /// Also write every Pareto front member as a curve JSON into this directory.
+    #[arg(long)]
+    pub pareto_curves: Option<PathBuf>,
     /// Random seed (methods with a stochastic search).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -96,23 +108,14 @@ pub struct CurveArgs {
     /// Write a JSON report (deviation, fairness, timing) to this file.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// CAD, mesh, plot and HTML outputs.
+    #[command(flatten)]
+    pub outputs: OutputArgs,
 }
 
 /// Runs `fairfit curve`.
 pub fn run(args: CurveArgs) -> CmdResult {
     let wall = Instant::now();
-    match args.method {
-        Method::Lsq => {}
-        Method::Integrated | Method::FitThenFair => {
-            return Err(CliError(format!(
-                "method '{}' is not available yet; use --method lsq",
-                args.method
-                    .to_possible_value()
-                    .map(|v| v.get_name().to_string())
-                    .unwrap_or_default()
-            )))
-        }
-    }
     if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
         return Err(CliError(format!(
             "--corner-angle must be in (0, 180] degrees, got {}",
@@ -145,17 +148,59 @@ pub fn run(args: CurveArgs) -> CmdResult {
         smoothing: args.smoothing,
         ..FitOptions::default()
     };
-    let fit = fit_to_tolerance(&set.points, &opts)?;
-    let text = curve_to_json(&fit.curve);
+    let want_report = args.report.is_some() || args.outputs.html.is_some();
+    let (curve, report) = match args.method {
+        Method::Lsq => {
+            let fit = fit_to_tolerance(&set.points, &opts)?;
+            let report =
+                want_report.then(|| report_json(&args, &fit, wall.elapsed().as_secs_f64()));
+            (fit.curve, report)
+        }
+        Method::Integrated | Method::FitThenFair => {
+            let out = with_pool(args.threads, || match args.method {
+                Method::Integrated => run_integrated(&args, &set.points),
+                _ => run_fit_then_fair(&args, &set.points, &opts),
+            })?;
+            let report = want_report.then(|| {
+                let f = curve_fairness(&out.curve);
+                let mut r = json!({
+                    "input": args.input.display().to_string(),
+                    "degree": out.curve.degree(),
+                    "points": set.points.len(),
+                    "length": f.length,
+                    "fairness": f.fairness,
+                    "max_span_fairness": f.max_span_fairness,
+                    "curvature_extrema": f.curvature_extrema,
+                    "inflections": f.inflections,
+                    "wall_seconds": wall.elapsed().as_secs_f64(),
+                });
+                if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
+                    for (k, v) in extra {
+                        obj.insert(k.clone(), v.clone());
+                    }
+                }
+                r
+            });
+            (out.curve, report)
+        }
+    };
+    let text = curve_to_json(&curve);
     match &args.output {
         Some(p) => write_atomic(p, text.as_bytes())?,
         None => println!("{text}"),
     }
-    if let Some(rp) = &args.report {
-        let report = report_json(&args, &fit, wall.elapsed().as_secs_f64());
-        let body = serde_json::to_string_pretty(&report)
-            .map_err(|e| CliError(format!("internal: {e}")))?;
+    if let (Some(rp), Some(report)) = (&args.report, &report) {
+        let body =
+            serde_json::to_string_pretty(report).map_err(|e| CliError(format!("internal: {e}")))?;
         write_atomic(rp, body.as_bytes())?;
+    }
+    if args.outputs.any() {
+        write_outputs(
+            OutputGeometry::Curve(&curve),
+            Some(&set.points),
+            report.as_ref(),
+            &args.outputs,
+        )?;
     }
     Ok(())
 }

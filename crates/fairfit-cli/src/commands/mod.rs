@@ -1,6 +1,7 @@
 //! One module per subcommand; each exposes its clap `Args` struct and `run`.
 
 pub mod curve;
+pub mod curve_optim;
 pub mod eval;
 pub mod export;
 pub mod info;

@@ -1,6 +1,7 @@
 //! `fairfit surface`: a fair NURBS surface through section files, or through a mesh / point cloud sliced
 //! into planar sections; writes the surface JSON and optionally a report of its measures.
 
+use super::outputs::{write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::io::mesh_read::read_mesh;
@@ -86,6 +87,9 @@ pub struct SurfaceArgs {
     /// Write a JSON report of the measures here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// CAD, mesh, plot and HTML outputs.
+    #[command(flatten)]
+    pub outputs: OutputArgs,
 }
 
 fn parse_normal(s: &str) -> Result<Vec3, CliError> {
@@ -240,7 +244,12 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     write_surface(&args.output, &r.surface)?;
     let (nu, nv) = r.surface.net_size();
     let within = r.deviation.max <= tol;
-    if let Some(path) = &args.report {
+    let all_points: Vec<Vec3> = r
+        .sections
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .collect();
+    if args.report.is_some() || args.outputs.html.is_some() {
         let sections: Vec<serde_json::Value> = r
             .sections
             .iter()
@@ -274,8 +283,25 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             "gaps": input.gaps,
             "empty_planes": input.empty_planes,
         });
-        let text = serde_json::to_string_pretty(&rep).map_err(|e| CliError(e.to_string()))?;
-        write_atomic(path, text.as_bytes())?;
+        if let Some(path) = &args.report {
+            let text = serde_json::to_string_pretty(&rep).map_err(|e| CliError(e.to_string()))?;
+            write_atomic(path, text.as_bytes())?;
+        }
+        if args.outputs.any() {
+            write_outputs(
+                OutputGeometry::Surface(&r.surface),
+                Some(&all_points),
+                Some(&rep),
+                &args.outputs,
+            )?;
+        }
+    } else if args.outputs.any() {
+        write_outputs(
+            OutputGeometry::Surface(&r.surface),
+            Some(&all_points),
+            None,
+            &args.outputs,
+        )?;
     }
     println!(
         "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along the sections {:.3e}, across them {:.3e}; {} gap(s) reported",

@@ -2,7 +2,7 @@
 //! near its parameter, refit with the foot parameters, for a configurable number of rounds. A round is
 //! kept only when it lowers the maximum orthogonal deviation.
 
-use super::deviation::{max_orthogonal_deviation, Deviation};
+use super::deviation::{max_orthogonal_deviation, screened_deviation, Deviation};
 use super::lsq::{LsqOptions, LsqSolver};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -21,7 +21,9 @@ pub struct CorrectedFit {
 }
 
 /// Fits with fixed `knots`, then runs up to `rounds` parameter corrections, stopping early once the
-/// maximum deviation is `<= stop_below` or a round does not improve it.
+/// maximum deviation is `<= stop_below` or a round does not improve it. With `rounds == 0` and
+/// `stop_below > 0` the deviation is the screened one ([`screened_deviation`]): exact for points that
+/// miss `stop_below`, an upper bound below it for the others.
 ///
 /// ```
 /// use fairfit::fit::correction::fit_with_correction;
@@ -51,7 +53,12 @@ pub fn fit_with_correction(
     let mut ctrl = Vec::new();
     solver.solve(points, params, knots, None, opts, &mut ctrl)?;
     let curve = NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?;
-    let deviation = max_orthogonal_deviation(&curve, points, params);
+    // without correction only the tolerance decision matters: project only the points that miss it
+    let deviation = if rounds == 0 && stop_below > 0.0 {
+        screened_deviation(&curve, points, params, stop_below)
+    } else {
+        max_orthogonal_deviation(&curve, points, params)
+    };
     let mut best = CorrectedFit {
         curve,
         params: params.to_vec(),

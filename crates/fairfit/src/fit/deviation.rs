@@ -66,6 +66,51 @@ pub fn max_orthogonal_deviation(
     }
 }
 
+/// A cheaper deviation for the question "is every point within `tol`?": the algebraic distance
+/// `|C(ū_k) − Q_k|` bounds the orthogonal one from above, so only points whose algebraic distance
+/// exceeds `tol` are projected. Per point, the value is the orthogonal distance for those points and
+/// the algebraic one (already `<= tol`) for the others; `max <= tol` exactly when the orthogonal
+/// maximum is. `params` hold foot parameters for projected points and the given ones otherwise.
+pub fn screened_deviation(
+    curve: &NurbsCurve,
+    points: &[Vec3],
+    params: &[f64],
+    tol: f64,
+) -> Deviation {
+    let mut per_point = vec![Vec3::ZERO; points.len()];
+    curve.points_into(params, &mut per_point);
+    let mut dist: Vec<f64> = per_point
+        .iter()
+        .zip(points)
+        .map(|(c, q)| (*c - *q).norm())
+        .collect();
+    let mut foot = params.to_vec();
+    if dist.iter().any(|&d| d > tol) {
+        let proj = CurveProjector::new(curve, SAMPLES_PER_SPAN);
+        for k in 0..points.len() {
+            if dist[k] > tol {
+                let pr = proj.project_near(points[k], params[k]);
+                if pr.distance < dist[k] {
+                    dist[k] = pr.distance;
+                    foot[k] = pr.u;
+                }
+            }
+        }
+    }
+    let max = dist.iter().copied().fold(0.0, f64::max);
+    let rms = if dist.is_empty() {
+        0.0
+    } else {
+        (dist.iter().map(|d| d * d).sum::<f64>() / dist.len() as f64).sqrt()
+    };
+    Deviation {
+        max,
+        rms,
+        per_point: dist,
+        params: foot,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -99,6 +144,12 @@ mod tests {
             let want = 0.01 * ((k % 5) as f64 - 2.0).abs();
             assert!((e - want).abs() < 1e-12, "k={k}: {e} vs {want}");
         }
+        let screened = screened_deviation(&c, &pts, &hint, 0.015);
+        assert!((screened.max - 0.02).abs() < 1e-12);
+        assert!(screened
+            .per_point
+            .iter()
+            .all(|&e| e <= 0.015 || (e - 0.02).abs() < 1e-12));
         let full = max_orthogonal_deviation(&c, &pts, &[]);
         assert!((full.max - d.max).abs() < 1e-14);
     }

@@ -1,0 +1,158 @@
+//! The optimising methods of `fairfit curve`: `--method integrated` (knots by particle swarm
+//! optimisation, `fairfit::optim`) with `--span-fairness`, `--pareto` and `--pareto-curves`, and
+//! `--method fit-then-fair` (the least-squares fit, then fairing held to the same tolerance).
+//!
+//! Runs inside a local rayon pool of `--threads` workers (results do not depend on the count) and shows
+//! a progress spinner on stderr only when it is a terminal.
+
+use super::curve::CurveArgs;
+use super::CliError;
+use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
+use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
+use fairfit::io::{curve_to_json, write_atomic};
+use fairfit::optim::integrated::{
+    fit_integrated_with_progress, IntegratedOptions, IntegratedResult, Tolerance,
+};
+use fairfit::optim::pareto::{pareto_csv, pareto_front};
+use fairfit::{NurbsCurve, Vec3};
+use serde_json::{json, Value};
+
+/// A fitted curve and the method-specific part of its report.
+pub struct MethodOutput {
+    /// The curve.
+    pub curve: NurbsCurve,
+    /// Report fields of the method (merged into the report).
+    pub report: Value,
+}
+
+/// Runs `f` inside a rayon pool of `threads` workers (0 = rayon's default).
+pub fn with_pool<T: Send>(
+    threads: usize,
+    f: impl FnOnce() -> Result<T, CliError> + Send,
+) -> Result<T, CliError> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| CliError(format!("cannot start {threads} worker threads: {e}")))?;
+    pool.install(f)
+}
+
+fn tolerance(args: &CurveArgs) -> Tolerance {
+    match (args.tol, args.rel_tol) {
+        (Some(t), _) => Tolerance::Absolute(t),
+        (None, Some(r)) => Tolerance::Relative(r),
+        (None, None) => Tolerance::Relative(1e-3),
+    }
+}
+
+fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
+    IntegratedOptions {
+        degree: args.degree as usize,
+        tolerance: tolerance(args),
+        span_fairness: args.span_fairness,
+        seed: args.seed,
+        ..IntegratedOptions::default()
+    }
+}
+
+/// `--method integrated`.
+pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput, CliError> {
+    if args.closed {
+        return Err(CliError(
+            "--closed is not supported by --method integrated yet; use --method lsq".into(),
+        ));
+    }
+    let opts = integrated_options(args);
+    let bar = crate::progress::bar(0, "knot search");
+    let r: IntegratedResult = fit_integrated_with_progress(points, &opts, &|n, it| {
+        bar.set_message(format!("{n} control points"));
+        bar.set_position(it as u64);
+    })?;
+    bar.finish_and_clear();
+    let mut report = json!({
+        "method": "integrated",
+        "control_points": r.curve.n_control_points(),
+        "tolerance": r.tolerance,
+        "tolerance_met": r.met,
+        "max_deviation": r.quality.max_deviation,
+        "rms_deviation": r.quality.rms_deviation,
+        "span_fairness_target": args.span_fairness,
+        "log10_smoothing": if r.log_lambda.is_finite() && r.log_lambda > fairfit::optim::encoding::LOG_LAMBDA_OFF { Some(r.log_lambda) } else { None },
+        "lsq_baseline_control_points": r.baseline_control_points,
+        "optimizer": {
+            "seed": args.seed,
+            "evaluations": r.stats.evaluations,
+            "iterations": r.stats.iterations,
+            "counts_tried": r.stats.counts_tried,
+            "fairness_by_count": r.stats.fairness_by_count.iter()
+                .map(|(n, f)| json!({"control_points": n, "fairness": if f.is_finite() { Some(*f) } else { None }}))
+                .collect::<Vec<_>>(),
+            "seconds": r.stats.seconds,
+        },
+    });
+    if let Some(path) = &args.pareto {
+        let knots = r.curve.knots();
+        let p = r.curve.degree();
+        let interior = &knots[p + 1..knots.len() - p - 1];
+        let front = pareto_front(
+            points,
+            &opts,
+            r.curve.n_control_points(),
+            Some((interior, r.log_lambda)),
+        )?;
+        write_atomic(path, pareto_csv(&front).as_bytes())?;
+        if let Some(dir) = &args.pareto_curves {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| CliError(fairfit::Error::io(dir, &e).to_string()))?;
+            for (i, c) in front.iter().enumerate() {
+                write_atomic(
+                    dir.join(format!("front_{i:03}.json")),
+                    curve_to_json(&c.curve).as_bytes(),
+                )?;
+            }
+        }
+        report["pareto_members"] = json!(front.len());
+    } else if args.pareto_curves.is_some() {
+        return Err(CliError("--pareto-curves needs --pareto".into()));
+    }
+    if !r.met {
+        eprintln!(
+            "warning: the tolerance {:.3e} was not met (max deviation {:.3e})",
+            r.tolerance, r.quality.max_deviation
+        );
+    }
+    Ok(MethodOutput {
+        curve: r.curve,
+        report,
+    })
+}
+
+/// `--method fit-then-fair`: the least-squares fit, then fairing within the same tolerance.
+pub fn run_fit_then_fair(
+    args: &CurveArgs,
+    points: &[Vec3],
+    fit_opts: &FitOptions,
+) -> Result<MethodOutput, CliError> {
+    let fit = fit_to_tolerance(points, fit_opts)?;
+    let faired = fair_curve(
+        &fit.curve,
+        points,
+        fit.tolerance,
+        &FairingOptions::default(),
+    )?;
+    let before = curve_fairness(&fit.curve);
+    let report = json!({
+        "method": "fit-then-fair",
+        "control_points": faired.curve.n_control_points(),
+        "tolerance": fit.tolerance,
+        "tolerance_met": faired.max_deviation_after <= fit.tolerance,
+        "max_deviation": faired.max_deviation_after,
+        "lsq_fairness": before.fairness,
+        "fairing_moves": faired.iterations,
+        "seed": args.seed,
+    });
+    Ok(MethodOutput {
+        curve: faired.curve,
+        report,
+    })
+}

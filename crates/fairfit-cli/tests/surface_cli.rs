@@ -1,0 +1,227 @@
+//! `fairfit surface` end to end: blade sections, sliced meshes with and without holes, and clear errors
+//! (one line, exit code 1, no panic) for unusable inputs.
+
+use assert_cmd::Command;
+use std::path::{Path, PathBuf};
+
+fn blade_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data/iea15mw_sections")
+}
+
+fn fairfit() -> Command {
+    Command::cargo_bin("fairfit").unwrap()
+}
+
+fn read_json(p: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
+}
+
+fn fails_with(cmd: &mut Command, needle: &str) {
+    let out = cmd.output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: ") && err.contains(needle), "{err}");
+    assert!(
+        !err.contains("internal error") && !err.contains("panicked"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+}
+
+/// OBJ of an open cylinder (radius r, height 2), optionally without the triangles in an angular window
+/// at mid height.
+fn cylinder_obj(path: &Path, r: f64, hole: bool) {
+    let (na, nz) = (96, 16);
+    let mut s = String::new();
+    for j in 0..=nz {
+        for i in 0..na {
+            let t = std::f64::consts::TAU * i as f64 / na as f64;
+            s += &format!(
+                "v {} {} {}\n",
+                r * t.cos(),
+                r * t.sin(),
+                2.0 * j as f64 / nz as f64
+            );
+        }
+    }
+    for j in 0..nz {
+        for i in 0..na {
+            if hole && (7..9).contains(&j) && (10..20).contains(&i) {
+                continue;
+            }
+            let (a, b) = (j * na + i + 1, j * na + (i + 1) % na + 1);
+            let (c, d) = (a + na, b + na);
+            s += &format!("f {a} {b} {d}\nf {a} {d} {c}\n");
+        }
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+#[test]
+fn blade_sections_within_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("blade.json");
+    let rep = dir.path().join("report.json");
+    fairfit()
+        .arg("surface")
+        .arg(blade_dir())
+        .args(["--tol", "0.0057", "-o"])
+        .arg(&out)
+        .arg("--report")
+        .arg(&rep)
+        .assert()
+        .success();
+    let r = read_json(&rep);
+    assert_eq!(r["within_tolerance"], true);
+    assert!(r["deviation"]["max"].as_f64().unwrap() <= 0.0057);
+    assert_eq!(r["deviation"]["points"], 1916);
+    let net = r["net"].as_array().unwrap();
+    assert!(
+        net[0].as_u64().unwrap() <= 24 && net[1].as_u64().unwrap() <= 10,
+        "{net:?}"
+    );
+    assert_eq!(r["sections"].as_array().unwrap().len(), 10);
+    let s = read_json(&out);
+    assert_eq!(s["kind"], "surface");
+}
+
+#[test]
+fn sliced_cylinder_mesh_and_its_hole() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join("cyl.obj");
+    cylinder_obj(&mesh, 2.0, false);
+    let rep = dir.path().join("r.json");
+    fairfit()
+        .arg("surface")
+        .arg(&mesh)
+        .args(["--slices", "6", "--axis", "z", "--rel-tol", "1e-3", "-o"])
+        .arg(dir.path().join("s.json"))
+        .arg("--report")
+        .arg(&rep)
+        .assert()
+        .success();
+    let r = read_json(&rep);
+    assert_eq!(r["gaps"].as_array().unwrap().len(), 0);
+    assert_eq!(r["within_tolerance"], true);
+    assert!(r["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|s| s["closed"] == true));
+    // 5 slices: the middle plane (z = 1) crosses the hole; it is reported with its size
+    let holed = dir.path().join("holed.obj");
+    cylinder_obj(&holed, 2.0, true);
+    fairfit()
+        .arg("surface")
+        .arg(&holed)
+        .args(["--slices", "5", "--rel-tol", "1e-2", "-o"])
+        .arg(dir.path().join("h.json"))
+        .arg("--report")
+        .arg(&rep)
+        .assert()
+        .success();
+    let r = read_json(&rep);
+    let gaps = r["gaps"].as_array().unwrap();
+    assert_eq!(gaps.len(), 1, "{gaps:?}");
+    assert_eq!(gaps[0]["section"], 2);
+    // 10 of 96 segments missing: chord 2 r sin(10 π / 96)
+    let want = 4.0 * (10.0 * std::f64::consts::PI / 96.0).sin();
+    let got = gaps[0]["length"].as_f64().unwrap();
+    assert!((got - want).abs() < 0.05 * want, "{got} vs {want}");
+}
+
+#[test]
+fn unusable_inputs_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o.json");
+    let one = blade_dir().join("sec_03_s0.245.csv");
+    // one section
+    fails_with(
+        fairfit().arg("surface").arg(&one).arg("-o").arg(&o),
+        "at least 2 sections",
+    );
+    // a section of 2 points
+    let two = dir.path().join("two.csv");
+    std::fs::write(&two, "x,y,z\n0,0,1\n1,0,1\n").unwrap();
+    fails_with(
+        fairfit()
+            .arg("surface")
+            .arg(&one)
+            .arg(&two)
+            .arg("-o")
+            .arg(&o),
+        "at least 3 points",
+    );
+    // an empty folder, a missing file, a malformed file
+    let empty = dir.path().join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    std::fs::write(empty.join("INDEX.md"), "nothing").unwrap();
+    fails_with(
+        fairfit().arg("surface").arg(&empty).arg("-o").arg(&o),
+        "no .csv",
+    );
+    fails_with(
+        fairfit()
+            .arg("surface")
+            .arg(&one)
+            .arg(dir.path().join("nope.csv"))
+            .arg("-o")
+            .arg(&o),
+        "nope.csv",
+    );
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "1,2,3\n1,x,3\n").unwrap();
+    fails_with(
+        fairfit()
+            .arg("surface")
+            .arg(&one)
+            .arg(&bad)
+            .arg("-o")
+            .arg(&o),
+        "bad.csv:2",
+    );
+    // a mesh without --slices, and slices that cut nothing (two far-apart rings of points)
+    let mesh = dir.path().join("c.obj");
+    cylinder_obj(&mesh, 1.0, false);
+    fails_with(
+        fairfit().arg("surface").arg(&mesh).arg("-o").arg(&o),
+        "--slices",
+    );
+    let rings = dir.path().join("rings.xyz");
+    let mut s = String::new();
+    for z in [0.0, 10.0] {
+        for i in 0..50 {
+            let t = std::f64::consts::TAU * i as f64 / 50.0;
+            s += &format!("{} {} {z}\n", t.cos(), t.sin());
+        }
+    }
+    std::fs::write(&rings, s).unwrap();
+    fails_with(
+        fairfit()
+            .arg("surface")
+            .arg(&rings)
+            .args(["--slices", "8"])
+            .arg("-o")
+            .arg(&o),
+        "usable section",
+    );
+    fails_with(
+        fairfit()
+            .arg("surface")
+            .arg(&mesh)
+            .args(["--slices", "1"])
+            .arg("-o")
+            .arg(&o),
+        "at least 2 slices",
+    );
+    fails_with(
+        fairfit()
+            .arg("surface")
+            .arg(blade_dir())
+            .args(["--tol", "-1"])
+            .arg("-o")
+            .arg(&o),
+        "tolerance",
+    );
+    assert!(!o.exists());
+}
