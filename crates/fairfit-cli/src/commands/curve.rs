@@ -90,6 +90,9 @@ pub struct CurveArgs {
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
     #[arg(long)]
     pub span_fairness: Option<f64>,
+    /// Fixed number of control points instead of the fewest meeting the tolerance (integrated method).
+    #[arg(long)]
+    pub control_points: Option<usize>,
     /// Write the Pareto front of (max deviation, F) as CSV (integrated method).
     #[arg(long)]
     pub pareto: Option<PathBuf>,
@@ -121,6 +124,11 @@ pub fn run(args: CurveArgs) -> CmdResult {
             "--corner-angle must be in (0, 180] degrees, got {}",
             args.corner_angle
         )));
+    }
+    if args.control_points.is_some() && args.method != Method::Integrated {
+        return Err(CliError(
+            "--control-points needs --method integrated".into(),
+        ));
     }
     let set = read_points(&args.input)?;
     if set.dropped_duplicates > 0 {

@@ -51,6 +51,7 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
         tolerance: tolerance(args),
         span_fairness: args.span_fairness,
         seed: args.seed,
+        control_points: args.control_points,
         ..IntegratedOptions::default()
     }
 }

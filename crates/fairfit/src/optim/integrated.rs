@@ -3,20 +3,28 @@
 //! while its fairness `F` (and the worst span's `F_j`) is as small as possible, with the fewest
 //! control points that allow it.
 //!
-//! 1. The data are normalised (scale-free) and parameterised by chord length.
-//! 2. Baseline: the least-squares fit with averaging knots and the smallest control-point count that
-//!    meets the tolerance.
-//! 3. Count search: for one control point fewer at a time, a short swarm probe (seeded with the
-//!    averaging knots and with the last feasible knots minus one) looks for any knot vector meeting
+//! 1. The data are normalised (scale-free) and parameterised centripetally.
+//! 2. Baseline: the least-squares method's own knots (`fit::tolerance`, same parameters) when they
+//!    meet the tolerance here, else the averaging knots with the fewest control points that do.
+//! 3. Count search: for one control point fewer at a time, the best single knot removal, else a short
+//!    swarm probe (seeded with the removals and the averaging knots) looks for any knot vector meeting
 //!    the tolerance (and `F*`); the first count where none is found ends the search.
 //! 4. At the smallest feasible count, the full swarm minimises `F + max_j F_j` subject to the
-//!    tolerance (ε-constraint, feasibility-first), then a pattern search refines the best particle.
+//!    tolerance (ε-constraint, feasibility-first), then a pattern search refines the best particle
+//!    and a line search on the smoothing weight λ smooths it as far as the tolerance allows.
+//! 5. Up to `max_extra_control_points` more control points are tried (never more than the baseline);
+//!    one is kept when F shrinks by more than `fairness_gain` per added point.
+//!
+//! With [`IntegratedOptions::control_points`] the count is fixed instead (the descent
+//! stops there, or knots are inserted where they help most above the baseline; step 5 is skipped), which is how the benchmark compares
+//! methods at equal control points.
 
 use super::encoding::KnotEncoding;
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::problem::KnotProblem;
 use super::pso::{run_pso, PsoOptions};
+use super::smoothing::tune_smoothing;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 use rayon::prelude::*;
@@ -56,6 +64,9 @@ pub struct IntegratedOptions {
     pub max_extra_control_points: usize,
     /// An added control point is kept only if F shrinks by at least this factor.
     pub fairness_gain: f64,
+    /// A fixed number of control points (no count search) instead of the fewest meeting the
+    /// tolerance.
+    pub control_points: Option<usize>,
 }
 
 impl Default for IntegratedOptions {
@@ -71,7 +82,8 @@ impl Default for IntegratedOptions {
             refine_evaluations: 100,
             search_smoothing: true,
             max_extra_control_points: 2,
-            fairness_gain: 1.5,
+            fairness_gain: 1.1,
+            control_points: None,
         }
     }
 }
@@ -160,6 +172,15 @@ pub fn fit_integrated_with_progress(
     let p = opts.degree;
     let data = &prep.data;
     let m1 = data.points.len();
+    if let Some(n) = opts.control_points {
+        // every knot span needs a data parameter strictly inside (Schoenberg–Whitney)
+        if n + 1 > m1 {
+            return Err(Error::InvalidOption(format!(
+                "{n} control points are too many for {m1} points (at most {})",
+                m1 - 1
+            )));
+        }
+    }
     let mut stats = OptimStats::default();
 
     // 2. least-squares baseline count
@@ -173,6 +194,20 @@ pub fn fit_integrated_with_progress(
         if e.solved && e.max_deviation <= tol {
             baseline = n;
             break;
+        }
+    }
+
+    // the least-squares method's own knots (adaptive placement), mapped onto these parameters: a
+    // much better start than averaging knots, and a tighter baseline count
+    let mut lsq_start: Option<(usize, Vec<f64>)> = None;
+    if let Some(knots) = lsq_method_knots(data, tol) {
+        set_knots(p, &knots, &mut ws);
+        let e = evaluate_candidate(data, f64::NEG_INFINITY, &mut ws);
+        stats.evaluations += 1;
+        let n = knots.len() + p + 1;
+        if e.solved && e.max_deviation <= tol && n <= baseline {
+            baseline = n;
+            lsq_start = Some((n, knots));
         }
     }
 
@@ -204,11 +239,24 @@ pub fn fit_integrated_with_progress(
     };
 
     // 3. count search downwards from the baseline: greedy knot removal, then a swarm probe
-    let mut best_n = baseline;
-    let mut best_knots = averaging_interior_knots(&data.params, p, baseline);
+    // a fixed count descends from the baseline to it (feasible seeds), or starts above it
+    let fixed = opts.control_points;
+    let mut best_n = fixed.map_or(baseline, |n| n.max(baseline));
+    let lowest = fixed.unwrap_or(p + 1).max(p + 1).max(4);
+    let mut best_knots = match lsq_start {
+        Some((n, k)) if n == best_n => k,
+        Some((n, mut k)) if n < best_n => {
+            // a fixed count above the least-squares one: add knots where they help most
+            while k.len() + p + 1 < best_n {
+                k = best_insertion(data, &k, f64::NEG_INFINITY, tol);
+            }
+            k
+        }
+        _ => averaging_interior_knots(&data.params, p, best_n),
+    };
     // feasible knots met on the way down, by count: seeds for the searches with extra points
-    let mut descent: Vec<(usize, Vec<f64>)> = vec![(baseline, best_knots.clone())];
-    while best_n > p + 1 && best_n > 4 {
+    let mut descent: Vec<(usize, Vec<f64>)> = vec![(best_n, best_knots.clone())];
+    while best_n > lowest {
         let cand = best_n - 1;
         stats.counts_tried.push(cand);
         let removals = removal_candidates(data, &best_knots);
@@ -250,6 +298,16 @@ pub fn fit_integrated_with_progress(
         best_n = cand;
         descent.push((cand, best_knots.clone()));
     }
+    if let Some(n) = fixed {
+        // the tolerance cannot be met at the fixed count: remove the knots that hurt least anyway
+        while best_n > n {
+            match removal_candidates(data, &best_knots).into_iter().next() {
+                Some((_, k)) => best_knots = k,
+                None => best_knots = averaging_interior_knots(&data.params, p, n),
+            }
+            best_n -= 1;
+        }
+    }
 
     // 4. full search at the smallest feasible count, then at one more control point at a time
     //    while that buys a factor `fairness_gain` in F (and F* is not yet met)
@@ -267,7 +325,7 @@ pub fn fit_integrated_with_progress(
             &pr,
             &averaging_interior_knots(&data.params, p, n),
         ));
-        let r = run_pso(
+        let mut r = run_pso(
             &pr,
             &seeds,
             &pso_opts(opts.max_iterations, false, n as u64 + 1_000_003),
@@ -275,6 +333,16 @@ pub fn fit_integrated_with_progress(
         );
         stats.evaluations += r.evaluations;
         stats.iterations += r.iterations;
+        if pr.encoding.with_smoothing {
+            // the swarm explores the smoothing weight poorly: a line search on it at the best knots
+            let t = tune_smoothing(
+                &pr,
+                pr.encoding.interior + 1,
+                (&r.position, &r.output, r.fitness),
+            );
+            stats.evaluations += t.evaluations;
+            (r.position, r.output, r.fitness) = (t.position, t.output, t.fitness);
+        }
         let f = if r.fitness.feasible() {
             r.output.fairness
         } else {
@@ -288,16 +356,27 @@ pub fn fit_integrated_with_progress(
     let score = |f: f64, extra: usize| f * opts.fairness_gain.powi(extra as i32);
     let mut best_score = score(r.output.fairness, 0);
     let (mut prev_pr, mut prev_r) = (pr.clone(), r.clone());
-    for extra in 1..=opts.max_extra_control_points {
+    let max_extra = if fixed.is_some() {
+        0
+    } else {
+        opts.max_extra_control_points
+    };
+    for extra in 1..=max_extra {
         let n = best_n + extra;
-        if n > m1 || !prev_r.fitness.feasible() {
+        // never more control points than the least-squares baseline needs
+        if n > m1 || n > baseline || !prev_r.fitness.feasible() {
             break;
         }
         let mut kw = Default::default();
         if !prev_pr.decode_into(&prev_r.position, &mut kw) {
             break;
         }
-        let knots = insert_in_widest_span(&kw.interior);
+        let knots = best_insertion(
+            data,
+            &kw.interior,
+            prev_pr.encoding.log_lambda(&prev_r.position),
+            tol,
+        );
         let (pr2, r2) = full(n, &knots, &mut stats);
         let sc = score(r2.output.fairness, extra);
         if r2.fitness.feasible() && sc < best_score {
@@ -376,12 +455,61 @@ fn validate(opts: &IntegratedOptions) -> Result<()> {
             )));
         }
     }
+    if let Some(n) = opts.control_points {
+        if n < opts.degree + 1 {
+            return Err(Error::InvalidOption(format!(
+                "{n} control points are too few for degree {} (need at least {})",
+                opts.degree,
+                opts.degree + 1
+            )));
+        }
+    }
     if opts.particles == 0 {
         return Err(Error::InvalidOption(
             "at least one particle is needed".into(),
         ));
     }
     Ok(())
+}
+
+/// The interior knots of the least-squares method (`fit::tolerance`, centripetal as here, corners
+/// off, open curve) on the
+/// normalised points, mapped from its parameterisation onto `data.params` piecewise linearly (corner
+/// or coincident knots are spread by the encoding's repair). `None` when that fit fails.
+fn lsq_method_knots(data: &FitData, tol: f64) -> Option<Vec<f64>> {
+    use crate::fit::tolerance::{fit_to_tolerance, ClosedMode, FitOptions, Tolerance as FitTol};
+    let p = data.degree;
+    let fit = fit_to_tolerance(
+        &data.points,
+        &FitOptions {
+            degree: p,
+            tolerance: FitTol::Absolute(tol),
+            closed: ClosedMode::Open,
+            corner_angle_deg: None,
+            parameterization: crate::fit::Parameterization::Centripetal,
+            ..FitOptions::default()
+        },
+    )
+    .ok()?;
+    if fit.closed || fit.params.len() != data.params.len() || fit.curve.degree() != p {
+        return None;
+    }
+    let knots = fit.curve.knots();
+    let interior = knots.get(p + 1..knots.len().checked_sub(p + 1)?)?;
+    let fp = &fit.params;
+    let mut out = Vec::with_capacity(interior.len());
+    for &t in interior {
+        let i = fp.partition_point(|&u| u <= t).clamp(1, fp.len() - 1) - 1;
+        let w = fp[i + 1] - fp[i];
+        let a = if w > 0.0 {
+            ((t - fp[i]) / w).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push(data.params[i] + a * (data.params[i + 1] - data.params[i]));
+    }
+    let enc = KnotEncoding::new(out.len(), 0.0, false);
+    enc.repair(&mut out, &data.params).then_some(out)
 }
 
 /// Every way to remove one interior knot, refitted by least squares (no smoothing), sorted by the
@@ -411,21 +539,72 @@ fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
     out.into_iter().map(|(_, d, k)| (d, k)).collect()
 }
 
-/// The interior knots with one more knot in the middle of the widest span.
-fn insert_in_widest_span(knots: &[f64]) -> Vec<f64> {
+/// The interior knots with one more knot at the middle of one span: of all spans holding at least
+/// two interior data parameters, the one whose refit (smoothing `log_lambda`) has the best
+/// feasibility-first fitness (violation of `tol`, then `F + max_j F_j`; ties by span index).
+/// Evaluated in parallel, chosen in span order.
+fn best_insertion(data: &FitData, knots: &[f64], log_lambda: f64, tol: f64) -> Vec<f64> {
     let mut edges = Vec::with_capacity(knots.len() + 2);
     edges.push(0.0);
     edges.extend_from_slice(knots);
     edges.push(1.0);
-    let mut widest = 0;
-    for j in 1..edges.len() - 1 {
-        if edges[j + 1] - edges[j] > edges[widest + 1] - edges[widest] {
-            widest = j;
+    let inner = &data.params[1..data.params.len().saturating_sub(1)];
+    let spans: Vec<usize> = (0..edges.len() - 1)
+        .filter(|&j| {
+            inner
+                .iter()
+                .filter(|&&u| u > edges[j] && u < edges[j + 1])
+                .count()
+                >= 2
+        })
+        .collect();
+    let scored: Vec<(f64, f64, Vec<f64>)> = spans
+        .par_iter()
+        .map_init(EvalWorkspace::default, |ws, &j| {
+            let mut k = knots.to_vec();
+            k.insert(j, 0.5 * (edges[j] + edges[j + 1]));
+            set_knots(data.degree, &k, ws);
+            let e = evaluate_candidate(data, log_lambda, ws);
+            if !e.solved {
+                return (f64::INFINITY, f64::INFINITY, k);
+            }
+            let violation = (e.max_deviation / tol - 1.0).max(0.0);
+            let objective = e.fairness + e.max_span_fairness;
+            (
+                violation,
+                if objective.is_nan() {
+                    f64::INFINITY
+                } else {
+                    objective
+                },
+                k,
+            )
+        })
+        .collect();
+    let mut best: Option<(f64, f64, Vec<f64>)> = None;
+    for c in scored {
+        if best
+            .as_ref()
+            .is_none_or(|b| c.0 < b.0 || (c.0 == b.0 && c.1 < b.1))
+        {
+            best = Some(c);
         }
     }
-    let mut out = knots.to_vec();
-    out.insert(widest, 0.5 * (edges[widest] + edges[widest + 1]));
-    out
+    match best {
+        Some((_, _, k)) => k,
+        None => {
+            // no span holds two parameters: fall back to the widest span
+            let mut widest = 0;
+            for j in 1..edges.len() - 1 {
+                if edges[j + 1] - edges[j] > edges[widest + 1] - edges[widest] {
+                    widest = j;
+                }
+            }
+            let mut out = knots.to_vec();
+            out.insert(widest, 0.5 * (edges[widest] + edges[widest + 1]));
+            out
+        }
+    }
 }
 
 /// The tolerance in normalised units.

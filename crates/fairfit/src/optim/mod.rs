@@ -4,7 +4,8 @@
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
-//! - [`prepare`]: scale-free normalisation, chord-length parameters, baseline averaging knots;
+//! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
+//! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
 //! - [`pareto`]: the Pareto front of curves for `--pareto`.
@@ -20,3 +21,4 @@ pub mod pareto;
 pub mod prepare;
 pub mod problem;
 pub mod pso;
+pub mod smoothing;

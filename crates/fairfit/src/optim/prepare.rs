@@ -4,7 +4,10 @@
 //! snapped to a grid of `2^-36` (about 1.5e-11 of that side). The snapping makes the normalised data
 //! bit-identical for inputs that differ only by a scale factor or a translation, so the whole search
 //! (and its knot vector) is exactly scale-invariant, far below any fitting tolerance.
-//! Parameters are chord length; the baseline knots are the averaging knots of the NURBS Book
+//! Parameters are centripetal (increments `|ΔQ|^½`: denser at a leading edge, where a fair curve
+//! needs its knots; on the benchmark curves it gave lower F than chord length, 6 % in the geometric
+//! mean); the
+//! baseline knots are the averaging knots of the NURBS Book
 //! (eq. 9.68). These two are small private stand-ins for the least-squares module's own
 //! parameterisation and knot placement.
 
@@ -32,7 +35,7 @@ impl Prepared {
     }
 }
 
-/// Normalises `points` and computes chord-length parameters.
+/// Normalises `points` and computes centripetal parameters.
 pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
     if points.len() < degree + 1 || points.len() < 3 {
         return Err(Error::InvalidData(format!(
@@ -83,7 +86,7 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
                 i + 1
             )));
         }
-        acc += d;
+        acc += d.sqrt();
         params.push(acc);
     }
     for u in &mut params {
