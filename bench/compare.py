@@ -118,14 +118,19 @@ def ensure_fairfit(path: str | None, build: bool) -> str:
     return exe
 
 
-def run_fairfit(exe: str, csv: str, method: str, rel_tol: float, pts, timeout: float) -> Result:
-    name = f"fairfit {method}"
+EQUAL_COUNT = "fairfit integrated, fit-then-fair's ctrl pts"
+
+
+def run_fairfit(exe: str, csv: str, method: str, rel_tol: float, pts, timeout: float,
+                extra=(), name=None) -> Result:
+    name = name or f"fairfit {method}"
     if not os.path.exists(exe):
         return Result(name, False, "fairfit binary not built")
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "out.json")
         rep = os.path.join(tmp, "r.json")
-        cmd = [exe, "curve", csv, "--method", method, "--rel-tol", repr(rel_tol), "-o", out, "--report", rep]
+        cmd = [exe, "curve", csv, "--method", method, "--rel-tol", repr(rel_tol), "-o", out, "--report", rep,
+               *extra]
         walls, fits = [], []
         # Fast runs are repeated (median of 3) to damp the noise of the shared machine.
         for _ in range(3):
@@ -441,19 +446,53 @@ def summary(all_rows):
         med2 = fmt_g(statistics.median(r2)) if r2 else "n/a"
         med3 = fmt_g(statistics.median(r3)) if r3 else "n/a"
         lines.append(f"| {meth} | {n} | {tm} | {cp} | {cp15} | {ff} | {ex} | {fast} | {fmt_g(tmax)} | {med1} | {med2} | {med3} |")
-    wins = total = 0
+    wins = total = eq_wins = eq_total = 0
+    eq_ratios = []
     for _, _, tol, results in all_rows:
         by = {r.method: r for r in results}
-        fi, ff_ = by.get("fairfit integrated"), by.get("fairfit fit-then-fair")
+        fi, ff_, fe = by.get("fairfit integrated"), by.get("fairfit fit-then-fair"), by.get(EQUAL_COUNT)
         if fi and ff_ and met(fi, tol) and met(ff_, tol):
             total += 1
             wins += fi.metrics.F < ff_.metrics.F
+        if fe and ff_ and met(fe, tol) and met(ff_, tol) and fe.metrics.n_ctrl == ff_.metrics.n_ctrl:
+            eq_total += 1
+            eq_wins += fe.metrics.F < ff_.metrics.F
+            eq_ratios.append(fe.metrics.F / ff_.metrics.F)
+    gm = fmt_g(float(np.exp(np.mean(np.log(eq_ratios))))) if eq_ratios else "n/a"
     lines += [
         "",
-        f"Integrated vs fit-then-fair (both meeting the tolerance): integrated has the lower F on {wins} of "
-        f"{total} curves.",
+        f"- Integrated vs fit-then-fair at equal tolerance AND equal control points (`{EQUAL_COUNT}` = "
+        f"`--method integrated --control-points N` with fit-then-fair's N, both meeting the tolerance): "
+        f"integrated has the lower F on **{eq_wins} of {eq_total}** curves (geometric-mean F ratio {gm}).",
+        f"- With its own (smaller or equal) control-point count, the integrated method has the lower F on "
+        f"{wins} of {total} curves.",
+        time_200(all_rows),
     ]
     return "\n".join(lines)
+
+
+def time_200(all_rows):
+    """Issue 4's timing target: the integrated method on the 200-point curves, and its ratio to splprep."""
+    t, r_one, r_search = [], [], []
+    for _, npts, tol, results in all_rows:
+        if npts != 200:
+            continue
+        by = {r.method: r for r in results}
+        fi, s = by.get("fairfit integrated"), by.get("scipy splprep")
+        if fi is None or not fi.ok:
+            continue
+        t.append(fi.time_ms / 1e3)
+        if s is not None and s.ok:
+            r_one.append(fi.time_ms / s.single_ms)
+            r_search.append(fi.time_ms / s.time_ms)
+    if not t:
+        return "- No 200-point curve in this run."
+    med = lambda v: fmt_g(statistics.median(v)) if v else "n/a"
+    return (
+        f"- Integrated method on the {len(t)} curves of 200 points (whole CLI process): median "
+        f"{statistics.median(t):.3f} s, max {max(t):.3f} s (target <= 0.2 s); median ratio to splprep's time "
+        f"{med(r_search)} (splprep with its s search) and {med(r_one)} (one splprep call)."
+    )
 
 
 def shortfalls(all_rows):
@@ -484,11 +523,13 @@ def shortfalls(all_rows):
                     probs.append(f"{a.extrema} extrema > splprep {b.extrema}")
             if probs:
                 out.append(f"- {name}, {meth}: " + "; ".join(probs))
-        fi, ff = by.get("fairfit integrated"), by.get("fairfit fit-then-fair")
-        if fi and ff and met(fi, tol) and met(ff, tol) and fi.metrics.F > ff.metrics.F:
+        fe, ff = by.get(EQUAL_COUNT), by.get("fairfit fit-then-fair")
+        if fe and ff and met(ff, tol) and not met(fe, tol):
+            out.append(f"- {name}: integrated at fit-then-fair's {ff.metrics.n_ctrl} ctrl pts misses the tolerance")
+        elif fe and ff and met(fe, tol) and met(ff, tol) and fe.metrics.F > ff.metrics.F:
             out.append(
-                f"- {name}: integrated F {fi.metrics.F:.3g} > fit-then-fair F {ff.metrics.F:.3g} "
-                f"(ctrl pts {fi.metrics.n_ctrl} vs {ff.metrics.n_ctrl})"
+                f"- {name}: at equal ctrl pts ({fe.metrics.n_ctrl}), integrated F {fe.metrics.F:.3g} > "
+                f"fit-then-fair F {ff.metrics.F:.3g}"
             )
     for (meth, reason), names in failed.items():
         which = "all curves" if len(names) == len(all_rows) else ", ".join(names)
@@ -537,6 +578,18 @@ def git_rev():
         return "unknown"
 
 
+def surface_link(path):
+    """A pointer to the surface benchmark when it exists beside this report."""
+    surf = os.path.join(os.path.dirname(os.path.abspath(path)), "benchmarks-surface.md")
+    if not os.path.exists(surf):
+        return []
+    return [
+        "Surfaces: the surface benchmark (fairfit's surface fitting against the baselines) is in "
+        "[benchmarks-surface.md](benchmarks-surface.md).",
+        "",
+    ]
+
+
 def write_report(path, groups_rows, args, data):
     all_rows = [row for _, rows in groups_rows for row in rows]
     parts = [
@@ -564,6 +617,7 @@ def write_report(path, groups_rows, args, data):
         "control-point count. For the baselines, time = the whole tolerance search (each step measured by the "
         "measurer), and in parentheses the median time of ONE final call with the chosen parameter.",
         "",
+        *surface_link(path),
         "## Summary",
         "",
         "Counts are numbers of curves. A comparison with splprep is only counted when both meet the tolerance; "
@@ -620,6 +674,13 @@ def main(argv=None):
             if "fairfit" in fams:
                 for meth in FAIRFIT_METHODS:
                     results.append(run_fairfit(exe, path, meth, args.rel_tol, pts, args.timeout))
+                # the integrated method at fit-then-fair's control-point count: F at equal tolerance
+                # AND equal control points (issue 4's comparison)
+                ftf = results[-1]
+                if ftf.ok and ftf.metrics is not None:
+                    results.append(run_fairfit(
+                        exe, path, "integrated", args.rel_tol, pts, args.timeout,
+                        extra=["--control-points", str(ftf.metrics.n_ctrl)], name=EQUAL_COUNT))
             if "splprep" in fams:
                 results.append(run_splprep(pts, tol))
             if "occ" in fams:

@@ -106,3 +106,49 @@ fn fit_then_fair_runs_within_the_tolerance() {
     );
     assert!(r["fairness"].as_f64().unwrap() <= r["lsq_fairness"].as_f64().unwrap());
 }
+
+#[test]
+fn control_points_fixes_the_count_and_needs_the_integrated_method() {
+    let dir = TempDir::new().unwrap();
+    let out = dir.path().join("c.json");
+    let rep = dir.path().join("r.json");
+    run(&[
+        "curve",
+        &data("quarter_ellipse_200.csv"),
+        "--control-points",
+        "8",
+        "-o",
+        out.to_str().unwrap(),
+        "--report",
+        rep.to_str().unwrap(),
+    ]);
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    let c: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(r["control_points"], 8);
+    assert_eq!(c["control_points"].as_array().unwrap().len(), 8);
+    assert_eq!(c["knots"].as_array().unwrap().len(), 8 + 4);
+    assert_eq!(r["tolerance_met"], true);
+    // the true quarter ellipse x = cos t, y = sin t / 2 has F = 40.8 (dense quadrature); a fit within
+    // 1e-3 may deviate from it, but F stays of that size (plain least squares with 8 averaging
+    // knots gives 56.5)
+    let f = r["fairness"].as_f64().unwrap();
+    assert!(f > 15.0 && f < 45.0, "{f}");
+    // too many for the points, and with another method: one-line errors
+    for args in [
+        vec!["--control-points", "500"],
+        vec!["--control-points", "8", "--method", "lsq"],
+    ] {
+        let o = Command::cargo_bin("fairfit")
+            .unwrap()
+            .args(["curve", &data("quarter_ellipse_200.csv")])
+            .args(&args)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.starts_with("error: ") && err.contains("control"),
+            "{err}"
+        );
+    }
+}
