@@ -134,6 +134,7 @@ fn collinear_points_fit_a_line() {
         .unwrap()
         .arg("curve")
         .arg(f.path())
+        .args(["--method", "lsq"])
         .arg("--report")
         .arg(&r)
         .assert()
@@ -150,6 +151,7 @@ fn duplicates_warn_on_stderr() {
         .unwrap()
         .arg("curve")
         .arg(f.path())
+        .args(["--method", "lsq"])
         .output()
         .unwrap();
     assert!(out.status.success());
@@ -159,25 +161,52 @@ fn duplicates_warn_on_stderr() {
 #[test]
 fn ill_posed_inputs_fail_with_one_line() {
     let two = file_with(b"0,0\n1,1\n");
-    fails_cleanly(&["curve", two.path().to_str().unwrap()], "at least 4");
     let same = file_with(b"1,1\n1,1\n1,1\n1,1\n1,1\n");
-    fails_cleanly(&["curve", same.path().to_str().unwrap()], "distinct points");
     let nan = file_with(b"x,y\n0,0\n1,nan\n2,2\n3,1\n");
-    fails_cleanly(&["curve", nan.path().to_str().unwrap()], ":3:");
+    let inf = file_with(b"0 0\n1 1\n2 -inf\n3 1\n");
     let empty = file_with(b"");
-    fails_cleanly(&["curve", empty.path().to_str().unwrap()], "no points");
+    let comments_only = file_with(b"# nothing here\n\n");
     let binary = file_with(&[0u8, 159, 146, 150, 255, 0, 1, 2, 3]);
-    fails_cleanly(
-        &["curve", binary.path().to_str().unwrap()],
-        "not a text file",
-    );
-    fails_cleanly(&["curve", "/nonexistent/points.csv"], "nonexistent");
+    let ragged = file_with(b"0,0\n1,1,1\n2,0\n");
+    let path = |f: &NamedTempFile| f.path().to_str().unwrap().to_string();
+    // every method reads and checks the points the same way
+    for method in ["lsq", "integrated", "fit-then-fair"] {
+        let run = |file: &str, needle: &str| {
+            fails_cleanly(&["curve", file, "--method", method], needle);
+        };
+        run(&path(&two), "at least 4");
+        run(&path(&same), "distinct points");
+        run(&path(&nan), ":3:");
+        run(&path(&inf), ":3:");
+        run(&path(&empty), "no points");
+        run(&path(&comments_only), "no points");
+        run(&path(&binary), "not a text file");
+        run(&path(&ragged), ":2:");
+        run("/nonexistent/points.csv", "nonexistent");
+    }
     let ok = data("quarter_ellipse_200.csv");
     fails_cleanly(
         &["curve", &ok, "--method", "integrated", "--span-fairness=-1"],
         "span fairness",
     );
     fails_cleanly(&["curve", &ok, "--pareto-curves", "/tmp/x"], "--pareto");
-    fails_cleanly(&["curve", &ok, "--tol=-1"], "tolerance");
-    fails_cleanly(&["curve", &ok, "--corner-angle", "0"], "corner-angle");
+    for method in ["lsq", "integrated"] {
+        fails_cleanly(&["curve", &ok, "--method", method, "--tol=-1"], "tolerance");
+        fails_cleanly(
+            &["curve", &ok, "--method", method, "--rel-tol=0"],
+            "tolerance",
+        );
+        fails_cleanly(
+            &["curve", &ok, "--method", method, "--tol=nan"],
+            "tolerance",
+        );
+    }
+    fails_cleanly(
+        &["curve", &ok, "--method", "lsq", "--corner-angle", "0"],
+        "corner-angle",
+    );
+    fails_cleanly(
+        &["curve", &ok, "--method", "lsq", "--smoothing=-1"],
+        "smoothing",
+    );
 }

@@ -17,7 +17,7 @@
 //! [`LsqSolver`] keeps every buffer, so a repeated solve of the same size allocates nothing.
 
 use super::banded::EnvelopeCholesky;
-use super::gauss::gauss_legendre;
+use crate::diffgeo::quadrature::GaussLegendre;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
 use crate::nurbs::knots::{find_span, validate_knots};
@@ -84,7 +84,8 @@ pub struct LsqSolver {
     ndu: Vec<f64>,
     a: Vec<f64>,
     ders: Vec<f64>,
-    gl: Vec<(Vec<f64>, Vec<f64>)>,
+    /// Gauss–Legendre rules with 0..=p nodes (index = node count).
+    gl: Vec<GaussLegendre>,
 }
 
 /// How control-point columns map to unknowns.
@@ -114,9 +115,7 @@ impl LsqSolver {
     /// A solver for curves of `degree`.
     pub fn new(degree: usize) -> Self {
         let p1 = degree + 1;
-        let gl = (0..=degree.max(1))
-            .map(|n| gauss_legendre(n.max(1)))
-            .collect();
+        let gl = (0..=degree.max(1)).map(GaussLegendre::new).collect();
         LsqSolver {
             degree,
             mat: EnvelopeCholesky::new(),
@@ -246,9 +245,9 @@ impl LsqSolver {
                 }
                 let half = 0.5 * (u1 - u0);
                 for g in 0..ng {
-                    let (xs, ws) = &self.gl[ng];
-                    let u = u0 + half * (xs[g] + 1.0);
-                    let wg = ws[g] * half * lam;
+                    let rule = &self.gl[ng];
+                    let u = u0 + half * (rule.nodes()[g] + 1.0);
+                    let wg = rule.weights()[g] * half * lam;
                     ders_basis_funs_into(
                         s,
                         u,

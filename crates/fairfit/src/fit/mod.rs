@@ -5,7 +5,6 @@
 pub mod banded;
 pub mod correction;
 pub mod deviation;
-pub mod gauss;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;

@@ -1,0 +1,57 @@
+//! Times `fit_to_tolerance` on point files (in-process, many repetitions): `cargo run --release
+//! --example fit_timing -- FILE... [--rel-tol R]`. Prints control points, solves and microseconds per fit.
+
+use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
+use std::time::Instant;
+
+fn main() {
+    let mut rel = 1e-3;
+    let mut files = Vec::new();
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        if a == "--rel-tol" {
+            rel = args.next().and_then(|s| s.parse().ok()).unwrap_or(rel);
+        } else {
+            files.push(a);
+        }
+    }
+    let opts = FitOptions {
+        tolerance: Tolerance::Relative(rel),
+        ..Default::default()
+    };
+    let mut total = 0.0;
+    for f in &files {
+        let pts = match fairfit::io::read_points(f) {
+            Ok(p) => p.points,
+            Err(e) => {
+                println!("{f}: {e}");
+                continue;
+            }
+        };
+        let reps = 50;
+        let t0 = Instant::now();
+        let mut last = None;
+        for _ in 0..reps {
+            last = Some(fit_to_tolerance(&pts, &opts));
+        }
+        let us = t0.elapsed().as_secs_f64() * 1e6 / reps as f64;
+        total += us;
+        let name = std::path::Path::new(f)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        match last {
+            Some(Ok(r)) => println!(
+                "{name:24} {:4} pts {:3} cp {:.3} tol {:5} solves {:8.1} us",
+                pts.len(),
+                r.n_control_points,
+                r.deviation.max / r.tolerance,
+                r.solves,
+                us
+            ),
+            Some(Err(e)) => println!("{name:24} {e}"),
+            None => {}
+        }
+    }
+    println!("total {total:.1} us");
+}
