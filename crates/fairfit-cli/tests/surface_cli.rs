@@ -225,3 +225,61 @@ fn unusable_inputs_are_clear_errors() {
     );
     assert!(!o.exists());
 }
+
+/// Four open half-ellipse sections at z = 0, 1, 2.5, 3 (semi-axes growing with z), as CSV files.
+fn half_ellipse_sections(dir: &Path) -> Vec<PathBuf> {
+    [0.0f64, 1.0, 2.5, 3.0]
+        .iter()
+        .enumerate()
+        .map(|(k, &z)| {
+            let (a, b) = (2.0 + 0.3 * z, 1.0 + 0.1 * z * z);
+            let mut s = String::from("x,y,z\n");
+            for i in 0..40 {
+                let t = std::f64::consts::PI * i as f64 / 39.0;
+                s += &format!("{},{},{z}\n", a * t.cos(), b * t.sin());
+            }
+            let p = dir.join(format!("sec_{k}.csv"));
+            std::fs::write(&p, s).unwrap();
+            p
+        })
+        .collect()
+}
+
+#[test]
+fn surface_writes_checked_step_and_html() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let secs = d.join("secs");
+    std::fs::create_dir(&secs).unwrap();
+    half_ellipse_sections(&secs);
+    let (step, html, rep) = (d.join("s.step"), d.join("s.html"), d.join("r.json"));
+    fairfit()
+        .arg("surface")
+        .arg(&secs)
+        .args(["--tol", "1e-3", "-o"])
+        .arg(d.join("s.json"))
+        .arg("--report")
+        .arg(&rep)
+        .arg("--step")
+        .arg(&step)
+        .arg("--html")
+        .arg(&html)
+        .assert()
+        .success();
+    let r = read_json(&rep);
+    assert_eq!(r["within_tolerance"], true);
+    assert_eq!(r["deviation"]["points"], 160);
+    let (nu, nv) = (r["net"][0].as_u64().unwrap(), r["net"][1].as_u64().unwrap());
+    // four sections are interpolated: four control points across them
+    assert_eq!(nv, 4);
+    let text = std::fs::read_to_string(&step).unwrap();
+    let entities = fairfit::io::cad_check::check_step(&text).unwrap().entities;
+    assert_eq!(entities.get("ADVANCED_FACE"), Some(&1), "{entities:?}");
+    assert_eq!(text.matches("B_SPLINE_SURFACE_WITH_KNOTS").count(), 1);
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(page.contains("<svg"), "the page carries its plots");
+    assert!(
+        page.contains(&format!("{nu} x {nv}")),
+        "the page names the net"
+    );
+}
