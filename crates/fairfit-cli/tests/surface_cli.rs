@@ -218,7 +218,7 @@ fn unusable_inputs_are_clear_errors() {
         fairfit()
             .arg("surface")
             .arg(blade_dir())
-            .args(["--tol", "-1"])
+            .arg("--tol=-1")
             .arg("-o")
             .arg(&o),
         "tolerance",
