@@ -3,7 +3,9 @@
 Usage: occ_roundtrip.py FILE SAMPLES.json [FILE SAMPLES.json ...]
 
 SAMPLES.json (written by fairfit beside the CAD file): {"kind": "curve"|"surface",
-"params": [[u] | [u, v], ...], "points": [[x, y, z], ...]}. For every file: read it with
+"params": [[u] | [u, v], ...], "points": [[x, y, z], ...], optional "unit": "mm" | "m"}. OpenCASCADE
+converts what it reads to millimetres, so points of a file declared in metres are compared times 1000
+(this checks the declared unit too). For every file: read it with
 STEPControl_Reader or IGESControl_Reader (by extension), take the one edge (curve) or one face (surface),
 require it to be a B-spline, evaluate Geom_BSplineCurve / Geom_BSplineSurface at the sample parameters and
 compare with fairfit's points to 1e-9 relative to the geometry's size; a surface must be exactly one face
@@ -48,9 +50,10 @@ def check(path, samples_path):
     with open(samples_path) as f:
         samples = json.load(f)
     shape = read_shape(path)
-    points = samples["points"]
+    factor = {"mm": 1.0, "m": 1000.0}[samples.get("unit", "mm")]
+    points = [[c * factor for c in p] for p in samples["points"]]
     scale = max(1.0, max(max(abs(c) for c in p) for p in points))
-    result = {"file": path, "kind": samples["kind"], "samples": len(points)}
+    result = {"file": path, "kind": samples["kind"], "samples": len(points), "unit_factor": factor}
     if samples["kind"] == "curve":
         edges = sub_shapes(shape, TopAbs_EDGE)
         if len(edges) != 1:

@@ -1,8 +1,11 @@
 //! The STEP and IGES files fairfit writes, read back by a real CAD kernel (OpenCASCADE through OCP).
 //!
-//! Writes a rational curve and a rational bicubic surface to STEP and IGES, each with a JSON of 100+
-//! sample parameters and fairfit's own points beside it, and runs `tests/python/occ_roundtrip.py` with
-//! `$FAIRFIT_PYTHON`. Unset: the test is skipped with a note, except under `CI=true`, where it fails.
+//! Writes a rational curve, a rational bicubic surface, a closed tube, a cone with a collapsed edge and
+//! the real IEA 15 MW blade surface fitted by `fairfit surface` (fixture `tests/data/`) to STEP and IGES,
+//! each with a JSON of 100+ sample parameters and fairfit's own points beside it, and runs
+//! `tests/python/occ_roundtrip.py` with `$FAIRFIT_PYTHON`. Unset: the test is skipped with a note
+//! (except under `CI=true`, where it fails); set but empty, pointing at no Python, or at one without
+//! OCP: the test fails.
 
 use fairfit::io::iges::{write_curve_iges, write_surface_iges, IgesOptions};
 use fairfit::io::samples::{curve_samples_json, surface_samples_json};
@@ -101,6 +104,15 @@ fn cone() -> NurbsSurface {
     NurbsSurface::new(2, 2, ku, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], net, Some(w)).unwrap()
 }
 
+/// The IEA 15 MW blade surface as fitted by `fairfit surface` (see `tests/data/README.md`).
+fn blade() -> NurbsSurface {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/iea15mw_blade_surface.json");
+    match fairfit::io::read_geometry(&path).unwrap() {
+        fairfit::io::Geometry::Surface(s) => s,
+        other => panic!("expected a surface, got {other:?}"),
+    }
+}
+
 fn write_files(dir: &Path) -> Vec<PathBuf> {
     let (c, s) = (curve(), surface());
     let curve_samples = dir.join("curve.samples.json");
@@ -111,7 +123,23 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
     std::fs::write(&cone_samples, surface_samples_json(&cone(), 12, 10)).unwrap();
     let tube_samples = dir.join("tube.samples.json");
     std::fs::write(&tube_samples, surface_samples_json(&tube(), 12, 10)).unwrap();
+    let blade_samples = dir.join("blade.samples.json");
+    // The blade is in metres and written as such: OpenCASCADE reads it back in millimetres.
+    let mut samples: serde_json::Value =
+        serde_json::from_str(&surface_samples_json(&blade(), 24, 12)).unwrap();
+    samples["unit"] = "m".into();
+    std::fs::write(&blade_samples, samples.to_string()).unwrap();
     let (so, io) = (StepOptions::default(), IgesOptions::default());
+    let metres = StepOptions {
+        unit: fairfit::io::LengthUnit::Metre,
+        ..Default::default()
+    };
+    let metres_iges = IgesOptions {
+        unit: fairfit::io::LengthUnit::Metre,
+        ..Default::default()
+    };
+    write_surface_step(dir.join("blade.step"), &blade(), &metres).unwrap();
+    write_surface_iges(dir.join("blade.igs"), &blade(), &metres_iges).unwrap();
     write_curve_step(dir.join("curve.step"), &c, &so).unwrap();
     write_curve_iges(dir.join("curve.igs"), &c, &io).unwrap();
     write_surface_step(dir.join("surface.step"), &s, &so).unwrap();
@@ -129,6 +157,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
         "tube.igs",
         "cone.step",
         "cone.igs",
+        "blade.step",
+        "blade.igs",
     ];
     names
         .iter()
@@ -137,6 +167,7 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
                 "curv" => &curve_samples,
                 "surf" => &surface_samples,
                 "cone" => &cone_samples,
+                "blad" => &blade_samples,
                 _ => &tube_samples,
             };
             [dir.join(f), samples.clone()]
@@ -147,8 +178,11 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
 #[test]
 fn opencascade_reads_back_fairfit_step_and_iges() {
     let python = match std::env::var("FAIRFIT_PYTHON") {
-        Ok(p) if !p.is_empty() => p,
-        _ => {
+        Ok(p) => {
+            assert!(!p.trim().is_empty(), "FAIRFIT_PYTHON is set but empty");
+            p
+        }
+        Err(_) => {
             if std::env::var("CI").as_deref() == Ok("true") {
                 panic!(
                     "FAIRFIT_PYTHON is not set under CI=true: the CAD round trip must run in CI"
@@ -179,14 +213,25 @@ fn opencascade_reads_back_fairfit_step_and_iges() {
         .filter(|l| l.starts_with('{'))
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    assert_eq!(reports.len(), 8);
-    for r in &reports {
+    assert_eq!(reports.len(), args.len() / 2);
+    for (r, file) in reports.iter().zip(args.iter().step_by(2)) {
+        assert_eq!(r["file"].as_str(), file.to_str(), "{r}");
+        assert!(r.get("error").is_none(), "{r}");
         assert!(r["samples"].as_u64().unwrap() >= 100, "{r}");
         assert!(r["relative_error"].as_f64().unwrap() <= 1e-9, "{r}");
     }
-    assert_eq!(reports[2]["valid_faces"], 1);
+    assert_eq!(reports[0]["kind"], "curve");
+    assert_eq!(reports[1]["kind"], "curve");
     for r in &reports[2..] {
+        assert_eq!(r["kind"], "surface", "{r}");
         assert_eq!(r["valid_faces"], 1, "{r}");
+    }
+    let blade = blade();
+    let (n_u, n_v) = blade.net_size();
+    for r in &reports[8..] {
+        assert_eq!(r["poles"], serde_json::json!([n_u, n_v]), "{r}");
+        assert!(r["samples"].as_u64().unwrap() >= 300, "{r}");
+        assert_eq!(r["unit_factor"], 1000.0, "{r}");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -8,13 +8,14 @@
 //! deviation, fairness and timing.
 
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
-use super::outputs::{write_outputs, OutputArgs, OutputGeometry};
+use super::outputs::{prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::fair::curve_fairness;
 use fairfit::fit::tolerance::{fit_to_tolerance, ClosedMode, FitOptions, FitResult, Tolerance};
 use fairfit::fit::Parameterization;
-use fairfit::io::{curve_to_json, read_points, write_atomic};
+use fairfit::io::atomic::write_all_atomic;
+use fairfit::io::{curve_to_json, read_points};
 use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -192,23 +193,32 @@ pub fn run(args: CurveArgs) -> CmdResult {
             (out.curve, report)
         }
     };
+    // Every file is made in memory first and written all or none.
+    let mut files = Vec::new();
     let text = curve_to_json(&curve);
-    match &args.output {
-        Some(p) => write_atomic(p, text.as_bytes())?,
-        None => println!("{text}"),
-    }
+    let stdout_text = match &args.output {
+        Some(p) => {
+            files.push((p.clone(), text.into_bytes()));
+            None
+        }
+        None => Some(text),
+    };
     if let (Some(rp), Some(report)) = (&args.report, &report) {
         let body =
             serde_json::to_string_pretty(report).map_err(|e| CliError(format!("internal: {e}")))?;
-        write_atomic(rp, body.as_bytes())?;
+        files.push((rp.clone(), body.into_bytes()));
     }
     if args.outputs.any() {
-        write_outputs(
+        files.extend(prepare_outputs(
             OutputGeometry::Curve(&curve),
             Some(&set.points),
             report.as_ref(),
             &args.outputs,
-        )?;
+        )?);
+    }
+    write_all_atomic(&files)?;
+    if let Some(text) = stdout_text {
+        println!("{text}");
     }
     Ok(())
 }

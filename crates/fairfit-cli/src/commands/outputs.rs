@@ -1,9 +1,11 @@
 //! Output flags shared by `fairfit export`, `fairfit curve` and `fairfit surface`: `--step`, `--iges`,
 //! `--mesh`, `--plot`, `--html` (with `--chord-tol` and `--units`). Subcommands `#[command(flatten)]`
-//! [`OutputArgs`] and call [`write_outputs`].
+//! [`OutputArgs`] and call [`write_outputs`] (or [`prepare_outputs`] to write them together with their
+//! own files).
 //!
 //! Every output is produced in memory first, so invalid geometry or options fail before any file is
-//! written; each file is then written atomically (a failed write leaves no partial file).
+//! written; the files are then written all or none (temporary files renamed into place only when all
+//! were written: a failed write leaves no partial file and no half of the outputs).
 
 use super::{CliError, CmdResult};
 use clap::Args;
@@ -159,20 +161,33 @@ fn report(
     Ok(html_report(&r))
 }
 
-/// Writes every output asked for in `args`. Nothing is written when the geometry or an option is
-/// invalid; each file is written atomically.
+/// Writes every output asked for in `args`, all or none. Nothing is written when the geometry or an
+/// option is invalid.
 pub fn write_outputs(
     geometry: OutputGeometry<'_>,
     points: Option<&[Vec3]>,
     report_json: Option<&serde_json::Value>,
     args: &OutputArgs,
 ) -> CmdResult {
+    let files = prepare_outputs(geometry, points, report_json, args)?;
+    fairfit::io::atomic::write_all_atomic(&files)?;
+    Ok(())
+}
+
+/// Every output asked for in `args` as (path, bytes), made in memory; nothing is written. Fails on
+/// invalid geometry or options.
+pub fn prepare_outputs(
+    geometry: OutputGeometry<'_>,
+    points: Option<&[Vec3]>,
+    report_json: Option<&serde_json::Value>,
+    args: &OutputArgs,
+) -> Result<Vec<(PathBuf, Vec<u8>)>, CliError> {
     match geometry {
         OutputGeometry::Curve(c) => validate_curve(c)?,
         OutputGeometry::Surface(s) => validate_surface(s)?,
     }
     let unit: LengthUnit = args.units.parse()?;
-    let mut files: Vec<(&PathBuf, Vec<u8>)> = Vec::new();
+    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     if let Some(p) = &args.step {
         let opts = StepOptions {
             unit,
@@ -183,7 +198,7 @@ pub fn write_outputs(
             OutputGeometry::Curve(c) => curve_to_step(c, &opts)?,
             OutputGeometry::Surface(s) => surface_to_step(s, &opts)?,
         };
-        files.push((p, text.into_bytes()));
+        files.push((p.clone(), text.into_bytes()));
     }
     if let Some(p) = &args.iges {
         let opts = IgesOptions {
@@ -195,7 +210,7 @@ pub fn write_outputs(
             OutputGeometry::Curve(c) => curve_to_iges(c, &opts)?,
             OutputGeometry::Surface(s) => surface_to_iges(s, &opts)?,
         };
-        files.push((p, text.into_bytes()));
+        files.push((p.clone(), text.into_bytes()));
     }
     if let Some(p) = &args.mesh {
         let format = MeshFormat::from_path(p)?;
@@ -207,17 +222,20 @@ pub fn write_outputs(
             OutputGeometry::Curve(c) => tessellate_curve(c, &opts)?,
             OutputGeometry::Surface(s) => tessellate_surface(s, &opts)?,
         };
-        files.push((p, mesh_bytes(&mesh, format)?));
+        files.push((p.clone(), mesh_bytes(&mesh, format)?));
     }
     if let Some(p) = &args.plot {
         let size = PlotSize::default();
-        files.push((p, plot_bytes(p, main_plot(geometry, points, size)?, size)?));
+        files.push((
+            p.clone(),
+            plot_bytes(p, main_plot(geometry, points, size)?, size)?,
+        ));
     }
     if let Some(p) = &args.html {
-        files.push((p, report(geometry, points, report_json)?.into_bytes()));
+        files.push((
+            p.clone(),
+            report(geometry, points, report_json)?.into_bytes(),
+        ));
     }
-    for (path, bytes) in files {
-        fairfit::io::write_atomic(path, &bytes)?;
-    }
-    Ok(())
+    Ok(files)
 }
