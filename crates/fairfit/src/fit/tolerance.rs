@@ -9,7 +9,7 @@
 //! joined with knots of multiplicity `p` (C0 corners); a closed curve without corners is fitted
 //! periodically (C^(p−1) at the seam).
 
-use super::correction::{fit_with_correction, CorrectedFit};
+use super::correction::{fit_corrected, CorrectedFit};
 use super::deviation::{max_orthogonal_deviation, Deviation};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
@@ -259,7 +259,7 @@ impl Ctx<'_> {
         breaks: &[f64],
         lsq: &LsqOptions,
     ) -> Result<CorrectedFit> {
-        self.fit_rounds(pts, params, breaks, lsq, self.opts.correction_rounds)
+        self.fit_rounds(pts, params, breaks, lsq, self.opts.correction_rounds, false)
     }
 
     fn fit_rounds(
@@ -269,9 +269,19 @@ impl Ctx<'_> {
         breaks: &[f64],
         lsq: &LsqOptions,
         rounds: usize,
+        probe: bool,
     ) -> Result<CorrectedFit> {
         let knots = knots_from_breaks(breaks, self.opts.degree, lsq.closed);
-        let f = fit_with_correction(&mut self.solver, pts, params, &knots, lsq, rounds, self.tol);
+        let f = fit_corrected(
+            &mut self.solver,
+            pts,
+            params,
+            &knots,
+            lsq,
+            rounds,
+            self.tol,
+            probe,
+        );
         self.solves += 1 + f.as_ref().map(|f| f.rounds_kept).unwrap_or(0);
         f
     }
@@ -315,7 +325,7 @@ impl Ctx<'_> {
                     // and refit) on the current knots, then carry on refining with the feet
                     rescued = true;
                     let rounds = self.opts.correction_rounds.max(RESCUE_ROUNDS);
-                    best = self.fit_rounds(pts, &params, &breaks, &lsq, rounds)?;
+                    best = self.fit_rounds(pts, &params, &breaks, &lsq, rounds, false)?;
                     continue;
                 }
                 return Err(Error::Fit(format!(
@@ -361,7 +371,8 @@ impl Ctx<'_> {
                     .filter(|(i, _)| !idx.contains(i))
                     .map(|(_, &b)| b)
                     .collect();
-                match ctx.fit(pts, &best.params, &trial, lsq) {
+                let rounds = ctx.opts.correction_rounds;
+                match ctx.fit_rounds(pts, &best.params, &trial, lsq, rounds, true) {
                     Ok(f) if f.deviation.max <= ctx.tol => Some((trial, f)),
                     _ => None,
                 }
@@ -546,6 +557,23 @@ mod tests {
         crate::io::read_points(p).unwrap().points
     }
 
+    /// Largest distance from `q` to the polyline through `n + 1` equally spaced curve points.
+    fn polyline_distance(c: &NurbsCurve, q: &[Vec3], n: usize) -> f64 {
+        let us: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+        let poly = c.points(&us);
+        q.iter()
+            .map(|&p| {
+                poly.windows(2)
+                    .map(|w| {
+                        let d = w[1] - w[0];
+                        let t = ((p - w[0]).dot(d) / d.norm_squared()).clamp(0.0, 1.0);
+                        (w[0] + d * t - p).norm()
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max)
+    }
+
     #[test]
     fn quarter_ellipse_meets_rel_tol_measured_by_global_projection() {
         let q = read("quarter_ellipse_200.csv");
@@ -689,12 +717,14 @@ mod tests {
             };
             let r = fit_to_tolerance(&q, &opts).unwrap();
             assert!((r.tolerance - 1e-3).abs() < 1e-5, "{}", r.tolerance);
-            let proj = crate::diffgeo::CurveProjector::new(&r.curve, 64);
-            let worst = q
-                .iter()
-                .map(|&p| proj.project(p).distance)
-                .fold(0.0, f64::max);
-            assert!(worst <= r.tolerance, "rounds {rounds}: {worst}");
+            // independent measure: distance to a dense polyline of the curve (chord error < 1e-8
+            // here). The sampled projector is not used: at this thin trailing edge its best sample can
+            // lie on the other surface (it reported 5.3e-3 for a point 6.5e-4 away).
+            let worst = polyline_distance(&r.curve, &q, 100_000);
+            assert!(
+                worst <= r.tolerance * (1.0 + 1e-6),
+                "rounds {rounds}: {worst}"
+            );
             // the clean airfoil needs 15 (closed, sharp TE); noise must not blow the count up
             assert!(
                 r.n_control_points <= 20,
