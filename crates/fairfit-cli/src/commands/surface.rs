@@ -233,7 +233,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     };
     opts.skin.approximate_with = args.approximate_v;
     opts.skin.smoothing = args.smooth_v;
-    opts.iso_curves = 11;
+    opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
     let pb = crate::progress::bar(3, "surface");
     pb.set_message("fitting sections");
     let result = reconstruct_surface_with_progress(input.sections, &opts, &mut |st| match st {
@@ -309,7 +309,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         )?;
     }
     super::print_stdout(&format!(
-        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along the sections {:.3e}, across them {:.3e}; {} gap(s) reported",
+        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along u (the sections) {:.3e}, along v (across them) {:.3e}; {} gap(s) reported",
         r.deviation.max,
         r.deviation.rms,
         r.deviation.points,
