@@ -651,6 +651,8 @@ def write_report(path, groups_rows, args, data, seconds=float("nan")):
         "",
         targets.targets_section(all_rows, met, EQUAL_COUNT),
         "",
+        *targets.analytic_reference(all_rows, data),
+        "",
         "## Surfaces: the IEA 15 MW blade, F between sections (issue 5)",
         "",
         *targets.blade_section(path),

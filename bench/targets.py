@@ -229,3 +229,47 @@ def blade_section(report_path):
         out += ["", f"Issue 5 target (F between sections no worse than the loft's): fairfit's max {_g(ff)} is "
                     f"{verdict} ThruSections' {_g(loft)} ({_g(ff / loft)} x): {_status(ff <= loft)}."]
     return out
+
+
+def _ellipse_header(path):
+    """(a, b) from an analytic quarter-ellipse file's first comment `x=a cos t, y=b sin t, t ... [0, pi/2]`."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            first = fh.readline()
+    except OSError:
+        return None
+    m = re.search(r"x=\s*([\d.]*)\s*cos t,\s*y=\s*([\d.]*)\s*sin t,.*\[0, pi/2\]", first)
+    if not m:
+        return None
+    return float(m.group(1) or 1.0), float(m.group(2) or 1.0)
+
+
+def ellipse_fairness(a, b):
+    """F = L^3 int (dkappa/ds)^2 ds of the exact quarter ellipse (a cos t, b sin t), t in [0, pi/2],
+    by adaptive quadrature (independent of every fitted curve)."""
+    import numpy as np
+    from scipy.integrate import quad
+
+    sp = lambda t: np.hypot(a * np.sin(t), b * np.cos(t))  # noqa: E731
+    dk_dt = lambda t: -3 * a * b * (a * a - b * b) * np.sin(t) * np.cos(t) / sp(t) ** 5  # noqa: E731
+    L = quad(sp, 0, np.pi / 2, epsabs=1e-14)[0]
+    return L**3 * quad(lambda t: dk_dt(t) ** 2 / sp(t), 0, np.pi / 2, epsabs=1e-14)[0]
+
+
+def analytic_reference(all_rows, data_dir):
+    """A line per analytic curve: the exact curve's F next to splprep's and the integrated method's,
+    so the F <= 0.5 x splprep target can be read against the curve the points come from."""
+    out = []
+    for name, _, _, results in all_rows:
+        ab = _ellipse_header(os.path.join(data_dir, "synthetic", name + ".csv"))
+        if ab is None:
+            continue
+        F = ellipse_fairness(*ab)
+        by = {r.method: r for r in results}
+        got = [f"{m} {_g(by[m].metrics.F)}" for m in (SPLPREP, INTEGRATED) if m in by and by[m].ok]
+        out.append(f"- {name}: the exact quarter ellipse x = {ab[0]:g} cos t, y = {ab[1]:g} sin t has F = {_g(F)} "
+                   f"(quadrature); " + ", ".join(got) + ".")
+    if out:
+        out.insert(0, "Reference for the F target: the analytic curve the points were sampled from "
+                      "(F <= 0.5 x splprep asks for less than half of splprep's F within the tolerance band):")
+    return out

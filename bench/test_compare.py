@@ -91,6 +91,39 @@ def test_blade_section_reads_surface_table():
     assert "has not been generated yet" in missing[0]
 
 
+
+def test_ellipse_fairness_circle_zero_and_ellipse_known():
+    # a circle has constant curvature: F = 0; the 1 x 0.5 quarter ellipse: an independent closed
+    # form of dkappa/dt integrated by a plain composite rule on a fine grid
+    import numpy as np
+
+    assert targets.ellipse_fairness(2.0, 2.0) < 1e-20
+    t = np.linspace(0, np.pi / 2, 400_001)
+    x1, y1, x2, y2 = -np.sin(t), 0.5 * np.cos(t), -np.cos(t), -0.5 * np.sin(t)
+    ds = np.hypot(x1, y1)
+    kap = (x1 * y2 - y1 * x2) / ds**3  # curvature from the derivatives; dkappa/dt by differences
+    dk_ds = np.gradient(kap, t, edge_order=2) / ds
+    L = np.trapezoid(ds, t)
+    F = L**3 * np.trapezoid(dk_ds**2 * ds, t)
+    assert abs(targets.ellipse_fairness(1.0, 0.5) - F) < 1e-4 * F, (targets.ellipse_fairness(1.0, 0.5), F)
+
+
+
+def test_measurer_fairness_of_exact_rational_quarter_ellipse_matches_quadrature():
+    # the quarter ellipse is exactly a rational quadratic (affine image of the quarter circle)
+    import numpy as np
+
+    ctrl = np.array([[1.0, 0.0], [1.0, 0.5], [0.0, 0.5]])
+    w = np.array([1.0, np.sqrt(0.5), 1.0])
+    c = measure.Curve(2, [0, 0, 0, 1, 1, 1], ctrl, w)
+    u = np.linspace(0, 1, 101)
+    p = c.points(u)
+    assert np.allclose(p[:, 0] ** 2 + (p[:, 1] / 0.5) ** 2, 1.0, atol=1e-12)
+    F, _ = measure.fairness(c, planar=True)
+    exact = targets.ellipse_fairness(1.0, 0.5)
+    assert abs(F - exact) < 1e-6 * exact, (F, exact)
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):
