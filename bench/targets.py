@@ -70,8 +70,9 @@ def _which(missed, limit=6):
 
 def times_200(all_rows, meth):
     """For the curves of POINTS_200 points: CLI wall times (s), fairfit's own times (s), and the ratios
-    of the CLI time to splprep's one call and to splprep's whole s search, in the same run."""
-    cli, own, r_one, r_search = [], [], [], []
+    of the CLI time to splprep's one call, to splprep's whole s search (incl. the measurer) and to the
+    splprep calls of that search alone, in the same run."""
+    cli, own, r_one, r_search, r_calls = [], [], [], [], []
     for _, npts, _, results in all_rows:
         if npts != POINTS_200:
             continue
@@ -85,7 +86,9 @@ def times_200(all_rows, meth):
         if s is not None and s.ok:
             r_one.append(r.time_ms / s.single_ms)
             r_search.append(r.time_ms / s.time_ms)
-    return cli, own, r_one, r_search
+            if s.extra.get("calls_ms"):
+                r_calls.append(r.time_ms / s.extra["calls_ms"])
+    return cli, own, r_one, r_search, r_calls
 
 
 def _med(v):
@@ -142,13 +145,14 @@ def targets_section(all_rows, met, equal_name):
         f"lower F on {wins}/{total} curves compared (of {n_curves}); F ratio integrated / fit-then-fair: "
         f"geometric mean {gm}, worst {worst}{_which(lost)} | {_status(wins == total == n_curves)} |"
     )
-    cli, own, r_one, r_search = times_200(all_rows, INTEGRATED)
+    cli, own, r_one, r_search, r_calls = times_200(all_rows, INTEGRATED)
     if cli:
         out.append(
             f"| Wall time of a {POINTS_200}-point curve <= {TIME_TARGET_S} s; ratio to splprep | issue 4 | "
             f"integrated, {len(cli)} curves of {POINTS_200} points, whole CLI process: median {_g(_med(cli))} s, "
-            f"max {_g(max(cli))} s (fairfit's own time: median {_g(_med(own))} s); ratio to splprep in the same "
-            f"run: {_g(_med(r_search))} x splprep with its s search, {_g(_med(r_one))} x one splprep call "
+            f"max {_g(max(cli))} s (fairfit's own time: median {_g(_med(own))} s); median ratio to splprep in the "
+            f"same run: {_g(_med(r_search))} x splprep's s search incl. measuring each step, {_g(_med(r_calls))} x "
+            f"the splprep calls of that search alone, {_g(_med(r_one))} x one splprep call "
             f"| {_status(max(cli) <= TIME_TARGET_S)} |"
         )
     else:
@@ -157,7 +161,7 @@ def targets_section(all_rows, met, equal_name):
     h, n, miss = _count(all_rows, met, LSQ, lambda a, b: a.n_ctrl <= 1.5 * b.n_ctrl)
     out.append(f"| lsq: control points within 1.5 x splprep's | issue 3 | {h}/{n}{_which(miss)} "
                f"| {_status(h == n == n_curves)} |")
-    cli, own, r_one, _ = times_200(all_rows, LSQ)
+    cli, own, r_one, _, _ = times_200(all_rows, LSQ)
     if cli:
         out.append(
             f"| lsq: a fraction of a millisecond per {POINTS_200}-point curve | issue 3 | fairfit's own fit time "
