@@ -181,8 +181,15 @@ fn bad_input_gives_one_line_errors() {
     }
     // a bad --iso value is a clap usage error, also without panic
     let c = file_with(circle_json(1.0).as_bytes());
-    let (ok, _, stderr) = info(&["--iso", "0", c.path().to_str().unwrap()]);
-    assert!(!ok);
+    let out = Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(["info", "--iso", "0", c.path().to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("--iso") && stderr.contains("fairfit info --help"));
     assert!(!stderr.contains("panicked"));
 }
 

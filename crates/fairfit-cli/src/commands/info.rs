@@ -40,7 +40,6 @@ pub fn run(args: InfoArgs) -> CmdResult {
         1 => print_json(&out[0]),
         _ => print_json(&Value::Array(out)),
     }
-    Ok(())
 }
 
 fn curve_info(c: &NurbsCurve) -> Value {
