@@ -1,6 +1,7 @@
 //! Parameter correction (Hoschek; method reconstruction §6.6): fit, project every point onto the curve
 //! near its parameter, refit with the foot parameters, for a configurable number of rounds. A round is
-//! kept only when it lowers the maximum orthogonal deviation.
+//! kept only when it lowers the maximum orthogonal deviation and keeps
+//! the feet in order (out-of-order feet are points projected onto the wrong part of the curve).
 
 use super::deviation::{max_orthogonal_deviation, screened_deviation, Deviation};
 use super::lsq::{LsqOptions, LsqSolver};
@@ -76,6 +77,11 @@ pub fn fit_with_correction(
                 let n = trial.len();
                 trial[n - 1] = *l;
             }
+        }
+        // feet out of order mean some points projected onto the wrong part of the curve: refitting
+        // with them would fold the curve, so the correction stops here
+        if trial.windows(2).any(|w| w[1] <= w[0]) {
+            break;
         }
         if solver
             .solve(points, &trial, knots, None, opts, &mut ctrl)
