@@ -5,6 +5,7 @@
 pub mod banded;
 pub mod correction;
 pub mod deviation;
+pub mod foot;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;

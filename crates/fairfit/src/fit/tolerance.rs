@@ -9,7 +9,7 @@
 //! joined with knots of multiplicity `p` (C0 corners); a closed curve without corners is fitted
 //! periodically (C^(p−1) at the seam).
 
-use super::correction::{fit_with_correction, CorrectedFit};
+use super::correction::{fit_corrected, CorrectedFit};
 use super::deviation::{max_orthogonal_deviation, Deviation};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
@@ -18,6 +18,9 @@ use crate::errors::{Error, Result};
 use crate::io::points::{bounding_box_extent, drop_consecutive_duplicates};
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::time::Instant;
+
+/// Parameter-correction rounds tried once when refinement gets stuck (no span left to split).
+const RESCUE_ROUNDS: usize = 3;
 
 /// The tolerance on the maximum orthogonal deviation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -256,15 +259,28 @@ impl Ctx<'_> {
         breaks: &[f64],
         lsq: &LsqOptions,
     ) -> Result<CorrectedFit> {
+        self.fit_rounds(pts, params, breaks, lsq, self.opts.correction_rounds, false)
+    }
+
+    fn fit_rounds(
+        &mut self,
+        pts: &[Vec3],
+        params: &[f64],
+        breaks: &[f64],
+        lsq: &LsqOptions,
+        rounds: usize,
+        probe: bool,
+    ) -> Result<CorrectedFit> {
         let knots = knots_from_breaks(breaks, self.opts.degree, lsq.closed);
-        let f = fit_with_correction(
+        let f = fit_corrected(
             &mut self.solver,
             pts,
             params,
             &knots,
             lsq,
-            self.opts.correction_rounds,
+            rounds,
             self.tol,
+            probe,
         );
         self.solves += 1 + f.as_ref().map(|f| f.rounds_kept).unwrap_or(0);
         f
@@ -298,10 +314,20 @@ impl Ctx<'_> {
         };
         let ctrl_count = |b: &[f64]| if closed { b.len() - 1 } else { b.len() + p - 1 };
         let mut best = self.fit(pts, &params, &breaks, &lsq)?;
+        let mut rescued = false;
         while best.deviation.max > self.tol {
             params.clone_from(&best.params);
-            let added = split_bad_spans(&mut breaks, &best.deviation.per_point, &params, self.tol);
-            if added == 0 || ctrl_count(&breaks) > max_ctrl {
+            let mut trial = breaks.clone();
+            let added = split_bad_spans(&mut trial, &best.deviation.per_point, &params, self.tol);
+            if added == 0 || ctrl_count(&trial) > max_ctrl {
+                if !rescued {
+                    // stuck with these parameters: correct them (project the points onto the curve
+                    // and refit) on the current knots, then carry on refining with the feet
+                    rescued = true;
+                    let rounds = self.opts.correction_rounds.max(RESCUE_ROUNDS);
+                    best = self.fit_rounds(pts, &params, &breaks, &lsq, rounds, false)?;
+                    continue;
+                }
                 return Err(Error::Fit(format!(
                     "tolerance {:.3e} not reached: max deviation {:.3e} with {} control points \
                      (too few points per knot span to refine further; noisy data need a larger tolerance)",
@@ -310,6 +336,7 @@ impl Ctx<'_> {
                     best.curve.n_control_points()
                 )));
             }
+            breaks = trial;
             best = self.fit(pts, &params, &breaks, &lsq)?;
         }
         if self.opts.knot_removal {
@@ -344,7 +371,8 @@ impl Ctx<'_> {
                     .filter(|(i, _)| !idx.contains(i))
                     .map(|(_, &b)| b)
                     .collect();
-                match ctx.fit(pts, &best.params, &trial, lsq) {
+                let rounds = ctx.opts.correction_rounds;
+                match ctx.fit_rounds(pts, &best.params, &trial, lsq, rounds, true) {
                     Ok(f) if f.deviation.max <= ctx.tol => Some((trial, f)),
                     _ => None,
                 }
@@ -403,7 +431,9 @@ fn initial_periodic_breaks(params: &[f64], count: usize) -> Vec<f64> {
 }
 
 /// Splits every span whose points exceed `tol` at the median of its parameters; returns the number of
-/// knots added.
+/// knots added. A bad span holding fewer than two parameters cannot be split with data on both sides:
+/// its neighbours are split instead (on both sides, which keeps reversal symmetric), giving the basis
+/// more freedom there. This is what lets noisy data with a sharp leading edge reach the tolerance.
 fn split_bad_spans(breaks: &mut Vec<f64>, err: &[f64], params: &[f64], tol: f64) -> usize {
     let nspan = breaks.len() - 1;
     let span_of = |u: f64| -> usize {
@@ -423,39 +453,58 @@ fn split_bad_spans(breaks: &mut Vec<f64>, err: &[f64], params: &[f64], tol: f64)
             }
         }
     }
-    let mut inside: Vec<Vec<f64>> = vec![Vec::new(); nspan];
-    // parameters of each bad span, both ends included (a point on a knot counts for both spans, which
+    // parameters of each span, both ends included (a point on a knot counts for both spans, which
     // keeps reversal symmetric)
+    let mut inside: Vec<Vec<f64>> = vec![Vec::new(); nspan];
     for &u in params {
         let s = span_of(u);
-        if bad[s] {
-            inside[s].push(u);
-        }
-        if s > 0 && u == breaks[s] && bad[s - 1] {
+        inside[s].push(u);
+        if s > 0 && u == breaks[s] {
             inside[s - 1].push(u);
         }
     }
-    let mut new_knots = Vec::new();
-    for (s, us) in inside.iter_mut().enumerate() {
-        if !bad[s] || us.len() < 2 {
-            continue;
+    let split_at = |s: usize, us: &mut Vec<f64>| -> Option<f64> {
+        if us.len() < 2 {
+            return None;
         }
         us.sort_by(f64::total_cmp);
         // the median, placed symmetrically: reversed data split at the mirrored value
         let c = us.len();
         let h = c / 2;
-        let k = if c % 2 == 0 {
-            0.5 * (us[h - 1] + us[h])
+        let (k, lo, hi) = if c % 2 == 0 {
+            (0.5 * (us[h - 1] + us[h]), us[h - 1], us[h])
         } else {
-            0.25 * (us[h - 1] + 2.0 * us[h] + us[h + 1])
+            (
+                0.25 * (us[h - 1] + 2.0 * us[h] + us[h + 1]),
+                us[h - 1],
+                us[h + 1],
+            )
         };
-        let (lo, hi) = if c % 2 == 0 {
-            (us[h - 1], us[h])
-        } else {
-            (us[h - 1], us[h + 1])
-        };
-        if k > lo && k < hi && k > breaks[s] && k < breaks[s + 1] {
+        (k > lo && k < hi && k > breaks[s] && k < breaks[s + 1]).then_some(k)
+    };
+    let mut want = vec![false; nspan];
+    let mut new_knots = Vec::new();
+    for s in 0..nspan {
+        if !bad[s] {
+            continue;
+        }
+        if let Some(k) = split_at(s, &mut inside[s]) {
+            want[s] = true;
             new_knots.push(k);
+        }
+    }
+    // unsplittable bad spans: split their neighbours
+    for s in 0..nspan {
+        if !bad[s] || want[s] {
+            continue;
+        }
+        for t in [s.wrapping_sub(1), s + 1] {
+            if t < nspan && !want[t] {
+                if let Some(k) = split_at(t, &mut inside[t]) {
+                    want[t] = true;
+                    new_knots.push(k);
+                }
+            }
         }
     }
     let added = new_knots.len();
@@ -506,6 +555,23 @@ mod tests {
     fn read(name: &str) -> Vec<Vec3> {
         let p = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
         crate::io::read_points(p).unwrap().points
+    }
+
+    /// Largest distance from `q` to the polyline through `n + 1` equally spaced curve points.
+    fn polyline_distance(c: &NurbsCurve, q: &[Vec3], n: usize) -> f64 {
+        let us: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
+        let poly = c.points(&us);
+        q.iter()
+            .map(|&p| {
+                poly.windows(2)
+                    .map(|w| {
+                        let d = w[1] - w[0];
+                        let t = ((p - w[0]).dot(d) / d.norm_squared()).clamp(0.0, 1.0);
+                        (w[0] + d * t - p).norm()
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max)
     }
 
     #[test]
@@ -637,6 +703,35 @@ mod tests {
         assert!((r.curve.point(0.0) - q[0]).norm() < 1e-14);
         assert!((r.curve.point(1.0) - q[q.len() - 1]).norm() < 1e-14);
         assert!(r.deviation.max <= r.tolerance);
+    }
+
+    #[test]
+    fn noisy_sharp_leading_edge_meets_the_tolerance_with_any_correction_rounds() {
+        // du84132v with noise 1e-4 chord: refinement used to get stuck at the leading edge ("too few
+        // points per knot span") and correction rounds used to fold the curve (2e-2 deviation)
+        let q = read("du84132v_noise1e-4.csv");
+        for rounds in [0, 1, 2, 3] {
+            let opts = FitOptions {
+                correction_rounds: rounds,
+                ..Default::default()
+            };
+            let r = fit_to_tolerance(&q, &opts).unwrap();
+            assert!((r.tolerance - 1e-3).abs() < 1e-5, "{}", r.tolerance);
+            // independent measure: distance to a dense polyline of the curve (chord error < 1e-8
+            // here). The sampled projector is not used: at this thin trailing edge its best sample can
+            // lie on the other surface (it reported 5.3e-3 for a point 6.5e-4 away).
+            let worst = polyline_distance(&r.curve, &q, 100_000);
+            assert!(
+                worst <= r.tolerance * (1.0 + 1e-6),
+                "rounds {rounds}: {worst}"
+            );
+            // the clean airfoil needs 15 (closed, sharp TE); noise must not blow the count up
+            assert!(
+                r.n_control_points <= 20,
+                "rounds {rounds}: {}",
+                r.n_control_points
+            );
+        }
     }
 
     #[test]
