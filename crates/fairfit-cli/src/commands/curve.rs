@@ -8,7 +8,7 @@
 //! deviation, fairness and timing.
 
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
-use super::outputs::{prepare_outputs, OutputArgs, OutputGeometry};
+use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::fair::curve_fairness;
@@ -170,6 +170,15 @@ pub struct CurveArgs {
 /// Runs `fairfit curve`.
 pub fn run(args: CurveArgs) -> CmdResult {
     let wall = Instant::now();
+    let mut outputs: Vec<(&str, &std::path::Path)> = args
+        .output
+        .as_deref()
+        .map(|p| ("-o", p))
+        .into_iter()
+        .collect();
+    outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
+    outputs.extend(args.outputs.named());
+    check_output_paths(&outputs, &[args.input.as_path()])?;
     if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
         return Err(CliError(format!(
             "--corner-angle must be in (0, 180] degrees, got {}",
@@ -276,7 +285,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
     }
     write_all_atomic(&files)?;
     if let Some(text) = stdout_text {
-        println!("{text}");
+        super::print_stdout(&text)?;
     }
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `fairfit surface`: a fair NURBS surface through section files, or through a mesh / point cloud sliced
 //! into planar sections; writes the surface JSON and optionally a report of its measures.
 
-use super::outputs::{write_outputs, OutputArgs, OutputGeometry};
+use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::io::mesh_read::read_mesh;
@@ -37,6 +37,15 @@ pub enum VParam {
     Centripetal,
 }
 
+/// Order of section files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Order {
+    /// By file name (folders are expanded in name order; listed files keep the order given).
+    Name,
+    /// By the position of each section's centroid along --axis (or --normal).
+    Axis,
+}
+
 /// Arguments of `fairfit surface`.
 #[derive(Args, Debug)]
 pub struct SurfaceArgs {
@@ -56,10 +65,13 @@ pub struct SurfaceArgs {
     /// Slice a mesh or point cloud into this many planar sections.
     #[arg(long)]
     pub slices: Option<usize>,
-    /// Axis perpendicular to the slicing planes.
+    /// Axis perpendicular to the slicing planes (and the stacking axis for --order axis).
     #[arg(long, value_enum, default_value = "z")]
     pub axis: Axis,
-    /// Slicing plane normal "nx,ny,nz" (overrides --axis).
+    /// Order of section files: by name, or by position along --axis / --normal.
+    #[arg(long, value_enum, default_value = "name")]
+    pub order: Order,
+    /// Slicing (or stacking) plane normal "nx,ny,nz" (overrides --axis).
     #[arg(long)]
     pub normal: Option<String>,
     /// Degree of the section curves (u).
@@ -124,6 +136,18 @@ struct Input {
     dropped_chains: Vec<usize>,
 }
 
+/// The slicing / stacking direction from --normal or --axis.
+fn stacking_normal(args: &SurfaceArgs) -> Result<Vec3, CliError> {
+    Ok(match &args.normal {
+        Some(s) => parse_normal(s)?,
+        None => match args.axis {
+            Axis::X => Vec3::new(1.0, 0.0, 0.0),
+            Axis::Y => Vec3::new(0.0, 1.0, 0.0),
+            Axis::Z => Vec3::new(0.0, 0.0, 1.0),
+        },
+    })
+}
+
 fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
     if let Some(n) = args.slices {
         if args.input.len() != 1 {
@@ -131,14 +155,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
                 "--slices takes exactly one mesh or point-cloud file".into(),
             ));
         }
-        let normal = match &args.normal {
-            Some(s) => parse_normal(s)?,
-            None => match args.axis {
-                Axis::X => Vec3::new(1.0, 0.0, 0.0),
-                Axis::Y => Vec3::new(0.0, 1.0, 0.0),
-                Axis::Z => Vec3::new(0.0, 0.0, 1.0),
-            },
-        };
+        let normal = stacking_normal(args)?;
         let mesh = read_mesh(&args.input[0])?;
         let opts = SliceOptions {
             slices: n,
@@ -185,6 +202,21 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         }
         sections.push(Section::from_points(pts));
     }
+    let mut names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    if args.order == Order::Axis {
+        let n = stacking_normal(args)?;
+        if n.norm() <= 0.0 {
+            return Err(CliError("--normal must be a non-zero vector".into()));
+        }
+        let mut keyed: Vec<(f64, Section, String)> = sections
+            .into_iter()
+            .zip(names)
+            .map(|(s, name)| (s.centroid().dot(n), s, name))
+            .collect();
+        // stable: sections at the same position keep their name order
+        keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        (sections, names) = keyed.into_iter().map(|(_, s, nm)| (s, nm)).unzip();
+    }
     if sections.len() < 2 {
         return Err(CliError(format!(
             "a surface needs at least 2 sections, got {}",
@@ -192,7 +224,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         )));
     }
     Ok(Input {
-        names: files.iter().map(|f| f.display().to_string()).collect(),
+        names,
         dropped_chains: vec![0; sections.len()],
         sections,
         gaps: Vec::new(),
@@ -202,6 +234,11 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
 
 /// Runs `fairfit surface`.
 pub fn run(args: SurfaceArgs) -> CmdResult {
+    let mut outputs = vec![("-o", args.output.as_path())];
+    outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
+    outputs.extend(args.outputs.named());
+    let inputs: Vec<&std::path::Path> = args.input.iter().map(|p| p.as_path()).collect();
+    check_output_paths(&outputs, &inputs)?;
     let input = read_input(&args)?;
     let largest = input
         .sections
@@ -228,7 +265,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     };
     opts.skin.approximate_with = args.approximate_v;
     opts.skin.smoothing = args.smooth_v;
-    opts.iso_curves = 11;
+    opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
     let pb = crate::progress::bar(3, "surface");
     pb.set_message("fitting sections");
     let result = reconstruct_surface_with_progress(input.sections, &opts, &mut |st| match st {
@@ -303,8 +340,8 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             &args.outputs,
         )?;
     }
-    println!(
-        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along the sections {:.3e}, across them {:.3e}; {} gap(s) reported",
+    super::print_stdout(&format!(
+        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along u (the sections) {:.3e}, along v (across them) {:.3e}; {} gap(s) reported",
         r.deviation.max,
         r.deviation.rms,
         r.deviation.points,
@@ -313,7 +350,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         r.fairness.max_fairness_v,
         r.fairness.max_fairness_u,
         input.gaps.len()
-    );
+    ))?;
     if !within {
         eprintln!(
             "warning: the tolerance {tol:.3e} is not met (max deviation {:.3e}); raise --max-ctrl or the tolerance",

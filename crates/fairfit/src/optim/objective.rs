@@ -181,6 +181,31 @@ pub fn evaluate_candidate_within(
     }
 }
 
+/// Measures the curve already held in `ws` (`ws.knots`, `ws.ctrl`) without fitting: orthogonal
+/// deviations by projection started at `start` (one parameter per data point; the foot parameters go
+/// to `ws.foot_params`) and the fairness. Used to judge control-point moves.
+pub fn measure_current(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> CandidateEval {
+    if ws.ctrl.len() + data.degree + 1 != ws.knots.len() || ws.ctrl.iter().any(|c| !c.is_finite()) {
+        return CandidateEval::failed();
+    }
+    build_power_form(data.degree, ws);
+    let (max_deviation, rms_deviation) = deviations(data, start, ws);
+    let (fairness, max_span_fairness) = fairness(data, ws);
+    CandidateEval {
+        solved: true,
+        max_deviation,
+        rms_deviation,
+        fairness,
+        max_span_fairness,
+    }
+}
+
+/// The fairness `F` alone of the curve held in `ws` (no deviations): for finite differences.
+pub fn measure_fairness_only(data: &FitData, ws: &mut EvalWorkspace) -> f64 {
+    build_power_form(data.degree, ws);
+    fairness(data, ws).0
+}
+
 /// Sets `ws.knots` to the clamped knot vector on `[0, 1]` with the given interior knots.
 pub fn set_knots(degree: usize, interior: &[f64], ws: &mut EvalWorkspace) {
     ws.knots.clear();
