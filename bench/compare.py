@@ -567,7 +567,9 @@ def shortfalls(all_rows):
             if probs:
                 out.append(f"- {name}, {meth}: " + "; ".join(probs))
         fe, ff = by.get(EQUAL_COUNT), by.get("fairfit fit-then-fair")
-        if fe and ff and met(ff, tol) and not met(fe, tol):
+        if fe and ff and met(ff, tol) and not fe.ok:
+            out.append(f"- {name}: integrated at fit-then-fair's {ff.metrics.n_ctrl} ctrl pts failed: {fe.reason}")
+        elif fe and ff and met(ff, tol) and not met(fe, tol):
             out.append(f"- {name}: integrated at fit-then-fair's {ff.metrics.n_ctrl} ctrl pts misses the tolerance")
         elif fe and ff and met(fe, tol) and met(ff, tol) and fe.metrics.F > ff.metrics.F:
             out.append(
