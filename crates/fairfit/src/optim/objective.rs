@@ -200,6 +200,12 @@ pub fn measure_current(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) ->
     }
 }
 
+/// The fairness `F` alone of the curve held in `ws` (no deviations): for finite differences.
+pub fn measure_fairness_only(data: &FitData, ws: &mut EvalWorkspace) -> f64 {
+    build_power_form(data.degree, ws);
+    fairness(data, ws).0
+}
+
 /// Sets `ws.knots` to the clamped knot vector on `[0, 1]` with the given interior knots.
 pub fn set_knots(degree: usize, interior: &[f64], ws: &mut EvalWorkspace) {
     ws.knots.clear();

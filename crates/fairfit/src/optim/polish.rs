@@ -8,11 +8,15 @@
 //! `−g_r / G_rr` with `g_r = Σ_j G_rj P_j`. Candidates are ranked by the energy gain `|g_r|² / G_rr` and
 //! tried with steps `1, 1/2, 1/4, …`; a move is accepted when `F` (the fast 8-node measure of
 //! [`super::objective`]) decreases and the maximum orthogonal deviation stays within the allowance.
+//! When no such move helps, one steepest-descent move of `F` itself on a single control point
+//! (forward-difference gradient, steps from twice the allowance down) is tried before giving up.
 //! Unlike the fit-then-fair baseline this runs on the optimiser's allocation-free power-form evaluator
 //! (projections restarted from the last foot parameters), so hundreds of trials cost milliseconds.
 //! Everything is sequential and deterministic (ties broken by index).
 
-use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
+use super::objective::{
+    measure_current, measure_fairness_only, CandidateEval, EvalWorkspace, FitData,
+};
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
 
@@ -38,7 +42,7 @@ impl Default for PolishOptions {
             max_moves: 400,
             max_candidates: 8,
             step_halvings: 6,
-            max_evaluations: 6000,
+            max_evaluations: 2000,
             span_cap: None,
         }
     }
@@ -127,12 +131,92 @@ pub fn polish(
             }
             ws.ctrl[r] = ctrl[r];
         }
-        break;
+        // no jerk-minimising move helps: steepest descent of F on single control points
+        if !gradient_move(
+            data,
+            ws,
+            &mut ctrl,
+            &mut params,
+            &mut cur,
+            allowed,
+            span_cap,
+            opts,
+            &mut out,
+        ) {
+            break;
+        }
+        out.moves += 1;
     }
     ws.ctrl.copy_from_slice(&ctrl);
     out.eval = measure_current(data, &params, ws);
     out.evaluations += 1;
     out
+}
+
+/// One steepest-descent move of `F` on a single control point: the forward-difference gradient of
+/// `F` with respect to every movable control point, then, in order of decreasing gradient norm, steps
+/// of `2 allowed, allowed, allowed / 2, …` against it; the first one lowering `F` within the
+/// allowance is kept. False when none is found (or the evaluation budget is spent).
+#[allow(clippy::too_many_arguments)]
+fn gradient_move(
+    data: &FitData,
+    ws: &mut EvalWorkspace,
+    ctrl: &mut [Vec3],
+    params: &mut [f64],
+    cur: &mut CandidateEval,
+    allowed: f64,
+    span_cap: f64,
+    opts: &PolishOptions,
+    out: &mut Polished,
+) -> bool {
+    const H: f64 = 1e-7;
+    let n = ctrl.len();
+    let dims = if data.planar { 2 } else { 3 };
+    let mut grads: Vec<(f64, usize, Vec3)> = Vec::with_capacity(n);
+    for r in 1..n - 1 {
+        let mut g = Vec3::ZERO;
+        for d in 0..dims {
+            if out.evaluations >= opts.max_evaluations {
+                return false;
+            }
+            ws.ctrl[r] = ctrl[r];
+            ws.ctrl[r][d] += H;
+            let e = measure_fairness_only(data, ws);
+            out.evaluations += 1;
+            g[d] = (e - cur.fairness) / H;
+        }
+        ws.ctrl[r] = ctrl[r];
+        let norm = g.norm();
+        if norm > 0.0 && norm.is_finite() {
+            grads.push((norm, r, g * (-1.0 / norm)));
+        }
+    }
+    grads.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for &(_, r, dir) in grads.iter().take(opts.max_candidates.max(1)) {
+        let mut t = 2.0 * allowed;
+        for _ in 0..=opts.step_halvings {
+            if out.evaluations >= opts.max_evaluations {
+                ws.ctrl[r] = ctrl[r];
+                return false;
+            }
+            ws.ctrl[r] = ctrl[r] + dir * t;
+            t *= 0.5;
+            let e = measure_current(data, params, ws);
+            out.evaluations += 1;
+            if e.solved
+                && e.max_deviation <= allowed
+                && e.max_span_fairness <= span_cap
+                && e.fairness < cur.fairness * (1.0 - 1e-9)
+            {
+                ctrl[r] = ws.ctrl[r];
+                *cur = e;
+                params.copy_from_slice(&ws.foot_params);
+                return true;
+            }
+        }
+        ws.ctrl[r] = ctrl[r];
+    }
+    false
 }
 
 #[cfg(test)]
