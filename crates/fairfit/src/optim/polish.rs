@@ -11,11 +11,13 @@
 //! When no such move helps, one steepest-descent move of `F` itself on a single control point
 //! (forward-difference gradient, steps from twice the allowance down) is tried before giving up.
 //! Unlike the fit-then-fair baseline this runs on the optimiser's allocation-free power-form evaluator
-//! (projections restarted from the last foot parameters), so hundreds of trials cost milliseconds.
+//! (projections restarted from the last foot parameters), and a trial re-measures only what a move of
+//! one control point can change ([`measure_move`]: `p + 1` spans and the data points whose feet lie
+//! in them), so hundreds of trials cost milliseconds.
 //! Everything is sequential and deterministic (ties broken by index).
 
 use super::objective::{
-    measure_current, measure_fairness_only, CandidateEval, EvalWorkspace, FitData,
+    measure_current, measure_move, CandidateEval, EvalWorkspace, FitData, MeasureState,
 };
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
@@ -83,6 +85,8 @@ pub fn polish(
         return out;
     }
     params.copy_from_slice(&ws.foot_params);
+    let mut saved = MeasureState::default();
+    ws.save_state(&mut saved);
     let allowed = allowed.max(cur.max_deviation);
     let span_cap = opts
         .span_cap
@@ -115,7 +119,7 @@ pub fn polish(
                 }
                 ws.ctrl[r] = ctrl[r] + delta * t;
                 t *= 0.5;
-                let e = measure_current(data, &params, ws);
+                let e = measure_move(data, r, &params, true, ws);
                 out.evaluations += 1;
                 if e.solved
                     && e.max_deviation <= allowed
@@ -125,9 +129,11 @@ pub fn polish(
                     ctrl[r] = ws.ctrl[r];
                     cur = e;
                     params.copy_from_slice(&ws.foot_params);
+                    ws.save_state(&mut saved);
                     out.moves += 1;
                     continue 'moves;
                 }
+                ws.load_state(&saved);
             }
             ws.ctrl[r] = ctrl[r];
         }
@@ -135,6 +141,7 @@ pub fn polish(
         if !gradient_move(
             data,
             ws,
+            &mut saved,
             &mut ctrl,
             &mut params,
             &mut cur,
@@ -161,6 +168,7 @@ pub fn polish(
 fn gradient_move(
     data: &FitData,
     ws: &mut EvalWorkspace,
+    saved: &mut MeasureState,
     ctrl: &mut [Vec3],
     params: &mut [f64],
     cur: &mut CandidateEval,
@@ -181,7 +189,8 @@ fn gradient_move(
             }
             ws.ctrl[r] = ctrl[r];
             ws.ctrl[r][d] += H;
-            let e = measure_fairness_only(data, ws);
+            let e = measure_move(data, r, params, false, ws).fairness;
+            ws.load_state(saved);
             out.evaluations += 1;
             g[d] = (e - cur.fairness) / H;
         }
@@ -201,7 +210,7 @@ fn gradient_move(
             }
             ws.ctrl[r] = ctrl[r] + dir * t;
             t *= 0.5;
-            let e = measure_current(data, params, ws);
+            let e = measure_move(data, r, params, true, ws);
             out.evaluations += 1;
             if e.solved
                 && e.max_deviation <= allowed
@@ -211,8 +220,10 @@ fn gradient_move(
                 ctrl[r] = ws.ctrl[r];
                 *cur = e;
                 params.copy_from_slice(&ws.foot_params);
+                ws.save_state(saved);
                 return true;
             }
+            ws.load_state(saved);
         }
         ws.ctrl[r] = ctrl[r];
     }
