@@ -217,6 +217,7 @@ pub fn fit_to_tolerance(points: &[Vec3], opts: &FitOptions) -> Result<FitResult>
         opts,
         tol,
         ends: (None, None),
+        pinned: (false, false),
         solves: 0,
     };
     let (curve, seq, params, corners_out, n_ctrl) = if closed && corners.is_empty() {
@@ -281,7 +282,34 @@ struct Ctx<'a> {
     tol: f64,
     /// end derivatives of the piece being fitted
     ends: (Option<Vec3>, Option<Vec3>),
+    /// ends of the piece whose derivative is pinned to the data's direction (after a hook there)
+    pinned: (bool, bool),
     solves: usize,
+}
+
+/// The index of the first point (from the start, or from the end when `from_end`) at least twice the
+/// tolerance away from the end point, so that the chord to it gives the data's end direction above
+/// the noise (the far end when no point is that far).
+fn end_chord_index(pts: &[Vec3], from_end: bool, tol: f64) -> usize {
+    let m = pts.len() - 1;
+    let far_enough = |k: usize, end: usize| (pts[k] - pts[end]).norm() >= 2.0 * tol;
+    if from_end {
+        (0..m).rev().find(|&k| far_enough(k, m)).unwrap_or(0)
+    } else {
+        (1..=m).find(|&k| far_enough(k, 0)).unwrap_or(m)
+    }
+}
+
+/// Whether the curve leaves its start / enters its end against the data's direction there (a hook).
+fn end_hooks(curve: &NurbsCurve, pts: &[Vec3], tol: f64) -> (bool, bool) {
+    let (a, b) = curve.domain();
+    let m = pts.len() - 1;
+    let mut d = [Vec3::ZERO; 2];
+    curve.derivatives_into(a, 1, &mut d);
+    let start = d[1].dot(pts[end_chord_index(pts, false, tol)] - pts[0]) < 0.0;
+    curve.derivatives_into(b, 1, &mut d);
+    let end = d[1].dot(pts[m] - pts[end_chord_index(pts, true, tol)]) < 0.0;
+    (start, end)
 }
 
 /// Knot vector from distinct breakpoints `0 = b_0 < … < b_k = 1`.
@@ -342,10 +370,42 @@ impl Ctx<'_> {
         closed: bool,
         at_ends: (bool, bool),
     ) -> Result<CorrectedFit> {
+        self.pinned = (false, false);
+        let (first, method) = self.fit_piece_any(pts, closed, at_ends);
+        let f = first?;
+        if closed || pts.len() < self.opts.degree + 1 {
+            return Ok(f);
+        }
+        // an end derivative pointing against the data is a hook (a near-cusp folded inside the
+        // tolerance, F ~ 1e15 and up): refit with that end's direction pinned to the data's
+        let user = (
+            at_ends.0 && self.opts.start_tangent.is_some(),
+            at_ends.1 && self.opts.end_tangent.is_some(),
+        );
+        let hooks = end_hooks(&f.curve, pts, self.tol);
+        let pin = (hooks.0 && !user.0, hooks.1 && !user.1);
+        if pin.0 || pin.1 {
+            self.pinned = pin;
+            let again = self.fit_piece_with(pts, closed, at_ends, method);
+            self.pinned = (false, false);
+            if let Ok(g) = again {
+                return Ok(g);
+            }
+        }
+        Ok(f)
+    }
+
+    /// [`Self::fit_piece`] without the hook check; also returns the parameterisation used.
+    fn fit_piece_any(
+        &mut self,
+        pts: &[Vec3],
+        closed: bool,
+        at_ends: (bool, bool),
+    ) -> (Result<CorrectedFit>, Parameterization) {
         let asked = self.opts.parameterization;
         let first = self.fit_piece_with(pts, closed, at_ends, asked);
         if first.is_ok() {
-            return first;
+            return (first, asked);
         }
         for alt in [
             Parameterization::Centripetal,
@@ -354,11 +414,11 @@ impl Ctx<'_> {
         ] {
             if alt != asked {
                 if let Ok(f) = self.fit_piece_with(pts, closed, at_ends, alt) {
-                    return Ok(f);
+                    return (Ok(f), alt);
                 }
             }
         }
-        first
+        (first, asked)
     }
 
     fn fit_piece_with(
@@ -385,6 +445,14 @@ impl Ctx<'_> {
                 .filter(|_| at_ends.1 && m >= 1)
                 .map(|t| scaled(t, speed(m - 1, m))),
         );
+        if self.pinned.0 && self.ends.0.is_none() {
+            let k = end_chord_index(pts, false, self.tol);
+            self.ends.0 = Some(scaled(pts[k] - pts[0], speed(0, 1)));
+        }
+        if self.pinned.1 && self.ends.1.is_none() {
+            let k = end_chord_index(pts, true, self.tol);
+            self.ends.1 = Some(scaled(pts[m] - pts[k], speed(m - 1, m)));
+        }
         let mut lsq = LsqOptions {
             smoothing: self.opts.smoothing,
             smoothing_order: self.opts.smoothing_order,
