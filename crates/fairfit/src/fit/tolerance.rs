@@ -70,6 +70,9 @@ pub struct FitOptions {
     pub max_control_points: usize,
     /// How knots are placed (default [`KnotRule::Refine`]).
     pub knot_rule: KnotRule,
+    /// With [`KnotRule::Refine`] on open pieces, also try the curvature-adaptive rule below the refined
+    /// count and keep it when it meets the tolerance with fewer control points (default true).
+    pub try_adaptive: bool,
     /// Direction of the curve at the first point (open curves; the magnitude is taken from the data).
     pub start_tangent: Option<Vec3>,
     /// Direction of the curve at the last point (open curves).
@@ -105,6 +108,7 @@ impl Default for FitOptions {
             knot_removal: true,
             max_control_points: 0,
             knot_rule: KnotRule::Refine,
+            try_adaptive: true,
             start_tangent: None,
             end_tangent: None,
         }
@@ -479,6 +483,7 @@ impl Ctx<'_> {
             m => m.min(pts.len()),
         };
         let ctrl_count = |b: &[f64]| if closed { b.len() - 1 } else { b.len() + p - 1 };
+        let first_params = params.clone();
         let mut best = self.fit(pts, &params, &breaks, &lsq)?;
         let mut rescued = false;
         while best.deviation.max > self.tol {
@@ -508,6 +513,14 @@ impl Ctx<'_> {
         if self.opts.knot_removal {
             self.remove_knots(pts, &mut breaks, &mut best, &lsq, closed);
         }
+        if !closed && self.opts.try_adaptive {
+            // the adaptive rule beats refinement on some curves (naca4412: 14 vs 17): keep it when it
+            // needs fewer control points
+            let upper = best.curve.n_control_points();
+            if let Some(f) = self.adaptive_below(pts, &first_params, &lsq, upper) {
+                best = f;
+            }
+        }
         Ok(best)
     }
 }
@@ -520,12 +533,13 @@ impl Ctx<'_> {
         params: &[f64],
         n: usize,
         closed: bool,
+        rule: KnotRule,
     ) -> Result<Vec<f64>> {
         let p = self.opts.degree;
         if closed {
             return Ok(initial_periodic_breaks(params, n));
         }
-        let knots = match self.opts.knot_rule {
+        let knots = match rule {
             KnotRule::Adaptive => curvature_adaptive_knots(pts, params, p, n, 0.5, 0.5)?,
             _ => averaging_knots(params, p, n)?,
         };
@@ -548,7 +562,9 @@ impl Ctx<'_> {
         };
         let min_n = p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some());
         let try_n = |ctx: &mut Self, n: usize| -> Option<CorrectedFit> {
-            let breaks = ctx.rule_breaks(pts, params, n, closed).ok()?;
+            let breaks = ctx
+                .rule_breaks(pts, params, n, closed, ctx.opts.knot_rule)
+                .ok()?;
             ctx.fit(pts, params, &breaks, lsq)
                 .ok()
                 .filter(|f| f.deviation.max <= ctx.tol)
@@ -587,6 +603,45 @@ impl Ctx<'_> {
             }
         }
         Ok(best)
+    }
+
+    /// The curvature-adaptive rule's fit with the fewest control points below `upper` (the refine
+    /// rule's count) that meets the tolerance, or `None`. One trial at `upper - 1` decides whether
+    /// to search at all (bisection below it), so this costs one solve when refine wins.
+    fn adaptive_below(
+        &mut self,
+        pts: &[Vec3],
+        params: &[f64],
+        lsq: &LsqOptions,
+        upper: usize,
+    ) -> Option<CorrectedFit> {
+        let p = self.opts.degree;
+        let min_n = p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some());
+        let try_n = |ctx: &mut Self, n: usize| -> Option<CorrectedFit> {
+            let breaks = ctx
+                .rule_breaks(pts, params, n, false, KnotRule::Adaptive)
+                .ok()?;
+            ctx.fit(pts, params, &breaks, lsq)
+                .ok()
+                .filter(|f| f.deviation.max <= ctx.tol)
+        };
+        if upper <= min_n {
+            return None;
+        }
+        let mut good = upper - 1;
+        let mut best = try_n(self, good)?;
+        let mut fail = min_n - 1;
+        while good - fail > 1 {
+            let mid = fail + (good - fail) / 2;
+            match try_n(self, mid) {
+                Some(f) => {
+                    good = mid;
+                    best = f;
+                }
+                None => fail = mid,
+            }
+        }
+        Some(best)
     }
 
     /// Knot removal from both ends inward, pairwise (outermost left with outermost right, ...), so that
