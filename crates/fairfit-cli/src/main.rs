@@ -1,12 +1,17 @@
 //! `fairfit`: fair NURBS curves and surfaces from measured points, on the command line.
 //!
 //! Every subcommand lives in its own file under `commands/`. Errors print as one line on stderr with a
-//! non-zero exit code; the library's typed errors already name what is wrong.
+//! non-zero exit code: 2 for usage errors (unknown or missing arguments, invalid option values; the
+//! line ends with the `--help` to read), 1 for everything else (unreadable or invalid input, failed
+//! writes); the library's typed errors already name what is wrong. `--help` and `--version` print
+//! normally and exit 0; `fairfit` without a subcommand prints the help on stderr and exits 2. A closed
+//! stdout (`fairfit info x.json | head -c 10`) ends the run quietly with exit 0.
 
 mod commands;
 mod progress;
 
-use clap::{Parser, Subcommand};
+use clap::error::ErrorKind;
+use clap::{CommandFactory, Parser, Subcommand};
 use std::process::ExitCode;
 
 /// Fair NURBS curves and surfaces from measured points.
@@ -33,6 +38,59 @@ enum Command {
     Export(commands::export::ExportArgs),
 }
 
+/// Exit code of usage errors (clap's convention).
+const USAGE_ERROR: u8 = 2;
+
+/// The one-line form of a clap usage error: its message (continuation lines joined, `tip:` lines in
+/// parentheses) and the `--help` of the (sub)command it concerns, e.g.
+/// `error: unexpected argument '--foo' found; see 'fairfit curve --help'`.
+fn one_line_usage_error(err: &clap::Error, args: &[String]) -> String {
+    let text = err.render().to_string();
+    let mut message = String::new();
+    let mut tips = Vec::new();
+    for line in text.lines() {
+        let line = line.trim();
+        if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+        if line.is_empty() {
+            continue;
+        }
+        if let Some(tip) = line.strip_prefix("tip:") {
+            // "to pass '--foo' as a value, use '-- --foo'" is noise for this tool's arguments
+            if !tip.contains("as a value") {
+                tips.push(tip.trim().to_string());
+            }
+        } else {
+            if !message.is_empty() {
+                message.push(' ');
+            }
+            message.push_str(line);
+        }
+    }
+    if !message.starts_with("error:") {
+        message = format!("error: {message}");
+    }
+    if !tips.is_empty() {
+        message = format!("{message} ({})", tips.join("; "));
+    }
+    format!("{message}; see '{} --help'", command_path(args))
+}
+
+/// `fairfit` or `fairfit SUBCOMMAND` for the first argument that names a subcommand.
+fn command_path(args: &[String]) -> String {
+    let cmd = Cli::command();
+    let sub = args.iter().skip(1).find_map(|a| {
+        cmd.get_subcommands()
+            .find(|s| s.get_name() == a)
+            .map(|s| s.get_name().to_string())
+    });
+    match sub {
+        Some(s) => format!("fairfit {s}"),
+        None => "fairfit".into(),
+    }
+}
+
 fn main() -> ExitCode {
     // Last line of defence: a bug must still print one line, never a backtrace.
     std::panic::set_hook(Box::new(|info| {
@@ -44,7 +102,29 @@ fn main() -> ExitCode {
             .unwrap_or_else(|| "unknown cause".into());
         eprintln!("error: internal error ({msg}); please report it with the input that caused it");
     }));
-    let cli = Cli::parse();
+    let args: Vec<String> = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
+    let cli = match Cli::try_parse_from(std::env::args_os()) {
+        Ok(cli) => cli,
+        Err(e) => {
+            return match e.kind() {
+                // help and version go to stdout with exit 0; a missing subcommand prints the help
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    let _ = e.print(); // a closed stdout is not an error here either
+                    ExitCode::SUCCESS
+                }
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    let _ = e.print();
+                    ExitCode::from(USAGE_ERROR)
+                }
+                _ => {
+                    eprintln!("{}", one_line_usage_error(&e, &args));
+                    ExitCode::from(USAGE_ERROR)
+                }
+            };
+        }
+    };
     let result = match cli.command {
         Command::Eval(a) => commands::eval::run(a),
         Command::Info(a) => commands::info::run(a),

@@ -1,6 +1,6 @@
 //! `fairfit eval` end to end: numbers on the exact circle and a bilinear saddle, and every bad input
 //! (missing, malformed, truncated, binary file; bad `--at` list; parameter outside the domain) giving a
-//! one-line error with exit code 1 and no panic.
+//! one-line error with exit code 1 (2 for a usage error) and no panic.
 
 use assert_cmd::Command;
 use serde_json::Value;
@@ -167,8 +167,15 @@ fn missing_at_option_is_a_usage_error() {
         .args(["eval", f.path().to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--at"));
+    // a usage error: exit code 2, one line naming the option and the help to read
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.starts_with("error: ") && err.contains("--at"), "{err}");
+    assert!(
+        err.trim_end().ends_with("see 'fairfit eval --help'"),
+        "{err}"
+    );
 }
 
 #[test]

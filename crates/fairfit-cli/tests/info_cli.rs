@@ -115,10 +115,37 @@ fn surface_summary_and_several_files() {
     assert_eq!(v["net_size"], serde_json::json!([4, 2]));
     assert_eq!(v["degree_u"], 3);
     assert_eq!(v["degree_v"], 1);
-    assert_eq!(v["iso_curves"]["u_iso"].as_array().unwrap().len(), 3);
-    assert!(v["max_fairness_u"].as_f64().unwrap() < 1e-20);
-    assert!(v["max_fairness_v"].as_f64().unwrap() > 1.0);
-    assert_eq!(v["iso_curves"]["v_iso"][1]["inflections"], 1);
+    assert_eq!(v["iso_curves_per_direction"], 3);
+    assert_eq!(v["iso_curves"]["along_v"].as_array().unwrap().len(), 3);
+    // along v (u fixed) the sheet is straight; along u every iso-curve is the cubic graph
+    assert!(v["max_fairness_along_v"].as_f64().unwrap() < 1e-20);
+    assert_eq!(v["iso_curves"]["along_u"][1]["inflections"], 1);
+    assert_eq!(v["iso_curves"]["along_u"][1]["parameter"], 0.5);
+    let cubic = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+            "control_points": [[0,0,0.5],[1,1,0.5],[2,-1,0.5],[3,0,0.5]]}"#,
+    );
+    let (ok, stdout, stderr) = info(&[cubic.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let cf = serde_json::from_str::<Value>(&stdout).unwrap()["fairness"]
+        .as_f64()
+        .unwrap();
+    assert!(cf > 1.0);
+    for key in ["max_fairness_along_u", "iso_curves"] {
+        let f = match key {
+            "iso_curves" => v[key]["along_u"][2]["fairness"].as_f64().unwrap(),
+            _ => v[key].as_f64().unwrap(),
+        };
+        assert!(
+            (f - cf).abs() < 1e-12 * cf,
+            "{key}: {f} vs the curve's {cf}"
+        );
+    }
+    let (ok, stdout, _) = info(&[f.path().to_str().unwrap()]);
+    assert!(ok);
+    let v11: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v11["iso_curves_per_direction"], 11);
+    assert_eq!(v11["iso_curves"]["along_u"].as_array().unwrap().len(), 11);
 
     let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap(), c.path().to_str().unwrap()]);
     assert!(ok, "{stderr}");
@@ -181,8 +208,15 @@ fn bad_input_gives_one_line_errors() {
     }
     // a bad --iso value is a clap usage error, also without panic
     let c = file_with(circle_json(1.0).as_bytes());
-    let (ok, _, stderr) = info(&["--iso", "0", c.path().to_str().unwrap()]);
-    assert!(!ok);
+    let out = Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(["info", "--iso", "0", c.path().to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("--iso") && stderr.contains("fairfit info --help"));
     assert!(!stderr.contains("panicked"));
 }
 
@@ -199,4 +233,90 @@ fn degenerate_point_curve_prints_zeros_not_nan() {
     assert_eq!(v["bending_energy"].as_f64(), Some(0.0));
     assert!(v["length"].as_f64().unwrap() < 1e-12);
     assert_eq!(v["inflections"], 0);
+}
+
+/// `a` and `b` have the same structure and keys, and numbers equal to 1e-12 relative (1e-20 absolute
+/// for round-off around zero).
+fn assert_close(a: &Value, b: &Value, at: &str) {
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let (kx, ky): (Vec<_>, Vec<_>) = (x.keys().collect(), y.keys().collect());
+            assert_eq!(kx, ky, "{at}");
+            for k in x.keys() {
+                assert_close(&x[k], &y[k], &format!("{at}.{k}"));
+            }
+        }
+        (Value::Array(x), Value::Array(y)) => {
+            assert_eq!(x.len(), y.len(), "{at}");
+            for (i, (p, q)) in x.iter().zip(y).enumerate() {
+                assert_close(p, q, &format!("{at}[{i}]"));
+            }
+        }
+        (Value::Number(p), Value::Number(q)) => {
+            let (p, q) = (p.as_f64().unwrap(), q.as_f64().unwrap());
+            assert!(
+                (p - q).abs() <= 1e-12 * p.abs().max(q.abs()) + 1e-20,
+                "{at}: {p} vs {q}"
+            );
+        }
+        _ => assert_eq!(a, b, "{at}"),
+    }
+}
+
+#[test]
+fn info_and_the_surface_report_agree_on_iso_curve_fairness() {
+    // four half-ellipse sections at z = 0, 1, 2.5, 3 with growing semi-axes
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut cmd = Command::cargo_bin("fairfit").unwrap();
+    cmd.arg("surface");
+    for (k, z) in [0.0f64, 1.0, 2.5, 3.0].into_iter().enumerate() {
+        let (a, b) = (2.0 + 0.3 * z, 1.0 + 0.1 * z * z);
+        let mut s = String::from("x,y,z\n");
+        for i in 0..40 {
+            let t = std::f64::consts::PI * i as f64 / 39.0;
+            s += &format!("{},{},{z}\n", a * t.cos(), b * t.sin());
+        }
+        let p = d.join(format!("sec_{k}.csv"));
+        std::fs::write(&p, s).unwrap();
+        cmd.arg(p);
+    }
+    let (json, rep) = (d.join("s.json"), d.join("r.json"));
+    let out = cmd
+        .args(["--tol", "1e-3", "-o"])
+        .arg(&json)
+        .arg("--report")
+        .arg(&rep)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let summary = String::from_utf8_lossy(&out.stdout).into_owned();
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    let (ok, stdout, stderr) = info(&[json.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    // same curves, same keys, same numbers (to 1e-12: the report measures the surface before its
+    // JSON round trip)
+    assert_close(&v["iso_curves"], &report["iso_fairness"], "iso");
+    let iso = &v["iso_curves"];
+    assert_eq!(iso["along_u"].as_array().unwrap().len(), 11);
+    assert_eq!(iso["along_v"].as_array().unwrap().len(), 11);
+    let (fu, fv) = (
+        v["max_fairness_along_u"].as_f64().unwrap(),
+        v["max_fairness_along_v"].as_f64().unwrap(),
+    );
+    assert_eq!(fu, iso["max_fairness_along_u"].as_f64().unwrap());
+    assert_eq!(fv, iso["max_fairness_along_v"].as_f64().unwrap());
+    // along u run the sections (half ellipses, x from +a to -a); along v the rulings across them
+    let first = &iso["along_u"][0];
+    assert_eq!(first["parameter"], 0.0);
+    let l0 = first["length"].as_f64().unwrap();
+    // the z = 0 section: a half ellipse with semi-axes 2 and 1 (perimeter 9.68845 / 2)
+    assert!((l0 - 9.688_448_220_547_675 / 2.0).abs() < 1e-3, "{l0}");
+    // the printed summary names the directions the same way
+    assert!(
+        summary.contains(&format!("along u (the sections) {fu:.3e}"))
+            && summary.contains(&format!("along v (across them) {fv:.3e}")),
+        "{summary}"
+    );
 }

@@ -341,6 +341,6 @@ fn sections_ordered_by_position_along_an_axis() {
     );
     // by name (a, b, c, d = z 2.5, 1, 3, 0) the surface zig-zags: much less fair across the sections
     let by_name = run("name");
-    let f = |r: &serde_json::Value| r["iso_fairness"]["max_fairness_u"].as_f64().unwrap();
+    let f = |r: &serde_json::Value| r["iso_fairness"]["max_fairness_along_v"].as_f64().unwrap();
     assert!(f(&by_name) > 10.0 * f(&r), "{} vs {}", f(&by_name), f(&r));
 }

@@ -13,7 +13,7 @@ const N_CTRL: usize = 50;
 const N_PARAMS: usize = 10_000;
 
 /// A cubic 3D curve with 50 control points (a wobbly helix) and uniform clamped knots; `rational`
-/// gives it weights between 0.5 and 1.5.
+/// gives it weights between 0.75 and 1.25 (five levels, 1 + 0.125·((7i mod 5) − 2)).
 fn curve(rational: bool) -> NurbsCurve {
     let pts: Vec<Vec3> = (0..N_CTRL)
         .map(|i| {

@@ -27,8 +27,7 @@ pub fn run(args: EvalArgs) -> CmdResult {
         Geometry::Curve(c) => eval_curve(&c, &parse_curve_params(&args.at)?)?,
         Geometry::Surface(s) => eval_surface(&s, &parse_surface_params(&args.at)?)?,
     };
-    print_json(&Value::Array(out));
-    Ok(())
+    print_json(&Value::Array(out))
 }
 
 /// One number of the `--at` list.

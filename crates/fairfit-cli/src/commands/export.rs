@@ -2,7 +2,7 @@
 //! [--units mm|m] [--samples S.json]`: any curve or surface JSON file to CAD files, meshes, plots or a
 //! report; `--samples` writes parameters and fairfit's points for checking the CAD file elsewhere.
 
-use super::outputs::{write_outputs, OutputArgs, OutputGeometry};
+use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::Args;
 use fairfit::io::samples::{curve_samples_json, surface_samples_json};
@@ -32,6 +32,13 @@ pub fn run(args: ExportArgs) -> CmdResult {
             "nothing to export: give --step, --iges, --mesh, --plot, --html or --samples".into(),
         ));
     }
+    let mut outputs = args.outputs.named();
+    if let Some(p) = &args.samples {
+        outputs.push(("--samples", p));
+    }
+    let mut inputs = vec![args.input.as_path()];
+    inputs.extend(args.points.as_deref());
+    check_output_paths(&outputs, &inputs)?;
     let geometry = read_geometry(&args.input)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),

@@ -1,10 +1,12 @@
 //! `fairfit info`: a summary of a curve or surface JSON file as a JSON object on stdout. Curves: size,
 //! knots, domain, length and every fairness measure of `fairfit::fair::curve_fairness`; surfaces: net
-//! size, degrees, domains and the fairness of iso-parametric curves in both directions.
+//! size, degrees, domains and the fairness of iso-parametric curves in both directions: `along_u` holds
+//! the curves `u ↦ S(u, v_k)` (the section curves of a skinned surface), `along_v` the curves
+//! `v ↦ S(u_k, v)`, as in the `iso_fairness` of the `fairfit surface` report (same count by default).
 
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
-use fairfit::fair::{curve_fairness, surface_fairness};
+use fairfit::fair::{curve_fairness, surface_fairness, DEFAULT_ISO_CURVES};
 use fairfit::io::{read_geometry, Geometry};
 use fairfit::nurbs::{NurbsCurve, NurbsSurface};
 use serde_json::{json, Value};
@@ -16,8 +18,9 @@ pub struct InfoArgs {
     /// Input file(s): one prints a JSON object, several print an array of objects.
     #[arg(required = true)]
     pub input: Vec<PathBuf>,
-    /// Number of iso-parametric curves per direction for surfaces (ends included).
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    /// Number of iso-parametric curves per direction for surfaces (ends included; the default is the
+    /// count of the `fairfit surface` report).
+    #[arg(long, default_value_t = DEFAULT_ISO_CURVES as u64, value_parser = clap::value_parser!(u64).range(1..=1000))]
     pub iso: u64,
 }
 
@@ -40,7 +43,6 @@ pub fn run(args: InfoArgs) -> CmdResult {
         1 => print_json(&out[0]),
         _ => print_json(&Value::Array(out)),
     }
-    Ok(())
 }
 
 fn curve_info(c: &NurbsCurve) -> Value {
@@ -79,8 +81,9 @@ fn surface_info(s: &NurbsSurface, n_iso: usize) -> Result<Value, CliError> {
         "rational": s.is_rational(),
         "domain_u": [s.domain_u().0, s.domain_u().1],
         "domain_v": [s.domain_v().0, s.domain_v().1],
-        "max_fairness_u": f.max_fairness_u,
-        "max_fairness_v": f.max_fairness_v,
+        "iso_curves_per_direction": f.iso_curves_per_direction,
+        "max_fairness_along_u": f.max_fairness_v,
+        "max_fairness_along_v": f.max_fairness_u,
         "iso_curves": iso,
     }))
 }

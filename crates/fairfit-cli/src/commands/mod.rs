@@ -40,11 +40,26 @@ impl From<&str> for CliError {
     }
 }
 
-/// Prints a JSON value to stdout (pretty).
-#[allow(dead_code)]
-pub fn print_json(v: &serde_json::Value) {
-    println!(
-        "{}",
-        serde_json::to_string_pretty(v).unwrap_or_else(|_| "null".into())
-    );
+/// Prints `text` and a newline on stdout. A closed stdout (the reader, e.g. `head`, wanted no more)
+/// ends the process quietly with exit code 0: every subcommand prints only after its files are written.
+/// Any other write failure is an error.
+pub fn print_stdout(text: &str) -> CmdResult {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let written = out
+        .write_all(text.as_bytes())
+        .and_then(|()| out.write_all(b"\n"))
+        .and_then(|()| out.flush());
+    match written {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => Err(CliError(format!("cannot write to stdout: {e}"))),
+    }
+}
+
+/// Prints a JSON value on stdout (pretty), as [`print_stdout`].
+pub fn print_json(v: &serde_json::Value) -> CmdResult {
+    let text = serde_json::to_string_pretty(v)
+        .map_err(|e| CliError(format!("internal: cannot format JSON: {e}")))?;
+    print_stdout(&text)
 }

@@ -69,6 +69,60 @@ impl OutputArgs {
     }
 }
 
+impl OutputArgs {
+    /// Every output file asked for, with its flag.
+    pub fn named(&self) -> Vec<(&'static str, &Path)> {
+        [
+            ("--step", &self.step),
+            ("--iges", &self.iges),
+            ("--mesh", &self.mesh),
+            ("--plot", &self.plot),
+            ("--html", &self.html),
+        ]
+        .into_iter()
+        .filter_map(|(flag, p)| p.as_deref().map(|p| (flag, p)))
+        .collect()
+    }
+}
+
+/// The file `path` names, for comparing paths: canonical when it exists, else its canonical directory
+/// joined with its name, else the path made absolute (so `a.out`, `./a.out` and `dir/../a.out` agree).
+fn file_identity(path: &Path) -> PathBuf {
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let parent = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    match (parent.canonicalize(), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
+    }
+}
+
+/// Fails, before any work, when two outputs name the same file or an output names an input file:
+/// `outputs` are (flag, path) pairs such as `("--step", a.out)`, `inputs` the files read.
+pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdResult {
+    let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| file_identity(p)).collect();
+    for (i, (flag, path)) in outputs.iter().enumerate() {
+        if let Some(j) = ids[..i].iter().position(|id| *id == ids[i]) {
+            return Err(CliError(format!(
+                "{} and {flag} both name the file {}; give each output its own file",
+                outputs[j].0,
+                path.display()
+            )));
+        }
+        if inputs.iter().any(|inp| file_identity(inp) == ids[i]) {
+            return Err(CliError(format!(
+                "{flag} names the input file {}; choose another output file",
+                path.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn stem(path: &Path) -> String {
     path.file_name()
         .map(|s| s.to_string_lossy().into_owned())

@@ -1,7 +1,7 @@
 //! `fairfit plot FILE.json [--points POINTS.csv] -o out.svg|out.png [--width W --height H] [--kind K]`:
 //! curvature combs, curvature against arc length, deviations, deviation maps and iso-curve curvature.
 
-use super::outputs::{main_plot, plot_bytes, OutputGeometry};
+use super::outputs::{check_output_paths, main_plot, plot_bytes, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::io::{read_geometry, read_points, Geometry};
@@ -53,6 +53,9 @@ pub struct PlotArgs {
 /// Runs `fairfit plot`.
 pub fn run(args: PlotArgs) -> CmdResult {
     let size = PlotSize::new(args.width, args.height)?;
+    let mut inputs = vec![args.input.as_path()];
+    inputs.extend(args.points.as_deref());
+    check_output_paths(&[("-o", &args.output)], &inputs)?;
     let geometry = read_geometry(&args.input)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),

@@ -1,7 +1,7 @@
 //! `fairfit surface`: a fair NURBS surface through section files, or through a mesh / point cloud sliced
 //! into planar sections; writes the surface JSON and optionally a report of its measures.
 
-use super::outputs::{write_outputs, OutputArgs, OutputGeometry};
+use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::io::mesh_read::read_mesh;
@@ -235,6 +235,11 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
 
 /// Runs `fairfit surface`.
 pub fn run(args: SurfaceArgs) -> CmdResult {
+    let mut outputs = vec![("-o", args.output.as_path())];
+    outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
+    outputs.extend(args.outputs.named());
+    let inputs: Vec<&std::path::Path> = args.input.iter().map(|p| p.as_path()).collect();
+    check_output_paths(&outputs, &inputs)?;
     let input = read_input(&args)?;
     let largest = input
         .sections
@@ -261,7 +266,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     };
     opts.skin.approximate_with = args.approximate_v;
     opts.skin.smoothing = args.smooth_v;
-    opts.iso_curves = 11;
+    opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
     let pb = crate::progress::bar(3, "surface");
     pb.set_message("fitting sections");
     let result = reconstruct_surface_with_progress(input.sections, &opts, &mut |st| match st {
@@ -336,8 +341,8 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             &args.outputs,
         )?;
     }
-    println!(
-        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along the sections {:.3e}, across them {:.3e}; {} gap(s) reported",
+    super::print_stdout(&format!(
+        "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along u (the sections) {:.3e}, along v (across them) {:.3e}; {} gap(s) reported",
         r.deviation.max,
         r.deviation.rms,
         r.deviation.points,
@@ -346,7 +351,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         r.fairness.max_fairness_v,
         r.fairness.max_fairness_u,
         input.gaps.len()
-    );
+    ))?;
     if !within {
         eprintln!(
             "warning: the tolerance {tol:.3e} is not met (max deviation {:.3e}); raise --max-ctrl or the tolerance",

@@ -24,4 +24,4 @@ pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
 pub use extrema::{count_extrema, ExtremaCounts};
 pub use fairing::{fair_curve, FairingOptions, FairingResult};
 pub use metrics::{curve_fairness, CurveFairness};
-pub use surface::{surface_fairness, IsoCurveFairness, SurfaceFairness};
+pub use surface::{surface_fairness, IsoCurveFairness, SurfaceFairness, DEFAULT_ISO_CURVES};

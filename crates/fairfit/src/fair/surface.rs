@@ -2,6 +2,12 @@
 //! section curves and skins them, so the practical surface check is the curve metric on iso-curves in
 //! both directions).
 //!
+//! Directions: a curve *along u* is `u ↦ S(u, v_k)` at a fixed `v_k` (for a skinned surface, a section
+//! curve); a curve *along v* is `v ↦ S(u_k, v)` at a fixed `u_k` (across the sections). The Rust fields
+//! `v_iso` / `u_iso` name the fixed parameter; the JSON form (what `fairfit info` and the `fairfit surface`
+//! report print) names the running direction: `along_u` / `along_v`, `max_fairness_along_u`, ...
+//! [`DEFAULT_ISO_CURVES`] is the count per direction both commands use.
+//!
 //! The iso-curves are extracted exactly by [`NurbsSurface::iso_curve_u`] / [`NurbsSurface::iso_curve_v`]
 //! (the homogeneous control net contracted with the basis functions of one direction).
 
@@ -10,10 +16,14 @@ use crate::errors::Result;
 use crate::nurbs::NurbsSurface;
 use serde::Serialize;
 
+/// Iso-curves per direction used by `fairfit info` and `fairfit surface` unless told otherwise (ends
+/// included, so a step of a tenth of the domain).
+pub const DEFAULT_ISO_CURVES: usize = 11;
+
 /// Fairness of one iso-parametric curve (the [`CurveFairness`] summary without the per-span list).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct IsoCurveFairness {
-    /// The fixed parameter (u for `u_iso` curves, v for `v_iso` curves).
+    /// The fixed parameter: v for curves along u (`v_iso`), u for curves along v (`u_iso`).
     pub parameter: f64,
     /// Arc length.
     pub length: f64,
@@ -44,23 +54,39 @@ impl IsoCurveFairness {
 }
 
 /// Fairness summary of a surface over iso-parametric curves in both directions.
+///
+/// Serialised with the running direction in the keys (`along_u`, `max_fairness_along_u`, ...; see the
+/// module documentation); the `_u` / `_v` of the Rust fields name the *fixed* parameter.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SurfaceFairness {
-    /// Curves `v ↦ S(u_k, v)` at fixed `u_k` (equally spaced over the u domain, ends included).
+    /// Number of iso-curves asked for per direction.
+    pub iso_curves_per_direction: usize,
+    /// Curves `v ↦ S(u_k, v)` at fixed `u_k` (equally spaced over the u domain, ends included): the
+    /// curves along v. JSON: `along_v`.
+    #[serde(rename = "along_v")]
     pub u_iso: Vec<IsoCurveFairness>,
-    /// Curves `u ↦ S(u, v_k)` at fixed `v_k`.
+    /// Curves `u ↦ S(u, v_k)` at fixed `v_k`: the curves along u. JSON: `along_u`.
+    #[serde(rename = "along_u")]
     pub v_iso: Vec<IsoCurveFairness>,
-    /// Largest `F` over `u_iso` (0 when empty).
+    /// Largest `F` over `u_iso`, the curves along v (0 when empty). JSON: `max_fairness_along_v`.
+    #[serde(rename = "max_fairness_along_v")]
     pub max_fairness_u: f64,
-    /// Largest `F` over `v_iso`.
+    /// Largest `F` over `v_iso`, the curves along u. JSON: `max_fairness_along_u`.
+    #[serde(rename = "max_fairness_along_u")]
     pub max_fairness_v: f64,
-    /// Mean `F` over `u_iso`.
+    /// Mean `F` over `u_iso` (along v). JSON: `mean_fairness_along_v`.
+    #[serde(rename = "mean_fairness_along_v")]
     pub mean_fairness_u: f64,
-    /// Mean `F` over `v_iso`.
+    /// Mean `F` over `v_iso` (along u). JSON: `mean_fairness_along_u`.
+    #[serde(rename = "mean_fairness_along_u")]
     pub mean_fairness_v: f64,
-    /// Largest `F_j` over every span of every `u_iso` curve.
+    /// Largest `F_j` over every span of every `u_iso` curve (along v). JSON:
+    /// `max_span_fairness_along_v`.
+    #[serde(rename = "max_span_fairness_along_v")]
     pub max_span_fairness_u: f64,
-    /// Largest `F_j` over every span of every `v_iso` curve.
+    /// Largest `F_j` over every span of every `v_iso` curve (along u). JSON:
+    /// `max_span_fairness_along_u`.
+    #[serde(rename = "max_span_fairness_along_u")]
     pub max_span_fairness_v: f64,
 }
 
@@ -120,6 +146,7 @@ pub fn surface_fairness(surface: &NurbsSurface, n_iso: usize) -> Result<SurfaceF
         }
     };
     Ok(SurfaceFairness {
+        iso_curves_per_direction: n_iso,
         max_fairness_u: max(&u_iso),
         max_fairness_v: max(&v_iso),
         mean_fairness_u: mean(&u_iso),
@@ -182,5 +209,18 @@ mod tests {
         }
         assert_eq!(f.u_iso[0].parameter, 0.0);
         assert_eq!(f.u_iso[3].parameter, 1.0);
+        // the JSON names the running direction: the copies of C run along u
+        let j = serde_json::to_value(&f).unwrap();
+        assert_eq!(j["iso_curves_per_direction"], 4);
+        let along_u = j["max_fairness_along_u"].as_f64().unwrap();
+        assert!((along_u - fc.fairness).abs() < 1e-9 * fc.fairness);
+        assert!(j["max_fairness_along_v"].as_f64().unwrap() < 1e-20);
+        assert_eq!(j["along_u"].as_array().unwrap().len(), 4);
+        assert_eq!(
+            j["along_v"][1]["length"].as_f64().unwrap(),
+            f.u_iso[1].length
+        );
+        assert_eq!(j["along_u"][2]["parameter"].as_f64().unwrap(), 2.0 / 3.0);
+        assert!(j.get("u_iso").is_none() && j.get("max_fairness_u").is_none());
     }
 }

@@ -1,0 +1,214 @@
+//! The command-line contract shared by every subcommand: usage errors are one actionable line with exit
+//! code 2, `--help`/`--version` print on stdout with exit 0, a closed stdout ends the run quietly with
+//! exit 0, and two outputs naming one file (or an output naming an input) fail up front with exit 1.
+
+use assert_cmd::Command;
+use std::io::Read;
+use std::path::Path;
+use std::process::Stdio;
+
+fn fairfit() -> Command {
+    Command::cargo_bin("fairfit").unwrap()
+}
+
+/// The exact rational quadratic circle of radius 2 (a small valid curve file).
+const CIRCLE: &str = r#"{"kind": "curve", "degree": 2,
+  "knots": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
+  "control_points": [[3,-1,0.5],[3,1,0.5],[1,1,0.5],[-1,1,0.5],[-1,-1,0.5],[-1,-3,0.5],[1,-3,0.5],[3,-3,0.5],[3,-1,0.5]],
+  "weights": [1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1]}"#;
+
+fn circle_file(dir: &Path) -> std::path::PathBuf {
+    let p = dir.join("circle.json");
+    std::fs::write(&p, CIRCLE).unwrap();
+    p
+}
+
+/// Runs `args`, expects exit `code`, empty stdout and exactly one stderr line containing every needle;
+/// returns that line.
+fn one_line_failure(args: &[&str], code: i32, needles: &[&str]) -> String {
+    let out = fairfit().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+    assert!(out.stdout.is_empty(), "{args:?}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    assert!(err.starts_with("error: "), "{err}");
+    for n in needles {
+        assert!(err.contains(n), "`{n}` not in {err}");
+    }
+    assert!(!err.contains("panicked") && !err.contains("internal error"));
+    err
+}
+
+#[test]
+fn usage_errors_are_one_line_with_the_help_to_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = circle_file(dir.path());
+    let c = c.to_str().unwrap();
+    let line = one_line_failure(
+        &["curve", "pts.csv", "--foo"],
+        2,
+        &["unexpected argument '--foo'", "see 'fairfit curve --help'"],
+    );
+    // clap's "use '-- --foo'" tip is dropped
+    assert!(!line.contains("-- --foo"), "{line}");
+    one_line_failure(
+        &["eval", c],
+        2,
+        &["--at", "not provided", "see 'fairfit eval --help'"],
+    );
+    one_line_failure(
+        &["export", c, "--stpe", "a.step"],
+        2,
+        &[
+            "'--stpe'",
+            "similar argument exists: '--step'",
+            "fairfit export --help",
+        ],
+    );
+    one_line_failure(
+        &["info", "--iso", "0", c],
+        2,
+        &["'0'", "--iso", "1..=1000", "fairfit info --help"],
+    );
+    one_line_failure(
+        &["curve", "pts.csv", "--method", "magic"],
+        2,
+        &[
+            "'magic'",
+            "lsq, integrated, fit-then-fair",
+            "fairfit curve --help",
+        ],
+    );
+    one_line_failure(
+        &["bogus"],
+        2,
+        &["unrecognized subcommand 'bogus'", "see 'fairfit --help'"],
+    );
+}
+
+#[test]
+fn help_and_version_print_on_stdout_with_exit_zero() {
+    for args in [
+        vec!["--help"],
+        vec!["--version"],
+        vec!["curve", "--help"],
+        vec!["help", "export"],
+        vec!["eval", "-h"],
+    ] {
+        let out = fairfit().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{args:?}");
+        assert!(out.stderr.is_empty(), "{args:?}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("fairfit"), "{args:?}: {text}");
+    }
+    let out = fairfit().arg("--version").output().unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout).trim(),
+        format!("fairfit {}", env!("CARGO_PKG_VERSION"))
+    );
+}
+
+/// Starts `fairfit args`, reads `n` bytes of its stdout, closes the pipe and returns (exit code,
+/// stderr, bytes read).
+fn read_then_close(args: &[&str], n: usize) -> (Option<i32>, String, Vec<u8>) {
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("fairfit"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut head = vec![0u8; n];
+    child.stdout.take().unwrap().read_exact(&mut head).unwrap(); // stdout dropped here
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        head,
+    )
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = circle_file(dir.path());
+    // about 500 bytes per parameter: far more than a pipe buffer, so the writer meets the closed pipe
+    let at: Vec<String> = (0..=4000)
+        .map(|k| format!("{}", k as f64 / 4000.0))
+        .collect();
+    let at = at.join(",");
+    let (code, err, head) = read_then_close(&["eval", c.to_str().unwrap(), "--at", &at], 10);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(err, "");
+    assert_eq!(&head[..1], b"[");
+    // several files to `info`: a large array, closed after 10 bytes
+    let files: Vec<String> = (0..400).map(|_| c.to_str().unwrap().to_string()).collect();
+    let mut args = vec!["info"];
+    args.extend(files.iter().map(String::as_str));
+    let (code, err, head) = read_then_close(&args, 10);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(err, "");
+    assert_eq!(&head[..1], b"[");
+}
+
+#[test]
+fn one_file_for_two_outputs_fails_up_front() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let c = circle_file(d);
+    let c = c.to_str().unwrap();
+    let a = d.join("a.out");
+    let a = a.to_str().unwrap();
+    one_line_failure(
+        &["export", c, "--step", a, "--iges", a],
+        1,
+        &["--step and --iges both name the file", "a.out"],
+    );
+    // the same file spelled differently
+    let same = format!("{}/sub/../a.out", d.display());
+    std::fs::create_dir(d.join("sub")).unwrap();
+    one_line_failure(
+        &["export", c, "--mesh", a, "--html", &same],
+        1,
+        &["--mesh and --html both name the file"],
+    );
+    one_line_failure(
+        &["export", c, "--step", a, "--samples", a],
+        1,
+        &["--step and --samples"],
+    );
+    // an output over the input
+    one_line_failure(
+        &["export", c, "--iges", c],
+        1,
+        &["--iges names the input file"],
+    );
+    one_line_failure(&["plot", c, "-o", c], 1, &["-o names the input file"]);
+    // fitting commands check before any work
+    let pts = d.join("pts.csv");
+    std::fs::write(&pts, "0,0\n1,1\n2,0\n3,1\n4,0\n5,1\n").unwrap();
+    let pts = pts.to_str().unwrap();
+    one_line_failure(
+        &["curve", pts, "-o", a, "--report", a],
+        1,
+        &["-o and --report both name the file"],
+    );
+    one_line_failure(
+        &["surface", pts, pts, "-o", a, "--step", a],
+        1,
+        &["-o and --step both name the file"],
+    );
+    // nothing was written
+    let mut names: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["circle.json", "pts.csv", "sub"]);
+    // distinct files still work
+    fairfit()
+        .args(["export", c, "--step", a])
+        .arg("--iges")
+        .arg(d.join("b.out"))
+        .assert()
+        .success();
+}
