@@ -15,6 +15,7 @@ import fnmatch
 import json
 import os
 import platform
+import re
 import statistics
 import subprocess
 import sys
@@ -30,6 +31,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
 import measure  # noqa: E402
+import targets  # noqa: E402
 
 REPO = os.path.dirname(HERE)
 FAIRFIT_METHODS = ["lsq", "integrated", "fit-then-fair"]
@@ -62,9 +64,9 @@ def met(r: Result, tol: float) -> bool:
 # ----------------------------------------------------------------------------- data
 
 
-def default_data_dir() -> str:
-    candidates = [os.environ.get("FAIRFIT_DATA", ""), os.path.join(REPO, "..", "shared", "data")]
-    try:  # in a git worktree, ../shared/data is relative to the main checkout
+def main_checkout() -> str:
+    """The main git checkout (in a worktree, the one holding the common .git), else REPO."""
+    try:
         common = subprocess.run(
             ["git", "rev-parse", "--path-format=absolute", "--git-common-dir"],
             cwd=REPO,
@@ -72,9 +74,15 @@ def default_data_dir() -> str:
             text=True,
             check=True,
         ).stdout.strip()
-        candidates.append(os.path.join(os.path.dirname(common), "..", "shared", "data"))
+        return os.path.dirname(common)
     except (OSError, subprocess.CalledProcessError):
-        pass
+        return REPO
+
+
+def default_data_dir() -> str:
+    # ../shared/data relative to the repository root; in a git worktree, relative to the main checkout
+    candidates = [os.environ.get("FAIRFIT_DATA", ""), os.path.join(REPO, "..", "shared", "data"),
+                  os.path.join(main_checkout(), "..", "shared", "data")]
     for c in candidates:
         if c and os.path.isdir(os.path.join(c, "airfoils")):
             return os.path.normpath(c)
@@ -114,15 +122,39 @@ def ensure_fairfit(path: str | None, build: bool) -> str:
     exe = path or os.path.join(REPO, "target", "release", "fairfit")
     if build or (path is None and not os.path.exists(exe)):
         print("building fairfit (release) ...", file=sys.stderr)
-        subprocess.run(["cargo", "build", "--release", "-p", "fairfit-cli"], cwd=REPO, check=False)
+        subprocess.run(["cargo", "build", "--release", "-j1", "-p", "fairfit-cli"], cwd=REPO, check=False)
     return exe
 
 
-EQUAL_COUNT = "fairfit integrated, fit-then-fair's ctrl pts"
+def curve_flags(exe: str) -> set[str]:
+    """The long options `fairfit curve --help` lists, so optional flags (--threads, --control-points)
+    are only passed to a binary that accepts them."""
+    try:
+        out = subprocess.run([exe, "curve", "--help"], capture_output=True, text=True, timeout=30).stdout
+    except (OSError, subprocess.SubprocessError):
+        return set()
+    return set(re.findall(r"(?<![\w-])(--[a-z][a-z0-9-]*)", out))
+
+
+def failure_reason(stderr: str, returncode: int) -> str:
+    """One line saying why fairfit failed: its first `error:` line (clap's and fairfit's own errors
+    both start so; clap's last line is only "For more information, try '--help'."), else the
+    first non-empty line, else the exit code."""
+    lines = [ln.strip() for ln in (stderr or "").splitlines() if ln.strip()]
+    for ln in lines:
+        if ln.lower().startswith("error:"):
+            return ln[len("error:"):].strip()[:300] or f"exit {returncode}"
+    for ln in lines:
+        if not ln.lower().startswith(("warning", "for more information", "usage:")):
+            return ln[:300]
+    return f"exit {returncode}"
+
+
+EQUAL_COUNT = targets.EQUAL
 
 
 def run_fairfit(exe: str, csv: str, method: str, rel_tol: float, pts, timeout: float,
-                extra=(), name=None) -> Result:
+                extra=(), name=None, threads=None, flags=None) -> Result:
     name = name or f"fairfit {method}"
     if not os.path.exists(exe):
         return Result(name, False, "fairfit binary not built")
@@ -131,6 +163,8 @@ def run_fairfit(exe: str, csv: str, method: str, rel_tol: float, pts, timeout: f
         rep = os.path.join(tmp, "r.json")
         cmd = [exe, "curve", csv, "--method", method, "--rel-tol", repr(rel_tol), "-o", out, "--report", rep,
                *extra]
+        if threads is not None and (flags is None or "--threads" in flags):
+            cmd += ["--threads", str(threads)]
         walls, fits = [], []
         # Fast runs are repeated (median of 3) to damp the noise of the shared machine.
         for _ in range(3):
@@ -140,19 +174,22 @@ def run_fairfit(exe: str, csv: str, method: str, rel_tol: float, pts, timeout: f
             except subprocess.TimeoutExpired:
                 return Result(name, False, f"timeout after {timeout:.0f} s")
             walls.append((time.perf_counter() - t0) * 1e3)
-            if proc.returncode != 0 or walls[-1] > 1000.0:
+            if proc.returncode != 0:
                 break
             try:
                 with open(rep, encoding="utf-8") as fh:
-                    fs = json.load(fh).get("fit_seconds")
+                    rj = json.load(fh)
+                # fairfit's own timing of the fit: lsq reports fit_seconds, every method wall_seconds
+                fs = rj.get("fit_seconds", rj.get("wall_seconds"))
                 if isinstance(fs, (int, float)):
                     fits.append(1e3 * float(fs))
             except (OSError, ValueError, AttributeError):
                 pass
+            if walls[-1] > 1000.0:  # slow runs once only
+                break
         dt = statistics.median(walls)
         if proc.returncode != 0:
-            msg = (proc.stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1]
-            return Result(name, False, msg[:140], time_ms=dt)
+            return Result(name, False, failure_reason(proc.stderr, proc.returncode), time_ms=dt)
         try:
             with open(out, encoding="utf-8") as fh:
                 js = json.load(fh)
@@ -170,6 +207,19 @@ def run_fairfit(exe: str, csv: str, method: str, rel_tol: float, pts, timeout: f
     if fits:
         res.single_ms = statistics.median(fits)  # fairfit's own timing of the fit, without process/IO
     return res
+
+
+def equal_without_corners(exe, path, args, pts, ff_kw):
+    """fit-then-fair and then the integrated method at its control-point count, both `--no-corners`."""
+    ftf = run_fairfit(exe, path, "fit-then-fair", args.rel_tol, pts, args.timeout, extra=["--no-corners"],
+                      name=targets.FTF_NO_CORNERS, **ff_kw)
+    out = [ftf]
+    if ftf.ok and ftf.metrics is not None:
+        out.append(run_fairfit(
+            exe, path, "integrated", args.rel_tol, pts, args.timeout,
+            extra=["--no-corners", "--control-points", str(ftf.metrics.n_ctrl)],
+            name=targets.EQUAL_NO_CORNERS, **ff_kw))
+    return out
 
 
 # ----------------------------------------------------------------------------- splprep
@@ -191,9 +241,13 @@ def run_splprep(pts, tol: float) -> Result:
         ctrl = np.column_stack([np.asarray(ci)[:n] for ci in c])
         return k, t, ctrl
 
+    calls = []  # time of every splprep call of the search, without the measurer
+
     def dev(s):
         if s not in evals:
+            tc = time.perf_counter()
             k, t, ctrl = fit(s)
+            calls.append((time.perf_counter() - tc) * 1e3)
             md = measure.measure(k, t, ctrl, None, P, deviation_only=True)
             evals[s] = (len(ctrl), md.max_dev, (k, t, ctrl))
         return evals[s]
@@ -210,7 +264,9 @@ def run_splprep(pts, tol: float) -> Result:
     single = _time_single(lambda: fit(s_best))
     metrics = measure.measure(k, t, ctrl, None, P)
     return Result(
-        "scipy splprep", True, metrics=metrics, time_ms=total, single_ms=single, note=f"s={s_best:.3g}"
+        "scipy splprep", True, metrics=metrics, time_ms=total, single_ms=single,
+        note=f"s={s_best:.3g}; search: {len(calls)} calls, {sum(calls):.3g} ms in splprep",
+        extra={"calls_ms": sum(calls), "calls": len(calls)},
     )
 
 
@@ -450,10 +506,11 @@ def summary(all_rows):
     eq_ratios = []
     for _, _, tol, results in all_rows:
         by = {r.method: r for r in results}
-        fi, ff_, fe = by.get("fairfit integrated"), by.get("fairfit fit-then-fair"), by.get(EQUAL_COUNT)
+        fi, ff_ = by.get("fairfit integrated"), by.get("fairfit fit-then-fair")
         if fi and ff_ and met(fi, tol) and met(ff_, tol):
             total += 1
             wins += fi.metrics.F < ff_.metrics.F
+        fe, ff_ = targets.equal_pair(by)
         if fe and ff_ and met(fe, tol) and met(ff_, tol) and fe.metrics.n_ctrl == ff_.metrics.n_ctrl:
             eq_total += 1
             eq_wins += fe.metrics.F < ff_.metrics.F
@@ -462,7 +519,8 @@ def summary(all_rows):
     lines += [
         "",
         f"- Integrated vs fit-then-fair at equal tolerance AND equal control points (`{EQUAL_COUNT}` = "
-        f"`--method integrated --control-points N` with fit-then-fair's N, both meeting the tolerance): "
+        f"`--method integrated --control-points N` with fit-then-fair's N, both meeting the tolerance; on a "
+        f"curve with corners, where a fixed count is refused, both methods fitted with `--no-corners`): "
         f"integrated has the lower F on **{eq_wins} of {eq_total}** curves (geometric-mean F ratio {gm}).",
         f"- With its own (smaller or equal) control-point count, the integrated method has the lower F on "
         f"{wins} of {total} curves.",
@@ -523,8 +581,10 @@ def shortfalls(all_rows):
                     probs.append(f"{a.extrema} extrema > splprep {b.extrema}")
             if probs:
                 out.append(f"- {name}, {meth}: " + "; ".join(probs))
-        fe, ff = by.get(EQUAL_COUNT), by.get("fairfit fit-then-fair")
-        if fe and ff and met(ff, tol) and not met(fe, tol):
+        fe, ff = targets.equal_pair(by)
+        if fe and ff and met(ff, tol) and not fe.ok:
+            out.append(f"- {name}: integrated at fit-then-fair's {ff.metrics.n_ctrl} ctrl pts failed: {fe.reason}")
+        elif fe and ff and met(ff, tol) and not met(fe, tol):
             out.append(f"- {name}: integrated at fit-then-fair's {ff.metrics.n_ctrl} ctrl pts misses the tolerance")
         elif fe and ff and met(fe, tol) and met(ff, tol) and fe.metrics.F > ff.metrics.F:
             out.append(
@@ -570,37 +630,34 @@ def machine_line():
 
 
 def git_rev():
+    """`HEAD` as a short hash, and on a branch other than main the latest main commit it contains."""
+    def git(*a):
+        return subprocess.run(["git", *a], cwd=REPO, capture_output=True, text=True, check=True).stdout.strip()
+
     try:
-        return subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], cwd=REPO, capture_output=True, text=True, check=True
-        ).stdout.strip()
+        head = git("rev-parse", "--short", "HEAD")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
+    try:
+        base = git("merge-base", "HEAD", "main")
+        if git("rev-parse", "HEAD") != base:
+            return f"`{head}` (contains main at `{base[:7]}`)"
+    except (OSError, subprocess.CalledProcessError):
+        pass
+    return f"`{head}`"
 
 
-def surface_link(path):
-    """A pointer to the surface benchmark when it exists beside this report."""
-    surf = os.path.join(os.path.dirname(os.path.abspath(path)), "benchmarks-surface.md")
-    if not os.path.exists(surf):
-        return []
-    return [
-        "Surfaces: the surface benchmark (fairfit's surface fitting against the baselines) is in "
-        "[benchmarks-surface.md](benchmarks-surface.md).",
-        "",
-    ]
-
-
-def write_report(path, groups_rows, args, data):
+def write_report(path, groups_rows, args, data, seconds=float("nan")):
     all_rows = [row for _, rows in groups_rows for row in rows]
     parts = [
         "# Curve benchmark",
         "",
         "Generated by `python bench/compare.py` (see `bench/README.md`); do not edit by hand.",
         "",
-        f"- Date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}, fairfit at commit `{git_rev()}`.",
+        f"- Date: {datetime.now(timezone.utc).strftime('%Y-%m-%d %H:%M UTC')}, fairfit at commit {git_rev()}.",
         f"- Machine: {machine_line()}. Times are wall-clock on a busy shared machine: "
         "**ratios measured in the same run matter, not absolute times.**",
-        f"- Data: every curve CSV in `{os.path.relpath(data, REPO)}` "
+        f"- Data: every curve CSV in `{os.path.relpath(data, main_checkout())}` (relative to the repository root) "
         "(airfoils/, synthetic/, iea15mw/airfoils/).",
         f"- Tolerance: `--rel-tol {args.rel_tol:g}`, i.e. tol = {args.rel_tol:g} x the largest bounding-box extent of "
         "the points; a result meets it if its max orthogonal deviation <= tol.",
@@ -610,14 +667,30 @@ def write_report(path, groups_rows, args, data):
         f"curvature); curvature extrema and inflections = sign changes of dkappa/ds and kappa on "
         f"{4 * measure.SAMPLES_PER_SPAN} samples per span, with a scale-free hysteresis noise floor of "
         f"{measure.NOISE_REL:g} x max|signal| + {measure.NOISE_ABS:g} on (dkappa/ds)L^2 and kappa L.",
+        f"- Run: one curve and one method at a time, fairfit with `--threads {args.threads}`; the whole run took "
+        f"{seconds / 60:.1f} min.",
         "- Methods: fairfit `curve --method M --rel-tol` (time = whole CLI process incl. reading and writing "
-        "files; in parentheses fairfit's own `fit_seconds` from `--report`); scipy `splprep` (FITPACK, cubic) with a log-bisection on its smoothing factor s, keeping the "
+        "files, median of 3 runs when under 1 s; in parentheses fairfit's own time from `--report`: "
+        "`fit_seconds`, else `wall_seconds`); scipy `splprep` (FITPACK, cubic) with a log-bisection on its smoothing factor s, keeping the "
         "smallest control-point count that meets tol; OpenCASCADE `GeomAPI_PointsToBSpline` (C2, degree 3..3 and "
         "3..8) with a bisection on Tol3D; geomdl `fitting.approximate_curve` (cubic) with a search on the "
         "control-point count. For the baselines, time = the whole tolerance search (each step measured by the "
         "measurer), and in parentheses the median time of ONE final call with the chosen parameter.",
         "",
-        *surface_link(path),
+        "## Targets",
+        "",
+        "Issue 4's targets for the integrated method (fairfit's default) and issue 3's for the lsq baseline, "
+        "at this run's tolerance, every number from the independent measurer; \"every curve\" = all "
+        f"{len(all_rows)} curves. Per-curve misses are listed under the summary below.",
+        "",
+        targets.targets_section(all_rows, met, EQUAL_COUNT),
+        "",
+        *targets.analytic_reference(all_rows, data),
+        "",
+        "## Surfaces: the IEA 15 MW blade, F between sections (issue 5)",
+        "",
+        *targets.blade_section(path),
+        "",
         "## Summary",
         "",
         "Counts are numbers of curves. A comparison with splprep is only counted when both meet the tolerance; "
@@ -657,11 +730,18 @@ def main(argv=None):
     ap.add_argument("--only", help="glob on file names, e.g. 'naca*'")
     ap.add_argument("--methods", default="fairfit,splprep,occ,geomdl", help="comma list of method families")
     ap.add_argument("--timeout", type=float, default=120.0, help="seconds per fairfit run")
+    ap.add_argument("--threads", type=int, default=1,
+                    help="fairfit --threads (default 1: a parallel-free run on the shared machine; 0 = all cores)")
     args = ap.parse_args(argv)
 
+    t_start = time.perf_counter()
     data = args.data or default_data_dir()
+    if not os.path.isdir(data):
+        ap.error(f"data folder not found: {data} (pass --data DIR or set FAIRFIT_DATA)")
     fams = set(args.methods.split(","))
     exe = ensure_fairfit(args.fairfit, args.build) if "fairfit" in fams else ""
+    flags = curve_flags(exe) if exe and os.path.exists(exe) else set()
+    ff_kw = {"threads": args.threads, "flags": flags or None}
     groups_rows = []
     raw = []
     for title, files in curve_files(data, args.only):
@@ -673,14 +753,19 @@ def main(argv=None):
             results = []
             if "fairfit" in fams:
                 for meth in FAIRFIT_METHODS:
-                    results.append(run_fairfit(exe, path, meth, args.rel_tol, pts, args.timeout))
+                    results.append(run_fairfit(exe, path, meth, args.rel_tol, pts, args.timeout, **ff_kw))
                 # the integrated method at fit-then-fair's control-point count: F at equal tolerance
                 # AND equal control points (issue 4's comparison)
                 ftf = results[-1]
-                if ftf.ok and ftf.metrics is not None:
-                    results.append(run_fairfit(
+                if ftf.ok and ftf.metrics is not None and (not flags or "--control-points" in flags):
+                    eq = run_fairfit(
                         exe, path, "integrated", args.rel_tol, pts, args.timeout,
-                        extra=["--control-points", str(ftf.metrics.n_ctrl)], name=EQUAL_COUNT))
+                        extra=["--control-points", str(ftf.metrics.n_ctrl)], name=EQUAL_COUNT, **ff_kw)
+                    results.append(eq)
+                    if not eq.ok and "corner" in eq.reason and (not flags or "--no-corners" in flags):
+                        # a fixed count cannot be shared between corner pieces: compare both methods
+                        # fitted without corner detection instead (same conditions for both)
+                        results += equal_without_corners(exe, path, args, pts, ff_kw)
             if "splprep" in fams:
                 results.append(run_splprep(pts, tol))
             if "occ" in fams:
@@ -704,7 +789,7 @@ def main(argv=None):
                 } for r in results],
             })
         groups_rows.append((title, rows))
-    write_report(args.out, groups_rows, args, data)
+    write_report(args.out, groups_rows, args, data, time.perf_counter() - t_start)
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
             json.dump(raw, fh, indent=1)

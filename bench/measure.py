@@ -12,8 +12,9 @@ Measured quantities
 -------------------
 * ``n_ctrl``       number of control points.
 * ``max_dev``, ``rms_dev``  ORTHOGONAL distance of every data point to the curve: the curve
-  is sampled densely in every distinct knot span (``SAMPLES_PER_SPAN``), the few nearest
-  samples of each point are refined by a safeguarded Newton iteration on
+  is sampled densely in every distinct knot span (``SAMPLES_PER_SPAN``), every sample that can
+  be next to the foot point (within the nearest sample's distance plus half an interval's arc
+  length) is refined by a safeguarded Newton iteration on
   (C(u) - p) . C'(u) = 0 kept inside the neighbouring sample interval, with a bounded Brent
   minimisation as a fallback whenever Newton does not improve on the sample distance.
 * ``F``            scale-free fairness  F = L^3 * int (dkappa/ds)^2 ds,  integrated span by span with
@@ -141,8 +142,16 @@ def is_planar(points, ctrl):
     return all(np.ptp(z) <= PLANAR_REL * ext for z in flat)
 
 
-def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, candidates=3):
-    """Orthogonal distance of every point to the curve (array, same order as points)."""
+def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, sub=4):
+    """Orthogonal distance of every point to the curve (array, same order as points).
+
+    Candidates: the nearest sample gives an upper bound d0 on a point's distance. The foot point lies
+    within half a sample interval (in arc length) of some sample, so that sample is at most
+    d0 + half its longer neighbouring interval's arc away; EVERY sample within that radius is refined
+    in its neighbour interval (not only the few nearest: on a thin trailing edge the nearest samples
+    can all lie on the wrong branch). Arc lengths of the intervals come from `sub` chords each, with
+    a safety factor.
+    """
     P = np.asarray(points, dtype=float)
     if P.shape[1] != curve.dim:
         if P.shape[1] == 2 and curve.dim == 3:
@@ -153,15 +162,23 @@ def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, candidat
             raise ValueError("dimension mismatch between points and curve")
     us = curve.span_samples(samples_per_span, include_ends=True)
     S = curve.points(us)
+    fine = us[:-1, None] + np.diff(us)[:, None] * (np.arange(sub + 1) / sub)[None, :]
+    Fp = curve.points(fine.reshape(-1)).reshape(len(us) - 1, sub + 1, -1)
+    arc = 1.25 * np.sum(np.linalg.norm(np.diff(Fp, axis=1), axis=2), axis=1)
+    reach = 0.5 * np.maximum(np.r_[0.0, arc], np.r_[arc, 0.0])  # per sample
     tree = cKDTree(S)
-    kq = min(candidates, len(us))
-    d0, idx = tree.query(P, k=kq)
-    d0 = d0.reshape(len(P), kq)
-    idx = idx.reshape(len(P), kq)
+    d0, _ = tree.query(P)
+    balls = tree.query_ball_point(P, d0 + reach.max())
+    pi, si = [], []
+    for j, cand in enumerate(balls):
+        cand = np.asarray(cand, dtype=int)
+        keep = cand[np.linalg.norm(S[cand] - P[j], axis=1) <= d0[j] + reach[cand]]
+        pi.append(np.full(len(keep), j))
+        si.append(keep)
+    pi, i = np.concatenate(pi), np.concatenate(si)
     # All (point, candidate) pairs are refined together, vectorised.
-    i = idx.reshape(-1)
-    Q = np.repeat(P, kq, axis=0)
-    ds = d0.reshape(-1)
+    Q = P[pi]
+    ds = np.linalg.norm(S[i] - Q, axis=1)
     lo = us[np.maximum(i - 1, 0)]
     hi = us[np.minimum(i + 1, len(us) - 1)]
     u = us[i].copy()
@@ -177,9 +194,14 @@ def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, candidat
         u = u_new
         if moved <= eps:
             break
-    d_newton = np.linalg.norm(curve.points(u) - Q, axis=1)
-    # Fallback: bounded Brent where Newton did not beat the sampled distance.
-    bad = np.nonzero(d_newton > ds * (1 + 1e-12))[0]
+    C0, C1 = curve.derivs(u, 1)
+    r = C0 - Q
+    d_newton = np.linalg.norm(r, axis=1)
+    # Fallback: bounded Brent where Newton did not beat the sampled distance or stopped at a
+    # non-stationary parameter inside its interval.
+    cosang = np.abs(np.einsum("ij,ij->i", r, C1)) / np.maximum(d_newton * np.linalg.norm(C1, axis=1), 1e-300)
+    inside = (u > lo + eps) & (u < hi - eps)
+    bad = np.nonzero((d_newton > ds * (1 + 1e-12)) | (inside & (cosang > 1e-8) & (d_newton > 0)))[0]
     for b in bad:
         q = Q[b]
         res = minimize_scalar(
@@ -188,9 +210,11 @@ def deviations(curve: Curve, points, samples_per_span=SAMPLES_PER_SPAN, candidat
             method="bounded",
             options={"xatol": eps},
         )
-        d_newton[b] = min(ds[b], float(np.sqrt(res.fun)))
-    d = np.minimum(d_newton, ds).reshape(len(P), kq)
-    return d.min(axis=1)
+        d_newton[b] = min(d_newton[b], ds[b], float(np.sqrt(res.fun)))
+    d = np.minimum(d_newton, ds)
+    out = d0.copy()
+    np.minimum.at(out, pi, d)
+    return out
 
 
 def _kappa_and_dkds(curve: Curve, u, planar):

@@ -165,10 +165,12 @@ def _newton(S: Surface, Q, s, t, iters=30):
     return np.linalg.norm(X0 - Q, axis=1), s, t
 
 
-def surface_deviation(S: Surface, points, candidates=4):
-    """Orthogonal distance of every point, in two stages.  (1) the nearest samples of a per-span grid,
-    refined by Newton: this finds the right place ACROSS the sections, but near a thin trailing edge it
-    may settle on the wrong side of the profile.  (2) along the iso-curve through that place, the nearest
+def surface_deviation(S: Surface, points, candidates=16):
+    """Orthogonal distance of every point, in two stages.  (1) the `candidates` nearest samples of a
+    per-span grid, each refined by Newton: this finds the right place ACROSS the sections, but near a thin
+    trailing edge it may settle on the wrong side of the profile.  Four candidates were too few on the
+    bunny: on a strongly curved section all four nearest samples can lie on one wrong sheet (plane 11:
+    0.537 measured, 0.009 true, found by brute force on a 20001 x 401 grid); sixteen agree with brute force.  (2) along the iso-curve through that place, the nearest
     of a dense per-span sampling, refined by Newton again.  The smaller distance of the two counts; both
     are distances to actual surface points, so the result is an upper bound of the true distance that is
     never worse than the nearest sample."""

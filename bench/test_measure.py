@@ -153,6 +153,31 @@ def test_deviation_matches_brute_force_on_random_rational_spline():
     assert np.max(brute - d) <= spacing, (np.max(brute - d), spacing)
 
 
+def test_deviation_on_thin_hairpin_finds_the_far_sampled_branch():
+    """A thin hairpin (like a sharp trailing edge): the upper branch is ONE long knot span, the lower
+    branch many short ones, 0.004 apart at the open end. Near the end, the nearest samples of a
+    point beside the upper branch all lie on the lower branch; the measurer must still find the
+    upper branch's foot point (an earlier version reported up to 0.054 too much here)."""
+    from scipy.spatial import cKDTree
+
+    up = np.array([[1.0, 0.002], [0.6, 0.03], [0.2, 0.03], [0.0, 0.0]])
+    s = np.linspace(0, 1, 12)[1:]
+    low = np.column_stack([s, -0.002 - 0.03 * np.sin(np.pi * s)])
+    ctrl = np.vstack([up, low])
+    knots = np.r_[[0.0] * 4, np.linspace(0.9, 1.0, len(ctrl) - 3)[:-1], [1.0] * 4]
+    c = measure.Curve(3, knots, ctrl)
+    pts = c.points(np.linspace(0, 0.9, 200))
+    tang = np.gradient(pts, axis=0)
+    nrm = np.column_stack([-tang[:, 1], tang[:, 0]]) / np.linalg.norm(tang, axis=1)[:, None]
+    pts = pts + 1e-3 * nrm * np.where(np.arange(200) % 2, 1.0, -1.0)[:, None]
+    dense = c.points(np.linspace(0, 1, 2_000_001))
+    brute, _ = cKDTree(dense).query(pts)
+    d = measure.deviations(c, pts, samples_per_span=8)
+    assert np.all(d <= brute + 1e-12), np.max(d - brute)
+    assert np.max(brute - d) < 1e-8, np.max(brute - d)
+    assert abs(np.max(d) - 1e-3) < 1e-4, np.max(d)  # the offset, where the branches do not interfere
+
+
 def test_read_points_skips_comments_and_header(tmp_path=None):
     import tempfile
 

@@ -283,3 +283,64 @@ fn surface_writes_checked_step_and_html() {
         "the page names the net"
     );
 }
+
+#[test]
+fn sections_ordered_by_position_along_an_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let secs = d.join("secs");
+    std::fs::create_dir(&secs).unwrap();
+    // names in the wrong order: z = 0, 1, 2.5, 3 become files d, b, a, c
+    for (p, name) in half_ellipse_sections(&secs)
+        .iter()
+        .zip(["d", "b", "a", "c"])
+    {
+        std::fs::rename(p, secs.join(format!("{name}.csv"))).unwrap();
+    }
+    let run = |order: &str| {
+        let rep = d.join(format!("r_{order}.json"));
+        fairfit()
+            .arg("surface")
+            .arg(&secs)
+            .args(["--tol", "1e-3", "--order", order, "--axis", "z", "-o"])
+            .arg(d.join("s.json"))
+            .arg("--report")
+            .arg(&rep)
+            .assert()
+            .success();
+        read_json(&rep)
+    };
+    let r = run("axis");
+    let names: Vec<String> = r["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| {
+            let n = s["name"].as_str().unwrap();
+            Path::new(n)
+                .file_stem()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    assert_eq!(names, ["d", "b", "a", "c"]);
+    assert_eq!(r["within_tolerance"], true);
+    // chord-length v parameters of stacked sections 1, 1.5, 0.5 apart (plus the growing ellipses)
+    let v: Vec<f64> = r["v_params"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(v.windows(2).all(|w| w[1] > w[0]), "{v:?}");
+    assert!(
+        v[1] > 0.2 && v[1] < 0.45 && v[2] > 0.7 && v[2] < 0.9,
+        "{v:?}"
+    );
+    // by name (a, b, c, d = z 2.5, 1, 3, 0) the surface zig-zags: much less fair across the sections
+    let by_name = run("name");
+    let f = |r: &serde_json::Value| r["iso_fairness"]["max_fairness_along_v"].as_f64().unwrap();
+    assert!(f(&by_name) > 10.0 * f(&r), "{} vs {}", f(&by_name), f(&r));
+}

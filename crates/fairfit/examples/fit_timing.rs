@@ -1,22 +1,27 @@
 //! Times `fit_to_tolerance` on point files (in-process, many repetitions): `cargo run --release
-//! --example fit_timing -- FILE... [--rel-tol R]`. Prints control points, solves and microseconds per fit.
+//! --example fit_timing -- FILE... [--rel-tol R]
+//! [--correction-rounds N]`. Prints control points, solves and microseconds per fit.
 
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
 use std::time::Instant;
 
 fn main() {
     let mut rel = 1e-3;
+    let mut rounds = 0;
     let mut files = Vec::new();
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         if a == "--rel-tol" {
             rel = args.next().and_then(|s| s.parse().ok()).unwrap_or(rel);
+        } else if a == "--correction-rounds" {
+            rounds = args.next().and_then(|s| s.parse().ok()).unwrap_or(rounds);
         } else {
             files.push(a);
         }
     }
     let opts = FitOptions {
         tolerance: Tolerance::Relative(rel),
+        correction_rounds: rounds,
         ..Default::default()
     };
     let mut total = 0.0;

@@ -164,3 +164,63 @@ fn pareto_front_trades_deviation_for_fairness_without_dominated_members() {
     assert!(last.quality.fairness < r.quality.fairness);
     assert_eq!(pareto_csv(&front).lines().count(), front.len() + 1);
 }
+
+#[test]
+fn a_corner_becomes_a_c0_knot_and_both_sides_stay_smooth_and_within_tolerance() {
+    // two quarter-ellipse arcs meeting at (1, 0) with a 90° turn: split there, each side fitted
+    // on its own, joined with a triple knot through the corner point
+    let mut pts: Vec<Vec3> = (0..40)
+        .map(|i| {
+            let t = std::f64::consts::FRAC_PI_2 * i as f64 / 39.0;
+            Vec3([1.0 - t.cos(), 0.5 * t.sin() - 0.5, 0.0])
+        })
+        .collect();
+    let corner = pts.len() - 1;
+    assert!((pts[corner] - Vec3([1.0, 0.0, 0.0])).norm() < 1e-12);
+    pts.extend((1..40).map(|i| {
+        let t = std::f64::consts::FRAC_PI_2 * i as f64 / 39.0;
+        Vec3([1.0 + 0.7 * (1.0 - t.cos()), t.sin(), 0.0])
+    }));
+    let r = fit_integrated(&pts, &opts()).unwrap();
+    assert!(r.met, "{:?}", r.quality);
+    let p = r.curve.degree();
+    let k = r.curve.knots();
+    let interior = &k[p + 1..k.len() - p - 1];
+    let triple: Vec<f64> = interior
+        .windows(3)
+        .filter(|w| w[0] == w[1] && w[1] == w[2])
+        .map(|w| w[0])
+        .collect();
+    assert_eq!(triple.len(), 1, "{k:?}");
+    // the curve passes through the corner at the triple knot
+    assert!((r.curve.point(triple[0]) - pts[corner]).norm() < 1e-9);
+    // independent check of the tolerance: brute-force distance to 100 001 curve samples
+    let samples: Vec<Vec3> = (0..=100_000)
+        .map(|i| r.curve.point(i as f64 / 100_000.0))
+        .collect();
+    let worst = pts
+        .iter()
+        .map(|q| {
+            samples
+                .iter()
+                .map(|s| (*s - *q).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0f64, f64::max);
+    assert!(worst <= r.tolerance * 1.001, "{worst} > {}", r.tolerance);
+    // one smooth curve through the corner needs far more control points (or misses)
+    let smooth = fit_integrated(
+        &pts,
+        &IntegratedOptions {
+            corner_angle_deg: None,
+            ..opts()
+        },
+    )
+    .unwrap();
+    assert!(
+        !smooth.met || smooth.curve.n_control_points() > r.curve.n_control_points() + 3,
+        "{} vs {}",
+        smooth.curve.n_control_points(),
+        r.curve.n_control_points()
+    );
+}

@@ -53,6 +53,7 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
         span_fairness: args.span_fairness,
         seed: args.seed,
         control_points: args.control_points,
+        corner_angle_deg: (!args.no_corners).then_some(args.corner_angle),
         ..IntegratedOptions::default()
     }
 }
@@ -89,6 +90,7 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
             "fairness_by_count": r.stats.fairness_by_count.iter()
                 .map(|(n, f)| json!({"control_points": n, "fairness": if f.is_finite() { Some(*f) } else { None }}))
                 .collect::<Vec<_>>(),
+            "polish_moves": r.stats.polish_moves,
             "seconds": r.stats.seconds,
         },
     });

@@ -37,6 +37,15 @@ pub enum VParam {
     Centripetal,
 }
 
+/// Order of section files.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Order {
+    /// By file name (folders are expanded in name order; listed files keep the order given).
+    Name,
+    /// By the position of each section's centroid along --axis (or --normal).
+    Axis,
+}
+
 /// Arguments of `fairfit surface`.
 #[derive(Args, Debug)]
 pub struct SurfaceArgs {
@@ -56,10 +65,13 @@ pub struct SurfaceArgs {
     /// Slice a mesh or point cloud into this many planar sections.
     #[arg(long)]
     pub slices: Option<usize>,
-    /// Axis perpendicular to the slicing planes.
+    /// Axis perpendicular to the slicing planes (and the stacking axis for --order axis).
     #[arg(long, value_enum, default_value = "z")]
     pub axis: Axis,
-    /// Slicing plane normal "nx,ny,nz" (overrides --axis).
+    /// Order of section files: by name, or by position along --axis / --normal.
+    #[arg(long, value_enum, default_value = "name")]
+    pub order: Order,
+    /// Slicing (or stacking) plane normal "nx,ny,nz" (overrides --axis).
     #[arg(long)]
     pub normal: Option<String>,
     /// Degree of the section curves (u).
@@ -124,6 +136,18 @@ struct Input {
     dropped_chains: Vec<usize>,
 }
 
+/// The slicing / stacking direction from --normal or --axis.
+fn stacking_normal(args: &SurfaceArgs) -> Result<Vec3, CliError> {
+    Ok(match &args.normal {
+        Some(s) => parse_normal(s)?,
+        None => match args.axis {
+            Axis::X => Vec3::new(1.0, 0.0, 0.0),
+            Axis::Y => Vec3::new(0.0, 1.0, 0.0),
+            Axis::Z => Vec3::new(0.0, 0.0, 1.0),
+        },
+    })
+}
+
 fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
     if let Some(n) = args.slices {
         if args.input.len() != 1 {
@@ -131,14 +155,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
                 "--slices takes exactly one mesh or point-cloud file".into(),
             ));
         }
-        let normal = match &args.normal {
-            Some(s) => parse_normal(s)?,
-            None => match args.axis {
-                Axis::X => Vec3::new(1.0, 0.0, 0.0),
-                Axis::Y => Vec3::new(0.0, 1.0, 0.0),
-                Axis::Z => Vec3::new(0.0, 0.0, 1.0),
-            },
-        };
+        let normal = stacking_normal(args)?;
         let mesh = read_mesh(&args.input[0])?;
         let opts = SliceOptions {
             slices: n,
@@ -185,6 +202,21 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         }
         sections.push(Section::from_points(pts));
     }
+    let mut names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    if args.order == Order::Axis {
+        let n = stacking_normal(args)?;
+        if n.norm() <= 0.0 {
+            return Err(CliError("--normal must be a non-zero vector".into()));
+        }
+        let mut keyed: Vec<(f64, Section, String)> = sections
+            .into_iter()
+            .zip(names)
+            .map(|(s, name)| (s.centroid().dot(n), s, name))
+            .collect();
+        // stable: sections at the same position keep their name order
+        keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        (sections, names) = keyed.into_iter().map(|(_, s, nm)| (s, nm)).unzip();
+    }
     if sections.len() < 2 {
         return Err(CliError(format!(
             "a surface needs at least 2 sections, got {}",
@@ -192,7 +224,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         )));
     }
     Ok(Input {
-        names: files.iter().map(|f| f.display().to_string()).collect(),
+        names,
         dropped_chains: vec![0; sections.len()],
         sections,
         gaps: Vec::new(),

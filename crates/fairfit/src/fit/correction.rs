@@ -1,8 +1,9 @@
 //! Parameter correction (Hoschek; method reconstruction §6.6): fit, project every point onto the curve
 //! near its parameter, refit with the foot parameters, for a configurable number of rounds. A round is
-//! kept only when it lowers the maximum orthogonal deviation.
+//! kept only when it lowers the maximum orthogonal deviation and keeps
+//! the feet in order (out-of-order feet are points projected onto the wrong part of the curve).
 
-use super::deviation::{max_orthogonal_deviation, screened_deviation, Deviation};
+use super::deviation::{max_orthogonal_deviation, screened, Deviation};
 use super::lsq::{LsqOptions, LsqSolver};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -22,8 +23,8 @@ pub struct CorrectedFit {
 
 /// Fits with fixed `knots`, then runs up to `rounds` parameter corrections, stopping early once the
 /// maximum deviation is `<= stop_below` or a round does not improve it. With `rounds == 0` and
-/// `stop_below > 0` the deviation is the screened one ([`screened_deviation`]): exact for points that
-/// miss `stop_below`, an upper bound below it for the others.
+/// `stop_below > 0` the deviation is the screened one: exact for points that
+/// miss `stop_below`, an upper bound below it for the others ([`super::deviation::screened_deviation`]).
 ///
 /// ```
 /// use fairfit::fit::correction::fit_with_correction;
@@ -49,13 +50,35 @@ pub fn fit_with_correction(
     rounds: usize,
     stop_below: f64,
 ) -> Result<CorrectedFit> {
+    let ends = opts.end_tangents.map(|(a, b)| (Some(a), Some(b)));
+    let ends = ends.unwrap_or((None, None));
+    fit_corrected(
+        solver, points, params, knots, opts, ends, rounds, stop_below, false,
+    )
+}
+
+/// [`fit_with_correction`]; with `probe` (and no rounds) the deviation stops at the first point beyond
+/// `stop_below`: for trials that only ask whether the tolerance holds. `ends`: optional start and end
+/// derivatives ([`LsqSolver::solve_with_ends`]).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn fit_corrected(
+    solver: &mut LsqSolver,
+    points: &[Vec3],
+    params: &[f64],
+    knots: &[f64],
+    opts: &LsqOptions,
+    ends: (Option<Vec3>, Option<Vec3>),
+    rounds: usize,
+    stop_below: f64,
+    probe: bool,
+) -> Result<CorrectedFit> {
     let p = solver.degree();
     let mut ctrl = Vec::new();
-    solver.solve(points, params, knots, None, opts, &mut ctrl)?;
+    solver.solve_with_ends(points, params, knots, None, opts, ends, &mut ctrl)?;
     let curve = NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?;
     // without correction only the tolerance decision matters: project only the points that miss it
     let deviation = if rounds == 0 && stop_below > 0.0 {
-        screened_deviation(&curve, points, params, stop_below)
+        screened(&curve, points, params, stop_below, probe)
     } else {
         max_orthogonal_deviation(&curve, points, params)
     };
@@ -77,8 +100,13 @@ pub fn fit_with_correction(
                 trial[n - 1] = *l;
             }
         }
+        // feet out of order mean some points projected onto the wrong part of the curve: refitting
+        // with them would fold the curve, so the correction stops here
+        if trial.windows(2).any(|w| w[1] <= w[0]) {
+            break;
+        }
         if solver
-            .solve(points, &trial, knots, None, opts, &mut ctrl)
+            .solve_with_ends(points, &trial, knots, None, opts, ends, &mut ctrl)
             .is_err()
         {
             break;

@@ -1,7 +1,9 @@
 //! Orthogonal deviation of data points from a fitted curve: each point is projected onto the curve near
-//! its parameter (the sampled-then-Newton projection of [`crate::diffgeo::CurveProjector`]), giving the
-//! orthogonal distance and the foot parameter (used for parameter correction).
+//! its parameter, giving the orthogonal distance and the foot parameter (used for parameter correction).
+//! Newton from the hint ([`super::foot`]) is tried first; points it does not settle go to the
+//! sampled-then-Newton projection of [`crate::diffgeo::CurveProjector`].
 
+use super::foot::FootFinder;
 use crate::diffgeo::CurveProjector;
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -39,19 +41,41 @@ pub fn max_orthogonal_deviation(
     points: &[Vec3],
     params_hint: &[f64],
 ) -> Deviation {
-    let proj = CurveProjector::new(curve, SAMPLES_PER_SPAN);
+    let mut finder = FootFinder::new(curve);
+    let mut proj: Option<CurveProjector> = None;
     let mut per_point = Vec::with_capacity(points.len());
     let mut params = Vec::with_capacity(points.len());
     let (mut max, mut sum2) = (0.0f64, 0.0);
     for (k, &q) in points.iter().enumerate() {
-        let pr = match params_hint.get(k) {
-            Some(&h) => proj.project_near(q, h),
-            None => proj.project(q),
+        let (u, distance) = match (params_hint.get(k), finder.as_mut()) {
+            (Some(&h), Some(f)) => {
+                let foot = f.refine(q, h);
+                if foot.converged {
+                    (foot.u, foot.distance)
+                } else {
+                    let pr = proj
+                        .get_or_insert_with(|| CurveProjector::new(curve, SAMPLES_PER_SPAN))
+                        .project_near(q, h);
+                    if pr.distance <= foot.distance {
+                        (pr.u, pr.distance)
+                    } else {
+                        (foot.u, foot.distance)
+                    }
+                }
+            }
+            (hint, _) => {
+                let p = proj.get_or_insert_with(|| CurveProjector::new(curve, SAMPLES_PER_SPAN));
+                let pr = match hint {
+                    Some(&h) => p.project_near(q, h),
+                    None => p.project(q),
+                };
+                (pr.u, pr.distance)
+            }
         };
-        max = max.max(pr.distance);
-        sum2 += pr.distance * pr.distance;
-        per_point.push(pr.distance);
-        params.push(pr.u);
+        max = max.max(distance);
+        sum2 += distance * distance;
+        per_point.push(distance);
+        params.push(u);
     }
     let rms = if points.is_empty() {
         0.0
@@ -77,6 +101,18 @@ pub fn screened_deviation(
     params: &[f64],
     tol: f64,
 ) -> Deviation {
+    screened(curve, points, params, tol, false)
+}
+
+/// [`screened_deviation`], stopping at the first point found beyond `tol` when `early_exit` (then
+/// only `max > tol` is meaningful: the other entries may be unverified upper bounds).
+pub(crate) fn screened(
+    curve: &NurbsCurve,
+    points: &[Vec3],
+    params: &[f64],
+    tol: f64,
+    early_exit: bool,
+) -> Deviation {
     let mut per_point = vec![Vec3::ZERO; points.len()];
     curve.points_into(params, &mut per_point);
     let mut dist: Vec<f64> = per_point
@@ -86,14 +122,37 @@ pub fn screened_deviation(
         .collect();
     let mut foot = params.to_vec();
     if dist.iter().any(|&d| d > tol) {
-        let proj = CurveProjector::new(curve, SAMPLES_PER_SPAN);
+        let mut finder = FootFinder::new(curve);
+        let mut proj: Option<CurveProjector> = None;
         for k in 0..points.len() {
-            if dist[k] > tol {
-                let pr = proj.project_near(points[k], params[k]);
-                if pr.distance < dist[k] {
-                    dist[k] = pr.distance;
-                    foot[k] = pr.u;
+            if dist[k] <= tol {
+                continue;
+            }
+            // Newton from the parameter: any curve point bounds the distance from above
+            if let Some(f) = finder.as_mut() {
+                let ft = f.refine_until(points[k], params[k], tol);
+                if ft.distance < dist[k] {
+                    dist[k] = ft.distance;
+                    foot[k] = ft.u;
                 }
+                if dist[k] <= tol {
+                    continue;
+                }
+            }
+            let pr = proj
+                .get_or_insert_with(|| CurveProjector::new(curve, SAMPLES_PER_SPAN))
+                .project_near(points[k], params[k]);
+            if pr.distance < dist[k] {
+                dist[k] = pr.distance;
+                foot[k] = pr.u;
+            }
+            if early_exit && dist[k] > tol {
+                return Deviation {
+                    max: dist[k],
+                    rms: f64::NAN,
+                    per_point: dist,
+                    params: foot,
+                };
             }
         }
     }

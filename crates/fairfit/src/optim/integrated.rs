@@ -21,6 +21,7 @@
 
 use super::encoding::KnotEncoding;
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
+use super::polish::{polish, PolishOptions, Polished};
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::problem::KnotProblem;
 use super::pso::{run_pso, PsoOptions};
@@ -67,6 +68,13 @@ pub struct IntegratedOptions {
     /// A fixed number of control points (no count search) instead of the fewest meeting the
     /// tolerance.
     pub control_points: Option<usize>,
+    /// Corner threshold in degrees (turning angle at a data point, as in the least-squares method):
+    /// the data are split at corners, the pieces fitted separately and joined C0 ([`super::corners`]).
+    /// `None` fits one smooth curve through everything.
+    pub corner_angle_deg: Option<f64>,
+    /// Whether the final control points are refined by local fairing moves within the tolerance
+    /// ([`super::polish`]).
+    pub polish: bool,
 }
 
 impl Default for IntegratedOptions {
@@ -84,6 +92,8 @@ impl Default for IntegratedOptions {
             max_extra_control_points: 2,
             fairness_gain: 1.1,
             control_points: None,
+            polish: true,
+            corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
         }
     }
 }
@@ -99,6 +109,8 @@ pub struct OptimStats {
     pub counts_tried: Vec<usize>,
     /// `(count, F)` of every full knot search (F infinite when the tolerance was not met).
     pub fairness_by_count: Vec<(usize, f64)>,
+    /// Accepted control-point moves of the final polish ([`super::polish`]).
+    pub polish_moves: usize,
     /// Wall time in seconds.
     pub seconds: f64,
 }
@@ -168,6 +180,13 @@ pub fn fit_integrated_with_progress(
     let start = Instant::now();
     validate(opts)?;
     let prep = prepare(points, opts.degree)?;
+    if let Some(angle) = opts.corner_angle_deg {
+        let corners = crate::fit::shape::detect_corners(&prep.data.points, false, angle);
+        let ranges = super::corners::pieces(prep.data.points.len(), &corners);
+        if ranges.len() > 1 {
+            return fit_with_corners(&prep, &ranges, opts, progress, start);
+        }
+    }
     let tol = tolerance_of(opts, prep.scale);
     let p = opts.degree;
     let data = &prep.data;
@@ -395,13 +414,125 @@ pub fn fit_integrated_with_progress(
         ));
     }
     let log_lambda = pr.encoding.log_lambda(&r.position);
-    let result = finish(&prep, &kw.interior, log_lambda, tol, opts)?;
+    let result = finish(
+        &prep,
+        &kw.interior,
+        log_lambda,
+        tol,
+        opts,
+        opts.polish.then_some(tol),
+    )?;
+    stats.evaluations += result.stats.evaluations;
+    stats.polish_moves = result.stats.polish_moves;
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(IntegratedResult {
         baseline_control_points: baseline,
         stats,
         ..result
     })
+}
+
+/// The integrated method on the pieces between corners (`ranges` of the normalised points), joined
+/// C0 ([`super::corners`]); every piece gets the whole curve's tolerance and its own seed stream.
+fn fit_with_corners(
+    prep: &Prepared,
+    ranges: &[(usize, usize)],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    start: Instant,
+) -> Result<IntegratedResult> {
+    use super::corners::{join, straight_piece};
+    if opts.control_points.is_some() {
+        return Err(Error::InvalidOption(format!(
+            "a fixed control-point count cannot be shared among {} pieces between corners; \
+             fit without corner detection",
+            ranges.len()
+        )));
+    }
+    let tol = tolerance_of(opts, prep.scale);
+    let p = opts.degree;
+    let pts = &prep.data.points;
+    let mut curves = Vec::with_capacity(ranges.len());
+    let mut shares = Vec::with_capacity(ranges.len());
+    let mut stats = OptimStats::default();
+    let (mut max_dev, mut sum2, mut count) = (0.0f64, 0.0, 0usize);
+    let (mut met, mut baseline) = (true, 0);
+    for (i, &(a, b)) in ranges.iter().enumerate() {
+        let piece = &pts[a..=b];
+        shares.push(piece.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>());
+        let joint = usize::from(i > 0);
+        if piece.len() < (p + 1).max(3) {
+            // too few points for a cubic of its own: the straight segment
+            for q in &piece[1..piece.len() - 1] {
+                let d = point_segment_distance(*q, piece[0], piece[piece.len() - 1]);
+                max_dev = max_dev.max(d);
+                sum2 += d * d;
+            }
+            count += piece.len();
+            curves.push(straight_piece(piece[0], piece[piece.len() - 1], p)?);
+            baseline += p + 1 - joint;
+            continue;
+        }
+        let sub = IntegratedOptions {
+            tolerance: Tolerance::Absolute(tol),
+            corner_angle_deg: None,
+            seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
+            ..opts.clone()
+        };
+        let r = fit_integrated_with_progress(piece, &sub, progress)?;
+        max_dev = max_dev.max(r.quality.max_deviation);
+        // the piece's RMS is over all its points (its interpolated ends count as 0)
+        sum2 += r.quality.rms_deviation.powi(2) * piece.len() as f64;
+        count += piece.len();
+        met &= r.met;
+        baseline += r.baseline_control_points - joint;
+        stats.evaluations += r.stats.evaluations;
+        stats.iterations += r.stats.iterations;
+        stats.polish_moves += r.stats.polish_moves;
+        stats.counts_tried.extend(&r.stats.counts_tried);
+        stats.fairness_by_count.extend(&r.stats.fairness_by_count);
+        curves.push(r.curve);
+    }
+    let joined = join(&curves, &shares)?;
+    let ctrl: Vec<Vec3> = joined
+        .control_points()
+        .iter()
+        .map(|&c| prep.denormalise(c))
+        .collect();
+    let curve = NurbsCurve::bspline(p, joined.knots().to_vec(), ctrl)?;
+    let f = crate::fair::curve_fairness(&curve);
+    let quality = FitQuality {
+        max_deviation: max_dev * prep.scale,
+        rms_deviation: (sum2 / count.max(1) as f64).sqrt() * prep.scale,
+        fairness: f.fairness,
+        max_span_fairness: f.max_span_fairness,
+    };
+    met &= max_dev <= tol
+        && opts
+            .span_fairness
+            .is_none_or(|t| quality.max_span_fairness <= t);
+    stats.seconds = start.elapsed().as_secs_f64();
+    Ok(IntegratedResult {
+        curve,
+        quality,
+        tolerance: tol * prep.scale,
+        met,
+        log_lambda: f64::NEG_INFINITY,
+        baseline_control_points: baseline,
+        stats,
+    })
+}
+
+/// Distance from `q` to the segment `[a, b]`.
+fn point_segment_distance(q: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.norm_squared();
+    let t = if l2 > 0.0 {
+        ((q - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t - q).norm()
 }
 
 /// The least-squares fit with averaging knots and `n_ctrl` control points (the baseline the
@@ -422,7 +553,7 @@ pub fn fit_lsq_baseline(
     }
     let tol = tolerance_of(opts, prep.scale);
     let knots = averaging_interior_knots(&prep.data.params, opts.degree, n_ctrl);
-    let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts)?;
+    let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts, None)?;
     Ok(IntegratedResult {
         baseline_control_points: n_ctrl,
         ..r
@@ -616,19 +747,34 @@ pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
 }
 
 /// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
+///
+/// With `polish_within = Some((tol, F*))` the control points are then refined by [`polish`] within
+/// `tol` (and the per-span target `F*`).
 pub(crate) fn finish_curve(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
     degree: usize,
-) -> Result<(NurbsCurve, FitQuality)> {
+    polish_within: Option<(f64, Option<f64>)>,
+) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut ws = EvalWorkspace::default();
     set_knots(degree, interior, &mut ws);
-    let e: CandidateEval = evaluate_candidate(&prep.data, log_lambda, &mut ws);
+    let mut e: CandidateEval = evaluate_candidate(&prep.data, log_lambda, &mut ws);
     if !e.solved {
         return Err(Error::Fit(
             "the least-squares system is singular for these knots".into(),
         ));
+    }
+    let mut polished = None;
+    if let Some((tol, span_cap)) = polish_within {
+        let start = ws.foot_params.clone();
+        let po = PolishOptions {
+            span_cap,
+            ..PolishOptions::default()
+        };
+        let pol = polish(&prep.data, &mut ws, &start, tol, &po);
+        e = pol.eval;
+        polished = Some(pol);
     }
     let ctrl: Vec<Vec3> = ws.ctrl.iter().map(|&c| prep.denormalise(c)).collect();
     let curve = NurbsCurve::bspline(degree, ws.knots.clone(), ctrl)?;
@@ -640,6 +786,7 @@ pub(crate) fn finish_curve(
             fairness: e.fairness,
             max_span_fairness: e.max_span_fairness,
         },
+        polished,
     ))
 }
 
@@ -650,8 +797,15 @@ fn finish(
     log_lambda: f64,
     tol: f64,
     opts: &IntegratedOptions,
+    polish_within: Option<f64>,
 ) -> Result<IntegratedResult> {
-    let (curve, quality) = finish_curve(prep, interior, log_lambda, opts.degree)?;
+    let (curve, quality, polished) = finish_curve(
+        prep,
+        interior,
+        log_lambda,
+        opts.degree,
+        polish_within.map(|t| (t, opts.span_fairness)),
+    )?;
     let met = quality.max_deviation <= tol * prep.scale
         && opts
             .span_fairness
@@ -663,6 +817,10 @@ fn finish(
         met,
         log_lambda,
         baseline_control_points: 0,
-        stats: OptimStats::default(),
+        stats: OptimStats {
+            evaluations: polished.map_or(0, |p| p.evaluations),
+            polish_moves: polished.map_or(0, |p| p.moves),
+            ..OptimStats::default()
+        },
     })
 }

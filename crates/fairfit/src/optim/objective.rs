@@ -93,7 +93,52 @@ pub struct EvalWorkspace {
     breaks: Vec<f64>,
     /// `(p + 1)` Taylor coefficients `C^(k)(u_s) / k!` per span.
     coef: Vec<Vec3>,
+    /// Knot index `s` (`knots[s] <= u < knots[s + 1]`) of every power-form span.
+    break_knot: Vec<usize>,
     span_energy: Vec<f64>,
+    span_length: Vec<f64>,
+    /// Squared orthogonal distance of every data point (0 at the interpolated ends).
+    dev2: Vec<f64>,
+}
+
+/// The parts of a measured curve that [`measure_move`] updates, saved so that a rejected move can
+/// be undone by [`EvalWorkspace::load_state`].
+#[derive(Clone, Debug, Default)]
+pub struct MeasureState {
+    coef: Vec<Vec3>,
+    span_energy: Vec<f64>,
+    span_length: Vec<f64>,
+    span_fairness: Vec<f64>,
+    dev2: Vec<f64>,
+    foot_params: Vec<f64>,
+}
+
+impl EvalWorkspace {
+    /// Copies the measured state of the current curve into `st`.
+    pub fn save_state(&self, st: &mut MeasureState) {
+        copy_into(&mut st.coef, &self.coef);
+        copy_into(&mut st.span_energy, &self.span_energy);
+        copy_into(&mut st.span_length, &self.span_length);
+        copy_into(&mut st.span_fairness, &self.span_fairness);
+        copy_into(&mut st.dev2, &self.dev2);
+        copy_into(&mut st.foot_params, &self.foot_params);
+    }
+
+    /// Restores a state saved by [`EvalWorkspace::save_state`] (the control points are the
+    /// caller's to restore).
+    pub fn load_state(&mut self, st: &MeasureState) {
+        copy_into(&mut self.coef, &st.coef);
+        copy_into(&mut self.span_energy, &st.span_energy);
+        copy_into(&mut self.span_length, &st.span_length);
+        copy_into(&mut self.span_fairness, &st.span_fairness);
+        copy_into(&mut self.dev2, &st.dev2);
+        copy_into(&mut self.foot_params, &st.foot_params);
+    }
+}
+
+fn copy_into<T: Copy>(dst: &mut Vec<T>, src: &[T]) {
+    dst.clear();
+    dst.extend_from_slice(src);
 }
 
 #[cfg(test)]
@@ -181,6 +226,80 @@ pub fn evaluate_candidate_within(
     }
 }
 
+/// Measures the curve already held in `ws` (`ws.knots`, `ws.ctrl`) without fitting: orthogonal
+/// deviations by projection started at `start` (one parameter per data point; the foot parameters go
+/// to `ws.foot_params`) and the fairness. Used to judge control-point moves.
+pub fn measure_current(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> CandidateEval {
+    if ws.ctrl.len() + data.degree + 1 != ws.knots.len() || ws.ctrl.iter().any(|c| !c.is_finite()) {
+        return CandidateEval::failed();
+    }
+    build_power_form(data.degree, ws);
+    let (max_deviation, rms_deviation) = deviations(data, start, ws);
+    let (fairness, max_span_fairness) = fairness(data, ws);
+    CandidateEval {
+        solved: true,
+        max_deviation,
+        rms_deviation,
+        fairness,
+        max_span_fairness,
+    }
+}
+
+/// Re-measures the curve in `ws` after a change of the single control point `ws.ctrl[r]`, reusing
+/// everything the move cannot change: only the `p + 1` spans holding `P_r` get new power-form
+/// coefficients and fairness parts, and only the data points whose foot parameter (in `start`, the
+/// feet on the curve before the move) lies in those spans are projected again (Newton from `start`).
+/// `ws` must hold the full measurement ([`measure_current`]) of the curve before the move (restore it
+/// with [`EvalWorkspace::load_state`] after a rejected move). With `with_deviation = false` only the
+/// fairness is updated (the deviations are reported as infinite).
+pub fn measure_move(
+    data: &FitData,
+    r: usize,
+    start: &[f64],
+    with_deviation: bool,
+    ws: &mut EvalWorkspace,
+) -> CandidateEval {
+    let p = data.degree;
+    if !ws.ctrl[r].is_finite() || ws.breaks.is_empty() || ws.dev2.len() != data.points.len() {
+        return CandidateEval::failed();
+    }
+    // power-form spans j whose knot span s satisfies r <= s <= r + p
+    let j0 = ws.break_knot.partition_point(|&s| s < r);
+    let j1 = ws.break_knot.partition_point(|&s| s <= r + p);
+    if j0 >= j1 {
+        return CandidateEval::failed();
+    }
+    for j in j0..j1 {
+        span_power_coefs(p, ws.break_knot[j], j * (p + 1), ws);
+        let (e, len) = span_energy_length(data, ws, j);
+        ws.span_energy[j] = e;
+        ws.span_length[j] = len;
+    }
+    let (fairness, max_span_fairness) = fairness_totals(ws);
+    let (mut max_deviation, mut rms_deviation) = (f64::INFINITY, f64::INFINITY);
+    if with_deviation {
+        let a = ws.breaks[j0];
+        let b = ws.breaks.get(j1).copied().unwrap_or(1.0);
+        let mut hint = j0;
+        for k in 1..data.points.len().saturating_sub(1) {
+            let u = start[k];
+            if u >= a && u <= b {
+                let (best, best_u) = project(data, k, u, ws, &mut hint);
+                ws.foot_params[k] = best_u;
+                ws.dev2[k] = best;
+            }
+        }
+        (max_deviation, rms_deviation) = deviation_totals(&ws.dev2);
+    }
+    CandidateEval {
+        solved: true,
+        max_deviation,
+        rms_deviation,
+        fairness,
+        max_span_fairness,
+    }
+}
+
 /// Sets `ws.knots` to the clamped knot vector on `[0, 1]` with the given interior knots.
 pub fn set_knots(degree: usize, interior: &[f64], ws: &mut EvalWorkspace) {
     ws.knots.clear();
@@ -227,35 +346,74 @@ fn build_power_form(p: usize, ws: &mut EvalWorkspace) {
     let n = ws.ctrl.len() - 1;
     ws.breaks.clear();
     ws.coef.clear();
+    ws.break_knot.clear();
+    for s in p..=n {
+        let u0 = ws.knots[s];
+        if ws.knots[s + 1] <= u0 {
+            continue;
+        }
+        ws.breaks.push(u0);
+        ws.break_knot.push(s);
+        ws.coef.extend(std::iter::repeat_n(Vec3::default(), p + 1));
+        span_power_coefs(p, s, ws.coef.len() - (p + 1), ws);
+    }
+}
+
+/// Writes the `p + 1` Taylor coefficients of knot span `s` at `ws.coef[at..]`.
+fn span_power_coefs(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
     let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
     let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
     let mut ders = [0.0; P1 * P1];
-    for s in p..=n {
-        let (u0, u1) = (ws.knots[s], ws.knots[s + 1]);
-        if u1 <= u0 {
-            continue;
+    let u0 = ws.knots[s];
+    ders_basis_funs_into(
+        s, u0, p, p, &ws.knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
+    );
+    let mut fact = 1.0;
+    for k in 0..=p {
+        if k > 0 {
+            fact *= k as f64;
         }
-        ders_basis_funs_into(
-            s, u0, p, p, &ws.knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
-        );
-        ws.breaks.push(u0);
-        let mut fact = 1.0;
-        for k in 0..=p {
-            if k > 0 {
-                fact *= k as f64;
-            }
-            let mut c = Vec3::default();
-            for j in 0..=p {
-                c += ws.ctrl[s - p + j] * ders[k * (p + 1) + j];
-            }
-            ws.coef.push(c / fact);
+        let mut c = Vec3::default();
+        for j in 0..=p {
+            c += ws.ctrl[s - p + j] * ders[k * (p + 1) + j];
         }
+        ws.coef[at + k] = c / fact;
     }
 }
 
 /// The point and derivatives 1..=3 at `u` from the power form, in span `j` (index into `breaks`).
 #[inline]
 fn power_eval(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
+    if p == 3 {
+        // the usual cubic: the same operations, unrolled by the compiler
+        power_eval_cubic(coef, j, t, out);
+    } else {
+        power_eval_any(coef, p, j, t, out);
+    }
+}
+
+/// [`power_eval`] for cubics (the same arithmetic with a constant degree).
+#[inline]
+fn power_eval_cubic(coef: &[Vec3], j: usize, t: f64, out: &mut [Vec3; 4]) {
+    const P: usize = 3;
+    let c = &coef[j * (P + 1)..(j + 1) * (P + 1)];
+    let (mut v0, mut v1, mut v2, mut v3) =
+        (c[P], Vec3::default(), Vec3::default(), Vec3::default());
+    for k in (0..P).rev() {
+        v3 = v3 * t + v2;
+        v2 = v2 * t + v1;
+        v1 = v1 * t + v0;
+        v0 = v0 * t + c[k];
+    }
+    out[0] = v0;
+    out[1] = v1;
+    out[2] = v2 * 2.0;
+    out[3] = v3 * 6.0;
+}
+
+/// [`power_eval`] for any degree.
+#[inline]
+fn power_eval_any(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
     let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
     // Horner for the value and the first three derivatives
     let (mut v0, mut v1, mut v2, mut v3) =
@@ -273,7 +431,7 @@ fn power_eval(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
 }
 
 /// The span index in `breaks` holding `u` (last span for `u` at the end).
-#[inline]
+#[cfg(test)]
 fn power_span(breaks: &[f64], u: f64) -> usize {
     match breaks.binary_search_by(|b| b.total_cmp(&u)) {
         Ok(i) => i,
@@ -281,77 +439,129 @@ fn power_span(breaks: &[f64], u: f64) -> usize {
     }
 }
 
-/// Max and RMS orthogonal deviation: Newton projection started at each point's own parameter.
+/// [`power_span`] by walking from the span `hint` (same result; cheap for ordered queries).
+#[inline]
+fn power_span_from(breaks: &[f64], u: f64, hint: usize) -> usize {
+    let mut j = hint.min(breaks.len().saturating_sub(1));
+    while j + 1 < breaks.len() && breaks[j + 1].total_cmp(&u).is_le() {
+        j += 1;
+    }
+    while j > 0 && breaks[j].total_cmp(&u).is_gt() {
+        j -= 1;
+    }
+    j
+}
+
+/// Max and RMS orthogonal deviation: Newton projection started at each point's own parameter
+/// (fills `ws.foot_params` and `ws.dev2`).
 fn deviations(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> (f64, f64) {
-    let p = data.degree;
     let m = data.points.len();
     ws.foot_params.clear();
     ws.foot_params.extend_from_slice(start);
-    let mut d = [Vec3::default(); 4];
-    let (mut max_d, mut sum2) = (0.0f64, 0.0);
-    let (breaks, coef) = (&ws.breaks, &ws.coef);
-    let eval = |u: f64, d: &mut [Vec3; 4]| {
-        let j = power_span(breaks, u);
-        power_eval(coef, p, j, u - breaks[j], d);
-    };
+    ws.dev2.clear();
+    ws.dev2.resize(m, 0.0);
+    let mut hint = 0;
     for k in 1..m.saturating_sub(1) {
-        let qk = data.points[k];
-        let mut u = start[k];
-        eval(u, &mut d);
-        // any curve point bounds the orthogonal distance from above; Newton steps tighten it
-        let mut best = (d[0] - qk).norm_squared();
-        let mut best_u = u;
-        for _ in 0..3 {
-            let diff = d[0] - qk;
-            let f = d[1].dot(diff);
-            let fp = d[2].dot(diff) + d[1].norm_squared();
-            if fp.is_nan() || fp <= 0.0 {
-                break;
-            }
-            let step = (-f / fp).clamp(-0.05, 0.05);
-            u = (u + step).clamp(0.0, 1.0);
-            eval(u, &mut d);
-            let dist2 = (d[0] - qk).norm_squared();
-            if dist2 < best {
-                best = dist2;
-                best_u = u;
-            }
-            if step.abs() < 1e-10 {
-                break;
-            }
-        }
+        let (best, best_u) = project(data, k, start[k], ws, &mut hint);
         ws.foot_params[k] = best_u;
-        max_d = max_d.max(best);
-        sum2 += best;
+        ws.dev2[k] = best;
+    }
+    deviation_totals(&ws.dev2)
+}
+
+/// `(max, rms)` of the distances whose squares are `dev2` (ends included as zeros).
+fn deviation_totals(dev2: &[f64]) -> (f64, f64) {
+    let m = dev2.len();
+    let (mut max_d, mut sum2) = (0.0f64, 0.0);
+    for &d in dev2.iter().take(m.saturating_sub(1)).skip(1) {
+        max_d = max_d.max(d);
+        sum2 += d;
     }
     (max_d.sqrt(), (sum2 / m as f64).sqrt())
 }
 
+/// Squared orthogonal distance and foot parameter of data point `k` by at most three Newton steps
+/// from `u`; `hint` is the span of the last evaluation (updated).
+#[inline]
+fn project(
+    data: &FitData,
+    k: usize,
+    mut u: f64,
+    ws: &EvalWorkspace,
+    hint: &mut usize,
+) -> (f64, f64) {
+    let p = data.degree;
+    let (breaks, coef) = (&ws.breaks, &ws.coef);
+    let mut eval = |u: f64, d: &mut [Vec3; 4]| {
+        let j = power_span_from(breaks, u, *hint);
+        *hint = j;
+        power_eval(coef, p, j, u - breaks[j], d);
+    };
+    let mut d = [Vec3::default(); 4];
+    let qk = data.points[k];
+    eval(u, &mut d);
+    // any curve point bounds the orthogonal distance from above; Newton steps tighten it
+    let mut best = (d[0] - qk).norm_squared();
+    let mut best_u = u;
+    for _ in 0..3 {
+        let diff = d[0] - qk;
+        let f = d[1].dot(diff);
+        let fp = d[2].dot(diff) + d[1].norm_squared();
+        if fp.is_nan() || fp <= 0.0 {
+            break;
+        }
+        let step = (-f / fp).clamp(-0.05, 0.05);
+        u = (u + step).clamp(0.0, 1.0);
+        eval(u, &mut d);
+        let dist2 = (d[0] - qk).norm_squared();
+        if dist2 < best {
+            best = dist2;
+            best_u = u;
+        }
+        if step.abs() < 1e-10 {
+            break;
+        }
+    }
+    (best, best_u)
+}
+
 /// `(F, max_j F_j)` by 8-point Gauss–Legendre per span; fills `ws.span_fairness`.
 fn fairness(data: &FitData, ws: &mut EvalWorkspace) -> (f64, f64) {
-    let p = data.degree;
     ws.span_energy.clear();
-    ws.span_fairness.clear();
-    let mut length = 0.0;
-    let mut d = [Vec3::default(); 4];
+    ws.span_length.clear();
     for j in 0..ws.breaks.len() {
-        let a = ws.breaks[j];
-        let b = ws.breaks.get(j + 1).copied().unwrap_or(1.0);
-        let (mid, half) = (0.5 * (a + b) - a, 0.5 * (b - a));
-        let mut e = 0.0;
-        for i in 0..8 {
-            let t = if i < 4 { -GL_X[i] } else { GL_X[i - 4] };
-            let w = GL_W[i % 4] * half;
-            power_eval(&ws.coef, p, j, mid + half * t, &mut d);
-            let (speed, dk) = speed_and_dkappa_du(&d, data.planar);
-            length += w * speed;
-            if speed > 0.0 {
-                e += w * dk * dk / speed;
-            }
-        }
+        let (e, len) = span_energy_length(data, ws, j);
         ws.span_energy.push(e);
+        ws.span_length.push(len);
     }
+    fairness_totals(ws)
+}
+
+/// `(∫ (dκ/du)² / |C'| du, ∫ |C'| du)` over power-form span `j`.
+fn span_energy_length(data: &FitData, ws: &EvalWorkspace, j: usize) -> (f64, f64) {
+    let a = ws.breaks[j];
+    let b = ws.breaks.get(j + 1).copied().unwrap_or(1.0);
+    let (mid, half) = (0.5 * (a + b) - a, 0.5 * (b - a));
+    let (mut e, mut length) = (0.0, 0.0);
+    let mut d = [Vec3::default(); 4];
+    for i in 0..8 {
+        let t = if i < 4 { -GL_X[i] } else { GL_X[i - 4] };
+        let w = GL_W[i % 4] * half;
+        power_eval(&ws.coef, data.degree, j, mid + half * t, &mut d);
+        let (speed, dk) = speed_and_dkappa_du(&d, data.planar);
+        length += w * speed;
+        if speed > 0.0 {
+            e += w * dk * dk / speed;
+        }
+    }
+    (e, length)
+}
+
+/// `(F, max_j F_j)` from `ws.span_energy` and `ws.span_length`; fills `ws.span_fairness`.
+fn fairness_totals(ws: &mut EvalWorkspace) -> (f64, f64) {
+    let length: f64 = ws.span_length.iter().sum();
     let l3 = length * length * length;
+    ws.span_fairness.clear();
     let (mut total, mut fmax) = (0.0, 0.0f64);
     for &e in &ws.span_energy {
         let fj = l3 * e;
@@ -471,6 +681,65 @@ mod tests {
         // per-span parts add up to F
         let s: f64 = ws.span_fairness.iter().sum();
         assert!((s - e2.fairness).abs() <= 1e-12 * e2.fairness);
+    }
+
+    #[test]
+    fn hinted_span_search_agrees_with_binary_search() {
+        let breaks = [0.0, 0.1, 0.25, 0.5, 0.9];
+        for hint in 0..7 {
+            for i in 0..=100 {
+                let u = i as f64 / 100.0;
+                assert_eq!(
+                    power_span_from(&breaks, u, hint),
+                    power_span(&breaks, u),
+                    "{u} {hint}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_move_measured_in_part_equals_the_full_measurement() {
+        // wavy data, 9 control points; moving P_4 and re-measuring only its spans must give the
+        // deviations and F of a full re-measurement from the same feet
+        let m = 80;
+        let points: Vec<Vec3> = (0..m)
+            .map(|i| {
+                let x = i as f64 / (m - 1) as f64;
+                Vec3([x, 0.3 * (3.0 * x).sin(), 0.0])
+            })
+            .collect();
+        let params: Vec<f64> = (0..m).map(|i| i as f64 / (m - 1) as f64).collect();
+        let data = FitData {
+            points,
+            params,
+            degree: 3,
+            planar: true,
+            corrections: 1,
+        };
+        let mut ws = EvalWorkspace::default();
+        set_knots(3, &[0.2, 0.35, 0.5, 0.65, 0.8], &mut ws);
+        assert!(evaluate_candidate(&data, f64::NEG_INFINITY, &mut ws).solved);
+        let feet = ws.foot_params.clone();
+        let before = measure_current(&data, &feet, &mut ws);
+        let feet = ws.foot_params.clone();
+        let mut saved = MeasureState::default();
+        ws.save_state(&mut saved);
+        ws.ctrl[4] += Vec3([0.0, 0.01, 0.0]);
+        let part = measure_move(&data, 4, &feet, true, &mut ws);
+        let full = measure_current(&data, &feet, &mut ws);
+        assert!(part.fairness != before.fairness);
+        assert!((part.fairness - full.fairness).abs() <= 1e-12 * full.fairness);
+        assert!((part.max_span_fairness - full.max_span_fairness).abs() <= 1e-12 * full.fairness);
+        assert!((part.max_deviation - full.max_deviation).abs() <= 1e-12);
+        assert!((part.rms_deviation - full.rms_deviation).abs() <= 1e-12);
+        assert!(part.max_deviation > before.max_deviation + 1e-3);
+        // undoing restores the earlier measurement exactly
+        ws.ctrl[4] -= Vec3([0.0, 0.01, 0.0]);
+        ws.load_state(&saved);
+        let again = measure_move(&data, 4, &feet, true, &mut ws);
+        assert!((again.fairness - before.fairness).abs() <= 1e-12 * before.fairness);
+        assert!((again.max_deviation - before.max_deviation).abs() <= 1e-12);
     }
 
     #[test]

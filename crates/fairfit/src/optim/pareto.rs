@@ -87,11 +87,12 @@ pub fn pareto_front(
         if !problem.decode_into(&m.position, &mut kw) {
             continue;
         }
-        let (curve, quality) = finish_curve(
+        let (curve, quality, _) = finish_curve(
             &prep,
             &kw.interior,
             problem.encoding.log_lambda(&m.position),
             p,
+            None,
         )?;
         out.push(ParetoCurve { curve, quality });
     }
