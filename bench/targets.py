@@ -16,6 +16,9 @@ SPLPREP = "scipy splprep"
 INTEGRATED = "fairfit integrated"
 FTF = "fairfit fit-then-fair"
 LSQ = "fairfit lsq"
+EQUAL = "fairfit integrated, fit-then-fair's ctrl pts"
+FTF_NO_CORNERS = "fairfit fit-then-fair, no corners"
+EQUAL_NO_CORNERS = "fairfit integrated, no corners, fit-then-fair's ctrl pts"
 POINTS_200 = 200
 TIME_TARGET_S = 0.2
 
@@ -95,14 +98,23 @@ def _med(v):
     return statistics.median(v) if v else float("nan")
 
 
-def equal_count(all_rows, met, equal_name):
+def equal_pair(by, equal_name=EQUAL):
+    """(integrated at fit-then-fair's count, that fit-then-fair result) of one curve's results by method:
+    the pair fitted without corner detection when the bench had to run one (a fixed count cannot be
+    shared between corner pieces), else the default pair."""
+    if EQUAL_NO_CORNERS in by:
+        return by.get(EQUAL_NO_CORNERS), by.get(FTF_NO_CORNERS)
+    return by.get(equal_name), by.get(FTF)
+
+
+def equal_count(all_rows, met, equal_name=EQUAL):
     """Integrated at fit-then-fair's control-point count against fit-then-fair: (wins, compared, F ratios,
     names where integrated does not win)."""
     wins = total = 0
     ratios, lost = [], []
     for name, _, tol, results in all_rows:
         by = {r.method: r for r in results}
-        fe, ff = by.get(equal_name), by.get(FTF)
+        fe, ff = equal_pair(by, equal_name)
         if fe and ff and met(fe, tol) and met(ff, tol) and fe.metrics.n_ctrl == ff.metrics.n_ctrl:
             total += 1
             ratios.append(fe.metrics.F / ff.metrics.F)

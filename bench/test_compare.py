@@ -125,6 +125,21 @@ def test_measurer_fairness_of_exact_rational_quarter_ellipse_matches_quadrature(
     assert abs(F - exact) < 1e-6 * exact, (F, exact)
 
 
+
+def test_equal_count_uses_the_no_corner_pair_when_present():
+    import numpy as np  # noqa: F401
+
+    eq = compare.EQUAL_COUNT
+    rows = [_row("c", 200, [
+        ("fairfit fit-then-fair", (16, 0.9, 10.0, 3), 50.0, 40.0),
+        (targets.FTF_NO_CORNERS, (20, 0.9, 30.0, 3), 50.0, 40.0),
+        (targets.EQUAL_NO_CORNERS, (20, 1.0, 15.0, 2), 150.0, 120.0),
+    ])]
+    rows[0][3].insert(1, compare.Result(eq, False, "a fixed control-point count cannot be shared ... corners"))
+    wins, total, ratios, lost = targets.equal_count(rows, compare.met)
+    assert (wins, total, lost) == (1, 1, []) and abs(ratios[0] - 0.5) < 1e-12
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):

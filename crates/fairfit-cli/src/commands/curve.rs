@@ -12,10 +12,13 @@ use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeom
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::fair::curve_fairness;
-use fairfit::fit::tolerance::{fit_to_tolerance, ClosedMode, FitOptions, FitResult, Tolerance};
-use fairfit::fit::Parameterization;
+use fairfit::fit::tolerance::{
+    fit_to_tolerance, ClosedMode, FitOptions, FitResult, KnotRule, Tolerance,
+};
+use fairfit::fit::{Parameterization, SmoothingOrder};
 use fairfit::io::atomic::write_all_atomic;
 use fairfit::io::{curve_to_json, read_points};
+use fairfit::Vec3;
 use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -52,6 +55,41 @@ impl From<ParamArg> for Parameterization {
     }
 }
 
+/// Knot placement choices of `--method lsq`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum KnotArg {
+    /// Split spans where the error is largest, then remove unneeded knots (default, fewest points).
+    Refine,
+    /// Symmetric averaging rule; smallest count meeting the tolerance.
+    Averaging,
+    /// Curvature-adaptive rule (more knots where the data turn fast); smallest count meeting it.
+    Adaptive,
+}
+
+impl From<KnotArg> for KnotRule {
+    fn from(k: KnotArg) -> Self {
+        match k {
+            KnotArg::Refine => KnotRule::Refine,
+            KnotArg::Averaging => KnotRule::Averaging,
+            KnotArg::Adaptive => KnotRule::Adaptive,
+        }
+    }
+}
+
+/// Parses `X,Y` or `X,Y,Z` into a vector.
+fn parse_vector(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("expected X,Y or X,Y,Z: {e}"))?;
+    match v[..] {
+        [x, y] => Ok(Vec3::new(x, y, 0.0)),
+        [x, y, z] => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!("expected X,Y or X,Y,Z, got {} values", v.len())),
+    }
+}
+
 /// Arguments of `fairfit curve`.
 #[derive(Args, Debug)]
 pub struct CurveArgs {
@@ -85,9 +123,21 @@ pub struct CurveArgs {
     /// Parameter-correction rounds per least-squares fit.
     #[arg(long, default_value_t = 0)]
     pub correction_rounds: usize,
-    /// Scale-free smoothing weight λ of ∫|C''|² (0 = plain least squares).
+    /// Scale-free smoothing weight λ (0 = plain least squares).
     #[arg(long, default_value_t = 0.0)]
     pub smoothing: f64,
+    /// Derivative order of the smoothing term: 2 for ∫|C''|², 3 for ∫|C'''|².
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
+    pub smoothing_order: u8,
+    /// Knot placement (lsq and fit-then-fair methods).
+    #[arg(long, value_enum, default_value_t = KnotArg::Refine)]
+    pub knots: KnotArg,
+    /// Tangent direction X,Y[,Z] at the first point (open curves; lsq and fit-then-fair methods).
+    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
+    pub start_tangent: Option<Vec3>,
+    /// Tangent direction X,Y[,Z] at the last point (open curves; lsq and fit-then-fair methods).
+    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
+    pub end_tangent: Option<Vec3>,
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
     #[arg(long)]
     pub span_fairness: Option<f64>,
@@ -164,6 +214,14 @@ pub fn run(args: CurveArgs) -> CmdResult {
         corner_angle_deg: (!args.no_corners).then_some(args.corner_angle),
         correction_rounds: args.correction_rounds,
         smoothing: args.smoothing,
+        smoothing_order: if args.smoothing_order == 3 {
+            SmoothingOrder::Third
+        } else {
+            SmoothingOrder::Second
+        },
+        knot_rule: args.knots.into(),
+        start_tangent: args.start_tangent,
+        end_tangent: args.end_tangent,
         ..FitOptions::default()
     };
     let want_report = args.report.is_some() || args.outputs.html.is_some();
@@ -237,6 +295,7 @@ fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_js
     json!({
         "input": args.input.display().to_string(),
         "method": "lsq",
+        "knots": format!("{:?}", args.knots).to_lowercase(),
         "degree": fit.curve.degree(),
         "points": fit.points.len(),
         "closed": fit.closed,

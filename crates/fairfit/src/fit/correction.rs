@@ -50,13 +50,16 @@ pub fn fit_with_correction(
     rounds: usize,
     stop_below: f64,
 ) -> Result<CorrectedFit> {
+    let ends = opts.end_tangents.map(|(a, b)| (Some(a), Some(b)));
+    let ends = ends.unwrap_or((None, None));
     fit_corrected(
-        solver, points, params, knots, opts, rounds, stop_below, false,
+        solver, points, params, knots, opts, ends, rounds, stop_below, false,
     )
 }
 
 /// [`fit_with_correction`]; with `probe` (and no rounds) the deviation stops at the first point beyond
-/// `stop_below`: for trials that only ask whether the tolerance holds.
+/// `stop_below`: for trials that only ask whether the tolerance holds. `ends`: optional start and end
+/// derivatives ([`LsqSolver::solve_with_ends`]).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_corrected(
     solver: &mut LsqSolver,
@@ -64,13 +67,14 @@ pub(crate) fn fit_corrected(
     params: &[f64],
     knots: &[f64],
     opts: &LsqOptions,
+    ends: (Option<Vec3>, Option<Vec3>),
     rounds: usize,
     stop_below: f64,
     probe: bool,
 ) -> Result<CorrectedFit> {
     let p = solver.degree();
     let mut ctrl = Vec::new();
-    solver.solve(points, params, knots, None, opts, &mut ctrl)?;
+    solver.solve_with_ends(points, params, knots, None, opts, ends, &mut ctrl)?;
     let curve = NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?;
     // without correction only the tolerance decision matters: project only the points that miss it
     let deviation = if rounds == 0 && stop_below > 0.0 {
@@ -102,7 +106,7 @@ pub(crate) fn fit_corrected(
             break;
         }
         if solver
-            .solve(points, &trial, knots, None, opts, &mut ctrl)
+            .solve_with_ends(points, &trial, knots, None, opts, ends, &mut ctrl)
             .is_err()
         {
             break;

@@ -3,7 +3,7 @@
 //! `r = 2` or `3`.
 //!
 //! - Open curves interpolate both end points (`P_0 = Q_0`, `P_n = Q_m`) and, optionally, given end
-//!   derivatives (which fix `P_1` and `P_{n−1}`).
+//!   derivatives, each on its own (which fix `P_1` and `P_{n−1}`).
 //! - Closed curves use a periodic (unclamped) knot vector with the first `p` control points repeated at
 //!   the end; every unknown is free and the seam is `C^(p−1)`.
 //! - Rational curves: the basis is `R_i = N_i w_i / Σ_j N_j w_j`, still linear in the control points. The
@@ -93,8 +93,10 @@ pub struct LsqSolver {
 struct Layout {
     n_ctrl: usize,
     closed: bool,
-    /// open: first free column (1, or 2 with end tangents); closed: number of unique points
+    /// open: first free column (1, or 2 with a start tangent); closed: number of unique points
     lo: usize,
+    /// open: fixed columns at the end (1, or 2 with an end tangent)
+    hi: usize,
     n_unknown: usize,
 }
 
@@ -103,7 +105,7 @@ impl Layout {
     fn unknown(&self, col: usize) -> Option<usize> {
         if self.closed {
             Some(col % self.lo)
-        } else if col >= self.lo && col + self.lo < self.n_ctrl {
+        } else if col >= self.lo && col + self.hi < self.n_ctrl {
             Some(col - self.lo)
         } else {
             None
@@ -146,18 +148,43 @@ impl LsqSolver {
         opts: &LsqOptions,
         ctrl_out: &mut Vec<Vec3>,
     ) -> Result<()> {
+        let ends = opts.end_tangents.map(|(a, b)| (Some(a), Some(b)));
+        self.solve_with_ends(
+            points,
+            params,
+            knots,
+            weights,
+            opts,
+            ends.unwrap_or((None, None)),
+            ctrl_out,
+        )
+    }
+
+    /// [`LsqSolver::solve`] with each end derivative optional on its own (`ends` = start, end);
+    /// `opts.end_tangents` is ignored.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_with_ends(
+        &mut self,
+        points: &[Vec3],
+        params: &[f64],
+        knots: &[f64],
+        weights: Option<&[f64]>,
+        opts: &LsqOptions,
+        ends: (Option<Vec3>, Option<Vec3>),
+        ctrl_out: &mut Vec<Vec3>,
+    ) -> Result<()> {
         let p = self.degree;
-        let layout = self.check(points, params, knots, weights, opts)?;
+        let layout = self.check(points, params, knots, weights, opts, ends)?;
         let n_ctrl = layout.n_ctrl;
         let n = n_ctrl - 1;
         let nu = layout.n_unknown;
         // fixed columns (open curves)
         let fixed = |col: usize| -> Vec3 {
             let m = points.len() - 1;
-            match (col, opts.end_tangents) {
+            match (col, ends) {
                 (0, _) => points[0],
-                (1, Some((d0, _))) => points[0] + d0 * ((knots[p + 1] - knots[1]) / p as f64),
-                (c, Some((_, d1))) if c + 2 == n_ctrl => {
+                (1, (Some(d0), _)) => points[0] + d0 * ((knots[p + 1] - knots[1]) / p as f64),
+                (c, (_, Some(d1))) if c + 2 == n_ctrl => {
                     points[m] - d1 * ((knots[n + p] - knots[n]) / p as f64)
                 }
                 _ => points[m],
@@ -295,6 +322,7 @@ impl LsqSolver {
         knots: &[f64],
         weights: Option<&[f64]>,
         opts: &LsqOptions,
+        ends: (Option<Vec3>, Option<Vec3>),
     ) -> Result<Layout> {
         let p = self.degree;
         if points.len() != params.len() {
@@ -345,20 +373,27 @@ impl LsqSolver {
                 n_ctrl,
                 closed: true,
                 lo: n_u,
+                hi: 0,
                 n_unknown: n_u,
             });
         }
-        let lo = if opts.end_tangents.is_some() { 2 } else { 1 };
-        if n_ctrl < 2 * lo {
+        if ends.0.iter().chain(ends.1.iter()).any(|d| !d.is_finite()) {
+            return Err(Error::InvalidOption("end tangents must be finite".into()));
+        }
+        let lo = 1 + usize::from(ends.0.is_some());
+        let hi = 1 + usize::from(ends.1.is_some());
+        if n_ctrl < lo + hi {
             return Err(Error::InvalidOption(format!(
-                "end tangents need at least 4 control points, got {n_ctrl}"
+                "end tangents need at least {} control points, got {n_ctrl}",
+                lo + hi
             )));
         }
         Ok(Layout {
             n_ctrl,
             closed: false,
             lo,
-            n_unknown: n_ctrl - 2 * lo,
+            hi,
+            n_unknown: n_ctrl - lo - hi,
         })
     }
 }
@@ -488,6 +523,31 @@ mod tests {
         assert!((f.derivatives(0.0, 1)[1] - d0).norm() < 1e-12);
         assert!((f.derivatives(1.0, 1)[1] - d1).norm() < 1e-12);
         assert!((f.point(0.0) - q[0]).norm() < 1e-14 && (f.point(1.0) - q[59]).norm() < 1e-14);
+    }
+
+    #[test]
+    fn one_end_tangent_alone_is_honoured() {
+        let c = known_curve();
+        let u: Vec<f64> = (0..60).map(|k| k as f64 / 59.0).collect();
+        let q = c.points(&u);
+        let mut s = LsqSolver::new(3);
+        let mut ctrl = Vec::new();
+        let o = LsqOptions::default();
+        // an arbitrary end derivative is met exactly, the start stays free
+        let d1 = Vec3::new(0.5, -2.0, 1.0);
+        let knots = uniform_clamped(3, 9);
+        s.solve_with_ends(&q, &u, &knots, None, &o, (None, Some(d1)), &mut ctrl)
+            .unwrap();
+        let f = NurbsCurve::bspline(3, knots, ctrl.clone()).unwrap();
+        assert!((f.derivatives(1.0, 1)[1] - d1).norm() < 1e-12);
+        assert!((f.point(0.0) - q[0]).norm() < 1e-14 && (f.point(1.0) - q[59]).norm() < 1e-14);
+        // the true start derivative of the sampled curve, alone, with its knots: the exact curve back
+        let d0 = c.derivatives(0.0, 1)[1];
+        s.solve_with_ends(&q, &u, c.knots(), None, &o, (Some(d0), None), &mut ctrl)
+            .unwrap();
+        for (a, b) in ctrl.iter().zip(c.control_points()) {
+            assert!((*a - *b).norm() < 1e-10, "{a:?} vs {b:?}");
+        }
     }
 
     #[test]

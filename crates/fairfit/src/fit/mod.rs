@@ -15,4 +15,4 @@ pub mod tolerance;
 pub use deviation::{max_orthogonal_deviation, screened_deviation, Deviation};
 pub use lsq::{fit_fixed_knots, LsqOptions, LsqSolver, SmoothingOrder};
 pub use parameterize::Parameterization;
-pub use tolerance::{fit_to_tolerance, ClosedMode, FitOptions, FitResult, Tolerance};
+pub use tolerance::{fit_to_tolerance, ClosedMode, FitOptions, FitResult, KnotRule, Tolerance};

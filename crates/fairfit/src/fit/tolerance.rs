@@ -11,6 +11,7 @@
 
 use super::correction::{fit_corrected, CorrectedFit};
 use super::deviation::{max_orthogonal_deviation, Deviation};
+use super::knot_placement::{averaging_knots, curvature_adaptive_knots};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
 use super::shape::{detect_corners, looks_closed, DEFAULT_CORNER_ANGLE_DEG};
@@ -67,6 +68,27 @@ pub struct FitOptions {
     pub knot_removal: bool,
     /// Upper bound on control points per piece; 0 means the number of points.
     pub max_control_points: usize,
+    /// How knots are placed (default [`KnotRule::Refine`]).
+    pub knot_rule: KnotRule,
+    /// Direction of the curve at the first point (open curves; the magnitude is taken from the data).
+    pub start_tangent: Option<Vec3>,
+    /// Direction of the curve at the last point (open curves).
+    pub end_tangent: Option<Vec3>,
+}
+
+/// Knot placement of the tolerance search.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum KnotRule {
+    /// Start from one segment, split the spans whose points miss the tolerance at the median of their
+    /// parameters, then remove knots that are not needed (the default: fewest control points).
+    #[default]
+    Refine,
+    /// The symmetric averaging rule ([`super::knot_placement::averaging_knots`]) with the smallest
+    /// control-point count found (by growth then bisection) that meets the tolerance.
+    Averaging,
+    /// Curvature-adaptive knots ([`super::knot_placement::curvature_adaptive_knots`]), count searched
+    /// the same way. Closed periodic fits use equal cyclic index steps for both rules.
+    Adaptive,
 }
 
 impl Default for FitOptions {
@@ -82,6 +104,9 @@ impl Default for FitOptions {
             smoothing_order: SmoothingOrder::Second,
             knot_removal: true,
             max_control_points: 0,
+            knot_rule: KnotRule::Refine,
+            start_tangent: None,
+            end_tangent: None,
         }
     }
 }
@@ -160,6 +185,21 @@ pub fn fit_to_tolerance(points: &[Vec3], opts: &FitOptions) -> Result<FitResult>
     if closed && looks_closed(&pts) {
         pts.pop();
     }
+    if closed && (opts.start_tangent.is_some() || opts.end_tangent.is_some()) {
+        return Err(Error::InvalidOption(
+            "end tangents apply to open curves only (these points form a closed curve)".into(),
+        ));
+    }
+    if let Some(t) = opts
+        .start_tangent
+        .iter()
+        .chain(&opts.end_tangent)
+        .find(|t| !(t.is_finite() && t.norm() > 0.0))
+    {
+        return Err(Error::InvalidOption(format!(
+            "an end tangent must be a finite non-zero vector, got {t:?}"
+        )));
+    }
     let needed = if closed { p + 2 } else { p + 1 };
     if pts.len() < needed {
         return Err(Error::InvalidData(format!(
@@ -176,10 +216,11 @@ pub fn fit_to_tolerance(points: &[Vec3], opts: &FitOptions) -> Result<FitResult>
         solver: LsqSolver::new(p),
         opts,
         tol,
+        ends: (None, None),
         solves: 0,
     };
     let (curve, seq, params, corners_out, n_ctrl) = if closed && corners.is_empty() {
-        let f = ctx.fit_piece(&pts, true)?;
+        let f = ctx.fit_piece(&pts, true, (false, false))?;
         let n = f.curve.n_control_points() - p;
         (f.curve, pts, f.params, Vec::new(), n)
     } else {
@@ -198,8 +239,10 @@ pub fn fit_to_tolerance(points: &[Vec3], opts: &FitOptions) -> Result<FitResult>
             (pts.clone(), cuts)
         };
         let mut pieces = Vec::with_capacity(cuts.len() - 1);
-        for w in cuts.windows(2) {
-            pieces.push(ctx.fit_piece(&seq[w[0]..=w[1]], false)?);
+        let last = cuts.len() - 2;
+        for (i, w) in cuts.windows(2).enumerate() {
+            let ends = (!closed && i == 0, !closed && i == last);
+            pieces.push(ctx.fit_piece(&seq[w[0]..=w[1]], false, ends)?);
         }
         let lengths: Vec<f64> = cuts
             .windows(2)
@@ -236,6 +279,8 @@ struct Ctx<'a> {
     solver: LsqSolver,
     opts: &'a FitOptions,
     tol: f64,
+    /// end derivatives of the piece being fitted
+    ends: (Option<Vec3>, Option<Vec3>),
     solves: usize,
 }
 
@@ -278,6 +323,7 @@ impl Ctx<'_> {
             params,
             &knots,
             lsq,
+            self.ends,
             rounds,
             self.tol,
             probe,
@@ -286,11 +332,59 @@ impl Ctx<'_> {
         f
     }
 
-    /// Fits one piece on `[0, 1]`.
-    fn fit_piece(&mut self, pts: &[Vec3], closed: bool) -> Result<CorrectedFit> {
+    /// Fits one piece on `[0, 1]`; `at_ends` says whether it starts / ends where the data do (the end
+    /// tangents apply there). When the requested parameterisation fails (a degenerate parameter
+    /// sequence, or the tolerance cannot be reached with it), the others are tried in the order
+    /// centripetal, chord length, uniform, and the first success is kept.
+    fn fit_piece(
+        &mut self,
+        pts: &[Vec3],
+        closed: bool,
+        at_ends: (bool, bool),
+    ) -> Result<CorrectedFit> {
+        let asked = self.opts.parameterization;
+        let first = self.fit_piece_with(pts, closed, at_ends, asked);
+        if first.is_ok() {
+            return first;
+        }
+        for alt in [
+            Parameterization::Centripetal,
+            Parameterization::ChordLength,
+            Parameterization::Uniform,
+        ] {
+            if alt != asked {
+                if let Ok(f) = self.fit_piece_with(pts, closed, at_ends, alt) {
+                    return Ok(f);
+                }
+            }
+        }
+        first
+    }
+
+    fn fit_piece_with(
+        &mut self,
+        pts: &[Vec3],
+        closed: bool,
+        at_ends: (bool, bool),
+        method: Parameterization,
+    ) -> Result<CorrectedFit> {
         let p = self.opts.degree;
         let mut params = Vec::with_capacity(pts.len());
-        parameterize_into(pts, self.opts.parameterization, closed, &mut params)?;
+        parameterize_into(pts, method, closed, &mut params)?;
+        // a direction scaled to the data's speed dQ/dū at that end
+        let m = pts.len() - 1;
+        let speed = |a: usize, b: usize| (pts[b] - pts[a]).norm() / (params[b] - params[a]).abs();
+        let scaled = |t: Vec3, s: f64| t * (s / t.norm());
+        self.ends = (
+            self.opts
+                .start_tangent
+                .filter(|_| at_ends.0 && m >= 1)
+                .map(|t| scaled(t, speed(0, 1))),
+            self.opts
+                .end_tangent
+                .filter(|_| at_ends.1 && m >= 1)
+                .map(|t| scaled(t, speed(m - 1, m))),
+        );
         let mut lsq = LsqOptions {
             smoothing: self.opts.smoothing,
             smoothing_order: self.opts.smoothing_order,
@@ -301,7 +395,11 @@ impl Ctx<'_> {
             // a short stretch between corners: one Bézier segment, regularised toward a line
             lsq.smoothing = lsq.smoothing.max(1e-8);
             lsq.smoothing_order = SmoothingOrder::Second;
+            self.ends = (None, None);
             return self.fit(pts, &params, &[0.0, 1.0], &lsq);
+        }
+        if self.opts.knot_rule != KnotRule::Refine {
+            return self.fit_by_rule(pts, &params, &lsq, closed);
         }
         let mut breaks = if closed {
             initial_periodic_breaks(&params, p + 1)
@@ -347,6 +445,82 @@ impl Ctx<'_> {
 }
 
 impl Ctx<'_> {
+    /// Breakpoints of the knot rule for `n` control points (distinct ones when closed).
+    fn rule_breaks(
+        &self,
+        pts: &[Vec3],
+        params: &[f64],
+        n: usize,
+        closed: bool,
+    ) -> Result<Vec<f64>> {
+        let p = self.opts.degree;
+        if closed {
+            return Ok(initial_periodic_breaks(params, n));
+        }
+        let knots = match self.opts.knot_rule {
+            KnotRule::Adaptive => curvature_adaptive_knots(pts, params, p, n, 0.5, 0.5)?,
+            _ => averaging_knots(params, p, n)?,
+        };
+        Ok(knots[p..knots.len() - p].to_vec())
+    }
+
+    /// The smallest control-point count (growth by half, then bisection) whose rule knots meet the
+    /// tolerance.
+    fn fit_by_rule(
+        &mut self,
+        pts: &[Vec3],
+        params: &[f64],
+        lsq: &LsqOptions,
+        closed: bool,
+    ) -> Result<CorrectedFit> {
+        let p = self.opts.degree;
+        let max_n = match self.opts.max_control_points {
+            0 => pts.len(),
+            m => m.min(pts.len()),
+        };
+        let min_n = p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some());
+        let try_n = |ctx: &mut Self, n: usize| -> Option<CorrectedFit> {
+            let breaks = ctx.rule_breaks(pts, params, n, closed).ok()?;
+            ctx.fit(pts, params, &breaks, lsq)
+                .ok()
+                .filter(|f| f.deviation.max <= ctx.tol)
+        };
+        let (mut fail, mut n) = (min_n.saturating_sub(1), min_n.min(max_n));
+        let mut pass = None;
+        let mut last_err = None;
+        while n <= max_n {
+            if let Some(f) = try_n(self, n) {
+                pass = Some((n, f));
+                break;
+            }
+            last_err = Some(n);
+            fail = n;
+            if n == max_n {
+                break;
+            }
+            n = (n + n.div_ceil(2)).min(max_n);
+        }
+        let Some((mut good, mut best)) = pass else {
+            return Err(Error::Fit(format!(
+                "tolerance {:.3e} not reached with {} control points placed by the {:?} knot rule",
+                self.tol,
+                last_err.unwrap_or(max_n),
+                self.opts.knot_rule
+            )));
+        };
+        while good - fail > 1 {
+            let mid = fail + (good - fail) / 2;
+            match try_n(self, mid) {
+                Some(f) => {
+                    good = mid;
+                    best = f;
+                }
+                None => fail = mid,
+            }
+        }
+        Ok(best)
+    }
+
     /// Knot removal from both ends inward, pairwise (outermost left with outermost right, ...), so that
     /// reversed data make the same decisions mirrored: a pair goes when both can go; otherwise the one
     /// whose removal leaves the smaller deviation goes if it keeps the tolerance.
@@ -594,20 +768,24 @@ mod tests {
     fn reversed_input_gives_the_mirrored_curve() {
         let q = read("quarter_ellipse_200.csv");
         let rev: Vec<Vec3> = q.iter().rev().copied().collect();
-        let opts = FitOptions {
-            tolerance: Tolerance::Absolute(1e-5),
-            ..Default::default()
-        };
-        let a = fit_to_tolerance(&q, &opts).unwrap();
-        let b = fit_to_tolerance(&rev, &opts).unwrap();
-        assert_eq!(a.n_control_points, b.n_control_points);
-        for (x, y) in a
-            .curve
-            .control_points()
-            .iter()
-            .zip(b.curve.control_points().iter().rev())
-        {
-            assert!((*x - *y).norm() < 1e-9, "{x:?} vs {y:?}");
+        for knot_rule in [KnotRule::Refine, KnotRule::Averaging, KnotRule::Adaptive] {
+            let opts = FitOptions {
+                tolerance: Tolerance::Absolute(1e-5),
+                knot_rule,
+                ..Default::default()
+            };
+            let a = fit_to_tolerance(&q, &opts).unwrap();
+            let b = fit_to_tolerance(&rev, &opts).unwrap();
+            assert_eq!(a.n_control_points, b.n_control_points, "{knot_rule:?}");
+            assert!(a.deviation.max <= 1e-5, "{knot_rule:?}");
+            for (x, y) in a
+                .curve
+                .control_points()
+                .iter()
+                .zip(b.curve.control_points().iter().rev())
+            {
+                assert!((*x - *y).norm() < 1e-9, "{knot_rule:?}: {x:?} vs {y:?}");
+            }
         }
     }
 
