@@ -212,3 +212,77 @@ fn one_file_for_two_outputs_fails_up_front() {
         .assert()
         .success();
 }
+
+#[test]
+fn coordinates_near_the_ends_of_the_f64_range_give_numbers_or_clear_messages() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // unit-size reference: the exact circle of radius 2 has κ = 0.5 and length 4π
+    for s in [1e-300f64, 1e300] {
+        let scaled: serde_json::Value = {
+            let mut v: serde_json::Value = serde_json::from_str(CIRCLE).unwrap();
+            for p in v["control_points"].as_array_mut().unwrap() {
+                for x in p.as_array_mut().unwrap() {
+                    *x = serde_json::json!(x.as_f64().unwrap() * s);
+                }
+            }
+            v
+        };
+        let f = d.join(format!("c{s:e}.json"));
+        std::fs::write(&f, scaled.to_string()).unwrap();
+        let f = f.to_str().unwrap();
+        let out = fairfit().args(["info", f]).output().unwrap();
+        assert!(out.status.success());
+        let info: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let len = info["length"].as_f64().unwrap();
+        assert!((len / s - 4.0 * std::f64::consts::PI).abs() < 1e-9, "{len}");
+        assert!(info["fairness"].as_f64().unwrap() < 1e-12);
+        let out = fairfit()
+            .args(["eval", f, "--at", "0.1,0.6"])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        let ev: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let k = ev[0]["curvature"].as_f64().unwrap();
+        assert!((k * s - 0.5).abs() < 1e-9, "{k}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(!text.contains("NaN") && !text.contains("nan"));
+        // dκ/ds of the circle is 0 up to round-off, which at 1e-300 is scaled by 1e600 past f64:
+        // at most one warning line, never a panic
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.lines().count() <= 1 && !err.contains("error"), "{err}");
+        // exports are written (or refused with one line), never a panic
+        let step = d.join(format!("c{s:e}.step"));
+        let out = fairfit()
+            .args(["export", f, "--step"])
+            .arg(&step)
+            .arg("--mesh")
+            .arg(d.join(format!("c{s:e}.obj")))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = std::fs::read_to_string(&step).unwrap();
+        fairfit::io::cad_check::check_step(&text).unwrap();
+    }
+    // a spatial curve 1e-300 long: E = F/L³ and dκ/ds are about 1e900 and 1e600, beyond f64; they
+    // print as null with one warning line
+    let tiny = r#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,0.5,1,1,1,1],
+      "control_points": [[0,0,0],[1e-300,2e-300,0],[3e-300,1e-300,5e-301],[4e-300,-1e-300,0],[6e-300,5e-301,2e-301]]}"#;
+    let f = d.join("tiny.json");
+    std::fs::write(&f, tiny).unwrap();
+    let f = f.to_str().unwrap();
+    for args in [vec!["info", f], vec!["eval", f, "--at", "0.3"]] {
+        let out = fairfit().args(&args).output().unwrap();
+        assert!(out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.starts_with("warning: ") && err.contains("printed as null"),
+            "{err}"
+        );
+    }
+}

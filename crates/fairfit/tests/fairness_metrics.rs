@@ -423,3 +423,44 @@ fn degenerate_curves_give_finite_zero_measures() {
     assert_eq!(f.fairness, 0.0);
     assert_eq!(f.span_fairness.len(), 2);
 }
+
+#[test]
+fn coordinates_near_the_ends_of_the_f64_range_are_measured_exactly_rescaled() {
+    // without rescaling, |C'|³ and |C' × C''|² over- or underflow at 1e±160 and the measures became 0
+    let c = s_curve();
+    let f0 = curve_fairness(&c);
+    let d0 = differentials(&c, 0.3);
+    for s in [1e-300, 1e-160, 1e160, 1e300] {
+        let cs = map_points(&c, |p| p * s);
+        let f = curve_fairness(&cs);
+        assert!(rel(f.fairness, f0.fairness) < 1e-12, "{s}: {}", f.fairness);
+        assert!(rel(f.max_span_fairness, f0.max_span_fairness) < 1e-12);
+        assert!(rel(f.length, f0.length * s) < 1e-12, "{s}: {}", f.length);
+        assert!(rel(f.bending_energy, f0.bending_energy / s) < 1e-12);
+        assert_eq!(
+            (f.curvature_extrema, f.inflections),
+            (f0.curvature_extrema, f0.inflections)
+        );
+        // E = F / L³ is 1e±900 here: beyond f64, so infinite or zero, never NaN
+        assert!(!f.energy.is_nan());
+        let d = differentials(&cs, 0.3);
+        assert!(
+            rel(d.curvature, d0.curvature / s) < 1e-12,
+            "{s}: {}",
+            d.curvature
+        );
+        assert!(rel(d.signed_curvature, d0.signed_curvature / s) < 1e-12);
+        assert!(rel(d.speed, d0.speed * s) < 1e-12);
+        assert!(!d.dkappa_ds.is_nan() && !d.torsion.is_nan());
+    }
+    // at 1e-100 every measure is representable: dκ/ds scales as 1/s², E as 1/s³
+    let cs = map_points(&c, |p| p * 1e-100);
+    let d = differentials(&cs, 0.3);
+    assert!(
+        rel(d.dkappa_ds, d0.dkappa_ds * 1e200) < 1e-12,
+        "{}",
+        d.dkappa_ds
+    );
+    let f = curve_fairness(&cs);
+    assert!(rel(f.energy, f0.energy * 1e300) < 1e-12, "{}", f.energy);
+}

@@ -6,6 +6,7 @@ use super::{print_json, CliError, CmdResult};
 use clap::Args;
 use fairfit::diffgeo::{differentials, surface_curvature_from};
 use fairfit::io::{read_geometry, Geometry};
+use fairfit::nurbs::scale::{normalising_factor, scaled_surface};
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, SurfaceWorkspace, Vec3};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -90,6 +91,12 @@ fn eval_curve(c: &NurbsCurve, us: &[f64]) -> Result<Vec<Value>, CliError> {
         .map(|&u| {
             c.check_parameter(u)?;
             let d = differentials(c, u);
+            if ![d.curvature, d.torsion, d.dkappa_ds]
+                .iter()
+                .all(|x| x.is_finite())
+            {
+                super::warn_unrepresentable("a curvature quantity");
+            }
             Ok(json!({
                 "u": u,
                 "point": arr(d.point),
@@ -105,12 +112,30 @@ fn eval_curve(c: &NurbsCurve, us: &[f64]) -> Result<Vec<Value>, CliError> {
 fn eval_surface(s: &NurbsSurface, uv: &[(f64, f64)]) -> Result<Vec<Value>, CliError> {
     let mut ws = SurfaceWorkspace::new(s, 2);
     let mut d = [Vec3::ZERO; 9];
+    // far outside unit size the curvatures come from an exactly rescaled copy (fairfit::nurbs::scale)
+    let f = normalising_factor(s.control_points_flat());
+    let scaled = (f != 1.0).then(|| scaled_surface(s, f));
+    let mut ws_scaled = scaled.as_ref().map(|t| SurfaceWorkspace::new(t, 2));
+    let mut e = [Vec3::ZERO; 9];
     uv.iter()
         .map(|&(u, v)| {
             s.check_parameter(u, v)?;
             s.derivatives_with(u, v, 2, &mut ws, &mut d);
             // null curvatures where the normal is degenerate (poles, collapsed edges)
-            let curv = surface_curvature_from(d[3], d[1], d[6], d[4], d[2]);
+            let curv = match (&scaled, &mut ws_scaled) {
+                (Some(t), Some(w)) => {
+                    t.derivatives_with(u, v, 2, w, &mut e);
+                    surface_curvature_from(e[3], e[1], e[6], e[4], e[2]).map(|mut c| {
+                        c.gaussian *= f * f;
+                        c.mean *= f;
+                        c
+                    })
+                }
+                _ => surface_curvature_from(d[3], d[1], d[6], d[4], d[2]),
+            };
+            if curv.is_some_and(|c| !(c.gaussian.is_finite() && c.mean.is_finite())) {
+                super::warn_unrepresentable("a surface curvature");
+            }
             Ok(json!({
                 "u": u,
                 "v": v,

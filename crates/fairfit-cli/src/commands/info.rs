@@ -47,6 +47,9 @@ pub fn run(args: InfoArgs) -> CmdResult {
 
 fn curve_info(c: &NurbsCurve) -> Value {
     let f = curve_fairness(c);
+    if !(f.length.is_finite() && f.energy.is_finite() && f.bending_energy.is_finite()) {
+        super::warn_unrepresentable("a fairness integral");
+    }
     let (a, b) = c.domain();
     json!({
         "kind": "curve",

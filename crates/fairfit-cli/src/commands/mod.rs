@@ -63,3 +63,14 @@ pub fn print_json(v: &serde_json::Value) -> CmdResult {
         .map_err(|e| CliError(format!("internal: cannot format JSON: {e}")))?;
     print_stdout(&text)
 }
+
+/// Warns on stderr (once per run) that some quantity is beyond the range of f64 at the geometry's scale
+/// and is printed as `null` (e.g. dκ/ds of a curve 1e-300 long, about 1e600).
+pub fn warn_unrepresentable(what: &str) {
+    static WARNED: std::sync::Once = std::sync::Once::new();
+    WARNED.call_once(|| {
+        eprintln!(
+            "warning: {what} is beyond the floating-point range at this geometry's scale and is printed as null; rescale the geometry for a number"
+        )
+    });
+}

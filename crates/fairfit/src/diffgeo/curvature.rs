@@ -89,7 +89,33 @@ pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
 }
 
 /// Differential quantities of `curve` at `u`.
+///
+/// Far outside unit size (coordinates around 1e±160 and beyond, where `|C'|³` over- or underflows) the
+/// quantities come from an exactly rescaled copy (see [`crate::nurbs::scale`]).
 pub fn differentials(curve: &NurbsCurve, u: f64) -> CurveDifferentials {
+    let f = crate::nurbs::scale::normalising_factor(curve.control_points());
+    if f != 1.0 {
+        let s = crate::nurbs::scale::scaled_curve(curve, f);
+        let mut d = [Vec3::ZERO; 4];
+        s.derivatives_into(u, 3, &mut d);
+        let m = differentials_from(u, &d);
+        let g = 1.0 / f;
+        // evaluate C and its derivatives on the curve itself (exact enough, and no 1/f rounding)
+        curve.derivatives_into(u, 3, &mut d);
+        return CurveDifferentials {
+            u,
+            point: d[0],
+            d1: d[1],
+            d2: d[2],
+            d3: d[3],
+            speed: m.speed * g,
+            curvature: m.curvature * f,
+            signed_curvature: m.signed_curvature * f,
+            torsion: m.torsion * f,
+            dkappa_ds: m.dkappa_ds * f * f,
+            dkappa_signed_ds: m.dkappa_signed_ds * f * f,
+        };
+    }
     let mut d = [Vec3::ZERO; 4];
     curve.derivatives_into(u, 3, &mut d);
     differentials_from(u, &d)

@@ -44,6 +44,15 @@ pub struct CurveFairness {
 /// assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
 /// ```
 pub fn curve_fairness(curve: &NurbsCurve) -> CurveFairness {
+    // far outside unit size, measure an exactly rescaled copy (see `nurbs::scale`)
+    let f = crate::nurbs::scale::normalising_factor(curve.control_points());
+    if f != 1.0 {
+        let mut m = curve_fairness(&crate::nurbs::scale::scaled_curve(curve, f));
+        m.length /= f; // lengths scale with the curve
+        m.energy *= f * f * f; // ∫ (dκ/ds)² ds scales as 1/L³
+        m.bending_energy *= f; // ∫ κ² ds scales as 1/L
+        return m; // F, F_j and the counts are scale-free
+    }
     let mut ev = FairnessEvaluator::new();
     let spans = ev.integrate(curve);
     let length: f64 = spans.iter().map(|s| s.length).sum();

@@ -15,6 +15,7 @@ mod iso_curve;
 pub mod knots;
 mod refine;
 mod reparam;
+pub mod scale;
 pub mod surface;
 mod surface_knot_ops;
 pub mod vec3;

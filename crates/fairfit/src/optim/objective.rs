@@ -99,6 +99,19 @@ pub struct EvalWorkspace {
     span_length: Vec<f64>,
     /// Squared orthogonal distance of every data point (0 at the interpolated ends).
     dev2: Vec<f64>,
+    kept: KeptFit,
+}
+
+/// A fit kept during a parameter correction ([`evaluate_candidate_within`]).
+#[derive(Clone, Debug, Default)]
+struct KeptFit {
+    params: Vec<f64>,
+    ctrl: Vec<Vec3>,
+    breaks: Vec<f64>,
+    coef: Vec<Vec3>,
+    break_knot: Vec<usize>,
+    foot_params: Vec<f64>,
+    dev2: Vec<f64>,
 }
 
 /// The parts of a measured curve that [`measure_move`] updates, saved so that a rejected move can
@@ -114,6 +127,30 @@ pub struct MeasureState {
 }
 
 impl EvalWorkspace {
+    /// Keeps the current fit (solved at `params`, measured) for [`EvalWorkspace::restore_fit`].
+    fn keep_fit(&mut self, params: &[f64]) {
+        let k = &mut self.kept;
+        copy_into(&mut k.params, params);
+        copy_into(&mut k.ctrl, &self.ctrl);
+        copy_into(&mut k.breaks, &self.breaks);
+        copy_into(&mut k.coef, &self.coef);
+        copy_into(&mut k.break_knot, &self.break_knot);
+        copy_into(&mut k.foot_params, &self.foot_params);
+        copy_into(&mut k.dev2, &self.dev2);
+    }
+
+    /// Restores the fit kept by [`EvalWorkspace::keep_fit`] (`params` gets its parameters).
+    fn restore_fit(&mut self, params: &mut Vec<f64>) {
+        let k = &self.kept;
+        copy_into(params, &k.params);
+        copy_into(&mut self.ctrl, &k.ctrl);
+        copy_into(&mut self.breaks, &k.breaks);
+        copy_into(&mut self.coef, &k.coef);
+        copy_into(&mut self.break_knot, &k.break_knot);
+        copy_into(&mut self.foot_params, &k.foot_params);
+        copy_into(&mut self.dev2, &k.dev2);
+    }
+
     /// Copies the measured state of the current curve into `st`.
     pub fn save_state(&self, st: &mut MeasureState) {
         copy_into(&mut st.coef, &self.coef);
@@ -191,7 +228,9 @@ pub fn evaluate_candidate_within(
     build_power_form(data.degree, ws);
     let (mut max_dev, mut rms) = deviations(data, &params, ws);
     for _ in 0..data.corrections {
-        // parameter correction: refit at the foot points of the last fit
+        // parameter correction: refit at the foot points of the last fit, keeping that fit to
+        // restore it (by copy, not by solving again) when the correction does not help
+        ws.keep_fit(&params);
         std::mem::swap(&mut params, &mut ws.foot_params);
         if solve_control_points(data, &params, log_lambda, ws) {
             build_power_form(data.degree, ws);
@@ -202,13 +241,7 @@ pub fn evaluate_candidate_within(
             }
         }
         // no better: restore the previous fit and stop
-        std::mem::swap(&mut params, &mut ws.foot_params);
-        if !solve_control_points(data, &params, log_lambda, ws) {
-            ws.fit_params = params;
-            return CandidateEval::failed();
-        }
-        build_power_form(data.degree, ws);
-        (max_dev, rms) = deviations(data, &params, ws);
+        ws.restore_fit(&mut params);
         break;
     }
     ws.fit_params = params;
@@ -518,7 +551,8 @@ fn project(
             best = dist2;
             best_u = u;
         }
-        if step.abs() < 1e-10 {
+        // Newton converges quadratically: after a step this small the foot is exact to ~1e-12
+        if step.abs() < 1e-6 {
             break;
         }
     }

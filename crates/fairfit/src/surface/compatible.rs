@@ -369,11 +369,19 @@ pub fn make_compatible_with_progress(
     let cdf: Vec<f64> = (0..=GRID)
         .map(|g| cdfs.iter().map(|c| c[g]).sum::<f64>() / cdfs.len() as f64)
         .collect();
-    // a span needs data in it: at most (points - 1) control points for the sparsest section
+    // without smoothing a span needs data in it: at most (points - 1) control points for the sparsest
+    // section; the bending term keeps spans without data well posed, so then only the densest section
+    // bounds the count (a small top slice of a scan must not cap the large ones)
+    let max_pts = sections.iter().map(|s| s.points.len()).max().unwrap_or(0);
+    let cap_pts = if opts.smoothing > 0.0 {
+        max_pts
+    } else {
+        min_pts
+    };
     let n_max = opts
         .max_control_points
         .max(p + 1)
-        .min(min_pts.saturating_sub(1).max(p + 1));
+        .min(cap_pts.saturating_sub(1).max(p + 1));
     let blends = if opts.uniform_blends.is_empty() {
         vec![1.0]
     } else {
