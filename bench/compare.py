@@ -689,7 +689,7 @@ def write_report(path, groups_rows, args, data, seconds=float("nan")):
         "",
         "## Surfaces: the IEA 15 MW blade, F between sections (issue 5)",
         "",
-        *targets.blade_section(path),
+        *targets.blade_section(path, os.path.join(REPO, "docs")),
         "",
         "## Summary",
         "",

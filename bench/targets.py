@@ -203,11 +203,13 @@ def _parse_tables(text):
     return tables
 
 
-def blade_section(report_path):
+def blade_section(report_path, fallback_dir=None):
     """Issue 5's blade comparison (F of the iso-curves between sections: fairfit against the OCC loft),
-    read from docs/benchmarks-surface.md beside the curve report; a link only when it is missing or has
-    no such table."""
+    read from benchmarks-surface.md beside the curve report (else in fallback_dir, the repository's
+    docs/ when the report is written elsewhere); a link only when it is missing or has no such table."""
     surf = os.path.join(os.path.dirname(os.path.abspath(report_path)), "benchmarks-surface.md")
+    if not os.path.exists(surf) and fallback_dir:
+        surf = os.path.join(fallback_dir, "benchmarks-surface.md")
     link = "[benchmarks-surface.md](benchmarks-surface.md)"
     if not os.path.exists(surf):
         return [f"The surface benchmark ({link}, written by `bench/surface_compare.py`) has not been generated yet."]

@@ -90,6 +90,8 @@ def test_blade_section_reads_surface_table():
     assert "fairfit's max 12.5 is no worse than ThruSections' 50 (0.25 x): **met**" in text
     missing = targets.blade_section(os.path.join(tempfile.mkdtemp(), "benchmarks.md"))
     assert "has not been generated yet" in missing[0]
+    elsewhere = targets.blade_section(os.path.join(tempfile.mkdtemp(), "benchmarks.md"), d)
+    assert "| fairfit surface | 24 x 10 | 0.9 (yes) | 12.5 | 3 |" in "\n".join(elsewhere)
 
 
 
