@@ -6,7 +6,7 @@ numpy/scipy only (no fairfit or OpenCASCADE evaluation): orthogonal deviation of
 and F of iso-curves in both directions, the curve F coming from bench/measure.py.
 
 Usage (from the repository root, release binary built):
-    /work/venv/bin/python bench/surface_compare.py [--out docs/benchmarks-surface.md]
+    python bench/surface_compare.py [--out docs/benchmarks-surface.md]
 
 Directions.  Every surface here has one parameter ALONG the sections (chordwise, around the airfoil)
 and one ACROSS them (spanwise, between the sections):
@@ -481,7 +481,7 @@ def main(argv=None):
         "",
         "```sh",
         "cargo build --release -p fairfit-cli",
-        "/work/venv/bin/python bench/surface_compare.py   # writes docs/benchmarks-surface.md",
+        "python bench/surface_compare.py   # writes docs/benchmarks-surface.md",
         "```",
         "",
     ]
