@@ -42,27 +42,7 @@ fn fails_cleanly(args: &[&str], needle: &str) {
 
 #[test]
 fn quarter_ellipse_within_rel_tol_and_report_agrees() {
-    let dir = TempDir::new().unwrap();
-    let (c, r) = (dir.path().join("c.json"), dir.path().join("r.json"));
-    Command::cargo_bin("fairfit")
-        .unwrap()
-        .args([
-            "curve",
-            &data("quarter_ellipse_200.csv"),
-            "--method",
-            "lsq",
-            "--rel-tol",
-            "1e-3",
-        ])
-        .arg("-o")
-        .arg(&c)
-        .arg("--report")
-        .arg(&r)
-        .assert()
-        .success();
-    let Geometry::Curve(curve) = read_geometry(&c).unwrap() else {
-        panic!("not a curve")
-    };
+    let (curve, rep) = lsq_run(&data("quarter_ellipse_200.csv"), &["--rel-tol", "1e-3"]);
     let pts = read_points(data("quarter_ellipse_200.csv")).unwrap().points;
     let proj = CurveProjector::new(&curve, 64);
     let worst = pts
@@ -70,7 +50,6 @@ fn quarter_ellipse_within_rel_tol_and_report_agrees() {
         .map(|&q| proj.project(q).distance)
         .fold(0.0, f64::max);
     assert!(worst <= 1e-3, "{worst}");
-    let rep: Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
     assert_eq!(
         rep["control_points"].as_u64().unwrap() as usize,
         curve.n_control_points()

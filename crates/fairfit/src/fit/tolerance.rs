@@ -546,6 +546,22 @@ impl Ctx<'_> {
         Ok(knots[p..knots.len() - p].to_vec())
     }
 
+    /// The fit with `n` control points placed by `rule`, if it meets the tolerance.
+    fn rule_fit(
+        &mut self,
+        pts: &[Vec3],
+        params: &[f64],
+        lsq: &LsqOptions,
+        n: usize,
+        closed: bool,
+        rule: KnotRule,
+    ) -> Option<CorrectedFit> {
+        let breaks = self.rule_breaks(pts, params, n, closed, rule).ok()?;
+        self.fit(pts, params, &breaks, lsq)
+            .ok()
+            .filter(|f| f.deviation.max <= self.tol)
+    }
+
     /// The smallest control-point count (growth by half, then bisection) whose rule knots meet the
     /// tolerance.
     fn fit_by_rule(
@@ -561,14 +577,8 @@ impl Ctx<'_> {
             m => m.min(pts.len()),
         };
         let min_n = p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some());
-        let try_n = |ctx: &mut Self, n: usize| -> Option<CorrectedFit> {
-            let breaks = ctx
-                .rule_breaks(pts, params, n, closed, ctx.opts.knot_rule)
-                .ok()?;
-            ctx.fit(pts, params, &breaks, lsq)
-                .ok()
-                .filter(|f| f.deviation.max <= ctx.tol)
-        };
+        let rule = self.opts.knot_rule;
+        let try_n = |ctx: &mut Self, n: usize| ctx.rule_fit(pts, params, lsq, n, closed, rule);
         let (mut fail, mut n) = (min_n.saturating_sub(1), min_n.min(max_n));
         let mut pass = None;
         let mut last_err = None;
@@ -584,7 +594,7 @@ impl Ctx<'_> {
             }
             n = (n + n.div_ceil(2)).min(max_n);
         }
-        let Some((mut good, mut best)) = pass else {
+        let Some((good, best)) = pass else {
             return Err(Error::Fit(format!(
                 "tolerance {:.3e} not reached with {} control points placed by the {:?} knot rule",
                 self.tol,
@@ -592,17 +602,7 @@ impl Ctx<'_> {
                 self.opts.knot_rule
             )));
         };
-        while good - fail > 1 {
-            let mid = fail + (good - fail) / 2;
-            match try_n(self, mid) {
-                Some(f) => {
-                    good = mid;
-                    best = f;
-                }
-                None => fail = mid,
-            }
-        }
-        Ok(best)
+        Ok(bisect_fewest(self, fail, good, best, try_n))
     }
 
     /// The curvature-adaptive rule's fit with the fewest control points below `upper` (the refine
@@ -617,31 +617,15 @@ impl Ctx<'_> {
     ) -> Option<CorrectedFit> {
         let p = self.opts.degree;
         let min_n = p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some());
-        let try_n = |ctx: &mut Self, n: usize| -> Option<CorrectedFit> {
-            let breaks = ctx
-                .rule_breaks(pts, params, n, false, KnotRule::Adaptive)
-                .ok()?;
-            ctx.fit(pts, params, &breaks, lsq)
-                .ok()
-                .filter(|f| f.deviation.max <= ctx.tol)
-        };
+        let try_n =
+            |ctx: &mut Self, n: usize| ctx.rule_fit(pts, params, lsq, n, false, KnotRule::Adaptive);
         if upper <= min_n {
             return None;
         }
-        let mut good = upper - 1;
-        let mut best = try_n(self, good)?;
-        let mut fail = min_n - 1;
-        while good - fail > 1 {
-            let mid = fail + (good - fail) / 2;
-            match try_n(self, mid) {
-                Some(f) => {
-                    good = mid;
-                    best = f;
-                }
-                None => fail = mid,
-            }
-        }
-        Some(best)
+        let good = upper - 1;
+        let best = try_n(self, good)?;
+        let fail = min_n - 1;
+        Some(bisect_fewest(self, fail, good, best, try_n))
     }
 
     /// Knot removal from both ends inward, pairwise (outermost left with outermost right, ...), so that
@@ -709,6 +693,29 @@ impl Ctx<'_> {
             }
         }
     }
+}
+
+/// Bisection for the fewest control points: `fail` control points miss the tolerance, `good` meet it
+/// with the fit `best`; `try_n` fits `n` and returns it when it meets the tolerance. Returns the fit at
+/// the smallest count found.
+fn bisect_fewest<C, T>(
+    ctx: &mut C,
+    mut fail: usize,
+    mut good: usize,
+    mut best: T,
+    mut try_n: impl FnMut(&mut C, usize) -> Option<T>,
+) -> T {
+    while good - fail > 1 {
+        let mid = fail + (good - fail) / 2;
+        match try_n(ctx, mid) {
+            Some(f) => {
+                good = mid;
+                best = f;
+            }
+            None => fail = mid,
+        }
+    }
+    best
 }
 
 /// `count` periodic spans at equal steps of the cyclic data index.

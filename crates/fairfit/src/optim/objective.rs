@@ -418,34 +418,15 @@ fn span_power_coefs(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
 #[inline]
 fn power_eval(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
     if p == 3 {
-        // the usual cubic: the same operations, unrolled by the compiler
-        power_eval_cubic(coef, j, t, out);
+        // the usual cubic: `power_eval_any` inlined with a constant degree, unrolled by the compiler
+        power_eval_any(coef, 3, j, t, out);
     } else {
         power_eval_any(coef, p, j, t, out);
     }
 }
 
-/// [`power_eval`] for cubics (the same arithmetic with a constant degree).
-#[inline]
-fn power_eval_cubic(coef: &[Vec3], j: usize, t: f64, out: &mut [Vec3; 4]) {
-    const P: usize = 3;
-    let c = &coef[j * (P + 1)..(j + 1) * (P + 1)];
-    let (mut v0, mut v1, mut v2, mut v3) =
-        (c[P], Vec3::default(), Vec3::default(), Vec3::default());
-    for k in (0..P).rev() {
-        v3 = v3 * t + v2;
-        v2 = v2 * t + v1;
-        v1 = v1 * t + v0;
-        v0 = v0 * t + c[k];
-    }
-    out[0] = v0;
-    out[1] = v1;
-    out[2] = v2 * 2.0;
-    out[3] = v3 * 6.0;
-}
-
-/// [`power_eval`] for any degree.
-#[inline]
+/// [`power_eval`] for any degree (always inlined so a constant `p` unrolls the Horner loop).
+#[inline(always)]
 fn power_eval_any(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
     let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
     // Horner for the value and the first three derivatives
