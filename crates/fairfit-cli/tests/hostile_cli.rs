@@ -49,7 +49,9 @@ impl Fixture {
             std::fs::write(sections.join(format!("s{k}.csv")), s).unwrap();
         }
         std::fs::write(root.join("empty.csv"), "").unwrap();
-        let bin: Vec<u8> = (0..2048u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+        let bin: Vec<u8> = (0..2048u32)
+            .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+            .collect();
         std::fs::write(root.join("binary.dat"), &bin).unwrap();
         std::fs::write(root.join("binary.json"), &bin).unwrap();
         std::fs::create_dir(root.join("folder.json")).unwrap();
