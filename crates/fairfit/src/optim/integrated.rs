@@ -75,6 +75,9 @@ pub struct IntegratedOptions {
     /// Whether the final control points are refined by local fairing moves within the tolerance
     /// ([`super::polish`]).
     pub polish: bool,
+    /// Closed-curve handling as in the least-squares method (default: closed when the last point
+    /// repeats the first); closed data are fitted by [`super::closed`].
+    pub closed: crate::fit::tolerance::ClosedMode,
 }
 
 impl Default for IntegratedOptions {
@@ -94,6 +97,7 @@ impl Default for IntegratedOptions {
             control_points: None,
             polish: true,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
+            closed: crate::fit::tolerance::ClosedMode::Auto,
         }
     }
 }
@@ -179,6 +183,9 @@ pub fn fit_integrated_with_progress(
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
+    if let Some(r) = super::closed::fit_if_closed(points, opts, progress, start)? {
+        return Ok(r);
+    }
     let prep = prepare(points, opts.degree)?;
     if let Some(angle) = opts.corner_angle_deg {
         let corners = crate::fit::shape::detect_corners(&prep.data.points, false, angle);
@@ -476,6 +483,7 @@ fn fit_with_corners(
         let sub = IntegratedOptions {
             tolerance: Tolerance::Absolute(tol),
             corner_angle_deg: None,
+            closed: crate::fit::tolerance::ClosedMode::Open,
             seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
             ..opts.clone()
         };

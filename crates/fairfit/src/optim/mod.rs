@@ -1,5 +1,7 @@
 //! Particle swarm optimisation of knot vectors: the integrated fitting-and-fairing method.
 //!
+//! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
+//! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
@@ -15,12 +17,14 @@
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
+pub mod closed;
 pub mod corners;
 pub mod encoding;
 pub mod integrated;
 pub mod mopso;
 pub mod objective;
 pub mod pareto;
+pub mod periodic;
 pub mod polish;
 pub mod prepare;
 pub mod problem;
