@@ -2,6 +2,8 @@
 //!
 //! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
 //! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
+//! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
+//!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
@@ -18,6 +20,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod closed;
+pub mod corner_fit;
 pub mod corners;
 pub mod encoding;
 pub mod integrated;
