@@ -140,3 +140,46 @@ fn blunt_trailing_edge_with_a_fixed_count_keeps_its_corners_and_the_tolerance() 
     .to_string();
     assert!(e.contains("between 7 and"), "{e}");
 }
+
+#[test]
+fn pareto_front_of_a_blunt_trailing_edge_keeps_its_corner_and_is_monotone() {
+    use fairfit::optim::pareto_joined::pareto_front_of_result;
+    let pts = read_csv("fx77w343.csv");
+    let r = fit_integrated(&pts, &opts()).unwrap();
+    let front = pareto_front_of_result(&pts, &opts(), &r).unwrap();
+    assert!(front.len() >= 3, "{} members", front.len());
+    let corner = corner_knots(&r.curve);
+    for w in front.windows(2) {
+        assert!(w[0].quality.max_deviation < w[1].quality.max_deviation);
+        assert!(w[0].quality.fairness > w[1].quality.fairness);
+    }
+    for m in &front {
+        // every member: C0 at the lower trailing-edge corner, ends at the upper one
+        let c = corner_knots(&m.curve);
+        assert_eq!(c.len(), 1);
+        assert!((m.curve.point(c[0]) - pts[pts.len() - 1]).norm() < 1e-9);
+        let (a, b) = m.curve.domain();
+        assert!((m.curve.point(a) - pts[0]).norm() < 1e-9);
+        assert!((m.curve.point(b) - pts[0]).norm() < 1e-9);
+        assert!(m.quality.max_deviation <= 10.0 * r.tolerance * 1.0001);
+        // the reported F is the joined curve's own
+        let f = fairfit::fair::curve_fairness(&m.curve).fairness;
+        assert!((f - m.quality.fairness).abs() <= 1e-9 * f);
+        // the deviation is real: dense sampling agrees
+        let dev = brute_force_deviation(&m.curve, &pts);
+        assert!(
+            dev <= m.quality.max_deviation * 1.001 + 1e-12,
+            "{dev} vs {:?}",
+            m.quality
+        );
+    }
+    assert_eq!(corner.len(), 1);
+    eprintln!(
+        "fx77w343 front: {} members, deviation {:.3e}..{:.3e}, F {:.3e}..{:.3e}",
+        front.len(),
+        front[0].quality.max_deviation,
+        front[front.len() - 1].quality.max_deviation,
+        front[0].quality.fairness,
+        front[front.len() - 1].quality.fairness
+    );
+}

@@ -14,7 +14,8 @@
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
-//! - [`pareto`]: the Pareto front of curves for `--pareto`.
+//! - [`pareto`]: the Pareto front of curves for `--pareto`;
+//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners.
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
@@ -27,6 +28,7 @@ pub mod integrated;
 pub mod mopso;
 pub mod objective;
 pub mod pareto;
+pub mod pareto_joined;
 pub mod periodic;
 pub mod polish;
 pub mod prepare;
