@@ -138,6 +138,18 @@ pub(crate) fn screened(
                 if dist[k] <= tol {
                     continue;
                 }
+                // a converged foot is the local one, as in `max_orthogonal_deviation`
+                if ft.converged {
+                    if early_exit {
+                        return Deviation {
+                            max: dist[k],
+                            rms: f64::NAN,
+                            per_point: dist,
+                            params: foot,
+                        };
+                    }
+                    continue;
+                }
             }
             let pr = proj
                 .get_or_insert_with(|| CurveProjector::new(curve, SAMPLES_PER_SPAN))

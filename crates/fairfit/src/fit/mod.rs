@@ -9,6 +9,7 @@ pub mod foot;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;
+pub mod power;
 pub mod shape;
 pub mod tolerance;
 
