@@ -3,7 +3,7 @@
 //! kept only when it lowers the maximum orthogonal deviation and keeps
 //! the feet in order (out-of-order feet are points projected onto the wrong part of the curve).
 
-use super::deviation::{max_orthogonal_deviation, screened, Deviation};
+use super::deviation::{max_orthogonal_deviation, screened_from, Deviation};
 use super::lsq::{LsqOptions, LsqSolver};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -78,7 +78,9 @@ pub(crate) fn fit_corrected(
     let curve = NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?;
     // without correction only the tolerance decision matters: project only the points that miss it
     let deviation = if rounds == 0 && stop_below > 0.0 {
-        screened(&curve, points, params, stop_below, probe)
+        let mut dist = Vec::with_capacity(points.len());
+        solver.residual_norms_into(points, &ctrl, &mut dist);
+        screened_from(&curve, points, params, dist, stop_below, probe)
     } else {
         max_orthogonal_deviation(&curve, points, params)
     };

@@ -115,11 +115,24 @@ pub(crate) fn screened(
 ) -> Deviation {
     let mut per_point = vec![Vec3::ZERO; points.len()];
     curve.points_into(params, &mut per_point);
-    let mut dist: Vec<f64> = per_point
+    let dist: Vec<f64> = per_point
         .iter()
         .zip(points)
         .map(|(c, q)| (*c - *q).norm())
         .collect();
+    screened_from(curve, points, params, dist, tol, early_exit)
+}
+
+/// [`screened`] from the algebraic distances `dist[k] = |C(ū_k) − Q_k|`, already computed (by the
+/// least-squares solve, [`super::lsq::LsqSolver::residual_norms_into`]).
+pub(crate) fn screened_from(
+    curve: &NurbsCurve,
+    points: &[Vec3],
+    params: &[f64],
+    mut dist: Vec<f64>,
+    tol: f64,
+    early_exit: bool,
+) -> Deviation {
     let mut foot = params.to_vec();
     if dist.iter().any(|&d| d > tol) {
         let mut finder = FootFinder::new(curve);

@@ -17,10 +17,11 @@
 //! [`LsqSolver`] keeps every buffer, so a repeated solve of the same size allocates nothing.
 
 use super::banded::EnvelopeCholesky;
+use super::data_basis::DataBasis;
 use crate::diffgeo::quadrature::GaussLegendre;
 use crate::errors::{Error, Result};
-use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
-use crate::nurbs::knots::{find_span, validate_knots};
+use crate::nurbs::basis::ders_basis_funs_into;
+use crate::nurbs::knots::validate_knots;
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Which derivative the smoothing term penalises.
@@ -78,7 +79,8 @@ pub struct LsqSolver {
     degree: usize,
     mat: EnvelopeCholesky,
     rhs: Vec<Vec3>,
-    n_basis: Vec<f64>,
+    /// basis values at the data parameters of the last solve
+    basis: DataBasis,
     left: Vec<f64>,
     right: Vec<f64>,
     ndu: Vec<f64>,
@@ -122,7 +124,7 @@ impl LsqSolver {
             degree,
             mat: EnvelopeCholesky::new(),
             rhs: Vec::new(),
-            n_basis: vec![0.0; p1],
+            basis: DataBasis::new(),
             left: vec![0.0; p1],
             right: vec![0.0; p1],
             ndu: vec![0.0; p1 * p1],
@@ -214,45 +216,50 @@ impl LsqSolver {
         }
         self.rhs.clear();
         self.rhs.resize(nu, Vec3::ZERO);
-        // data term
-        for (q, &u) in points.iter().zip(params) {
-            let span = find_span(n, p, u, knots);
-            basis_funs_into(
-                span,
-                u,
-                p,
-                knots,
-                &mut self.left,
-                &mut self.right,
-                &mut self.n_basis,
-            );
+        // data term: basis values once per point, kept for the residuals
+        self.basis.fill(p, n, knots, params);
+        for (k, q) in points.iter().enumerate() {
+            let span = self.basis.spans[k];
+            let nb = self.basis.values_mut(k);
             if let Some(w) = weights {
                 let mut sum = 0.0;
                 for j in 0..=p {
-                    self.n_basis[j] *= w[span - p + j];
-                    sum += self.n_basis[j];
+                    nb[j] *= w[span - p + j];
+                    sum += nb[j];
                 }
-                for j in 0..=p {
-                    self.n_basis[j] /= sum;
+                for v in nb.iter_mut() {
+                    *v /= sum;
                 }
+            }
+            if !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl {
+                // every column of the span is an unknown: no fixed columns, no wrapping
+                let base = span - p - layout.lo;
+                for a in 0..=p {
+                    let ra = nb[a];
+                    self.rhs[base + a] += *q * ra;
+                    for b in 0..=a {
+                        self.mat.add(base + a, base + b, ra * nb[b]);
+                    }
+                }
+                continue;
             }
             let mut target = *q;
             for j in 0..=p {
                 let c = span - p + j;
                 if layout.unknown(c).is_none() {
-                    target -= fixed(c) * self.n_basis[j];
+                    target -= fixed(c) * nb[j];
                 }
             }
             for a in 0..=p {
                 let Some(ua) = layout.unknown(span - p + a) else {
                     continue;
                 };
-                let ra = self.n_basis[a];
+                let ra = nb[a];
                 self.rhs[ua] += target * ra;
                 for b in 0..=p {
                     if let Some(ub) = layout.unknown(span - p + b) {
                         if ub <= ua {
-                            self.mat.add(ua, ub, ra * self.n_basis[b]);
+                            self.mat.add(ua, ub, ra * nb[b]);
                         }
                     }
                 }
@@ -313,6 +320,13 @@ impl LsqSolver {
             });
         }
         Ok(())
+    }
+
+    /// The algebraic distances `|C(ū_k) − Q_k|` of the curve with control points `ctrl` (the output of
+    /// the last solve, on its knots and parameters) from `points` (the solve's points), into `out`:
+    /// the basis values of the solve are reused, no curve evaluation.
+    pub fn residual_norms_into(&self, points: &[Vec3], ctrl: &[Vec3], out: &mut Vec<f64>) {
+        self.basis.residual_norms_into(points, ctrl, out);
     }
 
     fn check(

@@ -4,6 +4,7 @@
 
 pub mod banded;
 pub mod correction;
+pub mod data_basis;
 pub mod deviation;
 pub mod foot;
 pub mod knot_placement;
