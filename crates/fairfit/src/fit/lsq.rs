@@ -223,9 +223,9 @@ impl LsqSolver {
             let nb = self.basis.values_mut(k);
             if let Some(w) = weights {
                 let mut sum = 0.0;
-                for j in 0..=p {
-                    nb[j] *= w[span - p + j];
-                    sum += nb[j];
+                for (v, wj) in nb.iter_mut().zip(&w[span - p..]) {
+                    *v *= wj;
+                    sum += *v;
                 }
                 for v in nb.iter_mut() {
                     *v /= sum;
@@ -234,32 +234,30 @@ impl LsqSolver {
             if !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl {
                 // every column of the span is an unknown: no fixed columns, no wrapping
                 let base = span - p - layout.lo;
-                for a in 0..=p {
-                    let ra = nb[a];
+                for (a, &ra) in nb.iter().enumerate() {
                     self.rhs[base + a] += *q * ra;
-                    for b in 0..=a {
-                        self.mat.add(base + a, base + b, ra * nb[b]);
+                    for (b, &rb) in nb[..=a].iter().enumerate() {
+                        self.mat.add(base + a, base + b, ra * rb);
                     }
                 }
                 continue;
             }
             let mut target = *q;
-            for j in 0..=p {
+            for (j, &v) in nb.iter().enumerate() {
                 let c = span - p + j;
                 if layout.unknown(c).is_none() {
-                    target -= fixed(c) * nb[j];
+                    target -= fixed(c) * v;
                 }
             }
-            for a in 0..=p {
+            for (a, &ra) in nb.iter().enumerate() {
                 let Some(ua) = layout.unknown(span - p + a) else {
                     continue;
                 };
-                let ra = nb[a];
                 self.rhs[ua] += target * ra;
-                for b in 0..=p {
+                for (b, &rb) in nb.iter().enumerate() {
                     if let Some(ub) = layout.unknown(span - p + b) {
                         if ub <= ua {
-                            self.mat.add(ua, ub, ra * nb[b]);
+                            self.mat.add(ua, ub, ra * rb);
                         }
                     }
                 }
