@@ -137,7 +137,13 @@ pub(crate) fn screened_from(
     if dist.iter().any(|&d| d > tol) {
         let mut finder = FootFinder::new(curve);
         let mut proj: Option<CurveProjector> = None;
-        for k in 0..points.len() {
+        // a probe looks first at the point farthest off algebraically, the likeliest to miss `tol`
+        // (each point is judged on its own, so the order changes nothing but the time to a miss)
+        let first = early_exit
+            .then(|| (0..dist.len()).max_by(|&a, &b| dist[a].total_cmp(&dist[b])))
+            .flatten();
+        let rest = (0..points.len()).filter(|&k| Some(k) != first);
+        for k in first.into_iter().chain(rest) {
             if dist[k] <= tol {
                 continue;
             }

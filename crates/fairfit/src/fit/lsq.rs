@@ -223,13 +223,33 @@ impl LsqSolver {
         while k < m {
             let span = self.basis.spans[k];
             let interior = !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl;
-            if interior && weights.is_none() && p == 3 {
+            if !layout.closed && weights.is_none() && p == 3 {
                 // the run of points in this span, summed in registers
                 let run = self.basis.spans[k..].iter().take_while(|&&s| s == span);
                 let end = k + run.count();
-                let base = span - p - layout.lo;
+                // unknown columns a0..a1 of the span's p + 1, the others fixed
+                let first_col = span - p;
+                let a0 = layout.lo.saturating_sub(first_col).min(p + 1);
+                let a1 = (n_ctrl - layout.hi).saturating_sub(first_col).min(p + 1);
+                let mut fixed_cols = [None; 4];
+                for (a, f) in fixed_cols.iter_mut().enumerate() {
+                    if a < a0 || a >= a1 {
+                        *f = Some(fixed(first_col + a));
+                    }
+                }
+                let block = SpanBlock {
+                    base: first_col + a0,
+                    unknown: a0..a1.max(a0),
+                    fixed: fixed_cols,
+                };
                 let values = &self.basis.values[4 * k..4 * end];
-                interior_block::<4>(&mut self.mat, &mut self.rhs, base, &points[k..end], values);
+                block.add_to(
+                    &mut self.mat,
+                    &mut self.rhs,
+                    layout.lo,
+                    &points[k..end],
+                    values,
+                );
                 k = end;
                 continue;
             }
@@ -425,40 +445,67 @@ impl LsqSolver {
     }
 }
 
-/// The data term of a run of points in one span whose `N` columns are the unknowns `base..base + N`:
-/// the span's block of the normal equations is loaded, the points' products are summed onto it in
-/// their order and it is stored back, so every entry receives the same additions in the same order as
-/// one [`EnvelopeCholesky::add`] per point (bit-identical), without index arithmetic per point.
-#[inline]
-#[allow(clippy::needless_range_loop)] // (a, b) index the block and the matrix alike
-fn interior_block<const N: usize>(
-    mat: &mut EnvelopeCholesky,
-    rhs: &mut [Vec3],
+/// The span of a run of points in an open fit: its `N` columns, of which `unknown` (a range of
+/// column offsets) are unknowns, the others have the given fixed values.
+struct SpanBlock<const N: usize> {
+    /// column of the first unknown offset
     base: usize,
-    points: &[Vec3],
-    values: &[f64],
-) {
-    let mut blk = [[0.0; N]; N];
-    let mut r = [Vec3::ZERO; N];
-    for a in 0..N {
-        r[a] = rhs[base + a];
-        for b in 0..=a {
-            blk[a][b] = *mat.entry_mut(base + a, base + b);
+    unknown: std::ops::Range<usize>,
+    fixed: [Option<Vec3>; N],
+}
+
+impl<const N: usize> SpanBlock<N> {
+    /// Adds the data term of `points` (with `N` basis values each, all in this span): the span's block
+    /// of the normal equations is loaded, the points' products are summed onto it in their order and it
+    /// is stored back, so every entry receives the same additions in the same order as one
+    /// [`EnvelopeCholesky::add`] per point (bit-identical), without index arithmetic per point.
+    /// `lo` is the layout's first free column.
+    #[inline]
+    #[allow(clippy::needless_range_loop)] // (a, b) index the block and the matrix alike
+    fn add_to(
+        &self,
+        mat: &mut EnvelopeCholesky,
+        rhs: &mut [Vec3],
+        lo: usize,
+        points: &[Vec3],
+        values: &[f64],
+    ) {
+        let (a0, a1) = (self.unknown.start, self.unknown.end);
+        if a0 == a1 {
+            return;
         }
-    }
-    for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
-        for a in 0..N {
-            let ra = nb[a];
-            r[a] += *q * ra;
-            for b in 0..=a {
-                blk[a][b] += ra * nb[b];
+        let u0 = self.base - lo; // unknown index of column offset a0
+        let mut blk = [[0.0; N]; N];
+        let mut r = [Vec3::ZERO; N];
+        for a in a0..a1 {
+            r[a] = rhs[u0 + a - a0];
+            for b in a0..=a {
+                blk[a][b] = *mat.entry_mut(u0 + a - a0, u0 + b - a0);
             }
         }
-    }
-    for a in 0..N {
-        rhs[base + a] = r[a];
-        for b in 0..=a {
-            *mat.entry_mut(base + a, base + b) = blk[a][b];
+        let interior = a0 == 0 && a1 == N;
+        for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
+            let mut target = *q;
+            if !interior {
+                for j in 0..N {
+                    if let Some(f) = self.fixed[j] {
+                        target -= f * nb[j];
+                    }
+                }
+            }
+            for a in a0..a1 {
+                let ra = nb[a];
+                r[a] += target * ra;
+                for b in a0..=a {
+                    blk[a][b] += ra * nb[b];
+                }
+            }
+        }
+        for a in a0..a1 {
+            rhs[u0 + a - a0] = r[a];
+            for b in a0..=a {
+                *mat.entry_mut(u0 + a - a0, u0 + b - a0) = blk[a][b];
+            }
         }
     }
 }
