@@ -362,6 +362,11 @@ impl LsqSolver {
         self.basis.residual_norms_into(points, ctrl, out);
     }
 
+    /// The knot span of every data point of the last solve.
+    pub fn data_spans(&self) -> &[usize] {
+        &self.basis.spans
+    }
+
     fn check(
         &self,
         points: &[Vec3],

@@ -10,7 +10,7 @@
 //! periodically (C^(p−1) at the seam).
 
 use super::correction::{fit_corrected, CorrectedFit};
-use super::deviation::{max_orthogonal_deviation, Deviation};
+use super::deviation::{max_orthogonal_deviation, Deviation, Screen};
 use super::knot_placement::{averaging_knots, curvature_adaptive_knots};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
@@ -336,7 +336,8 @@ impl Ctx<'_> {
         breaks: &[f64],
         lsq: &LsqOptions,
     ) -> Result<CorrectedFit> {
-        self.fit_rounds(pts, params, breaks, lsq, self.opts.correction_rounds, false)
+        let rounds = self.opts.correction_rounds;
+        self.fit_rounds(pts, params, breaks, lsq, rounds, Screen::SpanMiss)
     }
 
     fn fit_rounds(
@@ -346,7 +347,7 @@ impl Ctx<'_> {
         breaks: &[f64],
         lsq: &LsqOptions,
         rounds: usize,
-        probe: bool,
+        screen: Screen,
     ) -> Result<CorrectedFit> {
         let knots = knots_from_breaks(breaks, self.opts.degree, lsq.closed);
         let f = fit_corrected(
@@ -358,7 +359,7 @@ impl Ctx<'_> {
             self.ends,
             rounds,
             self.tol,
-            probe,
+            screen,
         );
         self.solves += 1 + f.as_ref().map(|f| f.rounds_kept).unwrap_or(0);
         f
@@ -496,7 +497,7 @@ impl Ctx<'_> {
                     // and refit) on the current knots, then carry on refining with the feet
                     rescued = true;
                     let rounds = self.opts.correction_rounds.max(RESCUE_ROUNDS);
-                    best = self.fit_rounds(pts, &params, &breaks, &lsq, rounds, false)?;
+                    best = self.fit_rounds(pts, &params, &breaks, &lsq, rounds, Screen::All)?;
                     continue;
                 }
                 return Err(Error::Fit(format!(
@@ -653,7 +654,7 @@ impl Ctx<'_> {
                     .map(|(_, &b)| b)
                     .collect();
                 let rounds = ctx.opts.correction_rounds;
-                match ctx.fit_rounds(pts, &best.params, &trial, lsq, rounds, true) {
+                match ctx.fit_rounds(pts, &best.params, &trial, lsq, rounds, Screen::FirstMiss) {
                     Ok(f) if f.deviation.max <= ctx.tol => Some((trial, f)),
                     _ => None,
                 }
