@@ -642,8 +642,14 @@ impl Ctx<'_> {
     ) {
         let min_breaks = if closed { self.opts.degree + 2 } else { 2 };
         let (mut lo, mut hi) = (1usize, breaks.len().saturating_sub(2));
+        // knot sets already found to miss: the pairwise walk meets some twice (without correction
+        // rounds the parameters stay those of `best`, so a miss stays a miss)
+        let mut missed: Vec<Vec<f64>> = Vec::new();
+        let rounds = self.opts.correction_rounds;
         while lo <= hi && hi + 1 < breaks.len() && lo >= 1 {
-            let try_remove = |ctx: &mut Self, idx: &[usize]| -> Option<(Vec<f64>, CorrectedFit)> {
+            let mut try_remove = |ctx: &mut Self,
+                                  idx: &[usize]|
+             -> Option<(Vec<f64>, CorrectedFit)> {
                 if breaks.len() - idx.len() < min_breaks {
                     return None;
                 }
@@ -653,10 +659,17 @@ impl Ctx<'_> {
                     .filter(|(i, _)| !idx.contains(i))
                     .map(|(_, &b)| b)
                     .collect();
-                let rounds = ctx.opts.correction_rounds;
+                if missed.contains(&trial) {
+                    return None;
+                }
                 match ctx.fit_rounds(pts, &best.params, &trial, lsq, rounds, Screen::FirstMiss) {
                     Ok(f) if f.deviation.max <= ctx.tol => Some((trial, f)),
-                    _ => None,
+                    _ => {
+                        if rounds == 0 {
+                            missed.push(trial);
+                        }
+                        None
+                    }
                 }
             };
             if lo == hi {
