@@ -6,6 +6,8 @@
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
 //! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
+//! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
+//!   convex programming with second-order cones);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
@@ -15,6 +17,7 @@
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
+pub mod band_fairing;
 pub mod corners;
 pub mod encoding;
 pub mod integrated;
