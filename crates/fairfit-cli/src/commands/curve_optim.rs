@@ -59,6 +59,7 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
         } else {
             fairfit::fit::tolerance::ClosedMode::Auto
         },
+        band_fairing: !args.no_band_fairing,
         ..IntegratedOptions::default()
     }
 }

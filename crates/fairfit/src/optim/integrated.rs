@@ -19,6 +19,7 @@
 //! stops there, or knots are inserted where they help most above the baseline; step 5 is skipped), which is how the benchmark compares
 //! methods at equal control points.
 
+use super::band_fairing::{band_fair, BandOptions};
 use super::encoding::KnotEncoding;
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
 use super::polish::{polish, PolishOptions, Polished};
@@ -78,6 +79,9 @@ pub struct IntegratedOptions {
     /// Closed-curve handling as in the least-squares method (default: closed when the last point
     /// repeats the first); closed data are fitted by [`super::closed`].
     pub closed: crate::fit::tolerance::ClosedMode,
+    /// Whether the final control points are first faired inside the tolerance band by sequential
+    /// convex programming ([`super::band_fairing`]; with `polish`, the polish then finishes).
+    pub band_fairing: bool,
 }
 
 impl Default for IntegratedOptions {
@@ -96,6 +100,7 @@ impl Default for IntegratedOptions {
             fairness_gain: 1.1,
             control_points: None,
             polish: true,
+            band_fairing: true,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
             closed: crate::fit::tolerance::ClosedMode::Auto,
         }
@@ -652,14 +657,14 @@ pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
 
 /// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
 ///
-/// With `polish_within = Some((tol, F*))` the control points are then refined by [`polish`] within
-/// `tol` (and the per-span target `F*`).
+/// With `polish_within = Some((tol, F*, band))` the control points are then refined by [`polish`]
+/// within `tol` (and the per-span target `F*`), after [`band_fair`] when `band` is set.
 pub(crate) fn finish_curve(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
     degree: usize,
-    polish_within: Option<(f64, Option<f64>)>,
+    polish_within: Option<(f64, Option<f64>, bool)>,
 ) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut ws = EvalWorkspace::default();
     set_knots(degree, interior, &mut ws);
@@ -670,7 +675,15 @@ pub(crate) fn finish_curve(
         ));
     }
     let mut polished = None;
-    if let Some((tol, span_cap)) = polish_within {
+    if let Some((tol, span_cap, band)) = polish_within {
+        if band {
+            let start = ws.foot_params.clone();
+            let bo = BandOptions {
+                span_cap,
+                ..BandOptions::default()
+            };
+            band_fair(&prep.data, &mut ws, &start, tol, &bo);
+        }
         let start = ws.foot_params.clone();
         let po = PolishOptions {
             span_cap,
@@ -708,7 +721,7 @@ fn finish(
         interior,
         log_lambda,
         opts.degree,
-        polish_within.map(|t| (t, opts.span_fairness)),
+        polish_within.map(|t| (t, opts.span_fairness, opts.band_fairing)),
     )?;
     let met = quality.max_deviation <= tol * prep.scale
         && opts

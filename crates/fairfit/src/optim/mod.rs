@@ -10,6 +10,8 @@
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
 //! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
+//! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
+//!   convex programming with second-order cones);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
@@ -22,6 +24,7 @@
 
 pub mod closed;
 pub mod corner_fit;
+pub mod band_fairing;
 pub mod corners;
 pub mod encoding;
 pub mod integrated;
