@@ -22,9 +22,9 @@
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
+pub mod band_fairing;
 pub mod closed;
 pub mod corner_fit;
-pub mod band_fairing;
 pub mod corners;
 pub mod encoding;
 pub mod integrated;
