@@ -120,6 +120,10 @@ pub struct CurveArgs {
     /// Do not detect corners.
     #[arg(long)]
     pub no_corners: bool,
+    /// Integrated method: skip the band fairing of the final control points (sequential convex
+    /// programming inside the tolerance band).
+    #[arg(long)]
+    pub no_band_fairing: bool,
     /// Parameter-correction rounds per least-squares fit.
     #[arg(long, default_value_t = 0)]
     pub correction_rounds: usize,
