@@ -194,6 +194,8 @@ impl LsqSolver {
         };
         ctrl_out.clear();
         if nu == 0 {
+            // nothing to solve, but the residuals still read the basis values of these knots
+            self.basis.fill(p, n, knots, params);
             ctrl_out.extend((0..n_ctrl).map(fixed));
             return Ok(());
         }
