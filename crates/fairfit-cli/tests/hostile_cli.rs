@@ -155,6 +155,9 @@ fn curve_options_with_hostile_values() {
     );
     rejects_all(&lsq, "--chord-tol", &["nan", "inf", "-1", "0"]);
     rejects_all(&integrated, "--span-fairness", &["nan", "inf", "-1", "0"]);
+    // the integrated method has no end-tangent constraints: refused, not silently ignored
+    rejects_all(&integrated, "--start-tangent", &["1,0", "nan,0"]);
+    rejects_all(&integrated, "--end-tangent", &["0,1"]);
     rejects_all(&integrated, "--control-points", COUNTS);
     rejects_all(&integrated, "--control-points", &["2", "15", "1000000"]);
     rejects_all(

@@ -200,6 +200,13 @@ pub fn run(args: CurveArgs) -> CmdResult {
             "--control-points needs --method integrated".into(),
         ));
     }
+    if (args.start_tangent.is_some() || args.end_tangent.is_some())
+        && args.method == Method::Integrated
+    {
+        return Err(CliError(
+            "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair".into(),
+        ));
+    }
     let set = read_points(&args.input)?;
     if set.dropped_duplicates > 0 {
         eprintln!(

@@ -327,6 +327,10 @@ pub(crate) fn finish_periodic(
 /// `n` spans at equal steps of the data index (interior breakpoints, seam at 0).
 pub fn equal_breaks(params: &[f64], n: usize) -> Vec<f64> {
     let m = params.len();
+    if m == 0 {
+        // no data: equal steps of the parameter itself
+        return (1..n).map(|j| j as f64 / n as f64).collect();
+    }
     (1..n)
         .map(|j| {
             let t = (j * m) as f64 / n as f64;

@@ -192,6 +192,14 @@ fn fit_piece(
 /// module docs); the counts sum to `n + pieces − 1`.
 pub fn share_budget(n: usize, free: &[usize], lo: &[usize], hi: &[usize]) -> Result<Vec<usize>> {
     let k = free.len();
+    if k == 0 || lo.len() != k || hi.len() != k {
+        return Err(Error::InvalidData(format!(
+            "control-point budget: {k} free counts, {} lower and {} upper bounds (one each per piece, \
+             at least one piece)",
+            lo.len(),
+            hi.len()
+        )));
+    }
     let total = n + k - 1;
     let (min, max) = (lo.iter().sum::<usize>(), hi.iter().sum::<usize>());
     if total < min || total > max {

@@ -11,7 +11,7 @@
 //! The split happens on the normalised (snapped) points, so the result stays exactly
 //! scale-invariant; the piece's parameter domain is its share of the chord length.
 
-use crate::errors::Result;
+use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Index ranges `[a, b]` (inclusive, sharing the corner point) of the pieces between corners; one
@@ -43,7 +43,17 @@ pub fn straight_piece(a: Vec3, b: Vec3, degree: usize) -> Result<NurbsCurve> {
 /// previous one ends, into one curve on `[0, 1]`: piece `i` gets the parameter share `shares[i]`
 /// (normalised here), and the joints become knots of multiplicity `p`.
 pub fn join(pieces: &[NurbsCurve], shares: &[f64]) -> Result<NurbsCurve> {
-    let p = pieces[0].degree();
+    let Some(first) = pieces.first() else {
+        return Err(Error::InvalidData("no pieces to join".into()));
+    };
+    if shares.len() != pieces.len() {
+        return Err(Error::InvalidData(format!(
+            "{} pieces to join but {} parameter shares",
+            pieces.len(),
+            shares.len()
+        )));
+    }
+    let p = first.degree();
     let total: f64 = shares.iter().sum();
     let mut knots = vec![0.0; p + 1];
     let mut ctrl: Vec<Vec3> = Vec::new();
