@@ -382,3 +382,55 @@ fn extreme_json_curves_are_ok_or_typed_errors() {
         assert!(geometry_from_str(text).is_err(), "{text}");
     }
 }
+
+/// Tessellation, curvature samples and surface projection near 1e±300 work on an exactly rescaled
+/// copy: the results are the unit-scale results scaled by the same power of two, to the bit.
+#[test]
+fn extreme_scales_tessellate_plot_and_project_like_unit_scale() {
+    let net = |s: f64| -> Vec<Vec<Vec3>> {
+        (0..4)
+            .map(|i| {
+                (0..4)
+                    .map(|j| Vec3::new(i as f64 * s, j as f64 * s, ((i * j) % 3) as f64 * s))
+                    .collect()
+            })
+            .collect()
+    };
+    let k = fairfit::nurbs::knots::uniform_clamped(3, 4);
+    let surf = |s: f64| NurbsSurface::new(3, 3, k.clone(), k.clone(), net(s), None).unwrap();
+    let unit = surf(1.0);
+    let opts = |t: f64| TessellationOptions {
+        chord_tol: Some(t),
+        ..Default::default()
+    };
+    let m1 = tessellate_surface(&unit, &opts(1e-3)).unwrap();
+    let curve1 = unit.iso_curve_u(0.3).unwrap();
+    let (c1, _) = fairfit::plot::curve_plots::curvature_samples(&curve1);
+    let q1: Vec<Vec3> = vec![Vec3::new(1.0, 1.0, 2.0), Vec3::new(2.5, 0.5, -1.0)];
+    let feet1 = fairfit::plot::surface_projection::project_points(&unit, &q1);
+    for e in [997, -997, 700] {
+        let s = 2f64.powi(e);
+        let big = surf(s);
+        let m = tessellate_surface(&big, &opts(1e-3 * s)).unwrap();
+        assert_eq!(m.vertices.len(), m1.vertices.len(), "2^{e}");
+        assert_eq!(m.triangles, m1.triangles);
+        for (a, b) in m.vertices.iter().zip(&m1.vertices) {
+            assert_eq!(*a, *b * s, "2^{e}");
+        }
+        let (c, _) = fairfit::plot::curve_plots::curvature_samples(&big.iso_curve_u(0.3).unwrap());
+        for (a, b) in c.iter().zip(&c1) {
+            assert!(
+                (a.kappa * s - b.kappa).abs() <= 1e-12 * b.kappa.abs().max(1.0),
+                "2^{e}"
+            );
+        }
+        let q: Vec<Vec3> = q1.iter().map(|&p| p * s).collect();
+        let feet = fairfit::plot::surface_projection::project_points(&big, &q);
+        for (a, b) in feet.iter().zip(&feet1) {
+            assert!(
+                (a.distance / s - b.distance).abs() <= 1e-12 * b.distance,
+                "2^{e}"
+            );
+        }
+    }
+}

@@ -54,12 +54,12 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
         seed: args.seed,
         control_points: args.control_points,
         corner_angle_deg: (!args.no_corners).then_some(args.corner_angle),
-        band_fairing: !args.no_band_fairing,
         closed: if args.closed {
             fairfit::fit::tolerance::ClosedMode::Closed
         } else {
             fairfit::fit::tolerance::ClosedMode::Auto
         },
+        band_fairing: !args.no_band_fairing,
         ..IntegratedOptions::default()
     }
 }

@@ -95,6 +95,16 @@ impl EnvelopeCholesky {
         self.data[self.offset[i] + j - self.first[i]] += v;
     }
 
+    /// Mutable entry `(i, j)`, `j <= i`, which must lie inside the envelope.
+    #[inline]
+    pub fn entry_mut(&mut self, i: usize, j: usize) -> &mut f64 {
+        debug_assert!(
+            j <= i && j >= self.first[i],
+            "({i},{j}) outside the envelope"
+        );
+        &mut self.data[self.offset[i] + j - self.first[i]]
+    }
+
     /// Entry `(i, j)` with `j <= i` (0 outside the envelope).
     #[inline]
     pub fn get(&self, i: usize, j: usize) -> f64 {

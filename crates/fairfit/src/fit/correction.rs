@@ -3,7 +3,7 @@
 //! kept only when it lowers the maximum orthogonal deviation and keeps
 //! the feet in order (out-of-order feet are points projected onto the wrong part of the curve).
 
-use super::deviation::{max_orthogonal_deviation, screened, Deviation};
+use super::deviation::{max_orthogonal_deviation, screened_from, Deviation, Screen};
 use super::lsq::{LsqOptions, LsqSolver};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -53,12 +53,21 @@ pub fn fit_with_correction(
     let ends = opts.end_tangents.map(|(a, b)| (Some(a), Some(b)));
     let ends = ends.unwrap_or((None, None));
     fit_corrected(
-        solver, points, params, knots, opts, ends, rounds, stop_below, false,
+        solver,
+        points,
+        params,
+        knots,
+        opts,
+        ends,
+        rounds,
+        stop_below,
+        Screen::All,
     )
 }
 
-/// [`fit_with_correction`]; with `probe` (and no rounds) the deviation stops at the first point beyond
-/// `stop_below`: for trials that only ask whether the tolerance holds. `ends`: optional start and end
+/// [`fit_with_correction`]; without rounds, `screen` says how much of the screened deviation is
+/// needed ([`Screen::FirstMiss`] for trials that only ask whether the tolerance holds,
+/// [`Screen::SpanMiss`] for the refinement's span splitting). `ends`: optional start and end
 /// derivatives ([`LsqSolver::solve_with_ends`]).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_corrected(
@@ -70,7 +79,7 @@ pub(crate) fn fit_corrected(
     ends: (Option<Vec3>, Option<Vec3>),
     rounds: usize,
     stop_below: f64,
-    probe: bool,
+    screen: Screen,
 ) -> Result<CorrectedFit> {
     let p = solver.degree();
     let mut ctrl = Vec::new();
@@ -78,7 +87,10 @@ pub(crate) fn fit_corrected(
     let curve = NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?;
     // without correction only the tolerance decision matters: project only the points that miss it
     let deviation = if rounds == 0 && stop_below > 0.0 {
-        screened(&curve, points, params, stop_below, probe)
+        let mut dist = Vec::with_capacity(points.len());
+        solver.residual_norms_into(points, &ctrl, &mut dist);
+        let spans = solver.data_spans();
+        screened_from(&curve, points, params, dist, stop_below, screen, spans)
     } else {
         max_orthogonal_deviation(&curve, points, params)
     };

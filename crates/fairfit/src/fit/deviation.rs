@@ -115,19 +115,85 @@ pub(crate) fn screened(
 ) -> Deviation {
     let mut per_point = vec![Vec3::ZERO; points.len()];
     curve.points_into(params, &mut per_point);
-    let mut dist: Vec<f64> = per_point
+    let dist: Vec<f64> = per_point
         .iter()
         .zip(points)
         .map(|(c, q)| (*c - *q).norm())
         .collect();
+    let mode = if early_exit {
+        Screen::FirstMiss
+    } else {
+        Screen::All
+    };
+    screened_from(curve, points, params, dist, tol, mode, &[])
+}
+
+/// How much of the deviation a screening must establish.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Screen {
+    /// Every point (see [`screened_deviation`]).
+    All,
+    /// Only whether some point misses the tolerance: stop at the first one.
+    FirstMiss,
+    /// Only which knot spans hold a point that misses the tolerance, as the refinement's span
+    /// splitting reads it (a point exactly on a span's first knot counts for the span before too).
+    /// Once a point's span(s) are known to miss, its projection is skipped and its (algebraic, above
+    /// the tolerance) distance kept.
+    SpanMiss,
+}
+
+/// [`screened`] from the algebraic distances `dist[k] = |C(ū_k) − Q_k|`, already computed (by the
+/// least-squares solve, [`super::lsq::LsqSolver::residual_norms_into`]); `spans[k]` is the knot span
+/// of point `k` (read by [`Screen::SpanMiss`] only).
+pub(crate) fn screened_from(
+    curve: &NurbsCurve,
+    points: &[Vec3],
+    params: &[f64],
+    mut dist: Vec<f64>,
+    tol: f64,
+    mode: Screen,
+    spans: &[usize],
+) -> Deviation {
+    let early_exit = matches!(mode, Screen::FirstMiss);
     let mut foot = params.to_vec();
     if dist.iter().any(|&d| d > tol) {
         let mut finder = FootFinder::new(curve);
         let mut proj: Option<CurveProjector> = None;
-        for k in 0..points.len() {
+        let knots = curve.knots();
+        let mut span_missed = match mode {
+            Screen::SpanMiss => vec![false; knots.len()],
+            _ => Vec::new(),
+        };
+        // a probe looks first at the point farthest off algebraically, the likeliest to miss `tol`
+        // (each point is judged on its own, so the order changes nothing but the time to a miss)
+        let first = early_exit
+            .then(|| (0..dist.len()).max_by(|&a, &b| dist[a].total_cmp(&dist[b])))
+            .flatten();
+        let rest = (0..points.len()).filter(|&k| Some(k) != first);
+        for k in first.into_iter().chain(rest) {
             if dist[k] <= tol {
                 continue;
             }
+            // the span (and the one before, for a point on its first knot) already misses
+            let span = match mode {
+                Screen::SpanMiss => {
+                    let s = spans[k];
+                    let on_knot = s > 0 && params[k] == knots[s];
+                    if span_missed[s] && (!on_knot || span_missed[s - 1]) {
+                        continue;
+                    }
+                    Some((s, on_knot))
+                }
+                _ => None,
+            };
+            let mut missed = |dk: f64| {
+                if let (Some((s, on_knot)), true) = (span, dk > tol) {
+                    span_missed[s] = true;
+                    if on_knot {
+                        span_missed[s - 1] = true;
+                    }
+                }
+            };
             // Newton from the parameter: any curve point bounds the distance from above
             if let Some(f) = finder.as_mut() {
                 let ft = f.refine_until(points[k], params[k], tol);
@@ -136,6 +202,19 @@ pub(crate) fn screened(
                     foot[k] = ft.u;
                 }
                 if dist[k] <= tol {
+                    continue;
+                }
+                // a converged foot is the local one, as in `max_orthogonal_deviation`
+                if ft.converged {
+                    if early_exit {
+                        return Deviation {
+                            max: dist[k],
+                            rms: f64::NAN,
+                            per_point: dist,
+                            params: foot,
+                        };
+                    }
+                    missed(dist[k]);
                     continue;
                 }
             }
@@ -154,6 +233,7 @@ pub(crate) fn screened(
                     params: foot,
                 };
             }
+            missed(dist[k]);
         }
     }
     let max = dist.iter().copied().fold(0.0, f64::max);
@@ -211,5 +291,44 @@ mod tests {
             .all(|&e| e <= 0.015 || (e - 0.02).abs() < 1e-12));
         let full = max_orthogonal_deviation(&c, &pts, &[]);
         assert!((full.max - d.max).abs() < 1e-14);
+    }
+
+    #[test]
+    fn span_miss_screening_flags_the_same_spans_as_the_full_one() {
+        use crate::nurbs::knots::find_span;
+        // a wavy polyline fitted badly by a cubic with 3 spans; one parameter sits on a knot
+        let mut params: Vec<f64> = (0..60).map(|k| k as f64 / 59.0).collect();
+        params[20] = 1.0 / 3.0;
+        let pts: Vec<Vec3> = params
+            .iter()
+            .map(|&u| Vec3::new(u, 0.2 * (9.0 * u).sin() + 0.05 * (31.0 * u).cos(), 0.0))
+            .collect();
+        let knots = vec![0.0, 0.0, 0.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 1.0, 1.0, 1.0];
+        let c = crate::fit::fit_fixed_knots(&pts, &params, 3, &knots, &Default::default()).unwrap();
+        let spans: Vec<usize> = params.iter().map(|&u| find_span(5, 3, u, &knots)).collect();
+        let alg: Vec<f64> = pts
+            .iter()
+            .zip(c.points(&params))
+            .map(|(q, p)| (*q - p).norm())
+            .collect();
+        let flags = |d: &Deviation| {
+            let mut bad = [false; 10];
+            for (k, e) in d.per_point.iter().enumerate() {
+                if *e > 0.01 {
+                    bad[spans[k]] = true;
+                    if params[k] == knots[spans[k]] {
+                        bad[spans[k] - 1] = true;
+                    }
+                }
+            }
+            bad
+        };
+        let full = screened_from(&c, &pts, &params, alg.clone(), 0.01, Screen::All, &spans);
+        let part = screened_from(&c, &pts, &params, alg, 0.01, Screen::SpanMiss, &spans);
+        assert!(full.max > 0.01 && part.max > 0.01);
+        assert_eq!(flags(&full), flags(&part));
+        assert!(flags(&full).iter().filter(|&&b| b).count() >= 2);
+        // fewer points were projected: some keep their algebraic distance
+        assert!(full.per_point != part.per_point);
     }
 }

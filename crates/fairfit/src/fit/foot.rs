@@ -5,7 +5,11 @@
 //! bounds the orthogonal distance from above, so the best distance seen is an upper bound; a converged
 //! step (a stationary point of the distance near the hint) is the local foot. Points whose foot is not
 //! found this way go to the sampled projector ([`crate::diffgeo::CurveProjector`]).
+//!
+//! Curves of degree up to [`super::power::MAX_POWER_DEGREE`] are evaluated through their piecewise
+//! power form ([`super::power`]), converted once per curve; higher degrees use the basis functions.
 
+use super::power::{PowerForm, MAX_POWER_DEGREE};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -39,6 +43,8 @@ pub struct FootFinder<'a> {
     ndu: Vec<f64>,
     a: Vec<f64>,
     ders: Vec<f64>,
+    /// the curve in power form (degrees up to [`MAX_POWER_DEGREE`])
+    power: Option<PowerForm>,
 }
 
 impl<'a> FootFinder<'a> {
@@ -50,6 +56,11 @@ impl<'a> FootFinder<'a> {
         let p = curve.degree();
         let p1 = p + 1;
         let (lo, hi) = curve.domain();
+        let power = (p <= MAX_POWER_DEGREE).then(|| {
+            let mut f = PowerForm::new();
+            f.rebuild(p, curve.knots(), curve.control_points());
+            f
+        });
         Some(FootFinder {
             knots: curve.knots(),
             ctrl: curve.control_points(),
@@ -62,12 +73,16 @@ impl<'a> FootFinder<'a> {
             ndu: vec![0.0; p1 * p1],
             a: vec![0.0; 2 * p1],
             ders: vec![0.0; 3 * p1],
+            power,
         })
     }
 
     /// `C(u)`, `C'(u)`, `C''(u)`.
     #[inline]
     fn eval2(&mut self, u: f64) -> [Vec3; 3] {
+        if let Some(f) = self.power.as_mut() {
+            return f.eval2(u);
+        }
         let p = self.p;
         let span = find_span(self.n, p, u, self.knots);
         ders_basis_funs_into(

@@ -17,10 +17,11 @@
 //! [`LsqSolver`] keeps every buffer, so a repeated solve of the same size allocates nothing.
 
 use super::banded::EnvelopeCholesky;
+use super::data_basis::DataBasis;
 use crate::diffgeo::quadrature::GaussLegendre;
 use crate::errors::{Error, Result};
-use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
-use crate::nurbs::knots::{find_span, validate_knots};
+use crate::nurbs::basis::ders_basis_funs_into;
+use crate::nurbs::knots::validate_knots;
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Which derivative the smoothing term penalises.
@@ -78,7 +79,8 @@ pub struct LsqSolver {
     degree: usize,
     mat: EnvelopeCholesky,
     rhs: Vec<Vec3>,
-    n_basis: Vec<f64>,
+    /// basis values at the data parameters of the last solve
+    basis: DataBasis,
     left: Vec<f64>,
     right: Vec<f64>,
     ndu: Vec<f64>,
@@ -122,7 +124,7 @@ impl LsqSolver {
             degree,
             mat: EnvelopeCholesky::new(),
             rhs: Vec::new(),
-            n_basis: vec![0.0; p1],
+            basis: DataBasis::new(),
             left: vec![0.0; p1],
             right: vec![0.0; p1],
             ndu: vec![0.0; p1 * p1],
@@ -192,6 +194,8 @@ impl LsqSolver {
         };
         ctrl_out.clear();
         if nu == 0 {
+            // nothing to solve, but the residuals still read the basis values of these knots
+            self.basis.fill(p, n, knots, params);
             ctrl_out.extend((0..n_ctrl).map(fixed));
             return Ok(());
         }
@@ -214,45 +218,83 @@ impl LsqSolver {
         }
         self.rhs.clear();
         self.rhs.resize(nu, Vec3::ZERO);
-        // data term
-        for (q, &u) in points.iter().zip(params) {
-            let span = find_span(n, p, u, knots);
-            basis_funs_into(
-                span,
-                u,
-                p,
-                knots,
-                &mut self.left,
-                &mut self.right,
-                &mut self.n_basis,
-            );
+        // data term: basis values once per point, kept for the residuals
+        self.basis.fill(p, n, knots, params);
+        let m = points.len();
+        let mut k = 0;
+        while k < m {
+            let span = self.basis.spans[k];
+            let interior = !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl;
+            if !layout.closed && weights.is_none() && p == 3 {
+                // the run of points in this span, summed in registers
+                let run = self.basis.spans[k..].iter().take_while(|&&s| s == span);
+                let end = k + run.count();
+                // unknown columns a0..a1 of the span's p + 1, the others fixed
+                let first_col = span - p;
+                let a0 = layout.lo.saturating_sub(first_col).min(p + 1);
+                let a1 = (n_ctrl - layout.hi).saturating_sub(first_col).min(p + 1);
+                let mut fixed_cols = [None; 4];
+                for (a, f) in fixed_cols.iter_mut().enumerate() {
+                    if a < a0 || a >= a1 {
+                        *f = Some(fixed(first_col + a));
+                    }
+                }
+                let block = SpanBlock {
+                    base: first_col + a0,
+                    unknown: a0..a1.max(a0),
+                    fixed: fixed_cols,
+                };
+                let values = &self.basis.values[4 * k..4 * end];
+                block.add_to(
+                    &mut self.mat,
+                    &mut self.rhs,
+                    layout.lo,
+                    &points[k..end],
+                    values,
+                );
+                k = end;
+                continue;
+            }
+            let q = &points[k];
+            let nb = self.basis.values_mut(k);
+            k += 1;
             if let Some(w) = weights {
                 let mut sum = 0.0;
-                for j in 0..=p {
-                    self.n_basis[j] *= w[span - p + j];
-                    sum += self.n_basis[j];
+                for (v, wj) in nb.iter_mut().zip(&w[span - p..]) {
+                    *v *= wj;
+                    sum += *v;
                 }
-                for j in 0..=p {
-                    self.n_basis[j] /= sum;
+                for v in nb.iter_mut() {
+                    *v /= sum;
                 }
+            }
+            if interior {
+                // every column of the span is an unknown: no fixed columns, no wrapping
+                let base = span - p - layout.lo;
+                for (a, &ra) in nb.iter().enumerate() {
+                    self.rhs[base + a] += *q * ra;
+                    for (b, &rb) in nb[..=a].iter().enumerate() {
+                        self.mat.add(base + a, base + b, ra * rb);
+                    }
+                }
+                continue;
             }
             let mut target = *q;
-            for j in 0..=p {
+            for (j, &v) in nb.iter().enumerate() {
                 let c = span - p + j;
                 if layout.unknown(c).is_none() {
-                    target -= fixed(c) * self.n_basis[j];
+                    target -= fixed(c) * v;
                 }
             }
-            for a in 0..=p {
+            for (a, &ra) in nb.iter().enumerate() {
                 let Some(ua) = layout.unknown(span - p + a) else {
                     continue;
                 };
-                let ra = self.n_basis[a];
                 self.rhs[ua] += target * ra;
-                for b in 0..=p {
+                for (b, &rb) in nb.iter().enumerate() {
                     if let Some(ub) = layout.unknown(span - p + b) {
                         if ub <= ua {
-                            self.mat.add(ua, ub, ra * self.n_basis[b]);
+                            self.mat.add(ua, ub, ra * rb);
                         }
                     }
                 }
@@ -313,6 +355,18 @@ impl LsqSolver {
             });
         }
         Ok(())
+    }
+
+    /// The algebraic distances `|C(ū_k) − Q_k|` of the curve with control points `ctrl` (the output of
+    /// the last solve, on its knots and parameters) from `points` (the solve's points), into `out`:
+    /// the basis values of the solve are reused, no curve evaluation.
+    pub fn residual_norms_into(&self, points: &[Vec3], ctrl: &[Vec3], out: &mut Vec<f64>) {
+        self.basis.residual_norms_into(points, ctrl, out);
+    }
+
+    /// The knot span of every data point of the last solve.
+    pub fn data_spans(&self) -> &[usize] {
+        &self.basis.spans
     }
 
     fn check(
@@ -395,6 +449,71 @@ impl LsqSolver {
             hi,
             n_unknown: n_ctrl - lo - hi,
         })
+    }
+}
+
+/// The span of a run of points in an open fit: its `N` columns, of which `unknown` (a range of
+/// column offsets) are unknowns, the others have the given fixed values.
+struct SpanBlock<const N: usize> {
+    /// column of the first unknown offset
+    base: usize,
+    unknown: std::ops::Range<usize>,
+    fixed: [Option<Vec3>; N],
+}
+
+impl<const N: usize> SpanBlock<N> {
+    /// Adds the data term of `points` (with `N` basis values each, all in this span): the span's block
+    /// of the normal equations is loaded, the points' products are summed onto it in their order and it
+    /// is stored back, so every entry receives the same additions in the same order as one
+    /// [`EnvelopeCholesky::add`] per point (bit-identical), without index arithmetic per point.
+    /// `lo` is the layout's first free column.
+    #[inline]
+    #[allow(clippy::needless_range_loop)] // (a, b) index the block and the matrix alike
+    fn add_to(
+        &self,
+        mat: &mut EnvelopeCholesky,
+        rhs: &mut [Vec3],
+        lo: usize,
+        points: &[Vec3],
+        values: &[f64],
+    ) {
+        let (a0, a1) = (self.unknown.start, self.unknown.end);
+        if a0 == a1 {
+            return;
+        }
+        let u0 = self.base - lo; // unknown index of column offset a0
+        let mut blk = [[0.0; N]; N];
+        let mut r = [Vec3::ZERO; N];
+        for a in a0..a1 {
+            r[a] = rhs[u0 + a - a0];
+            for b in a0..=a {
+                blk[a][b] = *mat.entry_mut(u0 + a - a0, u0 + b - a0);
+            }
+        }
+        let interior = a0 == 0 && a1 == N;
+        for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
+            let mut target = *q;
+            if !interior {
+                for j in 0..N {
+                    if let Some(f) = self.fixed[j] {
+                        target -= f * nb[j];
+                    }
+                }
+            }
+            for a in a0..a1 {
+                let ra = nb[a];
+                r[a] += target * ra;
+                for b in a0..=a {
+                    blk[a][b] += ra * nb[b];
+                }
+            }
+        }
+        for a in a0..a1 {
+            rhs[u0 + a - a0] = r[a];
+            for b in a0..=a {
+                *mat.entry_mut(u0 + a - a0, u0 + b - a0) = blk[a][b];
+            }
+        }
     }
 }
 
@@ -507,6 +626,31 @@ mod tests {
         );
         // and every point is on the unit circle
         assert!(q.iter().all(|p| (p.norm() - 1.0).abs() < 1e-14));
+    }
+
+    #[test]
+    fn point_order_does_not_matter() {
+        // the span-by-span assembly must also be right when the parameters are not sorted
+        let c = known_curve();
+        let u: Vec<f64> = (0..60).map(|k| (k as f64 / 59.0).powf(1.3)).collect();
+        let q: Vec<Vec3> = c
+            .points(&u)
+            .iter()
+            .enumerate()
+            .map(|(k, p)| *p + Vec3::new(0.0, 0.01 * ((k * 7) % 5) as f64, 0.0))
+            .collect();
+        // the end points stay first and last: they are interpolated
+        let mut order = vec![0];
+        order.extend((1..59).map(|k| 1 + (k * 37) % 58));
+        order.push(59);
+        let (us, qs): (Vec<f64>, Vec<Vec3>) = order.iter().map(|&k| (u[k], q[k])).unzip();
+        let o = LsqOptions::default();
+        let a = fit_fixed_knots(&q, &u, 3, c.knots(), &o).unwrap();
+        let b = fit_fixed_knots(&qs, &us, 3, c.knots(), &o).unwrap();
+        for (x, y) in a.control_points().iter().zip(b.control_points()) {
+            assert!((*x - *y).norm() < 1e-12, "{x:?} vs {y:?}");
+        }
+        assert!((a.control_points()[3] - c.control_points()[3]).norm() > 1e-4);
     }
 
     #[test]

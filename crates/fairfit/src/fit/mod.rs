@@ -4,11 +4,13 @@
 
 pub mod banded;
 pub mod correction;
+pub mod data_basis;
 pub mod deviation;
 pub mod foot;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;
+pub mod power;
 pub mod shape;
 pub mod tolerance;
 

@@ -10,7 +10,7 @@
 //! periodically (C^(p−1) at the seam).
 
 use super::correction::{fit_corrected, CorrectedFit};
-use super::deviation::{max_orthogonal_deviation, Deviation};
+use super::deviation::{max_orthogonal_deviation, Deviation, Screen};
 use super::knot_placement::{averaging_knots, curvature_adaptive_knots};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
@@ -336,7 +336,8 @@ impl Ctx<'_> {
         breaks: &[f64],
         lsq: &LsqOptions,
     ) -> Result<CorrectedFit> {
-        self.fit_rounds(pts, params, breaks, lsq, self.opts.correction_rounds, false)
+        let rounds = self.opts.correction_rounds;
+        self.fit_rounds(pts, params, breaks, lsq, rounds, Screen::SpanMiss)
     }
 
     fn fit_rounds(
@@ -346,7 +347,7 @@ impl Ctx<'_> {
         breaks: &[f64],
         lsq: &LsqOptions,
         rounds: usize,
-        probe: bool,
+        screen: Screen,
     ) -> Result<CorrectedFit> {
         let knots = knots_from_breaks(breaks, self.opts.degree, lsq.closed);
         let f = fit_corrected(
@@ -358,7 +359,7 @@ impl Ctx<'_> {
             self.ends,
             rounds,
             self.tol,
-            probe,
+            screen,
         );
         self.solves += 1 + f.as_ref().map(|f| f.rounds_kept).unwrap_or(0);
         f
@@ -496,7 +497,7 @@ impl Ctx<'_> {
                     // and refit) on the current knots, then carry on refining with the feet
                     rescued = true;
                     let rounds = self.opts.correction_rounds.max(RESCUE_ROUNDS);
-                    best = self.fit_rounds(pts, &params, &breaks, &lsq, rounds, false)?;
+                    best = self.fit_rounds(pts, &params, &breaks, &lsq, rounds, Screen::All)?;
                     continue;
                 }
                 return Err(Error::Fit(format!(
@@ -641,8 +642,14 @@ impl Ctx<'_> {
     ) {
         let min_breaks = if closed { self.opts.degree + 2 } else { 2 };
         let (mut lo, mut hi) = (1usize, breaks.len().saturating_sub(2));
+        // knot sets already found to miss: the pairwise walk meets some twice (without correction
+        // rounds the parameters stay those of `best`, so a miss stays a miss)
+        let mut missed: Vec<Vec<f64>> = Vec::new();
+        let rounds = self.opts.correction_rounds;
         while lo <= hi && hi + 1 < breaks.len() && lo >= 1 {
-            let try_remove = |ctx: &mut Self, idx: &[usize]| -> Option<(Vec<f64>, CorrectedFit)> {
+            let mut try_remove = |ctx: &mut Self,
+                                  idx: &[usize]|
+             -> Option<(Vec<f64>, CorrectedFit)> {
                 if breaks.len() - idx.len() < min_breaks {
                     return None;
                 }
@@ -652,10 +659,17 @@ impl Ctx<'_> {
                     .filter(|(i, _)| !idx.contains(i))
                     .map(|(_, &b)| b)
                     .collect();
-                let rounds = ctx.opts.correction_rounds;
-                match ctx.fit_rounds(pts, &best.params, &trial, lsq, rounds, true) {
+                if missed.contains(&trial) {
+                    return None;
+                }
+                match ctx.fit_rounds(pts, &best.params, &trial, lsq, rounds, Screen::FirstMiss) {
                     Ok(f) if f.deviation.max <= ctx.tol => Some((trial, f)),
-                    _ => None,
+                    _ => {
+                        if rounds == 0 {
+                            missed.push(trial);
+                        }
+                        None
+                    }
                 }
             };
             if lo == hi {

@@ -79,12 +79,12 @@ pub struct IntegratedOptions {
     /// Whether the final control points are refined by local fairing moves within the tolerance
     /// ([`super::polish`]).
     pub polish: bool,
-    /// Whether the final control points are first faired inside the tolerance band by sequential
-    /// convex programming ([`super::band_fairing`]; with `polish`, the polish then finishes).
-    pub band_fairing: bool,
     /// Closed-curve handling as in the least-squares method (default: closed when the last point
     /// repeats the first); closed data are fitted by [`super::closed`].
     pub closed: crate::fit::tolerance::ClosedMode,
+    /// Whether the final control points are first faired inside the tolerance band by sequential
+    /// convex programming ([`super::band_fairing`]; with `polish`, the polish then finishes).
+    pub band_fairing: bool,
 }
 
 impl Default for IntegratedOptions {

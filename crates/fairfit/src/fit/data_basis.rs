@@ -1,0 +1,169 @@
+//! The non-vanishing basis functions at every data parameter of one least-squares solve, computed once
+//! and kept: the solve assembles its normal equations from them, and the algebraic residuals
+//! `|C(ū_k) − Q_k|` of the fitted curve (the first, cheap screen of the deviation measures) are then one
+//! dot product per point instead of a span search and a basis recursion.
+//!
+//! Spans are found by walking from the previous point's span (the parameters of a fit are ordered, so
+//! this is O(1) per point; any order stays correct). Degrees up to 5 use a recursion with fixed-size
+//! arrays, unrolled by the compiler; its arithmetic is that of
+//! [`crate::nurbs::basis::basis_funs_into`], so the values are bit-for-bit the same.
+
+use crate::nurbs::basis::basis_funs_into;
+use crate::nurbs::knots::find_span;
+use crate::nurbs::Vec3;
+
+/// Span index and `p + 1` basis values of every data parameter.
+#[derive(Clone, Debug, Default)]
+pub struct DataBasis {
+    p: usize,
+    /// knot span of each parameter
+    pub spans: Vec<usize>,
+    /// `p + 1` values per parameter: `N_{span−p+j}(ū_k)` at `k (p + 1) + j`
+    pub values: Vec<f64>,
+}
+
+impl DataBasis {
+    /// An empty cache.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Fills the cache for degree `p`, `knots` with `n + 1` control points, at `params`.
+    pub fn fill(&mut self, p: usize, n: usize, knots: &[f64], params: &[f64]) {
+        self.p = p;
+        self.spans.clear();
+        self.values.clear();
+        match p {
+            1 => self.fill_const::<2>(n, knots, params),
+            2 => self.fill_const::<3>(n, knots, params),
+            3 => self.fill_const::<4>(n, knots, params),
+            4 => self.fill_const::<5>(n, knots, params),
+            5 => self.fill_const::<6>(n, knots, params),
+            _ => {
+                let p1 = p + 1;
+                let (mut left, mut right) = (vec![0.0; p1], vec![0.0; p1]);
+                self.values.resize(params.len() * p1, 0.0);
+                let mut span = p;
+                for (k, &u) in params.iter().enumerate() {
+                    span = span_from(n, p, u, knots, span);
+                    self.spans.push(span);
+                    let out = &mut self.values[k * p1..(k + 1) * p1];
+                    basis_funs_into(span, u, p, knots, &mut left, &mut right, out);
+                }
+            }
+        }
+    }
+
+    fn fill_const<const N: usize>(&mut self, n: usize, knots: &[f64], params: &[f64]) {
+        let p = N - 1;
+        self.values.reserve(params.len() * N);
+        let mut span = p;
+        for &u in params {
+            span = span_from(n, p, u, knots, span);
+            self.spans.push(span);
+            self.values
+                .extend_from_slice(&basis_const::<N>(span, u, knots));
+        }
+    }
+
+    /// The basis values of point `k` (mutable: a rational solve normalises them in place).
+    #[inline]
+    pub fn values_mut(&mut self, k: usize) -> &mut [f64] {
+        let p1 = self.p + 1;
+        &mut self.values[k * p1..(k + 1) * p1]
+    }
+
+    /// `|Σ_j N_j(ū_k) P_{span−p+j} − Q_k|` for every point into `out`: the algebraic distances of the
+    /// curve with control points `ctrl` (the knots and parameters of the last [`DataBasis::fill`]).
+    pub fn residual_norms_into(&self, points: &[Vec3], ctrl: &[Vec3], out: &mut Vec<f64>) {
+        let p1 = self.p + 1;
+        out.clear();
+        out.extend(
+            points
+                .iter()
+                .zip(&self.spans)
+                .zip(self.values.chunks_exact(p1))
+                .map(|((q, &span), nb)| {
+                    let mut c = Vec3::ZERO;
+                    for (j, &v) in nb.iter().enumerate() {
+                        c += ctrl[span + j - self.p] * v;
+                    }
+                    (c - *q).norm()
+                }),
+        );
+    }
+}
+
+/// The span `s` with `knots[s] <= u < knots[s + 1]` as [`find_span`] returns it, walking from `hint`.
+#[inline]
+fn span_from(n: usize, p: usize, u: f64, knots: &[f64], hint: usize) -> usize {
+    if u >= knots[n + 1] || u <= knots[p] || !(p..=n).contains(&hint) {
+        return find_span(n, p, u, knots);
+    }
+    let mut s = hint;
+    // u < knots[n + 1] stops the walk up at n; u > knots[p] stops the walk down at p
+    while u >= knots[s + 1] {
+        s += 1;
+    }
+    while u < knots[s] {
+        s -= 1;
+    }
+    s
+}
+
+/// [`basis_funs_into`] for degree `N − 1` with fixed-size arrays (same arithmetic, same values).
+#[inline(always)]
+fn basis_const<const N: usize>(span: usize, u: f64, knots: &[f64]) -> [f64; N] {
+    let mut out = [0.0; N];
+    let (mut left, mut right) = ([0.0; N], [0.0; N]);
+    out[0] = 1.0;
+    for j in 1..N {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let temp = out[r] / (right[r + 1] + left[j - r]);
+            out[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        out[j] = saved;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nurbs::NurbsCurve;
+
+    #[test]
+    fn matches_span_search_basis_and_curve_points_bit_for_bit() {
+        for p in 1..=7 {
+            let n_ctrl = p + 6;
+            let mut knots = vec![0.0; p + 1];
+            let inner = [0.1, 0.3, 0.3, 0.55, 0.7, 0.9];
+            knots.extend_from_slice(&inner[..n_ctrl - p - 1]);
+            knots.extend(std::iter::repeat_n(1.0, p + 1));
+            let ctrl: Vec<Vec3> = (0..n_ctrl)
+                .map(|i| Vec3::new(i as f64, (i as f64).sin(), 0.5))
+                .collect();
+            let c = NurbsCurve::bspline(p, knots.clone(), ctrl.clone()).unwrap();
+            // ordered, then shuffled parameters, knots and ends included
+            let mut us: Vec<f64> = (0..=40).map(|k| k as f64 / 40.0).collect();
+            us.extend([0.3, 0.0, 0.95, 0.1, 1.0, 0.31]);
+            let mut db = DataBasis::new();
+            db.fill(p, n_ctrl - 1, &knots, &us);
+            let (mut l, mut r, mut want) = (vec![0.0; p + 1], vec![0.0; p + 1], vec![0.0; p + 1]);
+            let q: Vec<Vec3> = us.iter().map(|&u| Vec3::new(u, 1.0, 0.0)).collect();
+            let mut res = Vec::new();
+            db.residual_norms_into(&q, &ctrl, &mut res);
+            for (k, &u) in us.iter().enumerate() {
+                let s = find_span(n_ctrl - 1, p, u, &knots);
+                assert_eq!(db.spans[k], s, "p={p} u={u}");
+                basis_funs_into(s, u, p, &knots, &mut l, &mut r, &mut want);
+                assert_eq!(db.values_mut(k), &want[..], "p={p} u={u}");
+                assert_eq!(res[k], (c.point(u) - q[k]).norm(), "p={p} u={u}");
+            }
+        }
+    }
+}
