@@ -15,6 +15,9 @@
 //! 5. Up to `max_extra_control_points` more control points are tried (never more than the baseline);
 //!    one is kept when F shrinks by more than `fairness_gain` per added point.
 //!
+//! 6. The final control points are faired inside the tolerance band ([`super::band_fairing`],
+//!    with `band_fairing`) and polished by single-point moves ([`super::polish`], with `polish`).
+//!
 //! With [`IntegratedOptions::control_points`] the count is fixed instead (the descent
 //! stops there, or knots are inserted where they help most above the baseline; step 5 is skipped), which is how the benchmark compares
 //! methods at equal control points.
