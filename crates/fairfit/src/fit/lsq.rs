@@ -488,21 +488,31 @@ impl<const N: usize> SpanBlock<N> {
                 blk[a][b] = *mat.entry_mut(u0 + a - a0, u0 + b - a0);
             }
         }
-        let interior = a0 == 0 && a1 == N;
-        for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
-            let mut target = *q;
-            if !interior {
+        if a0 == 0 && a1 == N {
+            // all columns unknown: constant bounds, so the block stays in registers
+            for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
+                for a in 0..N {
+                    let ra = nb[a];
+                    r[a] += *q * ra;
+                    for b in 0..=a {
+                        blk[a][b] += ra * nb[b];
+                    }
+                }
+            }
+        } else {
+            for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
+                let mut target = *q;
                 for j in 0..N {
                     if let Some(f) = self.fixed[j] {
                         target -= f * nb[j];
                     }
                 }
-            }
-            for a in a0..a1 {
-                let ra = nb[a];
-                r[a] += target * ra;
-                for b in a0..=a {
-                    blk[a][b] += ra * nb[b];
+                for a in a0..a1 {
+                    let ra = nb[a];
+                    r[a] += target * ra;
+                    for b in a0..=a {
+                        blk[a][b] += ra * nb[b];
+                    }
                 }
             }
         }
