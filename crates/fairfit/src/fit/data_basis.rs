@@ -76,8 +76,11 @@ impl DataBasis {
     /// `|Σ_j N_j(ū_k) P_{span−p+j} − Q_k|` for every point into `out`: the algebraic distances of the
     /// curve with control points `ctrl` (the knots and parameters of the last [`DataBasis::fill`]).
     pub fn residual_norms_into(&self, points: &[Vec3], ctrl: &[Vec3], out: &mut Vec<f64>) {
-        let p1 = self.p + 1;
         out.clear();
+        if self.p == 3 {
+            return self.residuals_const::<4>(points, ctrl, out);
+        }
+        let p1 = self.p + 1;
         out.extend(
             points
                 .iter()
@@ -91,6 +94,22 @@ impl DataBasis {
                     (c - *q).norm()
                 }),
         );
+    }
+}
+
+impl DataBasis {
+    /// [`DataBasis::residual_norms_into`] for degree `N − 1` (same arithmetic, unrolled).
+    #[allow(clippy::needless_range_loop)] // j indexes the control points and the values alike
+    fn residuals_const<const N: usize>(&self, points: &[Vec3], ctrl: &[Vec3], out: &mut Vec<f64>) {
+        let spans = self.spans.iter();
+        for ((q, &span), nb) in points.iter().zip(spans).zip(self.values.chunks_exact(N)) {
+            let cp = &ctrl[span + 1 - N..=span];
+            let mut c = Vec3::ZERO;
+            for j in 0..N {
+                c += cp[j] * nb[j];
+            }
+            out.push((c - *q).norm());
+        }
     }
 }
 
