@@ -221,11 +221,11 @@ impl LsqSolver {
         let m = points.len();
         let mut k = 0;
         while k < m {
-            let span = self.basis.spans[k];
+            let span = self.basis.spans()[k];
             let interior = !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl;
             if !layout.closed && weights.is_none() && p == 3 {
                 // the run of points in this span, summed in registers
-                let run = self.basis.spans[k..].iter().take_while(|&&s| s == span);
+                let run = self.basis.spans()[k..].iter().take_while(|&&s| s == span);
                 let end = k + run.count();
                 // unknown columns a0..a1 of the span's p + 1, the others fixed
                 let first_col = span - p;
@@ -242,7 +242,7 @@ impl LsqSolver {
                     unknown: a0..a1.max(a0),
                     fixed: fixed_cols,
                 };
-                let values = &self.basis.values[4 * k..4 * end];
+                let values = self.basis.values(k, end);
                 block.add_to(
                     &mut self.mat,
                     &mut self.rhs,
@@ -254,9 +254,8 @@ impl LsqSolver {
                 continue;
             }
             let q = &points[k];
-            let nb = self.basis.values_mut(k);
-            k += 1;
             if let Some(w) = weights {
+                let nb = self.basis.values_mut(k);
                 let mut sum = 0.0;
                 for (v, wj) in nb.iter_mut().zip(&w[span - p..]) {
                     *v *= wj;
@@ -266,6 +265,8 @@ impl LsqSolver {
                     *v /= sum;
                 }
             }
+            let nb = self.basis.values(k, k + 1);
+            k += 1;
             if interior {
                 // every column of the span is an unknown: no fixed columns, no wrapping
                 let base = span - p - layout.lo;
@@ -364,7 +365,7 @@ impl LsqSolver {
 
     /// The knot span of every data point of the last solve.
     pub fn data_spans(&self) -> &[usize] {
-        &self.basis.spans
+        self.basis.spans()
     }
 
     fn check(
