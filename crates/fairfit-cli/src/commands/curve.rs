@@ -120,6 +120,10 @@ pub struct CurveArgs {
     /// Do not detect corners.
     #[arg(long)]
     pub no_corners: bool,
+    /// Integrated method: skip the band fairing of the final control points (sequential convex
+    /// programming inside the tolerance band).
+    #[arg(long)]
+    pub no_band_fairing: bool,
     /// Parameter-correction rounds per least-squares fit.
     #[arg(long, default_value_t = 0)]
     pub correction_rounds: usize,
@@ -185,6 +189,12 @@ pub fn run(args: CurveArgs) -> CmdResult {
             args.corner_angle
         )));
     }
+    if !(args.smoothing.is_finite() && args.smoothing >= 0.0) {
+        return Err(CliError(format!(
+            "--smoothing must be a finite number >= 0, got {}",
+            args.smoothing
+        )));
+    }
     if args.control_points.is_some() && args.method != Method::Integrated {
         return Err(CliError(
             "--control-points needs --method integrated".into(),
@@ -197,6 +207,14 @@ pub fn run(args: CurveArgs) -> CmdResult {
             args.input.display(),
             set.dropped_duplicates
         );
+    }
+    // more control points than data points leave the fit undetermined (and a huge count would run
+    // the search for ever)
+    if let Some(n) = args.control_points.filter(|&n| n > set.points.len()) {
+        return Err(CliError(format!(
+            "--control-points {n} exceeds the {} distinct input points",
+            set.points.len()
+        )));
     }
     let opts = FitOptions {
         degree: args.degree as usize,

@@ -14,7 +14,7 @@ use fairfit::io::{curve_to_json, write_atomic};
 use fairfit::optim::integrated::{
     fit_integrated_with_progress, IntegratedOptions, IntegratedResult, Tolerance,
 };
-use fairfit::optim::pareto::{pareto_csv, pareto_front};
+use fairfit::optim::pareto::pareto_csv;
 use fairfit::{NurbsCurve, Vec3};
 use serde_json::{json, Value};
 
@@ -54,18 +54,20 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
         seed: args.seed,
         control_points: args.control_points,
         corner_angle_deg: (!args.no_corners).then_some(args.corner_angle),
+        closed: if args.closed {
+            fairfit::fit::tolerance::ClosedMode::Closed
+        } else {
+            fairfit::fit::tolerance::ClosedMode::Auto
+        },
+        band_fairing: !args.no_band_fairing,
         ..IntegratedOptions::default()
     }
 }
 
 /// `--method integrated`.
 pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput, CliError> {
-    if args.closed {
-        return Err(CliError(
-            "--closed is not supported by --method integrated yet; use --method lsq".into(),
-        ));
-    }
     let opts = integrated_options(args);
+    let closed = fairfit::optim::closed::is_closed(points, opts.closed);
     let bar = crate::progress::bar(0, "knot search");
     let r: IntegratedResult = fit_integrated_with_progress(points, &opts, &|n, it| {
         bar.set_message(format!("{n} control points"));
@@ -74,7 +76,8 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     bar.finish_and_clear();
     let mut report = json!({
         "method": "integrated",
-        "control_points": r.curve.n_control_points(),
+        "closed": closed,
+        "control_points": fairfit::optim::closed::distinct_control_points(&r.curve),
         "tolerance": r.tolerance,
         "tolerance_met": r.met,
         "max_deviation": r.quality.max_deviation,
@@ -95,26 +98,8 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         },
     });
     if let Some(path) = &args.pareto {
-        let knots = r.curve.knots();
-        let p = r.curve.degree();
-        let interior = &knots[p + 1..knots.len() - p - 1];
-        let front = pareto_front(
-            points,
-            &opts,
-            r.curve.n_control_points(),
-            Some((interior, r.log_lambda)),
-        )?;
-        write_atomic(path, pareto_csv(&front).as_bytes())?;
-        if let Some(dir) = &args.pareto_curves {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| CliError(fairfit::Error::io(dir, &e).to_string()))?;
-            for (i, c) in front.iter().enumerate() {
-                write_atomic(
-                    dir.join(format!("front_{i:03}.json")),
-                    curve_to_json(&c.curve).as_bytes(),
-                )?;
-            }
-        }
+        let front = fairfit::optim::pareto_joined::pareto_front_of_result(points, &opts, &r)?;
+        write_pareto(path, args, &front)?;
         report["pareto_members"] = json!(front.len());
     } else if args.pareto_curves.is_some() {
         return Err(CliError("--pareto-curves needs --pareto".into()));
@@ -129,6 +114,26 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         curve: r.curve,
         report,
     })
+}
+
+/// Writes the front as CSV to `path`, and every member as a curve JSON into `--pareto-curves`.
+fn write_pareto(
+    path: &std::path::Path,
+    args: &CurveArgs,
+    front: &[fairfit::optim::pareto::ParetoCurve],
+) -> Result<(), CliError> {
+    write_atomic(path, pareto_csv(front).as_bytes())?;
+    if let Some(dir) = &args.pareto_curves {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError(fairfit::Error::io(dir, &e).to_string()))?;
+        for (i, c) in front.iter().enumerate() {
+            write_atomic(
+                dir.join(format!("front_{i:03}.json")),
+                curve_to_json(&c.curve).as_bytes(),
+            )?;
+        }
+    }
+    Ok(())
 }
 
 /// `--method fit-then-fair`: the least-squares fit, then fairing within the same tolerance.

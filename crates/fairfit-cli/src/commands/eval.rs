@@ -114,7 +114,7 @@ fn eval_surface(s: &NurbsSurface, uv: &[(f64, f64)]) -> Result<Vec<Value>, CliEr
     let mut d = [Vec3::ZERO; 9];
     // far outside unit size the curvatures come from an exactly rescaled copy (fairfit::nurbs::scale)
     let f = normalising_factor(s.control_points_flat());
-    let scaled = (f != 1.0).then(|| scaled_surface(s, f));
+    let scaled = (f != 1.0).then(|| scaled_surface(s, f).ok()).flatten();
     let mut ws_scaled = scaled.as_ref().map(|t| SurfaceWorkspace::new(t, 2));
     let mut e = [Vec3::ZERO; 9];
     uv.iter()

@@ -74,3 +74,24 @@ pub fn warn_unrepresentable(what: &str) {
         )
     });
 }
+
+/// clap value parser: a finite number `>= 0` (NaN and infinities are refused up front, even for
+/// options the chosen method does not use).
+pub fn finite_non_negative(s: &str) -> Result<f64, String> {
+    let x: f64 = s.trim().parse().map_err(|e| format!("{e}"))?;
+    if x.is_finite() && x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("expected a finite number >= 0, got {s}"))
+    }
+}
+
+/// clap value parser: a finite number `> 0`.
+pub fn finite_positive(s: &str) -> Result<f64, String> {
+    let x: f64 = s.trim().parse().map_err(|e| format!("{e}"))?;
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("expected a finite number > 0, got {s}"))
+    }
+}

@@ -92,10 +92,10 @@ pub struct SurfaceArgs {
     #[arg(long)]
     pub approximate_v: Option<usize>,
     /// Smoothing weight of the approximation across the sections (relative to the data term).
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-3, value_parser = super::finite_non_negative)]
     pub smooth_v: f64,
     /// A chain edge longer than this many median spacings is reported as a gap (slicing).
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, value_parser = super::finite_positive)]
     pub gap_factor: f64,
     /// Write a JSON report of the measures here.
     #[arg(long)]
@@ -240,6 +240,9 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     outputs.extend(args.outputs.named());
     let inputs: Vec<&std::path::Path> = args.input.iter().map(|p| p.as_path()).collect();
     check_output_paths(&outputs, &inputs)?;
+    if stacking_normal(&args)?.norm() <= 0.0 {
+        return Err(CliError("--normal must be a non-zero vector".into()));
+    }
     let input = read_input(&args)?;
     let largest = input
         .sections

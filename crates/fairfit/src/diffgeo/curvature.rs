@@ -94,8 +94,10 @@ pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
 /// quantities come from an exactly rescaled copy (see [`crate::nurbs::scale`]).
 pub fn differentials(curve: &NurbsCurve, u: f64) -> CurveDifferentials {
     let f = crate::nurbs::scale::normalising_factor(curve.control_points());
-    if f != 1.0 {
-        let s = crate::nurbs::scale::scaled_curve(curve, f);
+    if let Some(s) = (f != 1.0)
+        .then(|| crate::nurbs::scale::scaled_curve(curve, f).ok())
+        .flatten()
+    {
         let mut d = [Vec3::ZERO; 4];
         s.derivatives_into(u, 3, &mut d);
         let m = differentials_from(u, &d);

@@ -46,8 +46,11 @@ pub struct CurveFairness {
 pub fn curve_fairness(curve: &NurbsCurve) -> CurveFairness {
     // far outside unit size, measure an exactly rescaled copy (see `nurbs::scale`)
     let f = crate::nurbs::scale::normalising_factor(curve.control_points());
-    if f != 1.0 {
-        let mut m = curve_fairness(&crate::nurbs::scale::scaled_curve(curve, f));
+    if let Some(s) = (f != 1.0)
+        .then(|| crate::nurbs::scale::scaled_curve(curve, f).ok())
+        .flatten()
+    {
+        let mut m = curve_fairness(&s);
         m.length /= f; // lengths scale with the curve
         m.energy *= f * f * f; // ∫ (dκ/ds)² ds scales as 1/L³
         m.bending_energy *= f; // ∫ κ² ds scales as 1/L

@@ -208,6 +208,17 @@ fn parse_ply(bytes: &[u8], name: &str) -> Result<Mesh> {
     };
     let mut poly = Vec::new();
     for el in &elements {
+        // every row must consume data, so a huge count in a short file ends with "data ends early"
+        // instead of looping (and allocating) once per claimed row
+        if el.props.is_empty() && el.count > 0 {
+            return Err(bad(
+                name,
+                format!(
+                    "element {} has {} rows but no properties",
+                    el.name, el.count
+                ),
+            ));
+        }
         let xi = el.props.iter().position(|p| p.name == "x");
         let yi = el.props.iter().position(|p| p.name == "y");
         let zi = el.props.iter().position(|p| p.name == "z");

@@ -5,10 +5,12 @@
 //! interval by interval until the chord height, measured at the quarter points of every grid edge and
 //! at every cell centre, is at most the tolerance (or a size limit is hit, which is an error naming the
 //! tolerance). Normals are `S_u × S_v`, normalised; at a degenerate point (collapsed edge, pole) the
-//! normal is taken a little inside the domain.
+//! normal is taken a little inside the domain. Geometry far outside unit size (near 1e±300) is
+//! tessellated on an exactly rescaled copy (see [`crate::nurbs::scale`]).
 
 use crate::errors::{Error, Result};
 use crate::nurbs::knots::distinct_breakpoints;
+use crate::nurbs::scale::{normalising_factor, scaled_curve, scaled_surface};
 use crate::nurbs::{NurbsCurve, NurbsSurface, SurfaceWorkspace, Vec3};
 
 /// Triangles with per-vertex normals, and/or polylines (indices into `vertices`).
@@ -71,13 +73,49 @@ fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     (p - (a + ab * t)).norm()
 }
 
+/// Most intervals per direction a tessellation may ask for (a surface mesh has its square in vertices).
+pub const MAX_INTERVALS: usize = 1 << 16;
+
 fn check_tol(opts: &TessellationOptions) -> Result<()> {
+    if !(1..=MAX_INTERVALS).contains(&opts.max_intervals) || opts.min_per_span > opts.max_intervals
+    {
+        return Err(Error::InvalidOption(format!(
+            "tessellation needs 1 <= samples per span ({}) <= max intervals ({}) <= {MAX_INTERVALS}",
+            opts.min_per_span, opts.max_intervals
+        )));
+    }
     match opts.chord_tol {
         Some(t) if !(t.is_finite() && t > 0.0) => Err(Error::InvalidOption(format!(
             "chord tolerance must be positive and finite, got {t}"
         ))),
         _ => Ok(()),
     }
+}
+
+/// Runs `tessellate` on a copy scaled by the exact power of two `f` (see [`crate::nurbs::scale`]) with
+/// the chord tolerance scaled alike, and scales the vertices back: chord heights, normals and their
+/// squares stay in range for geometry near 1e±300. The error names the caller's tolerance.
+fn rescaled(
+    f: f64,
+    opts: &TessellationOptions,
+    tessellate: impl FnOnce(&TessellationOptions) -> Result<Mesh>,
+) -> Result<Mesh> {
+    let scaled_opts = TessellationOptions {
+        chord_tol: opts.chord_tol.map(|t| t * f),
+        ..*opts
+    };
+    let mut mesh = tessellate(&scaled_opts).map_err(|_| {
+        Error::InvalidOption(format!(
+            "chord tolerance {} not reached with {} intervals per direction; use a larger tolerance",
+            opts.chord_tol.unwrap_or(0.0),
+            opts.max_intervals
+        ))
+    })?;
+    let g = 1.0 / f;
+    for v in &mut mesh.vertices {
+        *v = *v * g;
+    }
+    Ok(mesh)
 }
 
 fn refine(ts: &mut Vec<f64>, split: &[bool], max: usize, tol: f64) -> Result<bool> {
@@ -104,6 +142,14 @@ fn refine(ts: &mut Vec<f64>, split: &[bool], max: usize, tol: f64) -> Result<boo
 /// A curve as one polyline meeting the chord tolerance.
 pub fn tessellate_curve(c: &NurbsCurve, opts: &TessellationOptions) -> Result<Mesh> {
     check_tol(opts)?;
+    let f = normalising_factor(c.control_points());
+    if let Some(t) = (f != 1.0).then(|| scaled_curve(c, f).ok()).flatten() {
+        return rescaled(f, opts, |o| tessellate_curve_as_is(&t, o));
+    }
+    tessellate_curve_as_is(c, opts)
+}
+
+fn tessellate_curve_as_is(c: &NurbsCurve, opts: &TessellationOptions) -> Result<Mesh> {
     let mut ts = initial_params(c.knots(), c.degree(), opts.min_per_span);
     if let Some(tol) = opts.chord_tol {
         loop {
@@ -198,6 +244,14 @@ fn normal_at(s: &NurbsSurface, u: f64, v: f64, ws: &mut SurfaceWorkspace) -> Vec
 /// A surface as a triangle mesh with vertex normals meeting the chord tolerance.
 pub fn tessellate_surface(s: &NurbsSurface, opts: &TessellationOptions) -> Result<Mesh> {
     check_tol(opts)?;
+    let f = normalising_factor(s.control_points_flat());
+    if let Some(t) = (f != 1.0).then(|| scaled_surface(s, f).ok()).flatten() {
+        return rescaled(f, opts, |o| tessellate_surface_as_is(&t, o));
+    }
+    tessellate_surface_as_is(s, opts)
+}
+
+fn tessellate_surface_as_is(s: &NurbsSurface, opts: &TessellationOptions) -> Result<Mesh> {
     let mut us = initial_params(s.knots_u(), s.degree_u(), opts.min_per_span);
     let mut vs = initial_params(s.knots_v(), s.degree_v(), opts.min_per_span);
     if let Some(tol) = opts.chord_tol {

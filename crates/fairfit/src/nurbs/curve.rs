@@ -113,6 +113,7 @@ impl NurbsCurve {
         }
         let weights = weights.unwrap_or_else(|| vec![1.0; n]);
         validate_weights(&weights, n)?;
+        validate_homogeneous(&control_points, &weights)?;
         Ok(Self::from_parts_unchecked(
             degree,
             knots,
@@ -402,6 +403,22 @@ impl NurbsCurve {
             self.derivatives_with(*u, d, &mut bufs, chunk);
         }
     }
+}
+
+/// Checks that every weighted control point `w·P` (what evaluation sums) is finite: a weight of 1e300
+/// on a coordinate of 1e300 overflows and would evaluate as NaN.
+pub(crate) fn validate_homogeneous(points: &[Vec3], weights: &[f64]) -> Result<()> {
+    if let Some(i) = points
+        .iter()
+        .zip(weights)
+        .position(|(p, &w)| !(*p * w).is_finite())
+    {
+        return Err(Error::InvalidWeights(format!(
+            "weight {i} ({}) times control point {i} {:?} overflows; scale the weights down",
+            weights[i], points[i].0
+        )));
+    }
+    Ok(())
 }
 
 /// Checks weights: right count, finite, strictly positive.

@@ -7,8 +7,9 @@ use super::insert::{lerp, Hom};
 use super::surface::binom;
 use crate::errors::{Error, Result};
 
-/// Highest degree that degree elevation produces (binomial weights stay exact well beyond it).
-pub(crate) const MAX_DEGREE: usize = 40;
+// the highest degree elevation produces is the limit of every curve and surface (binomial weights stay
+// exact well beyond it)
+use super::knots::MAX_DEGREE;
 
 /// Raises the degree `p` of the homogeneous curve `(knots, cw)` by `t` (NURBS Book A5.9).
 ///
@@ -191,11 +192,6 @@ impl NurbsCurve {
     pub fn elevate_degree(&self, t: usize) -> Result<NurbsCurve> {
         let (knots, cw) =
             elevate_degree_hom(self.degree(), self.knots(), self.homogeneous_points(), t)?;
-        Ok(super::insert::from_hom_parts(
-            self.degree() + t,
-            knots,
-            &cw,
-            self.is_rational(),
-        ))
+        super::insert::try_from_hom_parts(self.degree() + t, knots, &cw, self.is_rational())
     }
 }

@@ -95,7 +95,7 @@ impl NurbsCurve {
             u,
             times,
         )?;
-        Ok(self.with_homogeneous(knots, &cw))
+        try_from_hom_parts(self.degree(), knots, &cw, self.is_rational())
     }
 
     /// A curve of the same degree (and the same rationality) from new knots and homogeneous points
@@ -114,6 +114,19 @@ pub(crate) fn from_hom_parts(
 ) -> NurbsCurve {
     let (pts, w) = dehomogenize(cw, rational);
     NurbsCurve::from_parts_unchecked(degree, knots, pts, w)
+}
+
+/// Builds a curve from homogeneous points, validating the result: with weights spanning hundreds of
+/// orders of magnitude a combined weight can underflow to 0 (or a point overflow), which is a typed
+/// error here instead of a curve holding NaN.
+pub(crate) fn try_from_hom_parts(
+    degree: usize,
+    knots: Vec<f64>,
+    cw: &[Hom],
+    rational: bool,
+) -> crate::errors::Result<NurbsCurve> {
+    let (pts, w) = dehomogenize(cw, rational);
+    NurbsCurve::new(degree, knots, pts, Some(w))
 }
 
 /// Euclidean points and weights from homogeneous points; `rational == false` forces weights 1.

@@ -3,7 +3,7 @@
 
 use super::basis::basis_funs_into;
 use super::curve::NurbsCurve;
-use super::insert::{from_hom_parts, Hom};
+use super::insert::{try_from_hom_parts, Hom};
 use super::knots::find_span;
 use super::surface::NurbsSurface;
 use crate::errors::Result;
@@ -30,12 +30,12 @@ impl NurbsSurface {
         let q: Vec<Hom> = (0..n_v)
             .map(|j| contract(&n, |r| &cw[(span - p + r) * n_v + j]))
             .collect();
-        Ok(from_hom_parts(
+        try_from_hom_parts(
             self.degree_v(),
             self.knots_v().to_vec(),
             &q,
             self.is_rational(),
-        ))
+        )
     }
 
     /// The curve `u ↦ S(u, v0)` (degree `p`, the u knot vector). Errors when `v0` lies outside the v domain.
@@ -62,12 +62,12 @@ impl NurbsSurface {
         let pts: Vec<Hom> = (0..n_u)
             .map(|i| contract(&n, |r| &cw[i * n_v + span - q + r]))
             .collect();
-        Ok(from_hom_parts(
+        try_from_hom_parts(
             self.degree_u(),
             self.knots_u().to_vec(),
             &pts,
             self.is_rational(),
-        ))
+        )
     }
 }
 

@@ -5,15 +5,27 @@ use crate::errors::{Error, Result};
 /// Relative tolerance used to decide whether two knots coincide.
 pub const KNOT_EPS: f64 = 1e-12;
 
+/// Highest degree accepted anywhere (and the most degree elevation produces). Evaluation needs
+/// `(p + 1)²` scratch values and `O(p²)` work per point, so a degree read from a file (up to
+/// `usize::MAX`) must be bounded; no practical curve or surface comes near it (the CLI fits degree 15
+/// at most).
+pub const MAX_DEGREE: usize = 40;
+
 /// Checks a knot vector for a curve of `degree` with `n_ctrl` control points.
 ///
-/// Requires `len == n_ctrl + degree + 1`, finite values, non-decreasing order, interior multiplicities
-/// `<= degree + 1` and a non-empty domain `[U[p], U[n+1]]`. Clamped and unclamped vectors are accepted.
+/// Requires `1 <= degree <= MAX_DEGREE`, `len == n_ctrl + degree + 1`, finite values, non-decreasing
+/// order, interior multiplicities `<= degree + 1` and a non-empty domain `[U[p], U[n+1]]`. Clamped and unclamped vectors are accepted.
 pub fn validate_knots(knots: &[f64], degree: usize, n_ctrl: usize, what: &str) -> Result<()> {
     if degree == 0 {
         return Err(Error::InvalidDegree {
             degree,
             reason: "the degree must be at least 1".into(),
+        });
+    }
+    if degree > MAX_DEGREE {
+        return Err(Error::InvalidDegree {
+            degree,
+            reason: format!("{what}: the degree must be at most {MAX_DEGREE}"),
         });
     }
     if n_ctrl < degree + 1 {

@@ -8,6 +8,7 @@
 //! there are unchanged to the bit.
 
 use super::{NurbsCurve, NurbsSurface, Vec3};
+use crate::errors::Result;
 
 /// Extents in this range (in powers of two) are measured as they are.
 const SAFE_EXPONENT: i32 = 64;
@@ -41,8 +42,10 @@ pub fn normalising_factor(points: &[Vec3]) -> f64 {
     f
 }
 
-/// `curve` with control points multiplied by `f` (weights and knots kept).
-pub fn scaled_curve(curve: &NurbsCurve, f: f64) -> NurbsCurve {
+/// `curve` with control points multiplied by `f` (weights and knots kept). Errors when a scaled
+/// weighted control point would overflow (huge weights on a tiny curve); callers then measure the
+/// curve unscaled.
+pub fn scaled_curve(curve: &NurbsCurve, f: f64) -> Result<NurbsCurve> {
     let pts = curve.control_points().iter().map(|&p| p * f).collect();
     NurbsCurve::new(
         curve.degree(),
@@ -50,11 +53,11 @@ pub fn scaled_curve(curve: &NurbsCurve, f: f64) -> NurbsCurve {
         pts,
         Some(curve.weights().to_vec()),
     )
-    .expect("scaling by a finite power of two keeps a valid curve valid")
 }
 
-/// `surface` with control points multiplied by `f` (weights and knots kept).
-pub fn scaled_surface(surface: &NurbsSurface, f: f64) -> NurbsSurface {
+/// `surface` with control points multiplied by `f` (weights and knots kept). Errors like
+/// [`scaled_curve`].
+pub fn scaled_surface(surface: &NurbsSurface, f: f64) -> Result<NurbsSurface> {
     let (n_u, n_v) = surface.net_size();
     let net = (0..n_u)
         .map(|i| (0..n_v).map(|j| surface.control_point(i, j) * f).collect())
@@ -70,7 +73,6 @@ pub fn scaled_surface(surface: &NurbsSurface, f: f64) -> NurbsSurface {
         net,
         Some(w),
     )
-    .expect("scaling by a finite power of two keeps a valid surface valid")
 }
 
 #[cfg(test)]

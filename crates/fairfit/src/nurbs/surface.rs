@@ -4,7 +4,7 @@
 //! Written here for the same reasons as [`super::curve`]: fairfit owns its geometry core.
 
 use super::basis::{basis_funs_into, ders_basis_funs_into, Scratch, STACK_DEGREE};
-use super::curve::validate_weights;
+use super::curve::{validate_homogeneous, validate_weights};
 use super::knots::{find_span, validate_knots};
 use super::vec3::Vec3;
 use crate::errors::{Error, Result};
@@ -117,6 +117,7 @@ impl NurbsSurface {
         };
         validate_weights(&flat_w, n_u * n_v)?;
         let flat: Vec<Vec3> = control_points.into_iter().flatten().collect();
+        validate_homogeneous(&flat, &flat_w)?;
         Ok(Self::from_flat_unchecked(
             degree_u, degree_v, knots_u, knots_v, n_u, n_v, flat, flat_w,
         ))

@@ -19,6 +19,7 @@
 //! stops there, or knots are inserted where they help most above the baseline; step 5 is skipped), which is how the benchmark compares
 //! methods at equal control points.
 
+use super::band_fairing::{band_fair, BandOptions};
 use super::encoding::KnotEncoding;
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
 use super::polish::{polish, PolishOptions, Polished};
@@ -75,6 +76,12 @@ pub struct IntegratedOptions {
     /// Whether the final control points are refined by local fairing moves within the tolerance
     /// ([`super::polish`]).
     pub polish: bool,
+    /// Closed-curve handling as in the least-squares method (default: closed when the last point
+    /// repeats the first); closed data are fitted by [`super::closed`].
+    pub closed: crate::fit::tolerance::ClosedMode,
+    /// Whether the final control points are first faired inside the tolerance band by sequential
+    /// convex programming ([`super::band_fairing`]; with `polish`, the polish then finishes).
+    pub band_fairing: bool,
 }
 
 impl Default for IntegratedOptions {
@@ -93,7 +100,9 @@ impl Default for IntegratedOptions {
             fairness_gain: 1.1,
             control_points: None,
             polish: true,
+            band_fairing: true,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
+            closed: crate::fit::tolerance::ClosedMode::Auto,
         }
     }
 }
@@ -179,12 +188,15 @@ pub fn fit_integrated_with_progress(
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
+    if let Some(r) = super::closed::fit_if_closed(points, opts, progress, start)? {
+        return Ok(r);
+    }
     let prep = prepare(points, opts.degree)?;
     if let Some(angle) = opts.corner_angle_deg {
         let corners = crate::fit::shape::detect_corners(&prep.data.points, false, angle);
         let ranges = super::corners::pieces(prep.data.points.len(), &corners);
         if ranges.len() > 1 {
-            return fit_with_corners(&prep, &ranges, opts, progress, start);
+            return super::corner_fit::fit_with_corners(&prep, &ranges, opts, progress, start);
         }
     }
     let tol = tolerance_of(opts, prep.scale);
@@ -432,109 +444,6 @@ pub fn fit_integrated_with_progress(
     })
 }
 
-/// The integrated method on the pieces between corners (`ranges` of the normalised points), joined
-/// C0 ([`super::corners`]); every piece gets the whole curve's tolerance and its own seed stream.
-fn fit_with_corners(
-    prep: &Prepared,
-    ranges: &[(usize, usize)],
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    start: Instant,
-) -> Result<IntegratedResult> {
-    use super::corners::{join, straight_piece};
-    if opts.control_points.is_some() {
-        return Err(Error::InvalidOption(format!(
-            "a fixed control-point count cannot be shared among {} pieces between corners; \
-             fit without corner detection",
-            ranges.len()
-        )));
-    }
-    let tol = tolerance_of(opts, prep.scale);
-    let p = opts.degree;
-    let pts = &prep.data.points;
-    let mut curves = Vec::with_capacity(ranges.len());
-    let mut shares = Vec::with_capacity(ranges.len());
-    let mut stats = OptimStats::default();
-    let (mut max_dev, mut sum2, mut count) = (0.0f64, 0.0, 0usize);
-    let (mut met, mut baseline) = (true, 0);
-    for (i, &(a, b)) in ranges.iter().enumerate() {
-        let piece = &pts[a..=b];
-        shares.push(piece.windows(2).map(|w| (w[1] - w[0]).norm()).sum::<f64>());
-        let joint = usize::from(i > 0);
-        if piece.len() < (p + 1).max(3) {
-            // too few points for a cubic of its own: the straight segment
-            for q in &piece[1..piece.len() - 1] {
-                let d = point_segment_distance(*q, piece[0], piece[piece.len() - 1]);
-                max_dev = max_dev.max(d);
-                sum2 += d * d;
-            }
-            count += piece.len();
-            curves.push(straight_piece(piece[0], piece[piece.len() - 1], p)?);
-            baseline += p + 1 - joint;
-            continue;
-        }
-        let sub = IntegratedOptions {
-            tolerance: Tolerance::Absolute(tol),
-            corner_angle_deg: None,
-            seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
-            ..opts.clone()
-        };
-        let r = fit_integrated_with_progress(piece, &sub, progress)?;
-        max_dev = max_dev.max(r.quality.max_deviation);
-        // the piece's RMS is over all its points (its interpolated ends count as 0)
-        sum2 += r.quality.rms_deviation.powi(2) * piece.len() as f64;
-        count += piece.len();
-        met &= r.met;
-        baseline += r.baseline_control_points - joint;
-        stats.evaluations += r.stats.evaluations;
-        stats.iterations += r.stats.iterations;
-        stats.polish_moves += r.stats.polish_moves;
-        stats.counts_tried.extend(&r.stats.counts_tried);
-        stats.fairness_by_count.extend(&r.stats.fairness_by_count);
-        curves.push(r.curve);
-    }
-    let joined = join(&curves, &shares)?;
-    let ctrl: Vec<Vec3> = joined
-        .control_points()
-        .iter()
-        .map(|&c| prep.denormalise(c))
-        .collect();
-    let curve = NurbsCurve::bspline(p, joined.knots().to_vec(), ctrl)?;
-    let f = crate::fair::curve_fairness(&curve);
-    let quality = FitQuality {
-        max_deviation: max_dev * prep.scale,
-        rms_deviation: (sum2 / count.max(1) as f64).sqrt() * prep.scale,
-        fairness: f.fairness,
-        max_span_fairness: f.max_span_fairness,
-    };
-    met &= max_dev <= tol
-        && opts
-            .span_fairness
-            .is_none_or(|t| quality.max_span_fairness <= t);
-    stats.seconds = start.elapsed().as_secs_f64();
-    Ok(IntegratedResult {
-        curve,
-        quality,
-        tolerance: tol * prep.scale,
-        met,
-        log_lambda: f64::NEG_INFINITY,
-        baseline_control_points: baseline,
-        stats,
-    })
-}
-
-/// Distance from `q` to the segment `[a, b]`.
-fn point_segment_distance(q: Vec3, a: Vec3, b: Vec3) -> f64 {
-    let ab = b - a;
-    let l2 = ab.norm_squared();
-    let t = if l2 > 0.0 {
-        ((q - a).dot(ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + ab * t - q).norm()
-}
-
 /// The least-squares fit with averaging knots and `n_ctrl` control points (the baseline the
 /// integrated method starts from), measured like the integrated result.
 pub fn fit_lsq_baseline(
@@ -748,14 +657,14 @@ pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
 
 /// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
 ///
-/// With `polish_within = Some((tol, F*))` the control points are then refined by [`polish`] within
-/// `tol` (and the per-span target `F*`).
+/// With `polish_within = Some((tol, F*, band))` the control points are then refined by [`polish`]
+/// within `tol` (and the per-span target `F*`), after [`band_fair`] when `band` is set.
 pub(crate) fn finish_curve(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
     degree: usize,
-    polish_within: Option<(f64, Option<f64>)>,
+    polish_within: Option<(f64, Option<f64>, bool)>,
 ) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut ws = EvalWorkspace::default();
     set_knots(degree, interior, &mut ws);
@@ -766,7 +675,15 @@ pub(crate) fn finish_curve(
         ));
     }
     let mut polished = None;
-    if let Some((tol, span_cap)) = polish_within {
+    if let Some((tol, span_cap, band)) = polish_within {
+        if band {
+            let start = ws.foot_params.clone();
+            let bo = BandOptions {
+                span_cap,
+                ..BandOptions::default()
+            };
+            band_fair(&prep.data, &mut ws, &start, tol, &bo);
+        }
         let start = ws.foot_params.clone();
         let po = PolishOptions {
             span_cap,
@@ -804,7 +721,7 @@ fn finish(
         interior,
         log_lambda,
         opts.degree,
-        polish_within.map(|t| (t, opts.span_fairness)),
+        polish_within.map(|t| (t, opts.span_fairness, opts.band_fairing)),
     )?;
     let met = quality.max_deviation <= tol * prep.scale
         && opts

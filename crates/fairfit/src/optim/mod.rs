@@ -1,26 +1,38 @@
 //! Particle swarm optimisation of knot vectors: the integrated fitting-and-fairing method.
 //!
+//! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
+//! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
+//! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
+//!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
 //! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
+//! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
+//!   convex programming with second-order cones);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
-//! - [`pareto`]: the Pareto front of curves for `--pareto`.
+//! - [`pareto`]: the Pareto front of curves for `--pareto`;
+//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners.
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
+pub mod band_fairing;
+pub mod closed;
+pub mod corner_fit;
 pub mod corners;
 pub mod encoding;
 pub mod integrated;
 pub mod mopso;
 pub mod objective;
 pub mod pareto;
+pub mod pareto_joined;
+pub mod periodic;
 pub mod polish;
 pub mod prepare;
 pub mod problem;

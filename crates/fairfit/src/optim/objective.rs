@@ -19,13 +19,13 @@ use crate::nurbs::Vec3;
 pub const MAX_DEGREE: usize = 7;
 const P1: usize = MAX_DEGREE + 1;
 
-const GL_X: [f64; 4] = [
+pub(crate) const GL_X: [f64; 4] = [
     0.183_434_642_495_649_8,
     0.525_532_409_916_329,
     0.796_666_477_413_626_7,
     0.960_289_856_497_536_3,
 ];
-const GL_W: [f64; 4] = [
+pub(crate) const GL_W: [f64; 4] = [
     0.362_683_783_378_362,
     0.313_706_645_877_887_3,
     0.222_381_034_453_374_5,
@@ -592,7 +592,7 @@ fn fairness_totals(ws: &mut EvalWorkspace) -> (f64, f64) {
 
 /// Speed `|C'|` and `dκ/du` (signed planar curvature when `planar`), guarded near zero.
 #[inline]
-fn speed_and_dkappa_du(d: &[Vec3; 4], planar: bool) -> (f64, f64) {
+pub(crate) fn speed_and_dkappa_du(d: &[Vec3; 4], planar: bool) -> (f64, f64) {
     let (r, a, b) = (d[1], d[2], d[3]);
     let v2 = r.norm_squared();
     let v = v2.sqrt();

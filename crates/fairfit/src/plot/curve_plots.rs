@@ -29,7 +29,30 @@ pub struct CurvatureSample {
 }
 
 /// Curvature samples (nodes strictly inside every span) and the arc length at each breakpoint.
+///
+/// Far outside unit size (near 1e±300, where `|C'|⁴` over- or underflows) the samples come from an
+/// exactly rescaled copy (see [`crate::nurbs::scale`]) and are scaled back.
 pub fn curvature_samples(c: &NurbsCurve) -> (Vec<CurvatureSample>, Vec<f64>) {
+    let f = crate::nurbs::scale::normalising_factor(c.control_points());
+    if let Some(t) = (f != 1.0)
+        .then(|| crate::nurbs::scale::scaled_curve(c, f).ok())
+        .flatten()
+    {
+        let (mut samples, mut knot_s) = curvature_samples_as_is(&t);
+        let g = 1.0 / f;
+        for x in &mut samples {
+            x.s *= g;
+            x.point = x.point * g;
+            x.kappa_vec = x.kappa_vec * f;
+            x.kappa *= f;
+        }
+        knot_s.iter_mut().for_each(|s| *s *= g);
+        return (samples, knot_s);
+    }
+    curvature_samples_as_is(c)
+}
+
+fn curvature_samples_as_is(c: &NurbsCurve) -> (Vec<CurvatureSample>, Vec<f64>) {
     let planar = is_xy_planar(c);
     let bp = distinct_breakpoints(c.knots(), c.degree());
     let mut d = [Vec3::ZERO; 3];

@@ -55,7 +55,19 @@ pub fn deviation_map_svg(s: &NurbsSurface, points: &[Vec3], size: PlotSize) -> R
     }
     let feet = project_points(s, points);
     let max = feet.iter().fold(0.0_f64, |m, f| m.max(f.distance));
-    let rms = (feet.iter().map(|f| f.distance.powi(2)).sum::<f64>() / feet.len() as f64).sqrt();
+    // relative to the largest distance, so the squares stay in range near 1e±300
+    let unit = if max > 0.0 && max.is_finite() {
+        max
+    } else {
+        1.0
+    };
+    let rms = unit
+        * (feet
+            .iter()
+            .map(|f| (f.distance / unit).powi(2))
+            .sum::<f64>()
+            / feet.len() as f64)
+            .sqrt();
     let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
     let bar = PlotSize {
         width: size.width.saturating_sub(90).max(100),

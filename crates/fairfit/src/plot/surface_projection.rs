@@ -30,7 +30,24 @@ fn grid(knots: &[f64], degree: usize) -> Vec<f64> {
 }
 
 /// Projects every point of `qs` onto `s`.
+///
+/// Far outside unit size (near 1e±300, where squared distances over- or underflow) the projection runs
+/// on exactly rescaled copies (see [`crate::nurbs::scale`]) and the distances are scaled back.
 pub fn project_points(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
+    let f = crate::nurbs::scale::normalising_factor(s.control_points_flat());
+    if let Some(t) = (f != 1.0)
+        .then(|| crate::nurbs::scale::scaled_surface(s, f).ok())
+        .flatten()
+    {
+        let scaled: Vec<Vec3> = qs.iter().map(|&q| q * f).collect();
+        let mut feet = project_points_as_is(&t, &scaled);
+        feet.iter_mut().for_each(|x| x.distance /= f);
+        return feet;
+    }
+    project_points_as_is(s, qs)
+}
+
+fn project_points_as_is(s: &NurbsSurface, qs: &[Vec3]) -> Vec<SurfaceFoot> {
     let us = grid(s.knots_u(), s.degree_u());
     let vs = grid(s.knots_v(), s.degree_v());
     let samples: Vec<(f64, f64, Vec3)> = us

@@ -311,10 +311,30 @@ pub fn make_compatible_with_progress(
     progress: &mut dyn FnMut(usize),
 ) -> Result<CompatibleSections> {
     let p = opts.degree;
-    if p == 0 {
-        return Err(Error::InvalidOption(
-            "section degree must be at least 1".into(),
-        ));
+    if p == 0 || p > crate::nurbs::knots::MAX_DEGREE {
+        return Err(Error::InvalidOption(format!(
+            "section degree must be in 1..={}, got {p}",
+            crate::nurbs::knots::MAX_DEGREE
+        )));
+    }
+    let finite_non_negative = |x: &f64| x.is_finite() && *x >= 0.0;
+    if !finite_non_negative(&opts.smoothing) {
+        return Err(Error::InvalidOption(format!(
+            "section smoothing must be finite and >= 0, got {}",
+            opts.smoothing
+        )));
+    }
+    if !opts.fairing_weights.iter().all(finite_non_negative) {
+        return Err(Error::InvalidOption(format!(
+            "fairing weights must be finite and >= 0, got {:?}",
+            opts.fairing_weights
+        )));
+    }
+    if !opts.uniform_blends.iter().all(|b| (0.0..=1.0).contains(b)) {
+        return Err(Error::InvalidOption(format!(
+            "uniform blends must lie in [0, 1], got {:?}",
+            opts.uniform_blends
+        )));
     }
     if opts.tolerance.is_nan() || opts.tolerance <= 0.0 || !opts.tolerance.is_finite() {
         return Err(Error::InvalidOption(format!(

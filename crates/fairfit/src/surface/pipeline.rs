@@ -54,6 +54,12 @@ pub struct SurfaceReconstruction {
 
 /// Checks that sections can make a surface; the message names the offending section.
 pub fn validate_sections(sections: &[Section], degree: usize) -> Result<()> {
+    if degree == 0 || degree > crate::nurbs::knots::MAX_DEGREE {
+        return Err(Error::InvalidOption(format!(
+            "section degree must be in 1..={}, got {degree}",
+            crate::nurbs::knots::MAX_DEGREE
+        )));
+    }
     if sections.len() < 2 {
         return Err(Error::InvalidData(format!(
             "a surface needs at least 2 sections, got {}",

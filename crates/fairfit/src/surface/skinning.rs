@@ -158,6 +158,12 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
             "degree in v must be at least 1".into(),
         ));
     }
+    if !(opts.smoothing.is_finite() && opts.smoothing >= 0.0) {
+        return Err(Error::InvalidOption(format!(
+            "the smoothing across the sections must be finite and >= 0, got {}",
+            opts.smoothing
+        )));
+    }
     let n_u = first.n_control_points();
     // columns: cols[i][k] = homogeneous control point i of section k
     let cols: Vec<Vec<[f64; 4]>> = (0..n_u)

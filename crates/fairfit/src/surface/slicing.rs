@@ -69,10 +69,13 @@ fn unit(n: Vec3) -> Result<Vec3> {
     Ok(n / l)
 }
 
+/// Most slicing planes [`slice_mesh`] accepts (every plane cuts every triangle).
+pub const MAX_SLICES: usize = 10_000;
+
 fn plane_offsets(points: &[Vec3], n: Vec3, count: usize) -> Result<Vec<f64>> {
-    if count < 2 {
+    if !(2..=MAX_SLICES).contains(&count) {
         return Err(Error::InvalidOption(format!(
-            "a surface needs at least 2 slices, got {count}"
+            "a surface needs at least 2 slices and at most {MAX_SLICES}, got {count}"
         )));
     }
     let (lo, hi) = points
@@ -114,6 +117,18 @@ fn chain_length(c: &[Vec3]) -> f64 {
 /// Slices a mesh (triangles) or a point cloud (no triangles) into sections.
 pub fn slice_mesh(mesh: &Mesh, opts: &SliceOptions) -> Result<Slices> {
     let n = unit(opts.normal)?;
+    for (name, v, min) in [
+        ("gap factor", opts.gap_factor, f64::MIN_POSITIVE),
+        ("slab", opts.slab, f64::MIN_POSITIVE),
+        ("close fraction", opts.close_fraction, 0.0),
+    ] {
+        if !(v.is_finite() && v >= min) {
+            return Err(Error::InvalidOption(format!(
+                "the slicing {name} must be finite and {}, got {v}",
+                if min > 0.0 { "> 0" } else { ">= 0" }
+            )));
+        }
+    }
     let offsets = plane_offsets(&mesh.vertices, n, opts.slices)?;
     let dir = in_plane_dir(n);
     let mut out = Slices::default();

@@ -1,0 +1,115 @@
+//! `fairfit curve --method integrated` on closed data and on data with corners: periodic output,
+//! `--control-points` shared among pieces, `--pareto` of the joined curve.
+
+use assert_cmd::Command;
+use serde_json::Value;
+use tempfile::TempDir;
+
+fn data(name: &str) -> String {
+    format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn run_report(args: &[&str], dir: &TempDir, tag: &str) -> (Value, Value) {
+    let out = dir.path().join(format!("{tag}.json"));
+    let rep = dir.path().join(format!("{tag}_report.json"));
+    Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(args)
+        .arg("-o")
+        .arg(&out)
+        .arg("--report")
+        .arg(&rep)
+        .assert()
+        .success();
+    let read = |p| serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+    (read(&out), read(&rep))
+}
+
+#[test]
+fn closed_circle_is_periodic_and_pareto_on_it_is_a_one_line_error() {
+    let dir = TempDir::new().unwrap();
+    let f = dir.path().join("circle.csv");
+    let mut s = String::from("x,y\n");
+    for i in 0..=100 {
+        let t = std::f64::consts::TAU * (i % 100) as f64 / 100.0;
+        s.push_str(&format!("{},{}\n", 2.0 * t.cos(), 2.0 * t.sin()));
+    }
+    std::fs::write(&f, s).unwrap();
+    let (c, r) = run_report(&["curve", f.to_str().unwrap()], &dir, "c");
+    assert_eq!(r["closed"], true);
+    assert_eq!(r["tolerance_met"], true);
+    let n_u = r["control_points"].as_u64().unwrap() as usize;
+    let ctrl = c["control_points"].as_array().unwrap();
+    // periodic: n_u + 3 control points, the last three repeat the first three
+    assert_eq!(ctrl.len(), n_u + 3);
+    assert_eq!(ctrl[..3], ctrl[n_u..]);
+    assert!(r["fairness"].as_f64().unwrap() < 200.0);
+    let o = Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(["curve", f.to_str().unwrap(), "--pareto"])
+        .arg(dir.path().join("front.csv"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("--pareto"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+}
+
+#[test]
+fn blunt_trailing_edge_fixed_count_and_pareto_keep_the_corners() {
+    let dir = TempDir::new().unwrap();
+    let fx = data("fx77w343.csv");
+    let (c0, r0) = run_report(&["curve", &fx, "--closed"], &dir, "free");
+    let n = r0["control_points"].as_u64().unwrap();
+    assert_eq!(r0["closed"], true);
+    assert_eq!(c0["control_points"].as_array().unwrap().len() as u64, n);
+    let front = dir.path().join("front.csv");
+    let curves = dir.path().join("front");
+    let ns = n.to_string();
+    let (c1, r1) = run_report(
+        &[
+            "curve",
+            &fx,
+            "--closed",
+            "--control-points",
+            &ns,
+            "--pareto",
+            front.to_str().unwrap(),
+            "--pareto-curves",
+            curves.to_str().unwrap(),
+        ],
+        &dir,
+        "fixed",
+    );
+    assert_eq!(r1["control_points"].as_u64().unwrap(), n);
+    assert_eq!(r1["tolerance_met"], true);
+    assert_eq!(c1["knots"], c0["knots"]);
+    let csv = std::fs::read_to_string(&front).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() >= 3, "{csv}");
+    for w in rows.windows(2) {
+        assert!(w[0][2] < w[1][2] && w[0][4] > w[1][4], "{csv}");
+    }
+    assert_eq!(r1["pareto_members"].as_u64().unwrap() as usize, rows.len());
+    assert_eq!(std::fs::read_dir(&curves).unwrap().count(), rows.len());
+    // too few control points for the pieces: one line naming the range
+    let o = Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(["curve", &fx, "--closed", "--control-points", "5"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.starts_with("error: ") && err.contains("between 7 and"),
+        "{err}"
+    );
+}

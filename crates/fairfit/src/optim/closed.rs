@@ -1,0 +1,505 @@
+//! Closed curves in the integrated method.
+//!
+//! Data are closed when the last point repeats the first (the least-squares method's test,
+//! [`crate::fit::shape::looks_closed`]) or when the caller says so ([`ClosedMode::Closed`]); the
+//! repeated point is dropped. Then, as in the least-squares method:
+//!
+//! - with corners (turning angle above the threshold, every point — the first included — judged
+//!   with its two neighbours on the loop), the loop is cut at its first corner and fitted as an open
+//!   curve from that corner back to it, the other corners kept as C0 knots ([`super::corners`]): the
+//!   result is a clamped curve whose two ends meet at the corner;
+//! - without corners, the curve is **periodic**: the seam is fixed at the first point, the swarm
+//!   searches the other `n_u − 1` breakpoints on the circle ([`super::periodic`]), the control points
+//!   come from periodic least squares (`C^(p−1)` at the seam), `F` is measured over the whole loop
+//!   and every point's orthogonal deviation counts. The output is written like the least-squares
+//!   method's closed curves: an unclamped periodic knot vector with `n_u + p` control points of which
+//!   the last `p` repeat the first.
+//!
+//! The search is the open method's ([`super::integrated`]) on periodic candidates: a baseline count
+//! (the least-squares method's periodic knots mapped onto these parameters, else equal index steps),
+//! the count descent by greedy knot removal and swarm probes, the full swarm and the smoothing line
+//! search at the smallest feasible count, and up to `max_extra_control_points` more when F shrinks by
+//! `fairness_gain` per point. `--control-points N` fixes `n_u = N` distinct control points. The
+//! control-point polish of open curves is not applied (its moves would have to keep the seam
+//! periodic).
+
+use super::integrated::{
+    fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions, IntegratedResult,
+    OptimStats,
+};
+use super::objective::CandidateEval;
+use super::periodic::{evaluate_closed, ClosedData, ClosedProblem, ClosedWorkspace};
+use super::prepare::{prepare, Prepared};
+use super::pso::{run_pso, PsoOptions, SwarmProblem};
+use super::smoothing::tune_smoothing;
+use crate::errors::{Error, Result};
+use crate::fit::shape::{detect_corners, looks_closed};
+use crate::fit::tolerance::ClosedMode;
+use crate::nurbs::{NurbsCurve, Vec3};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Smallest breakpoint gap as a fraction of the loop's parameter length.
+const MIN_GAP: f64 = 1e-4;
+
+/// Whether `points` are fitted as a closed curve under `mode`.
+pub fn is_closed(points: &[Vec3], mode: ClosedMode) -> bool {
+    match mode {
+        ClosedMode::Open => false,
+        ClosedMode::Closed => true,
+        ClosedMode::Auto => looks_closed(points),
+    }
+}
+
+/// The number of distinct control points of a curve: for a periodic curve (unclamped knots, the
+/// last `p` control points repeating the first) `n − p`, else `n`.
+pub fn distinct_control_points(curve: &NurbsCurve) -> usize {
+    let (p, n) = (curve.degree(), curve.n_control_points());
+    let k = curve.knots();
+    let c = curve.control_points();
+    let clamped = k[..=p].iter().all(|&u| u == k[0]);
+    if !clamped && n > 2 * p && (0..p).all(|i| c[i] == c[n - p + i]) {
+        n - p
+    } else {
+        n
+    }
+}
+
+/// The integrated fit of closed data, or `None` when the data are open under `opts.closed` (the
+/// caller then fits an open curve).
+pub fn fit_if_closed(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    start: Instant,
+) -> Result<Option<IntegratedResult>> {
+    if !is_closed(points, opts.closed) {
+        return Ok(None);
+    }
+    let mut pts = points.to_vec();
+    if looks_closed(&pts) {
+        pts.pop();
+    }
+    let prep = prepare(&pts, opts.degree)?;
+    let open = IntegratedOptions {
+        closed: ClosedMode::Open,
+        ..opts.clone()
+    };
+    if let Some(angle) = opts.corner_angle_deg {
+        let found = detect_corners(&prep.data.points, true, angle);
+        if let Some(&c0) = found.first() {
+            // cut the loop at its first corner: an open curve from the corner back to it
+            let mut seq: Vec<Vec3> = pts[c0..].iter().chain(&pts[..c0]).copied().collect();
+            seq.push(pts[c0]);
+            return fit_integrated_with_progress(&seq, &open, progress).map(Some);
+        }
+    }
+    fit_periodic(&prep, opts, progress, start).map(Some)
+}
+
+/// The periodic integrated fit of the prepared distinct points of a closed curve without corners.
+fn fit_periodic(
+    prep: &Prepared,
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    start: Instant,
+) -> Result<IntegratedResult> {
+    let data = ClosedData::new(prep)?;
+    let p = opts.degree;
+    let m = data.points.len();
+    // every span needs a data parameter inside (Schoenberg–Whitney): at most m − 1 spans
+    let max_n = m - 1;
+    if let Some(n) = opts.control_points {
+        if n < p + 1 || n > max_n {
+            return Err(Error::InvalidOption(format!(
+                "{n} control points do not fit a closed curve of degree {p} through {m} points \
+                 (give between {} and {max_n})",
+                p + 1
+            )));
+        }
+    }
+    let tol = tolerance_of(opts, prep.scale);
+    let mut stats = OptimStats::default();
+    let mut ws = ClosedWorkspace::default();
+    let mut eval = |knots: &[f64], stats: &mut OptimStats| {
+        stats.evaluations += 1;
+        evaluate_closed(&data, knots, f64::NEG_INFINITY, &mut ws)
+    };
+    let meets = |e: &CandidateEval| e.solved && e.max_deviation <= tol;
+
+    // baseline: equal index steps with the fewest spans meeting the tolerance (growth, bisection)
+    let (mut baseline, mut best_knots) = baseline(&data, p + 1, max_n, tol, &mut stats);
+    if let Some(k) = lsq_periodic_knots(&data, tol) {
+        if k.len() + 1 < baseline && meets(&eval(&k, &mut stats)) {
+            baseline = k.len() + 1;
+            best_knots = k;
+        }
+    }
+    let fixed = opts.control_points;
+    let mut best_n = baseline;
+    if let Some(n) = fixed {
+        while best_n < n {
+            best_knots = best_insertion(&data, &best_knots, tol);
+            best_n += 1;
+        }
+    }
+    let pso_opts = |iters: usize, probe: bool, salt: u64| PsoOptions {
+        particles: opts.particles,
+        max_iterations: iters,
+        stall_iterations: if probe { iters } else { 10 },
+        stall_rel: 1e-4,
+        seed_spread: 0.03,
+        random_fraction: 0.1,
+        stop_when_feasible: probe,
+        refine_evaluations: if probe { 0 } else { opts.refine_evaluations },
+        seed: opts.seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15),
+    };
+    let problem_for = |n: usize| {
+        ClosedProblem::new(
+            &data,
+            n,
+            MIN_GAP,
+            opts.search_smoothing,
+            tol,
+            opts.span_fairness,
+        )
+    };
+
+    // count descent: greedy removal, then a swarm probe
+    let lowest = fixed.unwrap_or(p + 1).max(p + 1);
+    let mut descent: Vec<(usize, Vec<f64>)> = vec![(best_n, best_knots.clone())];
+    while best_n > lowest {
+        let cand = best_n - 1;
+        stats.counts_tried.push(cand);
+        let removals = removal_candidates(&data, &best_knots);
+        stats.evaluations += best_knots.len();
+        if let Some((dev, k)) = removals.first() {
+            if *dev <= tol {
+                best_knots = k.clone();
+                best_n = cand;
+                descent.push((cand, best_knots.clone()));
+                continue;
+            }
+        }
+        if fixed.is_some() {
+            // the tolerance is out of reach at the fixed count: the least harmful removal
+            match removals.into_iter().next() {
+                Some((_, k)) => best_knots = k,
+                None => best_knots = equal_breaks(&data.params, cand),
+            }
+            best_n = cand;
+            continue;
+        }
+        let pr = problem_for(cand);
+        let mut seeds: Vec<Vec<f64>> = removals
+            .iter()
+            .take(3)
+            .map(|(_, k)| pr.position(k))
+            .collect();
+        seeds.push(pr.position(&equal_breaks(&data.params, cand)));
+        let r = run_pso(
+            &pr,
+            &seeds,
+            &pso_opts(opts.probe_iterations, true, cand as u64),
+            &|it| progress(cand, it),
+        );
+        stats.evaluations += r.evaluations;
+        stats.iterations += r.iterations;
+        let Some(k) = r
+            .fitness
+            .feasible()
+            .then(|| pr.decode(&r.position))
+            .flatten()
+        else {
+            break;
+        };
+        best_knots = k;
+        best_n = cand;
+        descent.push((cand, best_knots.clone()));
+    }
+
+    // full search at the smallest feasible count, then with extra points while they pay
+    let full = |n: usize, knots: &[f64], stats: &mut OptimStats| {
+        stats.counts_tried.push(n);
+        let pr = problem_for(n);
+        let mut seeds = vec![pr.position(knots)];
+        if let Some((_, k)) = descent
+            .iter()
+            .find(|(c, k)| *c == n && k.as_slice() != knots)
+        {
+            seeds.push(pr.position(k));
+        }
+        seeds.push(pr.position(&equal_breaks(&data.params, n)));
+        let mut r = run_pso(
+            &pr,
+            &seeds,
+            &pso_opts(opts.max_iterations, false, n as u64 + 1_000_003),
+            &|it| progress(n, it),
+        );
+        stats.evaluations += r.evaluations;
+        stats.iterations += r.iterations;
+        if pr.encoding().with_smoothing {
+            let coord = pr.encoding().interior + 1;
+            let t = tune_smoothing(&pr, coord, (&r.position, &r.output, r.fitness));
+            stats.evaluations += t.evaluations;
+            (r.position, r.output, r.fitness) = (t.position, t.output, t.fitness);
+        }
+        let f = if r.fitness.feasible() {
+            r.output.fairness
+        } else {
+            f64::INFINITY
+        };
+        stats.fairness_by_count.push((n, f));
+        (pr, r)
+    };
+    let (mut pr, mut r) = full(best_n, &best_knots, &mut stats);
+    let score = |f: f64, extra: usize| f * opts.fairness_gain.powi(extra as i32);
+    let mut best_score = score(r.output.fairness, 0);
+    let (mut prev_pr, mut prev_r) = (pr.clone(), r.clone());
+    let max_extra = if fixed.is_some() {
+        0
+    } else {
+        opts.max_extra_control_points
+    };
+    for extra in 1..=max_extra {
+        let n = best_n + extra;
+        if n > max_n || n > baseline || !prev_r.fitness.feasible() {
+            break;
+        }
+        let Some(k) = prev_pr.decode(&prev_r.position) else {
+            break;
+        };
+        let (pr2, r2) = full(n, &best_insertion(&data, &k, tol), &mut stats);
+        let sc = score(r2.output.fairness, extra);
+        if r2.fitness.feasible() && sc < best_score {
+            best_score = sc;
+            (pr, r) = (pr2.clone(), r2.clone());
+        }
+        (prev_pr, prev_r) = (pr2, r2);
+    }
+    let interior = pr.decode(&r.position).ok_or_else(|| {
+        Error::Fit("no valid periodic knot vector for the data (too few points?)".into())
+    })?;
+    let log_lambda = pr.encoding().log_lambda(&r.position);
+    let mut result = finish_periodic(prep, &data, &interior, log_lambda, tol, opts)?;
+    stats.seconds = start.elapsed().as_secs_f64();
+    result.baseline_control_points = baseline;
+    result.stats = stats;
+    Ok(result)
+}
+
+/// The periodic curve (input coordinates) for normalised breakpoints and smoothing, measured.
+pub(crate) fn finish_periodic(
+    prep: &Prepared,
+    data: &ClosedData,
+    interior: &[f64],
+    log_lambda: f64,
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> Result<IntegratedResult> {
+    let mut ws = ClosedWorkspace::default();
+    let e = evaluate_closed(data, interior, log_lambda, &mut ws);
+    if !e.solved {
+        return Err(Error::Fit(
+            "the periodic least-squares system is singular for these knots".into(),
+        ));
+    }
+    let ctrl: Vec<Vec3> = ws.ctrl.iter().map(|&c| prep.denormalise(c)).collect();
+    let curve = NurbsCurve::bspline(opts.degree, ws.knots.clone(), ctrl)?;
+    let quality = FitQuality {
+        max_deviation: e.max_deviation * prep.scale,
+        rms_deviation: e.rms_deviation * prep.scale,
+        fairness: e.fairness,
+        max_span_fairness: e.max_span_fairness,
+    };
+    let met = e.max_deviation <= tol && opts.span_fairness.is_none_or(|t| e.max_span_fairness <= t);
+    Ok(IntegratedResult {
+        curve,
+        quality,
+        tolerance: tol * prep.scale,
+        met,
+        log_lambda,
+        baseline_control_points: interior.len() + 1,
+        stats: OptimStats::default(),
+    })
+}
+
+/// `n` spans at equal steps of the data index (interior breakpoints, seam at 0).
+pub fn equal_breaks(params: &[f64], n: usize) -> Vec<f64> {
+    let m = params.len();
+    (1..n)
+        .map(|j| {
+            let t = (j * m) as f64 / n as f64;
+            let i = t.floor() as usize;
+            let a = t - i as f64;
+            let next = if i + 1 < m { params[i + 1] } else { 1.0 };
+            (1.0 - a) * params[i] + a * next
+        })
+        .collect()
+}
+
+/// The fewest equal-index spans in `lo..=hi` meeting `tol` (doubling, then bisection), with their
+/// breakpoints; `hi` when none does.
+fn baseline(
+    data: &ClosedData,
+    lo: usize,
+    hi: usize,
+    tol: f64,
+    stats: &mut OptimStats,
+) -> (usize, Vec<f64>) {
+    let mut ws = ClosedWorkspace::default();
+    let mut ok = |n: usize, stats: &mut OptimStats| {
+        stats.evaluations += 1;
+        let k = equal_breaks(&data.params, n);
+        let e = evaluate_closed(data, &k, f64::NEG_INFINITY, &mut ws);
+        (e.solved && e.max_deviation <= tol).then_some(k)
+    };
+    let (mut fail, mut n) = (lo - 1, lo);
+    let mut good = loop {
+        if let Some(k) = ok(n, stats) {
+            break (n, k);
+        }
+        if n >= hi {
+            return (hi, equal_breaks(&data.params, hi));
+        }
+        fail = n;
+        n = (2 * n).min(hi);
+    };
+    while good.0 - fail > 1 {
+        let mid = fail + (good.0 - fail) / 2;
+        match ok(mid, stats) {
+            Some(k) => good = (mid, k),
+            None => fail = mid,
+        }
+    }
+    good
+}
+
+/// The least-squares method's periodic breakpoints for these data (`fit::tolerance`, closed,
+/// centripetal, corners off), mapped onto `data.params` through the data index; `None` when that
+/// fit fails or gives no valid breakpoints here.
+fn lsq_periodic_knots(data: &ClosedData, tol: f64) -> Option<Vec<f64>> {
+    use crate::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance as FitTol};
+    let p = data.degree();
+    let fit = fit_to_tolerance(
+        &data.points,
+        &FitOptions {
+            degree: p,
+            tolerance: FitTol::Absolute(tol),
+            closed: ClosedMode::Closed,
+            corner_angle_deg: None,
+            parameterization: crate::fit::Parameterization::Centripetal,
+            ..FitOptions::default()
+        },
+    )
+    .ok()?;
+    if !fit.closed || fit.params.len() != data.params.len() {
+        return None;
+    }
+    let k = fit.curve.knots();
+    let nu = fit.n_control_points;
+    let interior = k.get(p + 1..p + nu)?;
+    // the fit's own parameters, unwrapped to increase from 0 (a foot just across the seam)
+    let fp: Vec<f64> = fit
+        .params
+        .iter()
+        .enumerate()
+        .map(|(i, &u)| {
+            if i > 0 && u < 0.5 * fit.params[1] {
+                u + 1.0
+            } else {
+                u
+            }
+        })
+        .chain(std::iter::once(1.0))
+        .collect();
+    let up = &data.measure.params;
+    let mut out = Vec::with_capacity(interior.len());
+    for &t in interior {
+        let i = fp.partition_point(|&u| u <= t).clamp(1, fp.len() - 1) - 1;
+        let w = fp[i + 1] - fp[i];
+        let a = if w > 0.0 {
+            ((t - fp[i]) / w).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out.push(up[i] + a * (up[i + 1] - up[i]));
+    }
+    let enc = super::encoding::KnotEncoding::new(out.len(), 0.0, false);
+    (out.windows(2).all(|w| w[0] < w[1]) && enc.repair(&mut out, up)).then_some(out)
+}
+
+/// Every removal of one breakpoint, refitted without smoothing, sorted by the maximum deviation
+/// (ties by index); evaluated in parallel, collected in order.
+fn removal_candidates(data: &ClosedData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
+    if knots.len() < data.degree() + 1 {
+        return Vec::new();
+    }
+    let enc = super::encoding::KnotEncoding::new(knots.len() - 1, 0.0, false);
+    let mut out: Vec<(usize, f64, Vec<f64>)> = (0..knots.len())
+        .into_par_iter()
+        .map_init(ClosedWorkspace::default, |ws, j| {
+            let mut k = knots.to_vec();
+            k.remove(j);
+            if !enc.repair(&mut k, &data.measure.params) {
+                return (j, f64::INFINITY, k);
+            }
+            let e = evaluate_closed(data, &k, f64::NEG_INFINITY, ws);
+            (
+                j,
+                if e.solved {
+                    e.max_deviation
+                } else {
+                    f64::INFINITY
+                },
+                k,
+            )
+        })
+        .collect();
+    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    out.into_iter().map(|(_, d, k)| (d, k)).collect()
+}
+
+/// The breakpoints with one more at the middle of the span (holding at least two data parameters)
+/// whose refit is best by the feasibility-first fitness; the widest span when none holds two.
+fn best_insertion(data: &ClosedData, knots: &[f64], tol: f64) -> Vec<f64> {
+    let mut edges = Vec::with_capacity(knots.len() + 2);
+    edges.push(0.0);
+    edges.extend_from_slice(knots);
+    edges.push(1.0);
+    let params = &data.params;
+    let spans: Vec<usize> = (0..edges.len() - 1)
+        .filter(|&j| {
+            params
+                .iter()
+                .filter(|&&u| u > edges[j] && u < edges[j + 1])
+                .count()
+                >= 2
+        })
+        .collect();
+    let problem = ClosedProblem::new(data, knots.len() + 2, 0.0, false, tol, None);
+    let scored: Vec<(super::pso::Fitness, Vec<f64>)> = spans
+        .par_iter()
+        .map_init(ClosedWorkspace::default, |ws, &j| {
+            let mut k = knots.to_vec();
+            k.insert(j, 0.5 * (edges[j] + edges[j + 1]));
+            let e = evaluate_closed(data, &k, f64::NEG_INFINITY, ws);
+            (problem.fitness(&e), k)
+        })
+        .collect();
+    let mut best: Option<(super::pso::Fitness, Vec<f64>)> = None;
+    for c in scored {
+        if best.as_ref().is_none_or(|b| c.0.better_than(&b.0)) {
+            best = Some(c);
+        }
+    }
+    if let Some((_, k)) = best {
+        return k;
+    }
+    let widest = (0..edges.len() - 1)
+        .max_by(|&a, &b| (edges[a + 1] - edges[a]).total_cmp(&(edges[b + 1] - edges[b])))
+        .unwrap_or(0);
+    let mut out = knots.to_vec();
+    out.insert(widest, 0.5 * (edges[widest] + edges[widest + 1]));
+    out
+}

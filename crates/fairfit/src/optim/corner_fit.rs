@@ -1,0 +1,247 @@
+//! The integrated method on data with corners: the pieces between corners ([`super::corners`]) are
+//! fitted on their own (each with the whole curve's tolerance and its own seed stream) and joined C0.
+//!
+//! **A fixed control-point count** `N` ([`IntegratedOptions::control_points`]) is the joined curve's
+//! count; neighbouring pieces share their corner control point, so the pieces get `N + k − 1`
+//! between them (`k` pieces). The split:
+//!
+//! 1. every piece is first fitted freely (the fewest control points meeting the tolerance, as
+//!    without `N`): its count `n_i*`;
+//! 2. straight pieces (too few points for a cubic of their own) keep their `p + 1`; the others share
+//!    the rest in proportion to `n_i*` (D'Hondt: one point at a time to the piece with the largest
+//!    `n_i* / n_i`, or taken from the largest `n_i / n_i*`), each between `p + 1` and its points − 1;
+//! 3. pieces whose share differs from `n_i*` are fitted again at that fixed count.
+//!
+//! So `N` equal to the free result's count reproduces the free curve exactly (within the
+//! tolerance), a larger `N` spends the extra points where the data need most points, and a smaller
+//! `N` takes them evenly (the tolerance may then be missed; the result says so). An `N` outside what
+//! the pieces can take is an [`Error::InvalidOption`] naming the range.
+
+use super::corners::{join, straight_piece};
+use super::integrated::{
+    fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions, IntegratedResult,
+    OptimStats, Tolerance,
+};
+use super::prepare::Prepared;
+use crate::errors::{Error, Result};
+use crate::fit::tolerance::ClosedMode;
+use crate::nurbs::{NurbsCurve, Vec3};
+use std::time::Instant;
+
+/// One fitted piece (normalised coordinates).
+struct Piece {
+    curve: NurbsCurve,
+    max_dev: f64,
+    /// Sum of squared deviations and number of points (its ends included as 0).
+    sum2: f64,
+    count: usize,
+    met: bool,
+    baseline: usize,
+    stats: OptimStats,
+    straight: bool,
+}
+
+/// The integrated method on the pieces between corners (`ranges` of the normalised points), joined
+/// C0; with a fixed count, the budget is shared as described in the module docs.
+pub(crate) fn fit_with_corners(
+    prep: &Prepared,
+    ranges: &[(usize, usize)],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    start: Instant,
+) -> Result<IntegratedResult> {
+    let p = opts.degree;
+    let pts = &prep.data.points;
+    let mut pieces: Vec<Piece> = (0..ranges.len())
+        .map(|i| fit_piece(prep, ranges, i, opts, None, progress))
+        .collect::<Result<_>>()?;
+    let mut extra = OptimStats::default();
+    if let Some(n) = opts.control_points {
+        let free: Vec<usize> = pieces.iter().map(|q| q.curve.n_control_points()).collect();
+        let lo: Vec<usize> = pieces
+            .iter()
+            .zip(&free)
+            .map(|(q, &f)| if q.straight { f } else { p + 1 })
+            .collect();
+        let hi: Vec<usize> = pieces
+            .iter()
+            .zip(ranges)
+            .zip(&free)
+            .map(|((q, &(a, b)), &f)| if q.straight { f } else { (b - a).max(f) })
+            .collect();
+        let counts = share_budget(n, &free, &lo, &hi)?;
+        for (i, (&c, &f)) in counts.iter().zip(&free).enumerate() {
+            if c != f {
+                accumulate(&mut extra, &pieces[i].stats);
+                pieces[i] = fit_piece(prep, ranges, i, opts, Some(c), progress)?;
+            }
+        }
+    }
+    let tol = tolerance_of(opts, prep.scale);
+    let mut shares = Vec::with_capacity(ranges.len());
+    let mut stats = extra;
+    let (mut max_dev, mut sum2, mut count) = (0.0f64, 0.0, 0usize);
+    let (mut met, mut baseline) = (true, 0);
+    for (i, (q, &(a, b))) in pieces.iter().zip(ranges).enumerate() {
+        shares.push(
+            pts[a..=b]
+                .windows(2)
+                .map(|w| (w[1] - w[0]).norm())
+                .sum::<f64>(),
+        );
+        max_dev = max_dev.max(q.max_dev);
+        sum2 += q.sum2;
+        count += q.count;
+        met &= q.met;
+        baseline += q.baseline - usize::from(i > 0);
+        accumulate(&mut stats, &q.stats);
+    }
+    let curves: Vec<NurbsCurve> = pieces.into_iter().map(|q| q.curve).collect();
+    let joined = join(&curves, &shares)?;
+    let ctrl: Vec<Vec3> = joined
+        .control_points()
+        .iter()
+        .map(|&c| prep.denormalise(c))
+        .collect();
+    let curve = NurbsCurve::bspline(p, joined.knots().to_vec(), ctrl)?;
+    let f = crate::fair::curve_fairness(&curve);
+    let quality = FitQuality {
+        max_deviation: max_dev * prep.scale,
+        rms_deviation: (sum2 / count.max(1) as f64).sqrt() * prep.scale,
+        fairness: f.fairness,
+        max_span_fairness: f.max_span_fairness,
+    };
+    met &= max_dev <= tol
+        && opts
+            .span_fairness
+            .is_none_or(|t| quality.max_span_fairness <= t);
+    stats.seconds = start.elapsed().as_secs_f64();
+    Ok(IntegratedResult {
+        curve,
+        quality,
+        tolerance: tol * prep.scale,
+        met,
+        log_lambda: f64::NEG_INFINITY,
+        baseline_control_points: baseline,
+        stats,
+    })
+}
+
+fn accumulate(stats: &mut OptimStats, s: &OptimStats) {
+    stats.evaluations += s.evaluations;
+    stats.iterations += s.iterations;
+    stats.polish_moves += s.polish_moves;
+    stats.counts_tried.extend(&s.counts_tried);
+    stats.fairness_by_count.extend(&s.fairness_by_count);
+}
+
+/// Fits piece `i` (freely, or with `count` control points).
+fn fit_piece(
+    prep: &Prepared,
+    ranges: &[(usize, usize)],
+    i: usize,
+    opts: &IntegratedOptions,
+    count: Option<usize>,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Piece> {
+    let p = opts.degree;
+    let (a, b) = ranges[i];
+    let piece = &prep.data.points[a..=b];
+    if piece.len() < (p + 1).max(3) {
+        // too few points for a cubic of its own: the straight segment
+        let (mut max_dev, mut sum2) = (0.0f64, 0.0);
+        for q in &piece[1..piece.len() - 1] {
+            let d = point_segment_distance(*q, piece[0], piece[piece.len() - 1]);
+            max_dev = max_dev.max(d);
+            sum2 += d * d;
+        }
+        return Ok(Piece {
+            curve: straight_piece(piece[0], piece[piece.len() - 1], p)?,
+            max_dev,
+            sum2,
+            count: piece.len(),
+            met: true,
+            baseline: p + 1,
+            stats: OptimStats::default(),
+            straight: true,
+        });
+    }
+    let sub = IntegratedOptions {
+        tolerance: Tolerance::Absolute(tolerance_of(opts, prep.scale)),
+        corner_angle_deg: None,
+        closed: ClosedMode::Open,
+        control_points: count,
+        seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
+        ..opts.clone()
+    };
+    let r = fit_integrated_with_progress(piece, &sub, progress)?;
+    Ok(Piece {
+        max_dev: r.quality.max_deviation,
+        // the piece's RMS is over all its points (its interpolated ends count as 0)
+        sum2: r.quality.rms_deviation.powi(2) * piece.len() as f64,
+        count: piece.len(),
+        met: r.met,
+        baseline: r.baseline_control_points,
+        stats: r.stats,
+        straight: false,
+        curve: r.curve,
+    })
+}
+
+/// Shares the joined count `n` among pieces with free counts `free` and bounds `lo..=hi` (see the
+/// module docs); the counts sum to `n + pieces − 1`.
+pub fn share_budget(n: usize, free: &[usize], lo: &[usize], hi: &[usize]) -> Result<Vec<usize>> {
+    let k = free.len();
+    let total = n + k - 1;
+    let (min, max) = (lo.iter().sum::<usize>(), hi.iter().sum::<usize>());
+    if total < min || total > max {
+        return Err(Error::InvalidOption(format!(
+            "--control-points {n} cannot be shared among the {k} pieces between corners: give \
+             between {} and {} (or fit without corner detection)",
+            min + 1 - k,
+            max + 1 - k
+        )));
+    }
+    let mut c = free.to_vec();
+    let mut sum: usize = c.iter().sum();
+    while sum < total {
+        // the piece most below its proportional share (largest free / count)
+        let i = (0..k)
+            .filter(|&i| c[i] < hi[i])
+            .max_by(|&a, &b| {
+                (free[a] as f64 / c[a] as f64)
+                    .total_cmp(&(free[b] as f64 / c[b] as f64))
+                    .then(b.cmp(&a))
+            })
+            .unwrap_or(0);
+        c[i] += 1;
+        sum += 1;
+    }
+    while sum > total {
+        // the piece most above its proportional share (largest count / free), larger first
+        let i = (0..k)
+            .filter(|&i| c[i] > lo[i])
+            .max_by(|&a, &b| {
+                (c[a] as f64 / free[a] as f64)
+                    .total_cmp(&(c[b] as f64 / free[b] as f64))
+                    .then(c[a].cmp(&c[b]))
+                    .then(b.cmp(&a))
+            })
+            .unwrap_or(0);
+        c[i] -= 1;
+        sum -= 1;
+    }
+    Ok(c)
+}
+
+/// Distance from `q` to the segment `[a, b]`.
+fn point_segment_distance(q: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let ab = b - a;
+    let l2 = ab.norm_squared();
+    let t = if l2 > 0.0 {
+        ((q - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t - q).norm()
+}
