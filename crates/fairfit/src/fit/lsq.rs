@@ -193,6 +193,8 @@ impl LsqSolver {
             }
         };
         ctrl_out.clear();
+        // basis values once per point, kept for the residuals (also when nothing is free)
+        self.basis.fill(p, n, knots, params);
         if nu == 0 {
             ctrl_out.extend((0..n_ctrl).map(fixed));
             return Ok(());
@@ -216,8 +218,7 @@ impl LsqSolver {
         }
         self.rhs.clear();
         self.rhs.resize(nu, Vec3::ZERO);
-        // data term: basis values once per point, kept for the residuals
-        self.basis.fill(p, n, knots, params);
+        // data term
         let m = points.len();
         let mut k = 0;
         while k < m {
@@ -660,6 +661,33 @@ mod tests {
             assert!((*x - *y).norm() < 1e-12, "{x:?} vs {y:?}");
         }
         assert!((a.control_points()[3] - c.control_points()[3]).norm() > 1e-4);
+    }
+
+    #[test]
+    fn residuals_follow_a_solve_without_unknowns() {
+        // a Bézier segment with both end tangents has no free control point: the residuals must still
+        // be those of this solve, not of the previous (larger) one
+        let c = known_curve();
+        let u: Vec<f64> = (0..60).map(|k| k as f64 / 59.0).collect();
+        let q = c.points(&u);
+        let mut s = LsqSolver::new(3);
+        let mut ctrl = Vec::new();
+        let o = LsqOptions::default();
+        s.solve(&q, &u, c.knots(), None, &o, &mut ctrl).unwrap();
+        let bezier = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+        let ends = (
+            Some(Vec3::new(3.0, 0.0, 0.0)),
+            Some(Vec3::new(3.0, 1.0, 0.0)),
+        );
+        s.solve_with_ends(&q, &u, &bezier, None, &o, ends, &mut ctrl)
+            .unwrap();
+        assert_eq!(ctrl.len(), 4);
+        let mut res = Vec::new();
+        s.residual_norms_into(&q, &ctrl, &mut res);
+        let f = NurbsCurve::bspline(3, bezier.to_vec(), ctrl).unwrap();
+        for (k, r) in res.iter().enumerate() {
+            assert_eq!(*r, (f.point(u[k]) - q[k]).norm(), "point {k}");
+        }
     }
 
     #[test]
