@@ -1,6 +1,9 @@
 //! `fairfit curve`: a tolerance fit with its report checked against an independent projection, and
 //! ill-posed inputs (one-line error, exit 1, no panic).
 
+#[path = "../../fairfit/tests/common/polyline.rs"]
+mod polyline;
+
 use assert_cmd::Command;
 use fairfit::diffgeo::CurveProjector;
 use fairfit::io::{read_geometry, read_points, Geometry};
@@ -214,20 +217,7 @@ fn lsq_run(file: &str, extra: &[&str]) -> (fairfit::NurbsCurve, Value) {
 /// Largest distance from the points to a dense polyline through the curve (independent of the
 /// projection code; chord error far below the tolerances used here).
 fn polyline_deviation(curve: &fairfit::NurbsCurve, pts: &[fairfit::Vec3]) -> f64 {
-    let n = 50_000;
-    let us: Vec<f64> = (0..=n).map(|k| k as f64 / n as f64).collect();
-    let poly = curve.points(&us);
-    pts.iter()
-        .map(|&p| {
-            poly.windows(2)
-                .map(|w| {
-                    let d = w[1] - w[0];
-                    let t = ((p - w[0]).dot(d) / d.norm_squared()).clamp(0.0, 1.0);
-                    (w[0] + d * t - p).norm()
-                })
-                .fold(f64::INFINITY, f64::min)
-        })
-        .fold(0.0, f64::max)
+    polyline::polyline_deviation(curve, pts, 50_000)
 }
 
 #[test]

@@ -437,3 +437,30 @@ fn degenerate_point_sets_fail_cleanly_or_fit() {
         ]));
     }
 }
+
+/// An unreachable per-span fairness target within the tolerance is reported as such, not as a missed
+/// tolerance with a deviation below it.
+#[test]
+fn an_unmet_span_fairness_target_is_named_in_the_warning() {
+    let f = Fixture::new();
+    let args = strings(&[
+        "curve",
+        &f.path("pts.csv"),
+        "--span-fairness",
+        "1e-320",
+        "-o",
+        &f.path("o.json"),
+    ]);
+    let out = Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(&args)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("span fairness target 1.000e-320 was not met"),
+        "{err}"
+    );
+    assert!(!err.contains("tolerance"), "{err}");
+}

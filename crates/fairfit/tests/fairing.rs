@@ -107,3 +107,46 @@ fn invalid_arguments_are_errors() {
     assert!(fair_curve(&c, &[], 0.1, &o).is_err());
     assert!(fair_curve(&c, &[Vec3::new(f64::NAN, 0.0, 0.0)], 0.1, &o).is_err());
 }
+
+/// Fairing near 1e±300 runs on an exactly rescaled copy: the same moves as at unit scale, and the
+/// faired control points are the unit-scale ones scaled by the same power of two.
+#[test]
+fn fairing_is_scale_invariant_near_the_floating_point_limits() {
+    let pts = |s: f64| -> Vec<Vec3> {
+        (0..10)
+            .map(|i| {
+                let x = i as f64;
+                Vec3::new(x, x * x / 10.0 + 0.02 * (-1f64).powi(i), 0.0) * s
+            })
+            .collect()
+    };
+    let data = |s: f64| -> Vec<Vec3> {
+        (0..=90)
+            .map(|i| {
+                let x = i as f64 / 10.0;
+                Vec3::new(x, x * x / 10.0, 0.0) * s
+            })
+            .collect()
+    };
+    let knots = fairfit::nurbs::knots::uniform_clamped(3, 10);
+    let run = |s: f64| {
+        let c = NurbsCurve::bspline(3, knots.clone(), pts(s)).unwrap();
+        fair_curve(&c, &data(s), 0.05 * s, &FairingOptions::default()).unwrap()
+    };
+    let unit = run(1.0);
+    assert!(unit.iterations > 0);
+    for e in [990, -990] {
+        let s = 2f64.powi(e);
+        let r = run(s);
+        assert_eq!(r.iterations, unit.iterations, "2^{e}");
+        for (a, b) in r
+            .curve
+            .control_points()
+            .iter()
+            .zip(unit.curve.control_points())
+        {
+            assert_eq!(*a, *b * s, "2^{e}");
+        }
+        assert_eq!(r.max_deviation_after, unit.max_deviation_after * s);
+    }
+}

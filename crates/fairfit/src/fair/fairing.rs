@@ -106,6 +106,24 @@ pub fn fair_curve(
     if let Some(i) = points.iter().position(|p| !p.is_finite()) {
         return Err(Error::InvalidData(format!("data point {i} is not finite")));
     }
+    // far outside unit size F overflows or underflows and no move is ever judged; fair an exactly
+    // rescaled copy (see `nurbs::scale`) and scale the result back
+    let f = crate::nurbs::scale::normalising_factor(curve.control_points());
+    let scaled_points: Vec<Vec3> = points.iter().map(|&q| q * f).collect();
+    if let Some(c) = (f != 1.0 && scaled_points.iter().all(|q| q.is_finite()))
+        .then(|| crate::nurbs::scale::scaled_curve(curve, f).ok())
+        .flatten()
+    {
+        let r = fair_curve(&c, &scaled_points, tol * f, opts)?;
+        if let Ok(back) = crate::nurbs::scale::scaled_curve(&r.curve, 1.0 / f) {
+            return Ok(FairingResult {
+                curve: back,
+                max_deviation_before: r.max_deviation_before / f,
+                max_deviation_after: r.max_deviation_after / f,
+                ..r
+            });
+        }
+    }
     let p = curve.degree();
     let n = curve.n_control_points();
     let knots = curve.knots().to_vec();

@@ -265,6 +265,9 @@ impl NurbsCurve {
 
     /// Evaluates `C(u)` for every parameter in `us` into `out` (same length); no allocation for
     /// degrees up to 15.
+    ///
+    /// # Panics
+    /// When `out.len() != us.len()` (a caller's buffer bug, like `copy_from_slice`; never input data).
     pub fn points_into(&self, us: &[f64], out: &mut [Vec3]) {
         assert_eq!(us.len(), out.len(), "points_into: output length must match");
         let p = self.degree;
@@ -390,6 +393,9 @@ impl NurbsCurve {
     }
 
     /// Derivatives up to order `d` at each parameter of `us`: `out[i * (d + 1) + k] = C^(k)(us[i])`.
+    ///
+    /// # Panics
+    /// When `out.len() != us.len() * (d + 1)` (a caller's buffer bug; never input data).
     pub fn derivatives_batch_into(&self, us: &[f64], d: usize, out: &mut [Vec3]) {
         assert_eq!(
             out.len(),

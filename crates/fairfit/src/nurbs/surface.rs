@@ -282,6 +282,9 @@ impl NurbsSurface {
     }
 
     /// Points at the parameter pairs `uv` into `out`; no allocation per point.
+    ///
+    /// # Panics
+    /// When `out.len() != uv.len()` (a caller's buffer bug; never input data).
     pub fn points_into(&self, uv: &[(f64, f64)], out: &mut [Vec3]) {
         assert_eq!(uv.len(), out.len(), "points_into: output length must match");
         let m = self.degree_u.max(self.degree_v) + 1;
@@ -294,6 +297,10 @@ impl NurbsSurface {
 
     /// Partial derivatives up to total order `d` using `ws` (sized for at least `d`):
     /// `out[k * (d + 1) + l] = ∂^{k+l} S / ∂u^k ∂v^l` for `k + l <= d` (entries with `k + l > d` are zero).
+    ///
+    /// # Panics
+    /// When `ws` was made for another surface's degrees or a lower order than `d` (a caller's bug;
+    /// never input data).
     pub fn derivatives_with(
         &self,
         u: f64,
