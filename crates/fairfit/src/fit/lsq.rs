@@ -196,8 +196,6 @@ impl LsqSolver {
         // basis values once per point, kept for the residuals (also when nothing is free)
         self.basis.fill(p, n, knots, params);
         if nu == 0 {
-            // nothing to solve, but the residuals still read the basis values of these knots
-            self.basis.fill(p, n, knots, params);
             ctrl_out.extend((0..n_ctrl).map(fixed));
             return Ok(());
         }
