@@ -17,9 +17,14 @@ use crate::nurbs::Vec3;
 pub struct DataBasis {
     p: usize,
     /// knot span of each parameter
-    pub spans: Vec<usize>,
+    spans: Vec<usize>,
     /// `p + 1` values per parameter: `N_{span−p+j}(ū_k)` at `k (p + 1) + j`
-    pub values: Vec<f64>,
+    values: Vec<f64>,
+    /// the inputs of the last fill
+    prev_knots: Vec<f64>,
+    prev_params: Vec<f64>,
+    /// the values are those of the last fill (no caller changed them)
+    pristine: bool,
 }
 
 impl DataBasis {
@@ -28,20 +33,23 @@ impl DataBasis {
         Self::default()
     }
 
-    /// Fills the cache for degree `p`, `knots` with `n + 1` control points, at `params`.
+    /// Fills the cache for degree `p`, `knots` with `n + 1` control points, at `params`. Values whose
+    /// inputs (the parameter and the `2p` knots around its span) equal those of the previous fill are
+    /// kept, not recomputed: a knot-removal trial changes the basis near the removed knot only.
     pub fn fill(&mut self, p: usize, n: usize, knots: &[f64], params: &[f64]) {
+        let reuse = self.pristine && self.p == p && self.spans.len() == params.len();
         self.p = p;
-        self.spans.clear();
-        self.values.clear();
         match p {
-            1 => self.fill_const::<2>(n, knots, params),
-            2 => self.fill_const::<3>(n, knots, params),
-            3 => self.fill_const::<4>(n, knots, params),
-            4 => self.fill_const::<5>(n, knots, params),
-            5 => self.fill_const::<6>(n, knots, params),
+            1 => self.fill_const::<2>(n, knots, params, reuse),
+            2 => self.fill_const::<3>(n, knots, params, reuse),
+            3 => self.fill_const::<4>(n, knots, params, reuse),
+            4 => self.fill_const::<5>(n, knots, params, reuse),
+            5 => self.fill_const::<6>(n, knots, params, reuse),
             _ => {
                 let p1 = p + 1;
                 let (mut left, mut right) = (vec![0.0; p1], vec![0.0; p1]);
+                self.spans.clear();
+                self.values.clear();
                 self.values.resize(params.len() * p1, 0.0);
                 let mut span = p;
                 for (k, &u) in params.iter().enumerate() {
@@ -52,23 +60,58 @@ impl DataBasis {
                 }
             }
         }
+        self.prev_knots.clear();
+        self.prev_knots.extend_from_slice(knots);
+        self.prev_params.clear();
+        self.prev_params.extend_from_slice(params);
+        self.pristine = true;
     }
 
-    fn fill_const<const N: usize>(&mut self, n: usize, knots: &[f64], params: &[f64]) {
+    fn fill_const<const N: usize>(&mut self, n: usize, knots: &[f64], params: &[f64], reuse: bool) {
         let p = N - 1;
-        self.values.reserve(params.len() * N);
         let mut span = p;
-        for &u in params {
+        if !reuse {
+            self.spans.clear();
+            self.values.clear();
+            self.values.reserve(params.len() * N);
+            for &u in params {
+                span = span_from(n, p, u, knots, span);
+                self.spans.push(span);
+                self.values
+                    .extend_from_slice(&basis_const::<N>(span, u, knots));
+            }
+            return;
+        }
+        for (k, &u) in params.iter().enumerate() {
             span = span_from(n, p, u, knots, span);
-            self.spans.push(span);
-            self.values
-                .extend_from_slice(&basis_const::<N>(span, u, knots));
+            // the recursion reads u and knots[span + 1 - p ..= span + p]
+            let old = self.spans[k];
+            let same = self.prev_params[k] == u
+                && self.prev_knots.get(old + 1 - p..=old + p) == knots.get(span + 1 - p..=span + p);
+            self.spans[k] = span;
+            if !same {
+                self.values[k * N..(k + 1) * N].copy_from_slice(&basis_const::<N>(span, u, knots));
+            }
         }
     }
 
-    /// The basis values of point `k` (mutable: a rational solve normalises them in place).
+    /// The knot span of every parameter.
+    pub fn spans(&self) -> &[usize] {
+        &self.spans
+    }
+
+    /// The basis values of points `k..end`, `p + 1` per point.
+    #[inline]
+    pub fn values(&self, k: usize, end: usize) -> &[f64] {
+        let p1 = self.p + 1;
+        &self.values[k * p1..end * p1]
+    }
+
+    /// The basis values of point `k`, to change in place (a rational solve normalises them).
     #[inline]
     pub fn values_mut(&mut self, k: usize) -> &mut [f64] {
+        // the values may change: the next fill recomputes every one
+        self.pristine = false;
         let p1 = self.p + 1;
         &mut self.values[k * p1..(k + 1) * p1]
     }
@@ -76,8 +119,11 @@ impl DataBasis {
     /// `|Σ_j N_j(ū_k) P_{span−p+j} − Q_k|` for every point into `out`: the algebraic distances of the
     /// curve with control points `ctrl` (the knots and parameters of the last [`DataBasis::fill`]).
     pub fn residual_norms_into(&self, points: &[Vec3], ctrl: &[Vec3], out: &mut Vec<f64>) {
-        let p1 = self.p + 1;
         out.clear();
+        if self.p == 3 {
+            return self.residuals_const::<4>(points, ctrl, out);
+        }
+        let p1 = self.p + 1;
         out.extend(
             points
                 .iter()
@@ -91,6 +137,22 @@ impl DataBasis {
                     (c - *q).norm()
                 }),
         );
+    }
+}
+
+impl DataBasis {
+    /// [`DataBasis::residual_norms_into`] for degree `N − 1` (same arithmetic, unrolled).
+    #[allow(clippy::needless_range_loop)] // j indexes the control points and the values alike
+    fn residuals_const<const N: usize>(&self, points: &[Vec3], ctrl: &[Vec3], out: &mut Vec<f64>) {
+        let spans = self.spans.iter();
+        for ((q, &span), nb) in points.iter().zip(spans).zip(self.values.chunks_exact(N)) {
+            let cp = &ctrl[span + 1 - N..=span];
+            let mut c = Vec3::ZERO;
+            for j in 0..N {
+                c += cp[j] * nb[j];
+            }
+            out.push((c - *q).norm());
+        }
     }
 }
 
@@ -159,11 +221,33 @@ mod tests {
             db.residual_norms_into(&q, &ctrl, &mut res);
             for (k, &u) in us.iter().enumerate() {
                 let s = find_span(n_ctrl - 1, p, u, &knots);
-                assert_eq!(db.spans[k], s, "p={p} u={u}");
+                assert_eq!(db.spans()[k], s, "p={p} u={u}");
                 basis_funs_into(s, u, p, &knots, &mut l, &mut r, &mut want);
-                assert_eq!(db.values_mut(k), &want[..], "p={p} u={u}");
+                assert_eq!(db.values(k, k + 1), &want[..], "p={p} u={u}");
                 assert_eq!(res[k], (c.point(u) - q[k]).norm(), "p={p} u={u}");
             }
         }
+    }
+
+    #[test]
+    fn a_refill_after_knot_removal_equals_a_fresh_fill() {
+        let us: Vec<f64> = (0..=80).map(|k| (k as f64 / 80.0).powf(1.2)).collect();
+        let with = [
+            0.0, 0.0, 0.0, 0.0, 0.1, 0.2, 0.35, 0.5, 0.6, 0.8, 1.0, 1.0, 1.0, 1.0,
+        ];
+        let without = [
+            0.0, 0.0, 0.0, 0.0, 0.1, 0.2, 0.5, 0.6, 0.8, 1.0, 1.0, 1.0, 1.0,
+        ];
+        let mut reused = DataBasis::new();
+        reused.fill(3, 9, &with, &us);
+        reused.fill(3, 8, &without, &us);
+        let mut fresh = DataBasis::new();
+        fresh.fill(3, 8, &without, &us);
+        assert_eq!(reused.spans(), fresh.spans());
+        assert_eq!(reused.values(0, us.len()), fresh.values(0, us.len()));
+        // values changed in place by a caller are never reused
+        reused.values_mut(40)[0] = 7.0;
+        reused.fill(3, 8, &without, &us);
+        assert_eq!(reused.values(0, us.len()), fresh.values(0, us.len()));
     }
 }

@@ -56,6 +56,13 @@ impl<'a> FootFinder<'a> {
         let p = curve.degree();
         let p1 = p + 1;
         let (lo, hi) = curve.domain();
+        let buffer = |len: usize| {
+            if p <= MAX_POWER_DEGREE {
+                Vec::new()
+            } else {
+                vec![0.0; len]
+            }
+        };
         let power = (p <= MAX_POWER_DEGREE).then(|| {
             let mut f = PowerForm::new();
             f.rebuild(p, curve.knots(), curve.control_points());
@@ -68,11 +75,12 @@ impl<'a> FootFinder<'a> {
             n: curve.control_points().len() - 1,
             lo,
             hi,
-            left: vec![0.0; p1],
-            right: vec![0.0; p1],
-            ndu: vec![0.0; p1 * p1],
-            a: vec![0.0; 2 * p1],
-            ders: vec![0.0; 3 * p1],
+            // the basis-function buffers serve degrees above the power form's only
+            left: buffer(p1),
+            right: buffer(p1),
+            ndu: buffer(p1 * p1),
+            a: buffer(2 * p1),
+            ders: buffer(3 * p1),
             power,
         })
     }
@@ -81,7 +89,7 @@ impl<'a> FootFinder<'a> {
     #[inline]
     fn eval2(&mut self, u: f64) -> [Vec3; 3] {
         if let Some(f) = self.power.as_mut() {
-            return f.eval2(u);
+            return f.eval2(u, self.knots, self.ctrl);
         }
         let p = self.p;
         let span = find_span(self.n, p, u, self.knots);

@@ -193,9 +193,9 @@ impl LsqSolver {
             }
         };
         ctrl_out.clear();
+        // basis values once per point, kept for the residuals (also when nothing is free)
+        self.basis.fill(p, n, knots, params);
         if nu == 0 {
-            // nothing to solve, but the residuals still read the basis values of these knots
-            self.basis.fill(p, n, knots, params);
             ctrl_out.extend((0..n_ctrl).map(fixed));
             return Ok(());
         }
@@ -218,16 +218,15 @@ impl LsqSolver {
         }
         self.rhs.clear();
         self.rhs.resize(nu, Vec3::ZERO);
-        // data term: basis values once per point, kept for the residuals
-        self.basis.fill(p, n, knots, params);
+        // data term
         let m = points.len();
         let mut k = 0;
         while k < m {
-            let span = self.basis.spans[k];
+            let span = self.basis.spans()[k];
             let interior = !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl;
             if !layout.closed && weights.is_none() && p == 3 {
                 // the run of points in this span, summed in registers
-                let run = self.basis.spans[k..].iter().take_while(|&&s| s == span);
+                let run = self.basis.spans()[k..].iter().take_while(|&&s| s == span);
                 let end = k + run.count();
                 // unknown columns a0..a1 of the span's p + 1, the others fixed
                 let first_col = span - p;
@@ -244,7 +243,7 @@ impl LsqSolver {
                     unknown: a0..a1.max(a0),
                     fixed: fixed_cols,
                 };
-                let values = &self.basis.values[4 * k..4 * end];
+                let values = self.basis.values(k, end);
                 block.add_to(
                     &mut self.mat,
                     &mut self.rhs,
@@ -256,9 +255,8 @@ impl LsqSolver {
                 continue;
             }
             let q = &points[k];
-            let nb = self.basis.values_mut(k);
-            k += 1;
             if let Some(w) = weights {
+                let nb = self.basis.values_mut(k);
                 let mut sum = 0.0;
                 for (v, wj) in nb.iter_mut().zip(&w[span - p..]) {
                     *v *= wj;
@@ -268,6 +266,8 @@ impl LsqSolver {
                     *v /= sum;
                 }
             }
+            let nb = self.basis.values(k, k + 1);
+            k += 1;
             if interior {
                 // every column of the span is an unknown: no fixed columns, no wrapping
                 let base = span - p - layout.lo;
@@ -366,7 +366,7 @@ impl LsqSolver {
 
     /// The knot span of every data point of the last solve.
     pub fn data_spans(&self) -> &[usize] {
-        &self.basis.spans
+        self.basis.spans()
     }
 
     fn check(
@@ -490,21 +490,31 @@ impl<const N: usize> SpanBlock<N> {
                 blk[a][b] = *mat.entry_mut(u0 + a - a0, u0 + b - a0);
             }
         }
-        let interior = a0 == 0 && a1 == N;
-        for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
-            let mut target = *q;
-            if !interior {
+        if a0 == 0 && a1 == N {
+            // all columns unknown: constant bounds, so the block stays in registers
+            for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
+                for a in 0..N {
+                    let ra = nb[a];
+                    r[a] += *q * ra;
+                    for b in 0..=a {
+                        blk[a][b] += ra * nb[b];
+                    }
+                }
+            }
+        } else {
+            for (q, nb) in points.iter().zip(values.chunks_exact(N)) {
+                let mut target = *q;
                 for j in 0..N {
                     if let Some(f) = self.fixed[j] {
                         target -= f * nb[j];
                     }
                 }
-            }
-            for a in a0..a1 {
-                let ra = nb[a];
-                r[a] += target * ra;
-                for b in a0..=a {
-                    blk[a][b] += ra * nb[b];
+                for a in a0..a1 {
+                    let ra = nb[a];
+                    r[a] += target * ra;
+                    for b in a0..=a {
+                        blk[a][b] += ra * nb[b];
+                    }
                 }
             }
         }
@@ -651,6 +661,33 @@ mod tests {
             assert!((*x - *y).norm() < 1e-12, "{x:?} vs {y:?}");
         }
         assert!((a.control_points()[3] - c.control_points()[3]).norm() > 1e-4);
+    }
+
+    #[test]
+    fn residuals_follow_a_solve_without_unknowns() {
+        // a Bézier segment with both end tangents has no free control point: the residuals must still
+        // be those of this solve, not of the previous (larger) one
+        let c = known_curve();
+        let u: Vec<f64> = (0..60).map(|k| k as f64 / 59.0).collect();
+        let q = c.points(&u);
+        let mut s = LsqSolver::new(3);
+        let mut ctrl = Vec::new();
+        let o = LsqOptions::default();
+        s.solve(&q, &u, c.knots(), None, &o, &mut ctrl).unwrap();
+        let bezier = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+        let ends = (
+            Some(Vec3::new(3.0, 0.0, 0.0)),
+            Some(Vec3::new(3.0, 1.0, 0.0)),
+        );
+        s.solve_with_ends(&q, &u, &bezier, None, &o, ends, &mut ctrl)
+            .unwrap();
+        assert_eq!(ctrl.len(), 4);
+        let mut res = Vec::new();
+        s.residual_norms_into(&q, &ctrl, &mut res);
+        let f = NurbsCurve::bspline(3, bezier.to_vec(), ctrl).unwrap();
+        for (k, r) in res.iter().enumerate() {
+            assert_eq!(*r, (f.point(u[k]) - q[k]).norm(), "point {k}");
+        }
     }
 
     #[test]

@@ -15,14 +15,18 @@ use crate::nurbs::Vec3;
 /// keep the basis-function recursion.
 pub const MAX_POWER_DEGREE: usize = 7;
 
-/// A curve in piecewise power form, buffers reused by [`PowerForm::rebuild`].
+/// A curve in piecewise power form, buffers reused by [`PowerForm::rebuild`]. A span is converted
+/// the first time it is evaluated (a probe that stops early touches few spans).
 #[derive(Clone, Debug, Default)]
 pub struct PowerForm {
     p: usize,
     /// start parameter of each non-empty span
     breaks: Vec<f64>,
-    /// `p + 1` Taylor coefficients per span
+    /// knot index `s` (`knots[s] <= u < knots[s + 1]`) of each non-empty span
+    knot_of: Vec<usize>,
+    /// `p + 1` Taylor coefficients per span, valid where `ready`
     coef: Vec<Vec3>,
+    ready: Vec<bool>,
     /// span of the last evaluation
     last: usize,
 }
@@ -33,39 +37,50 @@ impl PowerForm {
         Self::default()
     }
 
-    /// Converts the non-rational curve of degree `p` (`p <= MAX_POWER_DEGREE`) with `knots` and
-    /// `ctrl` (`knots.len() == ctrl.len() + p + 1`).
+    /// Prepares the conversion of the non-rational curve of degree `p` (`p <= MAX_POWER_DEGREE`) with
+    /// `knots` and `ctrl` (`knots.len() == ctrl.len() + p + 1`); pass the same `knots` and `ctrl` to
+    /// [`PowerForm::eval2`].
     pub fn rebuild(&mut self, p: usize, knots: &[f64], ctrl: &[Vec3]) {
         debug_assert!(p <= MAX_POWER_DEGREE && knots.len() == ctrl.len() + p + 1);
-        const P1: usize = MAX_POWER_DEGREE + 1;
-        let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
-        let (mut ndu, mut a, mut ders) = ([0.0; P1 * P1], [0.0; 2 * P1], [0.0; P1 * P1]);
         self.p = p;
         self.last = 0;
         self.breaks.clear();
-        self.coef.clear();
+        self.knot_of.clear();
         let n = ctrl.len() - 1;
         for s in p..=n {
-            let u0 = knots[s];
-            if knots[s + 1] <= u0 {
-                continue;
-            }
-            self.breaks.push(u0);
-            ders_basis_funs_into(
-                s, u0, p, p, knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
-            );
-            let mut fact = 1.0;
-            for k in 0..=p {
-                if k > 1 {
-                    fact *= k as f64;
-                }
-                let mut c = Vec3::ZERO;
-                for j in 0..=p {
-                    c += ctrl[s - p + j] * ders[k * (p + 1) + j];
-                }
-                self.coef.push(c / fact);
+            if knots[s + 1] > knots[s] {
+                self.breaks.push(knots[s]);
+                self.knot_of.push(s);
             }
         }
+        self.coef.clear();
+        self.coef.resize(self.breaks.len() * (p + 1), Vec3::ZERO);
+        self.ready.clear();
+        self.ready.resize(self.breaks.len(), false);
+    }
+
+    /// Converts span `j`.
+    fn convert(&mut self, j: usize, knots: &[f64], ctrl: &[Vec3]) {
+        const P1: usize = MAX_POWER_DEGREE + 1;
+        let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
+        let (mut ndu, mut a, mut ders) = ([0.0; P1 * P1], [0.0; 2 * P1], [0.0; P1 * P1]);
+        let p = self.p;
+        let s = self.knot_of[j];
+        ders_basis_funs_into(
+            s, knots[s], p, p, knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
+        );
+        let mut fact = 1.0;
+        for k in 0..=p {
+            if k > 1 {
+                fact *= k as f64;
+            }
+            let mut c = Vec3::ZERO;
+            for i in 0..=p {
+                c += ctrl[s - p + i] * ders[k * (p + 1) + i];
+            }
+            self.coef[j * (p + 1) + k] = c / fact;
+        }
+        self.ready[j] = true;
     }
 
     /// The index of the span holding `u`, walking from the last one used.
@@ -83,10 +98,13 @@ impl PowerForm {
         j
     }
 
-    /// `C(u)`, `C'(u)` and `C''(u)`.
+    /// `C(u)`, `C'(u)` and `C''(u)` (`knots` and `ctrl` as given to [`PowerForm::rebuild`]).
     #[inline]
-    pub fn eval2(&mut self, u: f64) -> [Vec3; 3] {
+    pub fn eval2(&mut self, u: f64, knots: &[f64], ctrl: &[Vec3]) -> [Vec3; 3] {
         let j = self.span(u);
+        if !self.ready[j] {
+            self.convert(j, knots, ctrl);
+        }
         let t = u - self.breaks[j];
         if self.p == 3 {
             horner2(&self.coef[4 * j..4 * j + 4], 3, t)
@@ -136,7 +154,7 @@ mod tests {
                 // visit spans out of order, knots included
                 let u = ((k * 37) % 201) as f64 / 200.0;
                 let want = c.derivatives(u, 2);
-                let got = pf.eval2(u);
+                let got = pf.eval2(u, &knots, &ctrl);
                 for d in 0..3 {
                     let tol = 1e-12 * (1.0 + want[d].norm());
                     assert!(
