@@ -224,3 +224,34 @@ fn a_corner_becomes_a_c0_knot_and_both_sides_stay_smooth_and_within_tolerance() 
         r.curve.n_control_points()
     );
 }
+
+#[test]
+fn non_finite_or_shrinking_options_are_typed_errors() {
+    let pts: Vec<Vec3> = (0..40)
+        .map(|i| {
+            let t = i as f64 / 39.0;
+            Vec3::new(t, (3.0 * t).sin(), 0.0)
+        })
+        .collect();
+    for o in [
+        IntegratedOptions {
+            fairness_gain: f64::NAN,
+            ..opts()
+        },
+        IntegratedOptions {
+            fairness_gain: 0.5,
+            ..opts()
+        },
+        IntegratedOptions {
+            corner_angle_deg: Some(f64::NAN),
+            ..opts()
+        },
+        IntegratedOptions {
+            corner_angle_deg: Some(0.0),
+            ..opts()
+        },
+    ] {
+        let e = fit_integrated(&pts, &o).unwrap_err();
+        assert!(matches!(e, fairfit::Error::InvalidOption(_)), "{e}");
+    }
+}

@@ -529,8 +529,11 @@ impl<const N: usize> SpanBlock<N> {
 
 /// The periodic knot vector of degree `p` for the breakpoints `b_0 < … < b_{n_u}` (one period): the
 /// spans repeat with period `b_{n_u} − b_0` beyond both ends (`n_u + 2p + 1` knots, `n_u + p` control
-/// points of which the last `p` repeat the first).
+/// points of which the last `p` repeat the first). Empty for fewer than two breakpoints (no period).
 pub fn periodic_knots(breaks: &[f64], degree: usize) -> Vec<f64> {
+    if breaks.len() < 2 {
+        return Vec::new();
+    }
     let nu = breaks.len() - 1;
     let period = breaks[nu] - breaks[0];
     let mut k = Vec::with_capacity(nu + 2 * degree + 1);
@@ -820,6 +823,8 @@ mod tests {
         let breaks: Vec<f64> = (0..=8).map(|k| k as f64 / 8.0).collect();
         let k = periodic_knots(&breaks, 3);
         assert_eq!(k.len(), 8 + 7);
+        // no period without two breakpoints: empty, never an index out of bounds
+        assert!(periodic_knots(&[], 3).is_empty() && periodic_knots(&[0.5], 3).is_empty());
         assert!((k[0] + 3.0 / 8.0).abs() < 1e-15 && (k[14] - 11.0 / 8.0).abs() < 1e-15);
         let m = 100;
         let u: Vec<f64> = (0..m).map(|i| i as f64 / m as f64).collect();

@@ -512,6 +512,19 @@ fn validate(opts: &IntegratedOptions) -> Result<()> {
             "at least one particle is needed".into(),
         ));
     }
+    if !(opts.fairness_gain.is_finite() && opts.fairness_gain >= 1.0) {
+        return Err(Error::InvalidOption(format!(
+            "the fairness gain per added control point must be a finite factor >= 1, got {}",
+            opts.fairness_gain
+        )));
+    }
+    if let Some(a) = opts.corner_angle_deg {
+        if !(a.is_finite() && a > 0.0 && a <= 180.0) {
+            return Err(Error::InvalidOption(format!(
+                "the corner angle must be in (0, 180] degrees, got {a}"
+            )));
+        }
+    }
     Ok(())
 }
 
