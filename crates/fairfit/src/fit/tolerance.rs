@@ -17,6 +17,7 @@ use super::parameterize::{parameterize_into, Parameterization};
 use super::shape::{detect_corners, looks_closed, DEFAULT_CORNER_ANGLE_DEG};
 use crate::errors::{Error, Result};
 use crate::io::points::{bounding_box_extent, drop_consecutive_duplicates};
+use crate::nurbs::scale::{normalising_factor, scaled_curve};
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::time::Instant;
 
@@ -154,6 +155,36 @@ pub struct FitResult {
 /// assert!(r.n_control_points <= 10);
 /// ```
 pub fn fit_to_tolerance(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
+    // far from unit size (beyond 2^±64) chord lengths and squared distances overflow or underflow:
+    // fit an exactly rescaled copy (a power of two) and scale the result back
+    let f = normalising_factor(points);
+    if f == 1.0 {
+        return fit_at_scale(points, opts);
+    }
+    let start = Instant::now();
+    let scaled: Vec<Vec3> = points.iter().map(|&q| q * f).collect();
+    let mut o = opts.clone();
+    if let Tolerance::Absolute(t) = o.tolerance {
+        o.tolerance = Tolerance::Absolute(t * f);
+    }
+    let mut r = fit_at_scale(&scaled, &o)?;
+    let back = 1.0 / f;
+    r.curve = scaled_curve(&r.curve, back)?;
+    for q in &mut r.points {
+        *q = *q * back;
+    }
+    r.deviation.max *= back;
+    r.deviation.rms *= back;
+    for d in &mut r.deviation.per_point {
+        *d *= back;
+    }
+    r.tolerance *= back;
+    r.fit_seconds = start.elapsed().as_secs_f64();
+    Ok(r)
+}
+
+/// [`fit_to_tolerance`] on points of moderate size.
+fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
     let start = Instant::now();
     let p = opts.degree;
     if p == 0 || p > 15 {
@@ -1097,6 +1128,46 @@ mod tests {
         };
         let r = fit_to_tolerance(&q, &opts).unwrap();
         assert!(r.deviation.max <= r.tolerance);
+    }
+
+    #[test]
+    fn points_far_from_unit_size_fit_like_unit_points() {
+        // at 2^500 and 2^-1000 (about 3e150 and 9e-302) chord lengths and squared distances would
+        // overflow or underflow; scaled by an exact power of two the fit must be the same, scaled
+        let unit: Vec<Vec3> = (0..60)
+            .map(|i| {
+                let t = i as f64 / 59.0;
+                Vec3::new(t, 0.3 * (4.0 * t).sin() + 0.1 * t * t, 0.0)
+            })
+            .collect();
+        let opts = FitOptions {
+            tolerance: Tolerance::Relative(1e-3),
+            ..FitOptions::default()
+        };
+        let base = fit_to_tolerance(&unit, &opts).unwrap();
+        for e in [500, -1000] {
+            let s = 2f64.powi(e);
+            let pts: Vec<Vec3> = unit.iter().map(|&q| q * s).collect();
+            let r = fit_to_tolerance(&pts, &opts).unwrap();
+            assert_eq!(r.n_control_points, base.n_control_points, "2^{e}");
+            assert_eq!(r.deviation.max, base.deviation.max * s, "2^{e}");
+            assert_eq!(r.tolerance, base.tolerance * s, "2^{e}");
+            for (a, b) in r
+                .curve
+                .control_points()
+                .iter()
+                .zip(base.curve.control_points())
+            {
+                assert_eq!(*a, *b * s, "2^{e}");
+            }
+            // an absolute tolerance scales with the data too
+            let abs = FitOptions {
+                tolerance: Tolerance::Absolute(base.tolerance * s),
+                ..opts.clone()
+            };
+            let r = fit_to_tolerance(&pts, &abs).unwrap();
+            assert_eq!(r.n_control_points, base.n_control_points, "2^{e} absolute");
+        }
     }
 
     #[test]
