@@ -395,12 +395,16 @@ pub fn band_fair(
                     r
                 };
             }
+            // no iterative refinement and 3 equilibration passes (defaults: on, 10): 33 % fewer
+            // instructions per subproblem, the same steps to 7 digits of F (docs/optim.md, speed)
             let settings = match DefaultSettingsBuilder::default()
                 .verbose(false)
                 .max_iter(60)
                 .tol_gap_abs(1e-7)
                 .tol_gap_rel(1e-7)
                 .tol_feas(1e-7)
+                .iterative_refinement_enable(false)
+                .equilibrate_max_iter(3)
                 .build()
             {
                 Ok(s) => s,

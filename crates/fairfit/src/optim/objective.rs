@@ -444,6 +444,32 @@ fn power_eval_any(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]
     out[3] = v3 * 6.0;
 }
 
+/// The point and derivatives 1..=2 at `u` from the power form, in span `j` (`out[3]` untouched):
+/// what a projection needs, bit-identical to [`power_eval`]'s first three entries.
+#[inline]
+fn power_eval2(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
+    if p == 3 {
+        power_eval2_any(coef, 3, j, t, out);
+    } else {
+        power_eval2_any(coef, p, j, t, out);
+    }
+}
+
+/// [`power_eval2`] for any degree (always inlined so a constant `p` unrolls the Horner loop).
+#[inline(always)]
+fn power_eval2_any(coef: &[Vec3], p: usize, j: usize, t: f64, out: &mut [Vec3; 4]) {
+    let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
+    let (mut v0, mut v1, mut v2) = (c[p], Vec3::default(), Vec3::default());
+    for k in (0..p).rev() {
+        v2 = v2 * t + v1;
+        v1 = v1 * t + v0;
+        v0 = v0 * t + c[k];
+    }
+    out[0] = v0;
+    out[1] = v1;
+    out[2] = v2 * 2.0;
+}
+
 /// The span index in `breaks` holding `u` (last span for `u` at the end).
 #[cfg(test)]
 fn power_span(breaks: &[f64], u: f64) -> usize {
@@ -509,7 +535,7 @@ fn project(
     let mut eval = |u: f64, d: &mut [Vec3; 4]| {
         let j = power_span_from(breaks, u, *hint);
         *hint = j;
-        power_eval(coef, p, j, u - breaks[j], d);
+        power_eval2(coef, p, j, u - breaks[j], d);
     };
     let mut d = [Vec3::default(); 4];
     let qk = data.points[k];
