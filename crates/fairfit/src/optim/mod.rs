@@ -11,6 +11,7 @@
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
 //! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
+//! - [`control_map`]: the control points the fairing stages move (open: interior; periodic: distinct);
 //! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
 //!   convex programming with second-order cones);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
@@ -25,6 +26,7 @@
 
 pub mod band_fairing;
 pub mod closed;
+pub mod control_map;
 pub mod corner_fit;
 pub mod corners;
 pub mod count_search;
