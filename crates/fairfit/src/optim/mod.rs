@@ -2,6 +2,7 @@
 //!
 //! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
 //! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
+//! - [`periodic_fairing`]: band fairing and polish of a periodic curve (seam kept `C^(p−1)`);
 //! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
@@ -37,6 +38,7 @@ pub mod objective;
 pub mod pareto;
 pub mod pareto_joined;
 pub mod periodic;
+pub mod periodic_fairing;
 pub mod polish;
 pub mod prepare;
 pub mod problem;
