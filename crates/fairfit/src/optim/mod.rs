@@ -2,14 +2,17 @@
 //!
 //! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
 //! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
+//! - [`periodic_fairing`]: band fairing and polish of a periodic curve (seam kept `C^(p−1)`);
 //! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
+//! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
 //! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
+//! - [`control_map`]: the control points the fairing stages move (open: interior; periodic: distinct);
 //! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
 //!   convex programming with second-order cones);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
@@ -17,22 +20,27 @@
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
 //! - [`pareto`]: the Pareto front of curves for `--pareto`;
-//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners.
+//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners;
+//! - [`pareto_periodic`]: the front of a periodic closed curve.
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
 pub mod band_fairing;
 pub mod closed;
+pub mod control_map;
 pub mod corner_fit;
 pub mod corners;
+pub mod count_search;
 pub mod encoding;
 pub mod integrated;
 pub mod mopso;
 pub mod objective;
 pub mod pareto;
 pub mod pareto_joined;
+pub mod pareto_periodic;
 pub mod periodic;
+pub mod periodic_fairing;
 pub mod polish;
 pub mod prepare;
 pub mod problem;
