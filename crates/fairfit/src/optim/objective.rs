@@ -314,10 +314,15 @@ pub fn measure_move(
         let a = ws.breaks[j0];
         let b = ws.breaks.get(j1).copied().unwrap_or(1.0);
         let mut hint = j0;
+        let flat = is_flat(data, ws);
         for k in 1..data.points.len().saturating_sub(1) {
             let u = start[k];
             if u >= a && u <= b {
-                let (best, best_u) = project(data, k, u, ws, &mut hint);
+                let (best, best_u) = if flat {
+                    project_planar(data, k, u, ws, &mut hint)
+                } else {
+                    project(data, k, u, ws, &mut hint)
+                };
                 ws.foot_params[k] = best_u;
                 ws.dev2[k] = best;
             }
@@ -501,8 +506,13 @@ fn deviations(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> (f64, f6
     ws.dev2.clear();
     ws.dev2.resize(m, 0.0);
     let mut hint = 0;
+    let flat = is_flat(data, ws);
     for k in 1..m.saturating_sub(1) {
-        let (best, best_u) = project(data, k, start[k], ws, &mut hint);
+        let (best, best_u) = if flat {
+            project_planar(data, k, start[k], ws, &mut hint)
+        } else {
+            project(data, k, start[k], ws, &mut hint)
+        };
         ws.foot_params[k] = best_u;
         ws.dev2[k] = best;
     }
@@ -559,6 +569,72 @@ fn project(
             best_u = u;
         }
         // Newton converges quadratically: after a step this small the foot is exact to ~1e-12
+        if step.abs() < 1e-6 {
+            break;
+        }
+    }
+    (best, best_u)
+}
+
+/// Whether the curve in `ws` lies in the xy plane with the data (every power-form coefficient has
+/// `z = 0`), so that [`project_planar`] gives what [`project`] gives.
+fn is_flat(data: &FitData, ws: &EvalWorkspace) -> bool {
+    data.planar && ws.coef.iter().all(|c| c[2] == 0.0)
+}
+
+/// [`project`] for a curve and data in the xy plane: the same Newton steps on two coordinates
+/// (the z terms it leaves out are exact zeros, so the feet and distances are the same).
+#[inline]
+fn project_planar(
+    data: &FitData,
+    k: usize,
+    mut u: f64,
+    ws: &EvalWorkspace,
+    hint: &mut usize,
+) -> (f64, f64) {
+    let p = data.degree;
+    let (breaks, coef) = (&ws.breaks, &ws.coef);
+    // value, first and second derivative (x, y) by Horner, as `power_eval2`
+    let mut eval = |u: f64| -> [[f64; 2]; 3] {
+        let j = power_span_from(breaks, u, *hint);
+        *hint = j;
+        let t = u - breaks[j];
+        let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
+        let mut v = [[c[p][0], c[p][1]], [0.0; 2], [0.0; 2]];
+        for ck in c[..p].iter().rev() {
+            for a in 0..2 {
+                v[2][a] = v[2][a] * t + v[1][a];
+                v[1][a] = v[1][a] * t + v[0][a];
+                v[0][a] = v[0][a] * t + ck[a];
+            }
+        }
+        v[2] = [v[2][0] * 2.0, v[2][1] * 2.0];
+        v
+    };
+    let q = data.points[k];
+    let (qx, qy) = (q[0], q[1]);
+    let mut d = eval(u);
+    let dist2 = |d: &[[f64; 2]; 3]| {
+        let (x, y) = (d[0][0] - qx, d[0][1] - qy);
+        x * x + y * y
+    };
+    let mut best = dist2(&d);
+    let mut best_u = u;
+    for _ in 0..3 {
+        let (x, y) = (d[0][0] - qx, d[0][1] - qy);
+        let f = d[1][0] * x + d[1][1] * y;
+        let fp = (d[2][0] * x + d[2][1] * y) + (d[1][0] * d[1][0] + d[1][1] * d[1][1]);
+        if fp.is_nan() || fp <= 0.0 {
+            break;
+        }
+        let step = (-f / fp).clamp(-0.05, 0.05);
+        u = (u + step).clamp(0.0, 1.0);
+        d = eval(u);
+        let d2 = dist2(&d);
+        if d2 < best {
+            best = d2;
+            best_u = u;
+        }
         if step.abs() < 1e-6 {
             break;
         }
