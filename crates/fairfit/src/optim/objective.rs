@@ -218,6 +218,22 @@ pub fn evaluate_candidate_within(
     fairness_cutoff: f64,
     ws: &mut EvalWorkspace,
 ) -> CandidateEval {
+    evaluate_candidate_bounded(data, log_lambda, fairness_cutoff, None, ws)
+}
+
+/// [`evaluate_candidate_within`] that may give up: with `give_up = Some((tol, v))` the last
+/// projection pass stops as soon as the result's maximum deviation `d` is certain to have
+/// `d / tol − 1 > v` (a constraint violation above `v`), and the returned evaluation then holds a
+/// lower bound of `d` with that property (RMS and fairness infinite). A swarm passes the violation
+/// of the particle's best so far: such a candidate cannot replace it, so the search takes exactly
+/// the same path as with full evaluations.
+pub fn evaluate_candidate_bounded(
+    data: &FitData,
+    log_lambda: f64,
+    fairness_cutoff: f64,
+    give_up: Option<(f64, f64)>,
+    ws: &mut EvalWorkspace,
+) -> CandidateEval {
     let mut params = std::mem::take(&mut ws.fit_params);
     params.clear();
     params.extend_from_slice(&data.params);
@@ -226,18 +242,46 @@ pub fn evaluate_candidate_within(
         return CandidateEval::failed();
     }
     build_power_form(data.degree, ws);
-    let (mut max_dev, mut rms) = deviations(data, &params, ws);
-    for _ in 0..data.corrections {
+    let gave_up = |d: f64| CandidateEval {
+        solved: true,
+        max_deviation: d,
+        rms_deviation: f64::INFINITY,
+        fairness: f64::INFINITY,
+        max_span_fairness: f64::INFINITY,
+    };
+    let last = |pass: usize| {
+        if pass == data.corrections {
+            give_up
+        } else {
+            None
+        }
+    };
+    let (mut max_dev, mut rms) = match deviations_bounded(data, &params, f64::INFINITY, last(0), ws)
+    {
+        Ok(d) => d,
+        Err(d) => {
+            ws.fit_params = params;
+            return gave_up(d);
+        }
+    };
+    for pass in 1..=data.corrections {
         // parameter correction: refit at the foot points of the last fit, keeping that fit to
         // restore it (by copy, not by solving again) when the correction does not help
         ws.keep_fit(&params);
         std::mem::swap(&mut params, &mut ws.foot_params);
         if solve_control_points(data, &params, log_lambda, ws) {
             build_power_form(data.degree, ws);
-            let (d2, r2) = deviations(data, &params, ws);
-            if d2 <= max_dev {
-                (max_dev, rms) = (d2, r2);
-                continue;
+            match deviations_bounded(data, &params, max_dev, last(pass), ws) {
+                Ok((d2, r2)) => {
+                    if d2 <= max_dev {
+                        (max_dev, rms) = (d2, r2);
+                        continue;
+                    }
+                }
+                Err(d) => {
+                    ws.fit_params = params;
+                    return gave_up(d);
+                }
             }
         }
         // no better: restore the previous fit and stop
@@ -500,6 +544,22 @@ fn power_span_from(breaks: &[f64], u: f64, hint: usize) -> usize {
 /// Max and RMS orthogonal deviation: Newton projection started at each point's own parameter
 /// (fills `ws.foot_params` and `ws.dev2`).
 fn deviations(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> (f64, f64) {
+    match deviations_bounded(data, start, f64::INFINITY, None, ws) {
+        Ok(d) => d,
+        Err(_) => (f64::INFINITY, f64::INFINITY),
+    }
+}
+
+/// [`deviations`], giving up (`Err(bound)`) once `min(floor, max so far)` is certain to exceed the
+/// violation `v` of `give_up = Some((tol, v))`: `bound / tol − 1 > v` (`floor` is the maximum
+/// deviation the caller keeps if this pass is worse).
+fn deviations_bounded(
+    data: &FitData,
+    start: &[f64],
+    floor: f64,
+    give_up: Option<(f64, f64)>,
+    ws: &mut EvalWorkspace,
+) -> Result<(f64, f64), f64> {
     let m = data.points.len();
     ws.foot_params.clear();
     ws.foot_params.extend_from_slice(start);
@@ -507,6 +567,7 @@ fn deviations(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> (f64, f6
     ws.dev2.resize(m, 0.0);
     let mut hint = 0;
     let flat = is_flat(data, ws);
+    let mut worst2 = 0.0f64;
     for k in 1..m.saturating_sub(1) {
         let (best, best_u) = if flat {
             project_planar(data, k, start[k], ws, &mut hint)
@@ -515,8 +576,17 @@ fn deviations(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> (f64, f6
         };
         ws.foot_params[k] = best_u;
         ws.dev2[k] = best;
+        if best > worst2 {
+            worst2 = best;
+            if let Some((tol, v)) = give_up {
+                let bound = floor.min(worst2.sqrt());
+                if bound / tol - 1.0 > v {
+                    return Err(bound);
+                }
+            }
+        }
     }
-    deviation_totals(&ws.dev2)
+    Ok(deviation_totals(&ws.dev2))
 }
 
 /// `(max, rms)` of the distances whose squares are `dev2` (ends included as zeros).

@@ -4,7 +4,8 @@
 
 use super::encoding::KnotEncoding;
 use super::objective::{
-    evaluate_candidate_within, set_knots, CandidateEval, EvalWorkspace, FitData,
+    evaluate_candidate_bounded, evaluate_candidate_within, set_knots, CandidateEval, EvalWorkspace,
+    FitData,
 };
 use super::pso::{Fitness, SwarmProblem};
 
@@ -72,6 +73,30 @@ impl SwarmProblem for KnotProblem<'_> {
             self.data,
             self.encoding.log_lambda(x),
             self.fairness_cutoff * self.tolerance,
+            &mut ws.eval,
+        )
+    }
+
+    fn evaluate_within(
+        &self,
+        x: &[f64],
+        ws: &mut KnotWorkspace,
+        cutoff: &Fitness,
+    ) -> CandidateEval {
+        if !self.decode_into(x, ws) {
+            return CandidateEval::failed();
+        }
+        set_knots(self.data.degree, &ws.interior, &mut ws.eval);
+        // a candidate whose deviation violation exceeds the cutoff's total violation cannot beat it
+        let give_up = cutoff
+            .violation
+            .is_finite()
+            .then_some((self.tolerance, cutoff.violation));
+        evaluate_candidate_bounded(
+            self.data,
+            self.encoding.log_lambda(x),
+            self.fairness_cutoff * self.tolerance,
+            give_up,
             &mut ws.eval,
         )
     }

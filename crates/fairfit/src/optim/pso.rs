@@ -71,6 +71,18 @@ pub trait SwarmProblem: Sync {
     fn repair(&self, _x: &mut [f64], _ws: &mut Self::Workspace) {}
     /// Evaluates position `x`.
     fn evaluate(&self, x: &[f64], ws: &mut Self::Workspace) -> Self::Output;
+    /// Evaluates position `x`, allowed to stop early once its fitness is certain not to be better
+    /// than `cutoff`, returning then an output whose fitness is not better than `cutoff` either
+    /// (the swarm only compares it with `cutoff` or worse). Default: [`SwarmProblem::evaluate`].
+    fn evaluate_within(
+        &self,
+        x: &[f64],
+        ws: &mut Self::Workspace,
+        cutoff: &Fitness,
+    ) -> Self::Output {
+        let _ = cutoff;
+        self.evaluate(x, ws)
+    }
     /// The scalar fitness of an output.
     fn fitness(&self, out: &Self::Output) -> Fitness;
 }
@@ -214,7 +226,10 @@ pub fn run_pso<P: SwarmProblem>(
             .par_iter_mut()
             .map(|p| {
                 problem.repair(&mut p.x, &mut p.ws);
-                let out = problem.evaluate(&p.x, &mut p.ws);
+                // the global best is at least as good as the particle's: a candidate that cannot
+                // beat the particle's best changes nothing
+                let cutoff = p.best_f;
+                let out = problem.evaluate_within(&p.x, &mut p.ws, &cutoff);
                 let f = problem.fitness(&out);
                 if f.better_than(&p.best_f) {
                     p.best_f = f;
@@ -291,9 +306,11 @@ fn refine<P: SwarmProblem>(
     let polls = 2 * dim;
     while used < budget && step > 1e-4 {
         let base = res.position.clone();
+        // only a poll better than the best at the start of its chunk can be taken
         let mut improved = false;
         for chunk_start in (0..polls).step_by(swarm.len().max(1)) {
             let chunk_end = (chunk_start + swarm.len()).min(polls);
+            let cutoff = res.fitness;
             let results: Vec<(Vec<f64>, P::Output, Fitness)> = swarm[..chunk_end - chunk_start]
                 .par_iter_mut()
                 .enumerate()
@@ -304,7 +321,7 @@ fn refine<P: SwarmProblem>(
                     p.x.copy_from_slice(&base);
                     p.x[d] = (p.x[d] + sign * step * range[d]).clamp(lo[d], hi[d]);
                     problem.repair(&mut p.x, &mut p.ws);
-                    let out = problem.evaluate(&p.x, &mut p.ws);
+                    let out = problem.evaluate_within(&p.x, &mut p.ws, &cutoff);
                     let f = problem.fitness(&out);
                     (p.x.clone(), out, f)
                 })
