@@ -544,10 +544,8 @@ fn power_span_from(breaks: &[f64], u: f64, hint: usize) -> usize {
 /// Max and RMS orthogonal deviation: Newton projection started at each point's own parameter
 /// (fills `ws.foot_params` and `ws.dev2`).
 fn deviations(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> (f64, f64) {
-    match deviations_bounded(data, start, f64::INFINITY, None, ws) {
-        Ok(d) => d,
-        Err(_) => (f64::INFINITY, f64::INFINITY),
-    }
+    deviations_bounded(data, start, f64::INFINITY, None, ws)
+        .unwrap_or((f64::INFINITY, f64::INFINITY))
 }
 
 /// [`deviations`], giving up (`Err(bound)`) once `min(floor, max so far)` is certain to exceed the
