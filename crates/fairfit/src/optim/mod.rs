@@ -12,6 +12,8 @@
 //! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
 //! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
 //!   convex programming with second-order cones);
+//! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
+//!   extrema removed);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
@@ -26,6 +28,7 @@ pub mod band_fairing;
 pub mod closed;
 pub mod corner_fit;
 pub mod corners;
+pub mod curvature_signs;
 pub mod encoding;
 pub mod integrated;
 pub mod mopso;
