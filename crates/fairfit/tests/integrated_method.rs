@@ -255,3 +255,24 @@ fn non_finite_or_shrinking_options_are_typed_errors() {
         assert!(matches!(e, fairfit::Error::InvalidOption(_)), "{e}");
     }
 }
+
+#[test]
+fn far_from_unit_size_the_fit_is_the_unit_fit_scaled() {
+    // at coordinates near 1e-211 squared lengths underflow; at 1e180 they overflow
+    let pts: Vec<Vec3> = (0..60)
+        .map(|i| {
+            let t = std::f64::consts::FRAC_PI_2 * i as f64 / 59.0;
+            Vec3([t.cos(), 0.5 * t.sin() + 0.1 * (5.0 * t).sin(), 0.0])
+        })
+        .collect();
+    let unit = fit_integrated(&pts, &opts()).unwrap();
+    for f in [2f64.powi(-700), 2f64.powi(600)] {
+        let scaled: Vec<Vec3> = pts.iter().map(|p| *p * f).collect();
+        let r = fit_integrated(&scaled, &opts()).unwrap();
+        assert_eq!(r.curve.n_control_points(), unit.curve.n_control_points());
+        assert_eq!(r.curve.knots(), unit.curve.knots());
+        assert!((r.quality.fairness / unit.quality.fairness - 1.0).abs() < 1e-9);
+        assert!((r.quality.max_deviation / f / unit.quality.max_deviation - 1.0).abs() < 1e-9);
+        assert!(r.met);
+    }
+}

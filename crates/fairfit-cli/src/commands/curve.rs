@@ -157,7 +157,7 @@ pub struct CurveArgs {
     /// Random seed (methods with a stochastic search).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Worker threads (0 = all cores; results do not depend on it).
+    /// Worker threads (0 = all cores; capped at 4 per core; results do not depend on it).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
     /// Output curve JSON file (stdout when absent).

@@ -27,15 +27,24 @@ pub struct MethodOutput {
 }
 
 /// Runs `f` inside a rayon pool of `threads` workers (0 = rayon's default).
+///
+/// More workers than four per available core only cost memory and scheduling (results do not
+/// depend on the count), so the pool is capped there.
 pub fn with_pool<T: Send>(
     threads: usize,
     f: impl FnOnce() -> Result<T, CliError> + Send,
 ) -> Result<T, CliError> {
+    let threads = threads.min(max_threads());
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| CliError(format!("cannot start {threads} worker threads: {e}")))?;
     pool.install(f)
+}
+
+/// The largest useful pool: four workers per core the system reports (at least four).
+fn max_threads() -> usize {
+    4 * std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 fn tolerance(args: &CurveArgs) -> Tolerance {
@@ -176,4 +185,18 @@ pub fn run_fit_then_fair(
         curve: faired.curve,
         report,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pool_is_capped_at_four_workers_per_core() {
+        let cap = max_threads();
+        let workers = with_pool(1_000_000, || Ok(rayon::current_num_threads())).unwrap();
+        assert_eq!(workers, cap);
+        let two = with_pool(2, || Ok(rayon::current_num_threads())).unwrap();
+        assert_eq!(two, 2.min(cap));
+    }
 }

@@ -23,7 +23,8 @@ pub fn looks_closed(points: &[Vec3]) -> bool {
         return false;
     }
     let ext = bounding_box_extent(points);
-    ext > 0.0 && (points[points.len() - 1] - points[0]).norm() <= CLOSED_REL_GAP * ext
+    // the gap in units of the extent: a squared gap of points near 1e-200 would underflow to 0
+    ext > 0.0 && ((points[points.len() - 1] - points[0]) / ext).norm() <= CLOSED_REL_GAP
 }
 
 /// Indices of corner points: turning angle above `angle_deg`. For `closed` data (the last point is not

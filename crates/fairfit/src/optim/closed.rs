@@ -23,6 +23,7 @@
 //! control-point polish of open curves is not applied (its moves would have to keep the seam
 //! periodic).
 
+use super::count_search::{pso_options, search_counts, CountFamily, CountProblem, CountStart};
 use super::integrated::{
     fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions, IntegratedResult,
     OptimStats,
@@ -30,8 +31,7 @@ use super::integrated::{
 use super::objective::CandidateEval;
 use super::periodic::{evaluate_closed, ClosedData, ClosedProblem, ClosedWorkspace};
 use super::prepare::{prepare, Prepared};
-use super::pso::{run_pso, PsoOptions, SwarmProblem};
-use super::smoothing::tune_smoothing;
+use super::pso::{run_pso, SwarmProblem};
 use crate::errors::{Error, Result};
 use crate::fit::shape::{detect_corners, looks_closed};
 use crate::fit::tolerance::ClosedMode;
@@ -143,27 +143,8 @@ fn fit_periodic(
             best_n += 1;
         }
     }
-    let pso_opts = |iters: usize, probe: bool, salt: u64| PsoOptions {
-        particles: opts.particles,
-        max_iterations: iters,
-        stall_iterations: if probe { iters } else { 10 },
-        stall_rel: 1e-4,
-        seed_spread: 0.03,
-        random_fraction: 0.1,
-        stop_when_feasible: probe,
-        refine_evaluations: if probe { 0 } else { opts.refine_evaluations },
-        seed: opts.seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15),
-    };
-    let problem_for = |n: usize| {
-        ClosedProblem::new(
-            &data,
-            n,
-            MIN_GAP,
-            opts.search_smoothing,
-            tol,
-            opts.span_fairness,
-        )
-    };
+    let pso_opts = |iters: usize, probe: bool, salt: u64| pso_options(opts, iters, probe, salt);
+    let problem_for = |n: usize| problem_at(&data, n, tol, opts);
 
     // count descent: greedy removal, then a swarm probe
     let lowest = fixed.unwrap_or(p + 1).max(p + 1);
@@ -219,73 +200,67 @@ fn fit_periodic(
     }
 
     // full search at the smallest feasible count, then with extra points while they pay
-    let full = |n: usize, knots: &[f64], stats: &mut OptimStats| {
-        stats.counts_tried.push(n);
-        let pr = problem_for(n);
-        let mut seeds = vec![pr.position(knots)];
-        if let Some((_, k)) = descent
-            .iter()
-            .find(|(c, k)| *c == n && k.as_slice() != knots)
-        {
-            seeds.push(pr.position(k));
-        }
-        seeds.push(pr.position(&equal_breaks(&data.params, n)));
-        let mut r = run_pso(
-            &pr,
-            &seeds,
-            &pso_opts(opts.max_iterations, false, n as u64 + 1_000_003),
-            &|it| progress(n, it),
-        );
-        stats.evaluations += r.evaluations;
-        stats.iterations += r.iterations;
-        if pr.encoding().with_smoothing {
-            let coord = pr.encoding().interior + 1;
-            let t = tune_smoothing(&pr, coord, (&r.position, &r.output, r.fitness));
-            stats.evaluations += t.evaluations;
-            (r.position, r.output, r.fitness) = (t.position, t.output, t.fitness);
-        }
-        let f = if r.fitness.feasible() {
-            r.output.fairness
-        } else {
-            f64::INFINITY
-        };
-        stats.fairness_by_count.push((n, f));
-        (pr, r)
+    let family = ClosedFamily {
+        data: &data,
+        tol,
+        opts,
     };
-    let (mut pr, mut r) = full(best_n, &best_knots, &mut stats);
-    let score = |f: f64, extra: usize| f * opts.fairness_gain.powi(extra as i32);
-    let mut best_score = score(r.output.fairness, 0);
-    let (mut prev_pr, mut prev_r) = (pr.clone(), r.clone());
-    let max_extra = if fixed.is_some() {
-        0
-    } else {
-        opts.max_extra_control_points
+    let start_at = CountStart {
+        n: best_n,
+        knots: &best_knots,
+        descent: &descent,
+        limit: max_n.min(baseline),
     };
-    for extra in 1..=max_extra {
-        let n = best_n + extra;
-        if n > max_n || n > baseline || !prev_r.fitness.feasible() {
-            break;
-        }
-        let Some(k) = prev_pr.decode(&prev_r.position) else {
-            break;
-        };
-        let (pr2, r2) = full(n, &best_insertion(&data, &k, tol), &mut stats);
-        let sc = score(r2.output.fairness, extra);
-        if r2.fitness.feasible() && sc < best_score {
-            best_score = sc;
-            (pr, r) = (pr2.clone(), r2.clone());
-        }
-        (prev_pr, prev_r) = (pr2, r2);
-    }
-    let interior = pr.decode(&r.position).ok_or_else(|| {
+    let choice = search_counts(&family, start_at, opts, progress, &mut stats);
+    let interior = choice.interior.ok_or_else(|| {
         Error::Fit("no valid periodic knot vector for the data (too few points?)".into())
     })?;
-    let log_lambda = pr.encoding().log_lambda(&r.position);
+    let log_lambda = choice.log_lambda;
     let mut result = finish_periodic(prep, &data, &interior, log_lambda, tol, opts)?;
     stats.seconds = start.elapsed().as_secs_f64();
     result.baseline_control_points = baseline;
     result.stats = stats;
     Ok(result)
+}
+
+/// The periodic knot search for `n` distinct control points.
+fn problem_at<'a>(
+    data: &'a ClosedData,
+    n: usize,
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> ClosedProblem<'a> {
+    ClosedProblem::new(
+        data,
+        n,
+        MIN_GAP,
+        opts.search_smoothing,
+        tol,
+        opts.span_fairness,
+    )
+}
+
+/// The periodic knot searches of one closed data set, for [`search_counts`].
+struct ClosedFamily<'a> {
+    data: &'a ClosedData,
+    tol: f64,
+    opts: &'a IntegratedOptions,
+}
+
+impl<'a> CountFamily for ClosedFamily<'a> {
+    type Problem = ClosedProblem<'a>;
+
+    fn problem(&self, n: usize) -> ClosedProblem<'a> {
+        problem_at(self.data, n, self.tol, self.opts)
+    }
+
+    fn spread_knots(&self, n: usize) -> Vec<f64> {
+        equal_breaks(&self.data.params, n)
+    }
+
+    fn insertion(&self, knots: &[f64], _log_lambda: f64) -> Vec<f64> {
+        best_insertion(self.data, knots, self.tol)
+    }
 }
 
 /// The periodic curve (input coordinates) for normalised breakpoints and smoothing, measured.

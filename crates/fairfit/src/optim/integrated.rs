@@ -23,13 +23,13 @@
 //! methods at equal control points.
 
 use super::band_fairing::{band_fair, BandOptions};
+use super::count_search::{pso_options, search_counts, CountFamily, CountProblem, CountStart};
 use super::encoding::KnotEncoding;
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
 use super::polish::{polish, PolishOptions, Polished};
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::problem::KnotProblem;
-use super::pso::{run_pso, PsoOptions};
-use super::smoothing::tune_smoothing;
+use super::pso::run_pso;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 use rayon::prelude::*;
@@ -245,32 +245,8 @@ pub fn fit_integrated_with_progress(
         }
     }
 
-    let pso_opts = |iters: usize, probe: bool, salt: u64| PsoOptions {
-        particles: opts.particles,
-        max_iterations: iters,
-        stall_iterations: if probe { iters } else { 10 },
-        stall_rel: 1e-4,
-        seed_spread: 0.03,
-        random_fraction: 0.1,
-        stop_when_feasible: probe,
-        refine_evaluations: if probe { 0 } else { opts.refine_evaluations },
-        seed: opts.seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15),
-    };
-    let problem_for = |n: usize| KnotProblem {
-        data,
-        encoding: KnotEncoding::new(n - p - 1, MIN_GAP, opts.search_smoothing),
-        tolerance: tol,
-        span_target: opts.span_fairness,
-        fairness_cutoff: 1.0,
-    };
-    let seed_position = |pr: &KnotProblem, knots: &[f64]| {
-        let mut x = vec![0.0; pr.encoding.dim()];
-        pr.encoding.encode(knots, &mut x);
-        if pr.encoding.with_smoothing {
-            x[pr.encoding.interior + 1] = super::encoding::LOG_LAMBDA_RANGE.0;
-        }
-        x
-    };
+    let pso_opts = |iters: usize, probe: bool, salt: u64| pso_options(opts, iters, probe, salt);
+    let problem_for = |n: usize| open_problem(data, n, tol, opts);
 
     // 3. count search downwards from the baseline: greedy knot removal, then a swarm probe
     // a fixed count descends from the baseline to it (feasible seeds), or starts above it
@@ -307,12 +283,9 @@ pub fn fit_integrated_with_progress(
         let mut seeds: Vec<Vec<f64>> = removals
             .iter()
             .take(3)
-            .map(|(_, k)| seed_position(&pr, k))
+            .map(|(_, k)| pr.position(k))
             .collect();
-        seeds.push(seed_position(
-            &pr,
-            &averaging_interior_knots(&data.params, p, cand),
-        ));
+        seeds.push(pr.position(&averaging_interior_knots(&data.params, p, cand)));
         let r = run_pso(
             &pr,
             &seeds,
@@ -344,94 +317,24 @@ pub fn fit_integrated_with_progress(
     }
 
     // 4. full search at the smallest feasible count, then at one more control point at a time
-    //    while that buys a factor `fairness_gain` in F (and F* is not yet met)
-    let full = |n: usize, knots: &[f64], stats: &mut OptimStats| {
-        stats.counts_tried.push(n);
-        let pr = problem_for(n);
-        let mut seeds = vec![seed_position(&pr, knots)];
-        if let Some((_, k)) = descent
-            .iter()
-            .find(|(c, k)| *c == n && k.as_slice() != knots)
-        {
-            seeds.push(seed_position(&pr, k));
-        }
-        seeds.push(seed_position(
-            &pr,
-            &averaging_interior_knots(&data.params, p, n),
-        ));
-        let mut r = run_pso(
-            &pr,
-            &seeds,
-            &pso_opts(opts.max_iterations, false, n as u64 + 1_000_003),
-            &|it| progress(n, it),
-        );
-        stats.evaluations += r.evaluations;
-        stats.iterations += r.iterations;
-        if pr.encoding.with_smoothing {
-            // the swarm explores the smoothing weight poorly: a line search on it at the best knots
-            let t = tune_smoothing(
-                &pr,
-                pr.encoding.interior + 1,
-                (&r.position, &r.output, r.fitness),
-            );
-            stats.evaluations += t.evaluations;
-            (r.position, r.output, r.fitness) = (t.position, t.output, t.fitness);
-        }
-        let f = if r.fitness.feasible() {
-            r.output.fairness
-        } else {
-            f64::INFINITY
-        };
-        stats.fairness_by_count.push((n, f));
-        (pr, r)
+    //    while that buys a factor `fairness_gain` in F (never more than the baseline)
+    let family = OpenFamily { data, tol, opts };
+    let start_at = CountStart {
+        n: best_n,
+        knots: &best_knots,
+        descent: &descent,
+        limit: m1.min(baseline),
     };
-    let (mut pr, mut r) = full(best_n, &best_knots, &mut stats);
-    // every extra control point must pay for itself: minimise F · gain^(extra)
-    let score = |f: f64, extra: usize| f * opts.fairness_gain.powi(extra as i32);
-    let mut best_score = score(r.output.fairness, 0);
-    let (mut prev_pr, mut prev_r) = (pr.clone(), r.clone());
-    let max_extra = if fixed.is_some() {
-        0
-    } else {
-        opts.max_extra_control_points
-    };
-    for extra in 1..=max_extra {
-        let n = best_n + extra;
-        // never more control points than the least-squares baseline needs
-        if n > m1 || n > baseline || !prev_r.fitness.feasible() {
-            break;
-        }
-        let mut kw = Default::default();
-        if !prev_pr.decode_into(&prev_r.position, &mut kw) {
-            break;
-        }
-        let knots = best_insertion(
-            data,
-            &kw.interior,
-            prev_pr.encoding.log_lambda(&prev_r.position),
-            tol,
-        );
-        let (pr2, r2) = full(n, &knots, &mut stats);
-        let sc = score(r2.output.fairness, extra);
-        if r2.fitness.feasible() && sc < best_score {
-            best_score = sc;
-            pr = pr2.clone();
-            r = r2.clone();
-        }
-        prev_pr = pr2;
-        prev_r = r2;
-    }
-
-    let mut kw = Default::default();
-    if !pr.decode_into(&r.position, &mut kw) {
+    let choice = search_counts(&family, start_at, opts, progress, &mut stats);
+    let Some(interior) = choice.interior else {
         return Err(Error::Fit(
             "no valid knot vector for the data (too few points?)".into(),
         ));
-    }
-    let log_lambda = pr.encoding.log_lambda(&r.position);
+    };
+    let log_lambda = choice.log_lambda;
     let result = finish(
         &prep,
-        &kw.interior,
+        &interior,
         log_lambda,
         tol,
         opts,
@@ -445,6 +348,45 @@ pub fn fit_integrated_with_progress(
         stats,
         ..result
     })
+}
+
+/// The open knot search for `n` control points.
+fn open_problem<'a>(
+    data: &'a FitData,
+    n: usize,
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> KnotProblem<'a> {
+    KnotProblem {
+        data,
+        encoding: KnotEncoding::new(n - opts.degree - 1, MIN_GAP, opts.search_smoothing),
+        tolerance: tol,
+        span_target: opts.span_fairness,
+        fairness_cutoff: 1.0,
+    }
+}
+
+/// The open knot searches of one data set, for [`search_counts`].
+struct OpenFamily<'a> {
+    data: &'a FitData,
+    tol: f64,
+    opts: &'a IntegratedOptions,
+}
+
+impl<'a> CountFamily for OpenFamily<'a> {
+    type Problem = KnotProblem<'a>;
+
+    fn problem(&self, n: usize) -> KnotProblem<'a> {
+        open_problem(self.data, n, self.tol, self.opts)
+    }
+
+    fn spread_knots(&self, n: usize) -> Vec<f64> {
+        averaging_interior_knots(&self.data.params, self.opts.degree, n)
+    }
+
+    fn insertion(&self, knots: &[f64], log_lambda: f64) -> Vec<f64> {
+        best_insertion(self.data, knots, log_lambda, self.tol)
+    }
 }
 
 /// The least-squares fit with averaging knots and `n_ctrl` control points (the baseline the

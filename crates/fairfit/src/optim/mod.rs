@@ -5,6 +5,7 @@
 //! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
+//! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
@@ -28,6 +29,7 @@ pub mod band_fairing;
 pub mod closed;
 pub mod corner_fit;
 pub mod corners;
+pub mod count_search;
 pub mod curvature_signs;
 pub mod encoding;
 pub mod integrated;

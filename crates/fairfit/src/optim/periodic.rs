@@ -21,6 +21,7 @@
 //! problem's encoding (softmax gaps: the breakpoints are a partition of the circle cut at the seam)
 //! and its feasibility-first fitness.
 
+use super::count_search::CountProblem;
 use super::encoding::{KnotEncoding, LOG_LAMBDA_OFF};
 use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
 use super::prepare::Prepared;
@@ -295,22 +296,23 @@ impl<'a> ClosedProblem<'a> {
     pub fn encoding(&self) -> &KnotEncoding {
         &self.base.encoding
     }
+}
 
-    /// The position of interior breakpoints `knots` (smoothing coordinate at its lower bound).
-    pub fn position(&self, knots: &[f64]) -> Vec<f64> {
-        let enc = &self.base.encoding;
-        let mut x = vec![0.0; enc.dim()];
-        enc.encode(knots, &mut x);
-        if enc.with_smoothing {
-            x[enc.interior + 1] = super::encoding::LOG_LAMBDA_RANGE.0;
-        }
-        x
+impl CountProblem for ClosedProblem<'_> {
+    fn position(&self, knots: &[f64]) -> Vec<f64> {
+        self.base.position(knots)
     }
 
-    /// Decodes and repairs `x` into interior breakpoints (`None` if impossible).
-    pub fn decode(&self, x: &[f64]) -> Option<Vec<f64>> {
-        let mut kw = KnotWorkspace::default();
-        self.base.decode_into(x, &mut kw).then_some(kw.interior)
+    fn decode(&self, x: &[f64]) -> Option<Vec<f64>> {
+        self.base.decode(x)
+    }
+
+    fn smoothing_coord(&self) -> Option<usize> {
+        self.base.smoothing_coord()
+    }
+
+    fn log_lambda(&self, x: &[f64]) -> f64 {
+        self.base.encoding.log_lambda(x)
     }
 }
 

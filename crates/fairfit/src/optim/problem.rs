@@ -97,3 +97,29 @@ impl SwarmProblem for KnotProblem<'_> {
         }
     }
 }
+
+impl super::count_search::CountProblem for KnotProblem<'_> {
+    fn position(&self, knots: &[f64]) -> Vec<f64> {
+        let mut x = vec![0.0; self.encoding.dim()];
+        self.encoding.encode(knots, &mut x);
+        if self.encoding.with_smoothing {
+            x[self.encoding.interior + 1] = super::encoding::LOG_LAMBDA_RANGE.0;
+        }
+        x
+    }
+
+    fn decode(&self, x: &[f64]) -> Option<Vec<f64>> {
+        let mut kw = KnotWorkspace::default();
+        self.decode_into(x, &mut kw).then_some(kw.interior)
+    }
+
+    fn smoothing_coord(&self) -> Option<usize> {
+        self.encoding
+            .with_smoothing
+            .then_some(self.encoding.interior + 1)
+    }
+
+    fn log_lambda(&self, x: &[f64]) -> f64 {
+        self.encoding.log_lambda(x)
+    }
+}
