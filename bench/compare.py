@@ -209,6 +209,15 @@ def run_fairfit(exe: str, csv: str, method: str, rel_tol: float, pts, timeout: f
     return res
 
 
+def count_of(res) -> int:
+    """The control-point count fairfit's `--control-points` takes for a fairfit result: its report's
+    `control_points` (distinct control points: a periodic closed curve stores n + p, the last p
+    repeating the first), else the measured count."""
+    rep = (res.extra or {}).get("report") or {}
+    n = rep.get("control_points")
+    return int(n) if isinstance(n, int) and n > 0 else res.metrics.n_ctrl
+
+
 def equal_without_corners(exe, path, args, pts, ff_kw):
     """fit-then-fair and then the integrated method at its control-point count, both `--no-corners`."""
     ftf = run_fairfit(exe, path, "fit-then-fair", args.rel_tol, pts, args.timeout, extra=["--no-corners"],
@@ -217,7 +226,7 @@ def equal_without_corners(exe, path, args, pts, ff_kw):
     if ftf.ok and ftf.metrics is not None:
         out.append(run_fairfit(
             exe, path, "integrated", args.rel_tol, pts, args.timeout,
-            extra=["--no-corners", "--control-points", str(ftf.metrics.n_ctrl)],
+            extra=["--no-corners", "--control-points", str(count_of(ftf))],
             name=targets.EQUAL_NO_CORNERS, **ff_kw))
     return out
 
@@ -760,7 +769,7 @@ def main(argv=None):
                 if ftf.ok and ftf.metrics is not None and (not flags or "--control-points" in flags):
                     eq = run_fairfit(
                         exe, path, "integrated", args.rel_tol, pts, args.timeout,
-                        extra=["--control-points", str(ftf.metrics.n_ctrl)], name=EQUAL_COUNT, **ff_kw)
+                        extra=["--control-points", str(count_of(ftf))], name=EQUAL_COUNT, **ff_kw)
                     results.append(eq)
                     if not eq.ok and "corner" in eq.reason and (not flags or "--no-corners" in flags):
                         # a fixed count cannot be shared between corner pieces: compare both methods

@@ -172,7 +172,8 @@ pub fn run_fit_then_fair(
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
     let report = json!({
         "method": "fit-then-fair",
-        "control_points": faired.curve.n_control_points(),
+        "control_points": fairfit::optim::closed::distinct_control_points(&faired.curve),
+        "closed": fit.closed,
         "tolerance": fit.tolerance,
         "tolerance_met": dev.max <= fit.tolerance,
         "max_deviation": dev.max,

@@ -153,8 +153,18 @@ pub fn fair_curve(
     let max_deviation_before = dist.iter().fold(0.0f64, |m, &d| m.max(d));
     let allowance: Vec<f64> = dist.iter().map(|&d| d.max(tol)).collect();
 
-    let movable: Vec<usize> = (0..n)
-        .filter(|&r| !(opts.fix_ends && (r == 0 || r + 1 == n)))
+    // a periodic curve (the last p control points repeat the first): every distinct point moves,
+    // together with its copy, so the seam stays C^(p−1)
+    let wrap = periodic_copies(curve);
+    let n_distinct = wrap.unwrap_or(n);
+    let copies = |r: usize| -> ([usize; 2], usize) {
+        match wrap {
+            Some(nu) if r < p => ([r, r + nu], 2),
+            _ => ([r, r], 1),
+        }
+    };
+    let movable: Vec<usize> = (0..n_distinct)
+        .filter(|&r| wrap.is_some() || !(opts.fix_ends && (r == 0 || r + 1 == n)))
         .collect();
     let mut iterations = 0;
     let mut candidates: Vec<(f64, usize, Vec3)> = Vec::with_capacity(movable.len());
@@ -162,15 +172,25 @@ pub fn fair_curve(
     while iterations < opts.max_iterations {
         candidates.clear();
         for &r in &movable {
-            let grr = gram.get(r, r);
+            // the energy over the moved point: Σ G_ab over its copies a, b, gradient Σ_a (G P)_a
+            let (idx, k) = copies(r);
+            let idx = &idx[..k];
+            let mut grr = 0.0;
+            let mut g = Vec3::ZERO;
+            for &a in idx {
+                for &b in idx {
+                    grr += gram.get(a, b);
+                }
+                let lo = a.saturating_sub(p);
+                let hi = (a + p).min(n - 1);
+                let mut ga = Vec3::ZERO;
+                for (j, cj) in ctrl.iter().enumerate().take(hi + 1).skip(lo) {
+                    ga += *cj * gram.get(a, j);
+                }
+                g += ga;
+            }
             if grr <= 0.0 {
                 continue;
-            }
-            let lo = r.saturating_sub(p);
-            let hi = (r + p).min(n - 1);
-            let mut g = Vec3::ZERO;
-            for (j, cj) in ctrl.iter().enumerate().take(hi + 1).skip(lo) {
-                g += *cj * gram.get(r, j);
             }
             let gain = g.norm_squared() / grr;
             if gain > 0.0 && gain.is_finite() {
@@ -183,7 +203,10 @@ pub fn fair_curve(
             let mut t = 1.0;
             for _ in 0..=opts.step_halvings {
                 let mut trial_ctrl = ctrl.clone();
-                trial_ctrl[r] += delta * t;
+                let (idx, k) = copies(r);
+                for &a in &idx[..k] {
+                    trial_ctrl[a] += delta * t;
+                }
                 t *= 0.5;
                 let Ok(trial) =
                     NurbsCurve::new(p, knots.clone(), trial_ctrl.clone(), Some(weights.clone()))
@@ -230,4 +253,16 @@ pub fn fair_curve(
         max_deviation_before,
         max_deviation_after,
     })
+}
+
+/// For a periodic curve (unclamped knots, the last `p` control points and weights repeating the
+/// first, as the least-squares method writes closed curves), the number of distinct control points.
+fn periodic_copies(curve: &NurbsCurve) -> Option<usize> {
+    let (p, n) = (curve.degree(), curve.n_control_points());
+    let k = curve.knots();
+    let c = curve.control_points();
+    let w = curve.weights();
+    let clamped = k[..=p].iter().all(|&u| u == k[0]);
+    (!clamped && n > 2 * p && (0..p).all(|i| c[i] == c[n - p + i] && w[i] == w[n - p + i]))
+        .then_some(n - p)
 }

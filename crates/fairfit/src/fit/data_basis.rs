@@ -33,11 +33,15 @@ impl DataBasis {
         Self::default()
     }
 
-    /// Fills the cache for degree `p`, `knots` with `n + 1` control points, at `params`. Values whose
-    /// inputs (the parameter and the `2p` knots around its span) equal those of the previous fill are
-    /// kept, not recomputed: a knot-removal trial changes the basis near the removed knot only.
+    /// Fills the cache for degree `p`, `knots` with `n + 1` control points, at `params`. With the
+    /// parameters of the previous fill, values whose inputs (the `2p` knots around their span) are
+    /// unchanged are kept, not recomputed, run by run of points sharing a span: a knot-removal trial
+    /// changes the basis near the removed knot only.
     pub fn fill(&mut self, p: usize, n: usize, knots: &[f64], params: &[f64]) {
-        let reuse = self.pristine && self.p == p && self.spans.len() == params.len();
+        let reuse = self.pristine
+            && self.p == p
+            && self.spans.len() == params.len()
+            && self.prev_params == params;
         self.p = p;
         match p {
             1 => self.fill_const::<2>(n, knots, params, reuse),
@@ -62,8 +66,10 @@ impl DataBasis {
         }
         self.prev_knots.clear();
         self.prev_knots.extend_from_slice(knots);
-        self.prev_params.clear();
-        self.prev_params.extend_from_slice(params);
+        if !reuse {
+            self.prev_params.clear();
+            self.prev_params.extend_from_slice(params);
+        }
         self.pristine = true;
     }
 
@@ -82,16 +88,26 @@ impl DataBasis {
             }
             return;
         }
-        for (k, &u) in params.iter().enumerate() {
-            span = span_from(n, p, u, knots, span);
-            // the recursion reads u and knots[span + 1 - p ..= span + p]
+        // the same parameters: walk the runs of points that shared a span in the last fill
+        let m = params.len();
+        let mut k = 0;
+        while k < m {
             let old = self.spans[k];
-            let same = self.prev_params[k] == u
-                && self.prev_knots.get(old + 1 - p..=old + p) == knots.get(span + 1 - p..=span + p);
-            self.spans[k] = span;
-            if !same {
-                self.values[k * N..(k + 1) * N].copy_from_slice(&basis_const::<N>(span, u, knots));
+            let end = k + self.spans[k..].iter().take_while(|&&s| s == old).count();
+            span = span_from(n, p, params[k], knots, span);
+            // the recursion reads u and knots[span + 1 - p ..= span + p]; equal windows also hold the
+            // span's bounds, so every point of the run lies in the new span
+            if self.prev_knots.get(old + 1 - p..=old + p) == knots.get(span + 1 - p..=span + p) {
+                self.spans[k..end].fill(span);
+                k = end;
+                continue;
             }
+            for (j, &u) in params.iter().enumerate().take(end).skip(k) {
+                span = span_from(n, p, u, knots, span);
+                self.spans[j] = span;
+                self.values[j * N..(j + 1) * N].copy_from_slice(&basis_const::<N>(span, u, knots));
+            }
+            k = end;
         }
     }
 
@@ -249,5 +265,21 @@ mod tests {
         reused.values_mut(40)[0] = 7.0;
         reused.fill(3, 8, &without, &us);
         assert_eq!(reused.values(0, us.len()), fresh.values(0, us.len()));
+        // an inserted knot, a moved one and shuffled parameters (runs of one point) likewise
+        let other = [
+            0.0, 0.0, 0.0, 0.0, 0.1, 0.2, 0.3, 0.5, 0.65, 0.8, 1.0, 1.0, 1.0, 1.0,
+        ];
+        let shuffled: Vec<f64> = (0..=80).map(|k| us[(k * 37) % 81]).collect();
+        for (n, knots, params) in [
+            (9, &other[..], &us),
+            (9, &other[..], &shuffled),
+            (8, &without[..], &shuffled),
+        ] {
+            reused.fill(3, n, knots, params);
+            let mut fresh = DataBasis::new();
+            fresh.fill(3, n, knots, params);
+            assert_eq!(reused.spans(), fresh.spans());
+            assert_eq!(reused.values(0, us.len()), fresh.values(0, us.len()));
+        }
     }
 }

@@ -8,7 +8,6 @@
 //! the basis-function evaluation to rounding. The span of the last evaluation is kept as the starting
 //! guess of the next one (Newton steps move little).
 
-use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::Vec3;
 
 /// Highest degree converted to power form; above it the Taylor coefficients lose accuracy and callers
@@ -61,24 +60,33 @@ impl PowerForm {
 
     /// Converts span `j`.
     fn convert(&mut self, j: usize, knots: &[f64], ctrl: &[Vec3]) {
-        const P1: usize = MAX_POWER_DEGREE + 1;
-        let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
-        let (mut ndu, mut a, mut ders) = ([0.0; P1 * P1], [0.0; 2 * P1], [0.0; P1 * P1]);
-        let p = self.p;
+        match self.p {
+            1 => self.convert_const::<2>(j, knots, ctrl),
+            2 => self.convert_const::<3>(j, knots, ctrl),
+            3 => self.convert_const::<4>(j, knots, ctrl),
+            4 => self.convert_const::<5>(j, knots, ctrl),
+            5 => self.convert_const::<6>(j, knots, ctrl),
+            6 => self.convert_const::<7>(j, knots, ctrl),
+            _ => self.convert_const::<8>(j, knots, ctrl),
+        }
+    }
+
+    /// [`PowerForm::convert`] for degree `P1 − 1` (`P1 − 1 == self.p`).
+    fn convert_const<const P1: usize>(&mut self, j: usize, knots: &[f64], ctrl: &[Vec3]) {
+        let p = P1 - 1;
         let s = self.knot_of[j];
-        ders_basis_funs_into(
-            s, knots[s], p, p, knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
-        );
+        let ders = all_ders_const::<P1>(s, knots[s], knots);
+        let cp = &ctrl[s - p..=s];
         let mut fact = 1.0;
-        for k in 0..=p {
+        for (k, row) in ders.iter().enumerate() {
             if k > 1 {
                 fact *= k as f64;
             }
             let mut c = Vec3::ZERO;
-            for i in 0..=p {
-                c += ctrl[s - p + i] * ders[k * (p + 1) + i];
+            for (q, &d) in cp.iter().zip(row) {
+                c += *q * d;
             }
-            self.coef[j * (p + 1) + k] = c / fact;
+            self.coef[j * P1 + k] = c / fact;
         }
         self.ready[j] = true;
     }
@@ -127,10 +135,111 @@ fn horner2(c: &[Vec3], p: usize, t: f64) -> [Vec3; 3] {
     [v0, v1, v2 * 2.0]
 }
 
+/// All derivatives (orders `0..=p`, `p = P1 − 1`) of the `P1` non-zero basis functions at `u` in
+/// `span`: [`crate::nurbs::basis::ders_basis_funs_into`] with `nd = p` on fixed-size arrays (the same
+/// operations in the same order, hence the same values bit for bit, without its index arithmetic).
+#[allow(clippy::needless_range_loop)] // the NURBS Book's indices, kept for the bit-for-bit match
+fn all_ders_const<const P1: usize>(span: usize, u: f64, knots: &[f64]) -> [[f64; P1]; P1] {
+    let p = P1 - 1;
+    let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
+    // ndu[j][r]: upper triangle basis values, lower triangle knot differences
+    let mut ndu = [[0.0; P1]; P1];
+    ndu[0][0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        for r in 0..j {
+            ndu[j][r] = right[r + 1] + left[j - r];
+            let temp = ndu[r][j - 1] / ndu[j][r];
+            ndu[r][j] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        ndu[j][j] = saved;
+    }
+    let mut ders = [[0.0; P1]; P1];
+    for j in 0..=p {
+        ders[0][j] = ndu[j][p];
+    }
+    let mut a = [[0.0; P1]; 2];
+    for r in 0..=p {
+        let (mut s1, mut s2) = (0usize, 1usize);
+        a[0][0] = 1.0;
+        for k in 1..=p {
+            let mut d = 0.0;
+            let pk = p - k;
+            if r >= k {
+                let rk = r - k;
+                a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+                d = a[s2][0] * ndu[rk][pk];
+            }
+            // j from max(1, k − r) to min(k − 1, p − r), with rk + j = r + j − k
+            let j1 = if r + 1 >= k { 1 } else { k - r };
+            let j2 = if r <= pk + 1 { k - 1 } else { p - r };
+            for j in j1..=j2 {
+                a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][r + j - k];
+                d += a[s2][j] * ndu[r + j - k][pk];
+            }
+            if r <= pk {
+                a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+                d += a[s2][k] * ndu[r][pk];
+            }
+            ders[k][r] = d;
+            std::mem::swap(&mut s1, &mut s2);
+        }
+    }
+    let mut f = p as f64;
+    for k in 1..=p {
+        for j in 0..=p {
+            ders[k][j] *= f;
+        }
+        f *= (p - k) as f64;
+    }
+    ders
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::nurbs::NurbsCurve;
+
+    #[test]
+    fn fixed_size_derivatives_equal_the_reference_recursion_bit_for_bit() {
+        use crate::nurbs::basis::ders_basis_funs_into;
+        fn check<const P1: usize>() {
+            let p = P1 - 1;
+            let mut knots = vec![0.0; p + 1];
+            knots.extend_from_slice(&[0.1, 0.25, 0.25, 0.5, 0.55, 0.8]);
+            knots.extend(std::iter::repeat_n(1.0, p + 1));
+            let n = knots.len() - p - 2;
+            let (mut l, mut r, mut ndu) = (vec![0.0; P1], vec![0.0; P1], vec![0.0; P1 * P1]);
+            let (mut a, mut want) = (vec![0.0; 2 * P1], vec![0.0; P1 * P1]);
+            for s in p..=n {
+                if knots[s + 1] <= knots[s] {
+                    continue;
+                }
+                for u in [knots[s], 0.3 * knots[s] + 0.7 * knots[s + 1]] {
+                    ders_basis_funs_into(
+                        s, u, p, p, &knots, &mut l, &mut r, &mut ndu, &mut a, &mut want,
+                    );
+                    let got = all_ders_const::<P1>(s, u, &knots);
+                    for k in 0..=p {
+                        for j in 0..=p {
+                            let (g, w) = (got[k][j], want[k * P1 + j]);
+                            assert_eq!(g.to_bits(), w.to_bits(), "p={p} s={s} u={u} k={k} j={j}");
+                        }
+                    }
+                }
+            }
+        }
+        check::<2>();
+        check::<3>();
+        check::<4>();
+        check::<5>();
+        check::<6>();
+        check::<7>();
+        check::<8>();
+    }
 
     #[test]
     fn agrees_with_the_basis_function_evaluation() {

@@ -32,10 +32,9 @@
 //! Minimising `F` also removes curvature wiggles (each costs `∫(dκ/ds)²`), so curvature extrema
 //! usually fall with it.
 
+use super::control_map::ControlMap;
 use super::curvature_signs::target_signs;
-use super::objective::{
-    measure_current, speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X,
-};
+use super::objective::{speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
@@ -344,10 +343,24 @@ pub fn band_fair(
     tol: f64,
     opts: &BandOptions,
 ) -> BandFaired {
+    let map = ControlMap::open(ws.ctrl.len(), data.points.len());
+    band_fair_mapped(data, ws, start, tol, opts, &map)
+}
+
+/// [`band_fair`] moving the movable points of `map` (for a periodic curve every distinct control
+/// point, the seam kept `C^(p−1)`), with the data points and measure of `map`.
+pub fn band_fair_mapped(
+    data: &FitData,
+    ws: &mut EvalWorkspace,
+    start: &[f64],
+    tol: f64,
+    opts: &BandOptions,
+    map: &ControlMap,
+) -> BandFaired {
     let p = data.degree;
     let n = ws.ctrl.len();
     let m = data.points.len();
-    let cur = measure_current(data, start, ws);
+    let cur = map.measure(data, start, ws);
     let mut out = BandFaired {
         eval: cur,
         steps: 0,
@@ -357,8 +370,9 @@ pub fn band_fair(
         return out;
     }
     let dims = if data.planar { 2 } else { 3 };
-    let nv = (n - 2) * dims;
-    let var = |j: usize, k: usize| (j - 1) * dims + k;
+    let nv = map.vars() * dims;
+    let var = |v: usize, k: usize| v * dims + k;
+    let free = map.free_points();
     let allowed = tol.max(cur.max_deviation);
     let span_cap = opts
         .span_cap
@@ -421,7 +435,7 @@ pub fn band_fair(
             let row = &mut jac[g * nv..(g + 1) * nv];
             for j in 0..=p {
                 let cj = nd.span - p + j;
-                if cj == 0 || cj == n - 1 {
+                if map.row(cj).is_empty() {
                     continue;
                 }
                 for k in 0..dims {
@@ -429,7 +443,9 @@ pub fn band_fair(
                     for o in 1..=3.min(p) {
                         v += grad[o][k] * nd.ders[o * (p + 1) + j];
                     }
-                    row[var(cj, k)] += v;
+                    for &(z, c) in map.row(cj) {
+                        row[var(z, k)] += c * v;
+                    }
                 }
             }
         }
@@ -470,7 +486,7 @@ pub fn band_fair(
         // the cones at the current feet
         let mut cones = Vec::with_capacity(m);
         let (mut ai, mut aj, mut av, mut b) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for i in 1..m - 1 {
+        for i in free.clone() {
             let u = feet[i];
             let s = find_span(n - 1, p, u, &ws.knots);
             let basis = basis_ders(&ws.knots, p, s, u, 1);
@@ -488,14 +504,16 @@ pub fn band_fair(
                 b.push(f.dot(ci));
                 for j in 0..=p {
                     let cj = s - p + j;
-                    if cj == 0 || cj == n - 1 || basis[j] == 0.0 {
+                    if basis[j] == 0.0 {
                         continue;
                     }
-                    for k in 0..dims {
-                        if f[k] != 0.0 {
-                            ai.push(row0 + 1 + r);
-                            aj.push(var(cj, k));
-                            av.push(-basis[j] * f[k]);
+                    for &(z, c) in map.row(cj) {
+                        for k in 0..dims {
+                            if f[k] != 0.0 {
+                                ai.push(row0 + 1 + r);
+                                aj.push(var(z, k));
+                                av.push(-(c * basis[j]) * f[k]);
+                            }
                         }
                     }
                 }
@@ -551,7 +569,7 @@ pub fn band_fair(
             }
             colptr.resize(nx + 1, rowval.len());
             let p_mat = CscMatrix::new(nx, nx, colptr, rowval, nzval);
-            for i in 1..m - 1 {
+            for i in free.clone() {
                 // a point outside the band (only at a fixed count) may not get worse
                 let r = (radius - shrink[i]).max(0.5 * tol);
                 b[cone_row[i]] = if now_dev[i] > tol {
@@ -569,12 +587,12 @@ pub fn band_fair(
                 .build()
             {
                 Ok(s) => s,
-                Err(_) => return finish(data, ws, &ctrl, &feet, out),
+                Err(_) => return finish(data, ws, &ctrl, &feet, out, map),
             };
             out.solves += 1;
             let Ok(mut solver) = DefaultSolver::new(&p_mat, &q, &a_mat, &b, &cones, settings)
             else {
-                return finish(data, ws, &ctrl, &feet, out);
+                return finish(data, ws, &ctrl, &feet, out, map);
             };
             solver.solve();
             let sol = &solver.solution;
@@ -590,13 +608,21 @@ pub fn band_fair(
             let mut t = 1.0;
             let mut left_band = false;
             for _ in 0..3 {
-                for j in 1..n - 1 {
+                for j in 0..n {
+                    let terms = map.row(j);
+                    if terms.is_empty() {
+                        continue;
+                    }
                     ws.ctrl[j] = ctrl[j];
                     for k in 0..dims {
-                        ws.ctrl[j][k] += t * sol.x[var(j, k)];
+                        let mut step = terms[0].1 * sol.x[var(terms[0].0, k)];
+                        for &(z, c) in &terms[1..] {
+                            step += c * sol.x[var(z, k)];
+                        }
+                        ws.ctrl[j][k] += t * step;
                     }
                 }
-                let e = measure_current(data, &feet, ws);
+                let e = map.measure(data, &feet, ws);
                 let (f, fmax, _) = node_fairness(&nodes, &ws.ctrl, p, data.planar);
                 let mut merit = 0.5 * f / cur_f;
                 let mut viol = 0.0;
@@ -608,7 +634,7 @@ pub fn band_fair(
                 if t == 1.0 && e.solved && e.max_deviation > allowed {
                     // draw in the cones of the points that left the band
                     left_band = true;
-                    for i in 1..m - 1 {
+                    for i in free.clone() {
                         let d =
                             distance_at(&ws.knots, &ws.ctrl, p, ws.foot_params[i], data.points[i]);
                         if d > radius - shrink[i] {
@@ -657,7 +683,7 @@ pub fn band_fair(
             break;
         }
     }
-    finish(data, ws, &ctrl, &feet, out)
+    finish(data, ws, &ctrl, &feet, out, map)
 }
 
 /// `‖C(u) − q‖` for the B-spline (`knots`, `ctrl`, degree `p`).
@@ -709,9 +735,10 @@ fn finish(
     ctrl: &[Vec3],
     feet: &[f64],
     mut out: BandFaired,
+    map: &ControlMap,
 ) -> BandFaired {
     ws.ctrl.copy_from_slice(ctrl);
-    out.eval = measure_current(data, feet, ws);
+    out.eval = map.measure(data, feet, ws);
     out
 }
 

@@ -30,6 +30,7 @@ use super::integrated::{
 };
 use super::objective::CandidateEval;
 use super::periodic::{evaluate_closed, ClosedData, ClosedProblem, ClosedWorkspace};
+use super::periodic_fairing::fair_periodic;
 use super::prepare::{prepare, Prepared};
 use super::pso::{run_pso, SwarmProblem};
 use crate::errors::{Error, Result};
@@ -217,6 +218,8 @@ fn fit_periodic(
     })?;
     let log_lambda = choice.log_lambda;
     let mut result = finish_periodic(prep, &data, &interior, log_lambda, tol, opts)?;
+    stats.evaluations += result.stats.evaluations;
+    stats.polish_moves = result.stats.polish_moves;
     stats.seconds = start.elapsed().as_secs_f64();
     result.baseline_control_points = baseline;
     result.stats = stats;
@@ -273,11 +276,18 @@ pub(crate) fn finish_periodic(
     opts: &IntegratedOptions,
 ) -> Result<IntegratedResult> {
     let mut ws = ClosedWorkspace::default();
-    let e = evaluate_closed(data, interior, log_lambda, &mut ws);
+    let mut e = evaluate_closed(data, interior, log_lambda, &mut ws);
     if !e.solved {
         return Err(Error::Fit(
             "the periodic least-squares system is singular for these knots".into(),
         ));
+    }
+    let mut stats = OptimStats::default();
+    if opts.polish {
+        let f = fair_periodic(data, &mut ws, tol, opts.span_fairness, opts.band_fairing)?;
+        e = f.eval;
+        stats.evaluations = f.evaluations;
+        stats.polish_moves = f.moves;
     }
     let ctrl: Vec<Vec3> = ws.ctrl.iter().map(|&c| prep.denormalise(c)).collect();
     let curve = NurbsCurve::bspline(opts.degree, ws.knots.clone(), ctrl)?;
@@ -295,7 +305,7 @@ pub(crate) fn finish_periodic(
         met,
         log_lambda,
         baseline_control_points: interior.len() + 1,
-        stats: OptimStats::default(),
+        stats,
     })
 }
 

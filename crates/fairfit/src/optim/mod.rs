@@ -2,6 +2,7 @@
 //!
 //! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
 //! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
+//! - [`periodic_fairing`]: band fairing and polish of a periodic curve (seam kept `C^(p−1)`);
 //! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
@@ -11,6 +12,7 @@
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
 //! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
+//! - [`control_map`]: the control points the fairing stages move (open: interior; periodic: distinct);
 //! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
 //!   convex programming with second-order cones);
 //! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
@@ -27,6 +29,7 @@
 
 pub mod band_fairing;
 pub mod closed;
+pub mod control_map;
 pub mod corner_fit;
 pub mod corners;
 pub mod count_search;
@@ -38,6 +41,7 @@ pub mod objective;
 pub mod pareto;
 pub mod pareto_joined;
 pub mod periodic;
+pub mod periodic_fairing;
 pub mod polish;
 pub mod prepare;
 pub mod problem;

@@ -17,9 +17,8 @@
 //! Everything is sequential and deterministic (ties broken by index).
 
 use super::band_fairing::ExtremaCount;
-use super::objective::{
-    measure_current, measure_move, CandidateEval, EvalWorkspace, FitData, MeasureState,
-};
+use super::control_map::ControlMap;
+use super::objective::{measure_move, CandidateEval, EvalWorkspace, FitData, MeasureState};
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
 
@@ -100,10 +99,59 @@ pub fn polish(
     allowed: f64,
     opts: &PolishOptions,
 ) -> Polished {
+    let map = ControlMap::open(ws.ctrl.len(), data.points.len());
+    polish_mapped(data, ws, start, allowed, opts, &map)
+}
+
+/// Re-measures the curve in `ws` after a move of movable point `v` of `map`: incrementally
+/// ([`measure_move`]) when it moves one clamped control point, else in full.
+fn measure_moved(
+    data: &FitData,
+    map: &ControlMap,
+    v: usize,
+    start: &[f64],
+    with_deviation: bool,
+    ws: &mut EvalWorkspace,
+) -> CandidateEval {
+    match map.col(v) {
+        [(j, _)] => {
+            let e = measure_move(data, *j, start, with_deviation, ws);
+            map.with_seam(e, data, ws)
+        }
+        _ => map.measure(data, start, ws),
+    }
+}
+
+/// Sets the clamped control points moved by movable point `v` to `ctrl` plus `delta` times their
+/// coefficient.
+fn apply_move(map: &ControlMap, v: usize, ctrl: &[Vec3], delta: Vec3, ws: &mut EvalWorkspace) {
+    for &(j, c) in map.col(v) {
+        ws.ctrl[j] = ctrl[j] + delta * c;
+    }
+}
+
+/// Copies the clamped control points moved by movable point `v` from `src` to `dst`.
+fn copy_moved(map: &ControlMap, v: usize, src: &[Vec3], dst: &mut [Vec3]) {
+    for &(j, _) in map.col(v) {
+        dst[j] = src[j];
+    }
+}
+
+/// [`polish`] moving the movable points of `map` (for a periodic curve every distinct control
+/// point, the seam kept `C^(p−1)`; the Eck–Hadenfeld step then minimises the jerk energy over that
+/// point), with the data points and measure of `map`.
+pub fn polish_mapped(
+    data: &FitData,
+    ws: &mut EvalWorkspace,
+    start: &[f64],
+    allowed: f64,
+    opts: &PolishOptions,
+    map: &ControlMap,
+) -> Polished {
     let p = data.degree;
     let n = ws.ctrl.len();
     let mut params = start.to_vec();
-    let mut cur = measure_current(data, &params, ws);
+    let mut cur = map.measure(data, &params, ws);
     let mut out = Polished {
         eval: cur,
         moves: 0,
@@ -128,18 +176,27 @@ pub fn polish(
     let mut candidates: Vec<(f64, usize, Vec3)> = Vec::with_capacity(n);
     'moves: while out.moves < opts.max_moves {
         candidates.clear();
-        for r in 1..n - 1 {
-            let grr = gram.get(r, r);
+        for v in 0..map.vars() {
+            // the jerk energy over z_v: G_vv = Σ c_r c_s G_rs, g_v = Σ c_r (G P)_r
+            let col = map.col(v);
+            let mut grr = 0.0;
+            let mut g = Vec3::ZERO;
+            for &(r, c) in col {
+                for &(s, d) in col {
+                    grr += (c * d) * gram.get(r, s);
+                }
+                let mut gr = Vec3::ZERO;
+                for j in r.saturating_sub(p)..=(r + p).min(n - 1) {
+                    gr += ctrl[j] * gram.get(r, j);
+                }
+                g += gr * c;
+            }
             if grr.is_nan() || grr <= 0.0 {
                 continue;
             }
-            let mut g = Vec3::ZERO;
-            for j in r.saturating_sub(p)..=(r + p).min(n - 1) {
-                g += ctrl[j] * gram.get(r, j);
-            }
             let gain = g.norm_squared() / grr;
             if gain > 0.0 && gain.is_finite() {
-                candidates.push((gain, r, g * (-1.0 / grr)));
+                candidates.push((gain, v, g * (-1.0 / grr)));
             }
         }
         candidates.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
@@ -149,9 +206,9 @@ pub fn polish(
                 if out.evaluations >= opts.max_evaluations {
                     break 'moves;
                 }
-                ws.ctrl[r] = ctrl[r] + delta * t;
+                apply_move(map, r, &ctrl, delta * t, ws);
                 t *= 0.5;
-                let e = measure_move(data, r, &params, true, ws);
+                let e = measure_moved(data, map, r, &params, true, ws);
                 out.evaluations += 1;
                 if e.solved
                     && e.max_deviation <= allowed
@@ -159,7 +216,7 @@ pub fn polish(
                     && e.fairness < cur.fairness * (1.0 - 1e-9)
                     && guard.admits(&ws.ctrl)
                 {
-                    ctrl[r] = ws.ctrl[r];
+                    copy_moved(map, r, &ws.ctrl, &mut ctrl);
                     cur = e;
                     params.copy_from_slice(&ws.foot_params);
                     ws.save_state(&mut saved);
@@ -168,7 +225,7 @@ pub fn polish(
                 }
                 ws.load_state(&saved);
             }
-            ws.ctrl[r] = ctrl[r];
+            copy_moved(map, r, &ctrl, &mut ws.ctrl);
         }
         // no jerk-minimising move helps: steepest descent of F on single control points
         if !gradient_move(
@@ -183,13 +240,14 @@ pub fn polish(
             opts,
             &mut guard,
             &mut out,
+            map,
         ) {
             break;
         }
         out.moves += 1;
     }
     ws.ctrl.copy_from_slice(&ctrl);
-    out.eval = measure_current(data, &params, ws);
+    out.eval = map.measure(data, &params, ws);
     out.evaluations += 1;
     out
 }
@@ -211,25 +269,28 @@ fn gradient_move(
     opts: &PolishOptions,
     guard: &mut ExtremaGuard,
     out: &mut Polished,
+    map: &ControlMap,
 ) -> bool {
     const H: f64 = 1e-7;
     let n = ctrl.len();
     let dims = if data.planar { 2 } else { 3 };
     let mut grads: Vec<(f64, usize, Vec3)> = Vec::with_capacity(n);
-    for r in 1..n - 1 {
+    for r in 0..map.vars() {
         let mut g = Vec3::ZERO;
         for d in 0..dims {
             if out.evaluations >= opts.max_evaluations {
                 return false;
             }
-            ws.ctrl[r] = ctrl[r];
-            ws.ctrl[r][d] += H;
-            let e = measure_move(data, r, params, false, ws).fairness;
+            copy_moved(map, r, ctrl, &mut ws.ctrl);
+            for &(j, c) in map.col(r) {
+                ws.ctrl[j][d] += c * H;
+            }
+            let e = measure_moved(data, map, r, params, false, ws).fairness;
             ws.load_state(saved);
             out.evaluations += 1;
             g[d] = (e - cur.fairness) / H;
         }
-        ws.ctrl[r] = ctrl[r];
+        copy_moved(map, r, ctrl, &mut ws.ctrl);
         let norm = g.norm();
         if norm > 0.0 && norm.is_finite() {
             grads.push((norm, r, g * (-1.0 / norm)));
@@ -240,12 +301,12 @@ fn gradient_move(
         let mut t = 2.0 * allowed;
         for _ in 0..=opts.step_halvings {
             if out.evaluations >= opts.max_evaluations {
-                ws.ctrl[r] = ctrl[r];
+                copy_moved(map, r, ctrl, &mut ws.ctrl);
                 return false;
             }
-            ws.ctrl[r] = ctrl[r] + dir * t;
+            apply_move(map, r, ctrl, dir * t, ws);
             t *= 0.5;
-            let e = measure_move(data, r, params, true, ws);
+            let e = measure_moved(data, map, r, params, true, ws);
             out.evaluations += 1;
             if e.solved
                 && e.max_deviation <= allowed
@@ -253,7 +314,7 @@ fn gradient_move(
                 && e.fairness < cur.fairness * (1.0 - 1e-9)
                 && guard.admits(&ws.ctrl)
             {
-                ctrl[r] = ws.ctrl[r];
+                copy_moved(map, r, &ws.ctrl, ctrl);
                 *cur = e;
                 params.copy_from_slice(&ws.foot_params);
                 ws.save_state(saved);
@@ -261,7 +322,7 @@ fn gradient_move(
             }
             ws.load_state(saved);
         }
-        ws.ctrl[r] = ctrl[r];
+        copy_moved(map, r, ctrl, &mut ws.ctrl);
     }
     false
 }
