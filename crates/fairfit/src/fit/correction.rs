@@ -82,13 +82,17 @@ pub(crate) fn fit_corrected(
     screen: Screen,
 ) -> Result<CorrectedFit> {
     let p = solver.degree();
-    let mut ctrl = Vec::new();
+    let mut ctrl = Vec::with_capacity(knots.len());
     solver.solve_with_ends(points, params, knots, None, opts, ends, &mut ctrl)?;
-    let curve = NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?;
+    let curve = if rounds == 0 {
+        NurbsCurve::bspline(p, knots.to_vec(), std::mem::take(&mut ctrl))?
+    } else {
+        NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?
+    };
     // without correction only the tolerance decision matters: project only the points that miss it
     let deviation = if rounds == 0 && stop_below > 0.0 {
         let mut dist = Vec::with_capacity(points.len());
-        solver.residual_norms_into(points, &ctrl, &mut dist);
+        solver.residual_norms_into(points, curve.control_points(), &mut dist);
         let spans = solver.data_spans();
         screened_from(&curve, points, params, dist, stop_below, screen, spans)
     } else {

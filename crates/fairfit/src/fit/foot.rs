@@ -139,6 +139,8 @@ impl<'a> FootFinder<'a> {
                 best.u = u;
                 best.distance = dist;
                 if dist <= enough {
+                    // a point on the curve is its own foot
+                    best.converged = dist == 0.0;
                     return best;
                 }
             }
@@ -194,6 +196,28 @@ mod tests {
                 want.u
             );
         }
+    }
+
+    #[test]
+    fn a_point_on_the_curve_is_its_own_converged_foot() {
+        // an interpolated end point: distance exactly 0 at the hint (the deviation measure used to
+        // send it to the sampled projector)
+        let pts: Vec<Vec3> = (0..6)
+            .map(|i| Vec3::new(i as f64, (i as f64).sqrt(), 0.0))
+            .collect();
+        let c = NurbsCurve::bspline(3, uniform_clamped(3, 6), pts.clone()).unwrap();
+        let mut f = FootFinder::new(&c).unwrap();
+        let got = f.refine(pts[0], 0.0);
+        assert_eq!((got.u, got.distance, got.converged), (0.0, 0.0, true));
+        // at the far end the power form rounds (t = 1 − last break): Newton converges there
+        let got = f.refine(pts[5], 1.0);
+        assert!(
+            got.converged && got.u == 1.0 && got.distance < 1e-14,
+            "{got:?}"
+        );
+        // a point off the curve within `enough` is not reported converged
+        let got = f.refine_until(pts[0] + Vec3::new(0.0, 1e-3, 0.0), 0.0, 1e-2);
+        assert!(!got.converged && got.distance <= 1e-2);
     }
 
     #[test]

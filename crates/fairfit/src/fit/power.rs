@@ -46,6 +46,8 @@ impl PowerForm {
         self.breaks.clear();
         self.knot_of.clear();
         let n = ctrl.len() - 1;
+        self.breaks.reserve(n + 1 - p);
+        self.knot_of.reserve(n + 1 - p);
         for s in p..=n {
             if knots[s + 1] > knots[s] {
                 self.breaks.push(knots[s]);

@@ -696,12 +696,14 @@ impl Ctx<'_> {
                 if breaks.len() - idx.len() < min_breaks {
                     return None;
                 }
-                let trial: Vec<f64> = breaks
-                    .iter()
-                    .enumerate()
-                    .filter(|(i, _)| !idx.contains(i))
-                    .map(|(_, &b)| b)
-                    .collect();
+                let mut trial = Vec::with_capacity(breaks.len());
+                trial.extend(
+                    breaks
+                        .iter()
+                        .enumerate()
+                        .filter(|(i, _)| !idx.contains(i))
+                        .map(|(_, &b)| b),
+                );
                 if missed.contains(&trial) {
                     return None;
                 }
