@@ -675,7 +675,9 @@ def write_report(path, groups_rows, args, data, seconds=float("nan")):
         "F = L^3 * int (dkappa/ds)^2 ds with Gauss-Legendre nodes strictly inside each knot span (signed planar "
         f"curvature); curvature extrema and inflections = sign changes of dkappa/ds and kappa on "
         f"{4 * measure.SAMPLES_PER_SPAN} samples per span, with a scale-free hysteresis noise floor of "
-        f"{measure.NOISE_REL:g} x max|signal| + {measure.NOISE_ABS:g} on (dkappa/ds)L^2 and kappa L.",
+        f"{measure.NOISE_REL:g} x max|signal| + {measure.NOISE_ABS:g} on (dkappa/ds)L^2 and kappa L; "
+        "control points = independent ones (a periodic closed curve's `degree` wrapped copies of its first "
+        "points are not counted, as OpenCASCADE counts periodic poles).",
         f"- Run: one curve and one method at a time, fairfit with `--threads {args.threads}`; the whole run took "
         f"{seconds / 60:.1f} min.",
         "- Methods: fairfit `curve --method M --rel-tol` (time = whole CLI process incl. reading and writing "

@@ -10,7 +10,9 @@ The homogeneous curve A(u) = sum N_i(u) w_i P_i, w(u) = sum N_i(u) w_i is a plai
 
 Measured quantities
 -------------------
-* ``n_ctrl``       number of control points.
+* ``n_ctrl``       number of independent control points: all of them, except for a periodic curve
+  (unclamped knots whose last ``degree`` control points and weights repeat the first ones), where the
+  ``degree`` repeated ones are not counted (OpenCASCADE's convention for periodic B-splines).
 * ``max_dev``, ``rms_dev``  ORTHOGONAL distance of every data point to the curve: the curve
   is sampled densely in every distinct knot span (``SAMPLES_PER_SPAN``), every sample that can
   be next to the foot point (within the nearest sample's distance plus half an interval's arc
@@ -67,6 +69,15 @@ class Metrics:
     inflections: int | None
 
 
+def _is_periodic(t, ctrl, w, k):
+    """True for a periodic B-spline stored in unclamped form: the first ``k + 1`` knots are not all equal
+    and the last ``k`` control points (and weights) repeat the first ``k``."""
+    n = ctrl.shape[0]
+    if k < 1 or n <= 2 * k or np.all(t[: k + 1] == t[0]):
+        return False
+    return bool(np.array_equal(ctrl[n - k :], ctrl[:k]) and np.array_equal(w[n - k :], w[:k]))
+
+
 class Curve:
     """A (rational) B-spline curve evaluated through scipy's BSpline on homogeneous points."""
 
@@ -88,6 +99,7 @@ class Curve:
             raise ValueError("weights must be positive, one per control point")
         self.n = n
         self.dim = ctrl.shape[1]
+        self.n_independent = n - self.k if _is_periodic(self.t, ctrl, w, self.k) else n
         self.rational = not np.allclose(w, w[0])
         hom = np.column_stack([ctrl * w[:, None], w])
         self.spline = BSpline(self.t, hom, self.k, extrapolate=False)
@@ -296,11 +308,11 @@ def measure(degree, knots, ctrl, weights, points, deviation_only=False) -> Metri
     max_dev = float(np.max(dev))
     rms_dev = float(np.sqrt(np.mean(dev**2)))
     if deviation_only:
-        return Metrics(curve.n, max_dev, rms_dev, float("nan"), float("nan"), -1, None)
+        return Metrics(curve.n_independent, max_dev, rms_dev, float("nan"), float("nan"), -1, None)
     planar = is_planar(points, ctrl)
     F, L = fairness(curve, planar)
     extrema, infl = shape_counts(curve, planar, L)
-    return Metrics(curve.n, max_dev, rms_dev, F, L, extrema, infl)
+    return Metrics(curve.n_independent, max_dev, rms_dev, F, L, extrema, infl)
 
 
 def tolerance(points, rel_tol=1e-3):

@@ -189,6 +189,27 @@ def test_read_points_skips_comments_and_header(tmp_path=None):
     assert P.shape == (3, 2) and P[1, 1] == 0.25
 
 
+def test_periodic_curve_counts_its_distinct_control_points():
+    # a uniform periodic cubic over 8 distinct points of a circle, stored unclamped as 8 + 3 points
+    k, m = 3, 8
+    P = np.array([[np.cos(2 * np.pi * i / m), np.sin(2 * np.pi * i / m)] for i in range(m)])
+    C = np.vstack([P, P[:k]])
+    t = np.arange(len(C) + k + 1, dtype=float)
+    c = measure.Curve(k, t, C)
+    assert (c.n, c.n_independent) == (11, 8)
+    # it closes: the ends of its domain [t_k, t_n] meet
+    a = c.spline(c.lo)
+    b = c.spline(c.hi)
+    assert np.allclose(a, b, atol=1e-12)
+    # the same 11 points on a clamped knot vector are an open curve: all 11 count
+    t2 = np.r_[[0.0] * 4, np.linspace(0, 1, len(C) - 2)[1:-1], [1.0] * 4]
+    assert measure.Curve(k, t2, C).n_independent == 11
+    # unclamped but not wrapped (last points differ): all count
+    C3 = C.copy()
+    C3[-1] += 0.1
+    assert measure.Curve(k, t, C3).n_independent == 11
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):

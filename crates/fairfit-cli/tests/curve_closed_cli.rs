@@ -139,3 +139,49 @@ fn blunt_trailing_edge_fixed_count_and_pareto_keep_the_corners() {
         "{err}"
     );
 }
+
+#[test]
+fn periodic_fit_with_fairing_and_front_is_byte_identical_with_one_and_two_threads() {
+    // a 3:1 ellipse: the periodic knot search, band fairing, polish and the periodic front
+    let dir = TempDir::new().unwrap();
+    let f = dir.path().join("ellipse.csv");
+    let mut s = String::from("x,y\n");
+    for i in 0..=150 {
+        let t = std::f64::consts::TAU * (i % 150) as f64 / 150.0;
+        s.push_str(&format!("{},{}\n", 3.0 * t.cos(), t.sin()));
+    }
+    std::fs::write(&f, s).unwrap();
+    let run = |threads: &str| {
+        let out = dir.path().join(format!("e{threads}.json"));
+        let front = dir.path().join(format!("f{threads}.csv"));
+        Command::cargo_bin("fairfit")
+            .unwrap()
+            .args([
+                "curve",
+                f.to_str().unwrap(),
+                "--seed",
+                "5",
+                "--threads",
+                threads,
+            ])
+            .arg("-o")
+            .arg(&out)
+            .arg("--pareto")
+            .arg(&front)
+            .assert()
+            .success();
+        (
+            std::fs::read(out).unwrap(),
+            std::fs::read_to_string(front).unwrap(),
+        )
+    };
+    let (c1, f1) = run("1");
+    let (c2, f2) = run("2");
+    assert_eq!(c1, c2);
+    assert_eq!(f1, f2);
+    let c: Value = serde_json::from_slice(&c1).unwrap();
+    let ctrl = c["control_points"].as_array().unwrap();
+    let n_u = ctrl.len() - 3;
+    assert_eq!(ctrl[..3], ctrl[n_u..], "periodic");
+    assert!(f1.lines().count() >= 3, "{f1}");
+}

@@ -15,6 +15,8 @@
 //! - [`control_map`]: the control points the fairing stages move (open: interior; periodic: distinct);
 //! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
 //!   convex programming with second-order cones);
+//! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
+//!   extrema removed);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
@@ -32,6 +34,7 @@ pub mod control_map;
 pub mod corner_fit;
 pub mod corners;
 pub mod count_search;
+pub mod curvature_signs;
 pub mod encoding;
 pub mod integrated;
 pub mod mopso;

@@ -16,6 +16,7 @@
 //! in them), so hundreds of trials cost milliseconds.
 //! Everything is sequential and deterministic (ties broken by index).
 
+use super::band_fairing::ExtremaCount;
 use super::control_map::ControlMap;
 use super::objective::{measure_move, CandidateEval, EvalWorkspace, FitData, MeasureState};
 use crate::fair::gram::Gram;
@@ -35,6 +36,10 @@ pub struct PolishOptions {
     /// A per-span fairness target `F*`: moves may not raise `max_j F_j` above it (or above the
     /// starting curve's, if larger).
     pub span_cap: Option<f64>,
+    /// Whether a move may not add curvature extrema (counted as band fairing counts them,
+    /// [`ExtremaCount`]): without it, moves that lower `F` put back the small curvature wiggles
+    /// band fairing removed.
+    pub keep_extrema: bool,
 }
 
 impl Default for PolishOptions {
@@ -45,7 +50,30 @@ impl Default for PolishOptions {
             step_halvings: 6,
             max_evaluations: 2000,
             span_cap: None,
+            keep_extrema: true,
         }
+    }
+}
+
+/// A move may not add curvature extrema (when switched on).
+struct ExtremaGuard {
+    counter: Option<ExtremaCount>,
+    current: usize,
+}
+
+impl ExtremaGuard {
+    /// Whether the curve with control points `ctrl` has no more extrema than the current one; the
+    /// caller accepts the move when this holds, so its count becomes the current one.
+    fn admits(&mut self, ctrl: &[Vec3]) -> bool {
+        let Some(counter) = self.counter.as_mut() else {
+            return true;
+        };
+        let k = counter.count(ctrl);
+        if k > self.current {
+            return false;
+        }
+        self.current = k;
+        true
     }
 }
 
@@ -140,6 +168,10 @@ pub fn polish_mapped(
         .span_cap
         .map_or(f64::INFINITY, |c| c.max(cur.max_span_fairness));
     let gram = Gram::new(p, &ws.knots, n, p.min(3));
+    let mut counter =
+        (opts.keep_extrema && p >= 3).then(|| ExtremaCount::new(&ws.knots, p, n, data.planar));
+    let current = counter.as_mut().map_or(0, |c| c.count(&ws.ctrl));
+    let mut guard = ExtremaGuard { counter, current };
     let mut ctrl: Vec<Vec3> = ws.ctrl.clone();
     let mut candidates: Vec<(f64, usize, Vec3)> = Vec::with_capacity(n);
     'moves: while out.moves < opts.max_moves {
@@ -182,6 +214,7 @@ pub fn polish_mapped(
                     && e.max_deviation <= allowed
                     && e.max_span_fairness <= span_cap
                     && e.fairness < cur.fairness * (1.0 - 1e-9)
+                    && guard.admits(&ws.ctrl)
                 {
                     copy_moved(map, r, &ws.ctrl, &mut ctrl);
                     cur = e;
@@ -205,6 +238,7 @@ pub fn polish_mapped(
             allowed,
             span_cap,
             opts,
+            &mut guard,
             &mut out,
             map,
         ) {
@@ -233,6 +267,7 @@ fn gradient_move(
     allowed: f64,
     span_cap: f64,
     opts: &PolishOptions,
+    guard: &mut ExtremaGuard,
     out: &mut Polished,
     map: &ControlMap,
 ) -> bool {
@@ -277,6 +312,7 @@ fn gradient_move(
                 && e.max_deviation <= allowed
                 && e.max_span_fairness <= span_cap
                 && e.fairness < cur.fairness * (1.0 - 1e-9)
+                && guard.admits(&ws.ctrl)
             {
                 copy_moved(map, r, &ws.ctrl, ctrl);
                 *cur = e;
