@@ -1,5 +1,5 @@
 //! `fairfit curve --method integrated` on closed data and on data with corners: periodic output,
-//! `--control-points` shared among pieces, `--pareto` of the joined curve.
+//! `--control-points` shared among pieces, `--pareto` of the joined and of the periodic curve.
 
 use assert_cmd::Command;
 use serde_json::Value;
@@ -26,7 +26,7 @@ fn run_report(args: &[&str], dir: &TempDir, tag: &str) -> (Value, Value) {
 }
 
 #[test]
-fn closed_circle_is_periodic_and_pareto_on_it_is_a_one_line_error() {
+fn closed_circle_is_periodic_and_its_pareto_front_is_periodic() {
     let dir = TempDir::new().unwrap();
     let f = dir.path().join("circle.csv");
     let mut s = String::from("x,y\n");
@@ -44,19 +44,45 @@ fn closed_circle_is_periodic_and_pareto_on_it_is_a_one_line_error() {
     assert_eq!(ctrl.len(), n_u + 3);
     assert_eq!(ctrl[..3], ctrl[n_u..]);
     assert!(r["fairness"].as_f64().unwrap() < 200.0);
-    let o = Command::cargo_bin("fairfit")
-        .unwrap()
-        .args(["curve", f.to_str().unwrap(), "--pareto"])
-        .arg(dir.path().join("front.csv"))
-        .output()
-        .unwrap();
-    assert_eq!(o.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.starts_with("error: ") && err.contains("--pareto"),
-        "{err}"
+    // --pareto: the front of the periodic curve at its count, every member periodic
+    let front = dir.path().join("front.csv");
+    let curves = dir.path().join("front");
+    let (_, r2) = run_report(
+        &[
+            "curve",
+            f.to_str().unwrap(),
+            "--pareto",
+            front.to_str().unwrap(),
+            "--pareto-curves",
+            curves.to_str().unwrap(),
+        ],
+        &dir,
+        "p",
     );
-    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    let csv = std::fs::read_to_string(&front).unwrap();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() >= 2, "{csv}");
+    assert_eq!(r2["pareto_members"].as_u64().unwrap() as usize, rows.len());
+    let tol = r["tolerance"].as_f64().unwrap();
+    // sorted by deviation with falling F; the first member within the tolerance
+    assert!(rows[0][2] <= tol, "{csv}");
+    for w in rows.windows(2) {
+        assert!(w[0][2] < w[1][2] && w[0][4] > w[1][4], "{csv}");
+    }
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row[1] as usize, n_u, "{csv}");
+        let m: Value = serde_json::from_str(
+            &std::fs::read_to_string(curves.join(format!("front_{i:03}.json"))).unwrap(),
+        )
+        .unwrap();
+        let mc = m["control_points"].as_array().unwrap();
+        assert_eq!(mc.len(), n_u + 3);
+        assert_eq!(mc[..3], mc[n_u..], "member {i} is periodic");
+    }
 }
 
 #[test]

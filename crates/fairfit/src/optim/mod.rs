@@ -20,7 +20,8 @@
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
 //! - [`pareto`]: the Pareto front of curves for `--pareto`;
-//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners.
+//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners;
+//! - [`pareto_periodic`]: the front of a periodic closed curve.
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
@@ -37,6 +38,7 @@ pub mod mopso;
 pub mod objective;
 pub mod pareto;
 pub mod pareto_joined;
+pub mod pareto_periodic;
 pub mod periodic;
 pub mod periodic_fairing;
 pub mod polish;

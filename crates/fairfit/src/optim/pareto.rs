@@ -99,7 +99,8 @@ pub fn pareto_front(
     Ok(out)
 }
 
-/// The front as CSV: `index,control_points,max_deviation,rms_deviation,fairness,max_span_fairness`.
+/// The front as CSV: `index,control_points,max_deviation,rms_deviation,fairness,max_span_fairness`
+/// (distinct control points: a periodic member stores `n + p`, the last `p` repeating the first).
 pub fn pareto_csv(front: &[ParetoCurve]) -> String {
     let mut s = String::from(
         "index,control_points,max_deviation,rms_deviation,fairness,max_span_fairness\n",
@@ -107,7 +108,7 @@ pub fn pareto_csv(front: &[ParetoCurve]) -> String {
     for (i, c) in front.iter().enumerate() {
         s.push_str(&format!(
             "{i},{},{:e},{:e},{:e},{:e}\n",
-            c.curve.n_control_points(),
+            super::closed::distinct_control_points(&c.curve),
             c.quality.max_deviation,
             c.quality.rms_deviation,
             c.quality.fairness,

@@ -17,13 +17,13 @@
 //!    decreasing F, and every member keeps every corner as a C0 knot.
 //!
 //! Closed data with corners are cut at the first corner as in the fit ([`super::closed`]); a periodic
-//! closed curve (no corners) has no front yet: that is an [`Error::InvalidOption`].
+//! closed curve (no corners) gets the periodic front of [`super::pareto_periodic`].
 
 use super::corners::{join, pieces, straight_piece};
 use super::integrated::{tolerance_of, FitQuality, IntegratedOptions, IntegratedResult, Tolerance};
 use super::pareto::{pareto_front, ParetoCurve};
 use super::prepare::prepare;
-use crate::errors::{Error, Result};
+use crate::errors::Result;
 use crate::fair::curve_fairness;
 use crate::fit::shape::{detect_corners, looks_closed};
 use crate::fit::tolerance::ClosedMode;
@@ -46,11 +46,7 @@ pub fn pareto_front_of_result(
             .corner_angle_deg
             .and_then(|a| detect_corners(&prep.data.points, true, a).first().copied());
         let Some(c0) = c0 else {
-            return Err(Error::InvalidOption(
-                "--pareto is not available for closed curves without corners yet; \
-                 drop --pareto, or fit the points as an open curve"
-                    .into(),
-            ));
+            return super::pareto_periodic::pareto_front_periodic(&seq, opts, r);
         };
         seq = seq[c0..].iter().chain(&seq[..c0]).copied().collect();
         seq.push(seq[0]);
