@@ -469,7 +469,8 @@ pub fn band_fair_mapped(
             break;
         }
         // sign targets: merit ½ F/F_cur + w Σ max(0, m − s_g r_g); the nodes near or past the
-        // wrong side get a penalised constraint s_g (r_g + J_g δ) + t_g ≥ m, t_g ≥ 0
+        // wrong side get a penalised constraint s_g (r_g + J_g δ) + t_g ≥ m, t_g ≥ 0 (while every
+        // target is met, the hard constraint s_g (r_g + J_g δ) ≥ m: no slack variables)
         let rmax = res.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let sign_margin = SIGN_MARGIN * rmax;
         let cur_viol = violation(&res, &targets, sign_margin);
@@ -478,7 +479,9 @@ pub fn band_fair_mapped(
             .filter(|&g| targets[g] != 0 && f64::from(targets[g]) * res[g] < SIGN_NEAR * rmax)
             .collect();
         let nt = signed.len();
-        let nx = nv + nt;
+        // met targets (no violation, so `δ = 0` is feasible): hard rows, no slack variables
+        let hard = cur_viol == 0.0;
+        let nx = if hard { nv } else { nv + nt };
         let max_diag = (0..nv).map(|a| jtj[a * nv + a]).fold(0.0f64, f64::max);
         if max_diag <= 0.0 {
             break;
@@ -531,18 +534,23 @@ pub fn band_fair_mapped(
                     av.push(-sg * v);
                 }
             }
-            ai.push(row0 + j);
-            aj.push(nv + j);
-            av.push(-1.0);
+            if !hard {
+                ai.push(row0 + j);
+                aj.push(nv + j);
+                av.push(-1.0);
+            }
         }
-        for j in 0..nt {
-            b.push(0.0);
-            ai.push(row0 + nt + j);
-            aj.push(nv + j);
-            av.push(-1.0);
+        if !hard {
+            for j in 0..nt {
+                b.push(0.0);
+                ai.push(row0 + nt + j);
+                aj.push(nv + j);
+                av.push(-1.0);
+            }
         }
         if nt > 0 {
-            cones.push(SupportedConeT::NonnegativeConeT(2 * nt));
+            let rows = if hard { nt } else { 2 * nt };
+            cones.push(SupportedConeT::NonnegativeConeT(rows));
         }
         let mut q = jtr.clone();
         q.resize(nx, SIGN_WEIGHT);
