@@ -113,6 +113,10 @@ const SIGN_MARGIN: f64 = 1e-4;
 /// Nodes whose residual is on the right side by more than this fraction of the largest residual
 /// are not constrained in a subproblem (the line search's extrema count still guards them).
 const SIGN_NEAR: f64 = 0.05;
+/// [`SIGN_NEAR`] while every target is met (the rows are hard constraints then; a node that
+/// crosses puts the next subproblem back to the penalty with [`SIGN_NEAR`]). 1 % in both modes
+/// lost two curves' extrema target; here it keeps 33/33 and saves 6 % instructions on FFA-W3-360.
+const SIGN_NEAR_MET: f64 = 0.01;
 
 /// A Gauss node of the fairness integral: its knot span, weight and basis derivatives 1..=3.
 struct Node {
@@ -475,12 +479,14 @@ pub fn band_fair_mapped(
         let sign_margin = SIGN_MARGIN * rmax;
         let cur_viol = violation(&res, &targets, sign_margin);
         let cur_merit = 0.5 + SIGN_WEIGHT * cur_viol;
+        // met targets (no violation, so `δ = 0` is feasible): hard rows, no slack variables, and
+        // only the nodes within SIGN_NEAR_MET of the wrong side
+        let hard = cur_viol == 0.0;
+        let near = if hard { SIGN_NEAR_MET } else { SIGN_NEAR } * rmax;
         let signed: Vec<usize> = (0..targets.len())
-            .filter(|&g| targets[g] != 0 && f64::from(targets[g]) * res[g] < SIGN_NEAR * rmax)
+            .filter(|&g| targets[g] != 0 && f64::from(targets[g]) * res[g] < near)
             .collect();
         let nt = signed.len();
-        // met targets (no violation, so `δ = 0` is feasible): hard rows, no slack variables
-        let hard = cur_viol == 0.0;
         let nx = if hard { nv } else { nv + nt };
         let max_diag = (0..nv).map(|a| jtj[a * nv + a]).fold(0.0f64, f64::max);
         if max_diag <= 0.0 {
