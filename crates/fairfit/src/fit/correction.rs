@@ -85,9 +85,9 @@ pub(crate) fn fit_corrected(
     let mut ctrl = Vec::with_capacity(knots.len());
     solver.solve_with_ends(points, params, knots, None, opts, ends, &mut ctrl)?;
     let curve = if rounds == 0 {
-        NurbsCurve::bspline(p, knots.to_vec(), std::mem::take(&mut ctrl))?
+        bspline_from_solve(p, knots, std::mem::take(&mut ctrl))?
     } else {
-        NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?
+        bspline_from_solve(p, knots, ctrl.clone())?
     };
     // without correction only the tolerance decision matters: project only the points that miss it
     let deviation = if rounds == 0 && stop_below > 0.0 {
@@ -127,7 +127,7 @@ pub(crate) fn fit_corrected(
         {
             break;
         }
-        let curve = NurbsCurve::bspline(p, knots.to_vec(), ctrl.clone())?;
+        let curve = bspline_from_solve(p, knots, ctrl.clone())?;
         let deviation = max_orthogonal_deviation(&curve, points, &trial);
         if deviation.max >= best.deviation.max {
             break;
@@ -140,4 +140,21 @@ pub(crate) fn fit_corrected(
         };
     }
     Ok(best)
+}
+
+/// The curve of a least-squares solve: its knots were validated by the solve, so only the control
+/// points are checked (finite ones make a valid curve; otherwise [`NurbsCurve::bspline`] names the
+/// problem).
+fn bspline_from_solve(p: usize, knots: &[f64], ctrl: Vec<Vec3>) -> Result<NurbsCurve> {
+    if ctrl.iter().all(|c| c.is_finite()) {
+        let n = ctrl.len();
+        Ok(NurbsCurve::from_parts_unchecked(
+            p,
+            knots.to_vec(),
+            ctrl,
+            vec![1.0; n],
+        ))
+    } else {
+        NurbsCurve::bspline(p, knots.to_vec(), ctrl)
+    }
 }
