@@ -7,6 +7,7 @@ pub mod correction;
 pub mod data_basis;
 pub mod deviation;
 pub mod foot;
+pub mod hooks;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;

@@ -11,6 +11,7 @@
 
 use super::correction::{fit_corrected, CorrectedFit};
 use super::deviation::{max_orthogonal_deviation, Deviation, Screen};
+use super::hooks::{end_chord_index, end_hooks};
 use super::knot_placement::{averaging_knots, curvature_adaptive_knots};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
@@ -322,31 +323,6 @@ struct Ctx<'a> {
     solves: usize,
 }
 
-/// The index of the first point (from the start, or from the end when `from_end`) at least twice the
-/// tolerance away from the end point, so that the chord to it gives the data's end direction above
-/// the noise (the far end when no point is that far).
-fn end_chord_index(pts: &[Vec3], from_end: bool, tol: f64) -> usize {
-    let m = pts.len() - 1;
-    let far_enough = |k: usize, end: usize| (pts[k] - pts[end]).norm() >= 2.0 * tol;
-    if from_end {
-        (0..m).rev().find(|&k| far_enough(k, m)).unwrap_or(0)
-    } else {
-        (1..=m).find(|&k| far_enough(k, 0)).unwrap_or(m)
-    }
-}
-
-/// Whether the curve leaves its start / enters its end against the data's direction there (a hook).
-fn end_hooks(curve: &NurbsCurve, pts: &[Vec3], tol: f64) -> (bool, bool) {
-    let (a, b) = curve.domain();
-    let m = pts.len() - 1;
-    let mut d = [Vec3::ZERO; 2];
-    curve.derivatives_into(a, 1, &mut d);
-    let start = d[1].dot(pts[end_chord_index(pts, false, tol)] - pts[0]) < 0.0;
-    curve.derivatives_into(b, 1, &mut d);
-    let end = d[1].dot(pts[m] - pts[end_chord_index(pts, true, tol)]) < 0.0;
-    (start, end)
-}
-
 /// Knot vector from distinct breakpoints `0 = b_0 < … < b_k = 1`.
 fn knots_from_breaks(breaks: &[f64], p: usize, closed: bool) -> Vec<f64> {
     if closed {
@@ -418,17 +394,30 @@ impl Ctx<'_> {
             at_ends.0 && self.opts.start_tangent.is_some(),
             at_ends.1 && self.opts.end_tangent.is_some(),
         );
-        let hooks = end_hooks(&f.curve, pts, self.tol);
-        let pin = (hooks.0 && !user.0, hooks.1 && !user.1);
-        if pin.0 || pin.1 {
+        let mut best = f;
+        let mut pinned = (false, false);
+        // a pinned refit can show a hook at the other end: pin that one too (at most twice)
+        for _ in 0..2 {
+            let hooks = end_hooks(&best.curve, pts, &best.params, self.tol);
+            let pin = (
+                pinned.0 || (hooks.0 && !user.0),
+                pinned.1 || (hooks.1 && !user.1),
+            );
+            if pin == pinned {
+                break;
+            }
             self.pinned = pin;
             let again = self.fit_piece_with(pts, closed, at_ends, method);
             self.pinned = (false, false);
-            if let Ok(g) = again {
-                return Ok(g);
+            match again {
+                Ok(g) => {
+                    best = g;
+                    pinned = pin;
+                }
+                Err(_) => break,
             }
         }
-        Ok(f)
+        Ok(best)
     }
 
     /// [`Self::fit_piece`] without the hook check; also returns the parameterisation used.
