@@ -316,6 +316,51 @@ fn smoothing_order_three_is_accepted_and_orders_outside_two_three_are_not() {
 }
 
 #[test]
+fn too_strong_smoothing_falls_back_with_a_warning_and_reports_the_smoothing_used() {
+    // e387 at --rel-tol 1e-3: smoothing 1e-5 and 1e-6 miss the tolerance, 1e-7 meets it
+    let file = data("e387.csv");
+    let pts = read_points(&file).unwrap().points;
+    let dir = TempDir::new().unwrap();
+    let (c, r) = (dir.path().join("c.json"), dir.path().join("r.json"));
+    let out = Command::cargo_bin("fairfit")
+        .unwrap()
+        .args([
+            "curve",
+            &file,
+            "--method",
+            "lsq",
+            "--smoothing",
+            "1e-5",
+            "-o",
+        ])
+        .arg(&c)
+        .arg("--report")
+        .arg(&r)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(
+        warnings[0].contains("1e-5") && warnings[0].contains("1e-7"),
+        "{err}"
+    );
+    let rep: Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
+    let used = rep["smoothing_used"].as_f64().unwrap();
+    assert!((used - 1e-7).abs() < 1e-20, "{used}");
+    let Geometry::Curve(curve) = read_geometry(&c).unwrap() else {
+        panic!("not a curve")
+    };
+    let tol = rep["tolerance"].as_f64().unwrap();
+    let worst = polyline_deviation(&curve, &pts);
+    assert!(worst <= tol * (1.0 + 1e-6), "{worst} > {tol}");
+    // a smoothing that meets the tolerance is kept
+    let (_, rep) = lsq_run(&file, &["--smoothing", "1e-8"]);
+    assert_eq!(rep["smoothing_used"].as_f64().unwrap(), 1e-8);
+}
+
+#[test]
 fn noisy_sharp_leading_edge_fits_with_correction_rounds() {
     // du84132v with noise 1e-4 chord used to fail ("too few points per knot span") at --rel-tol 1e-3
     let file = data("du84132v_noise1e-4.csv");

@@ -253,6 +253,12 @@ pub fn run(args: CurveArgs) -> CmdResult {
     let (curve, report) = match args.method {
         Method::Lsq => {
             let fit = fit_to_tolerance(&set.points, &opts)?;
+            if fit.smoothing_used != opts.smoothing {
+                eprintln!(
+                    "warning: the smoothing {:e} kept the tolerance out of reach; used {:e}",
+                    opts.smoothing, fit.smoothing_used
+                );
+            }
             let report =
                 want_report.then(|| report_json(&args, &fit, wall.elapsed().as_secs_f64()));
             (fit.curve, report)
@@ -335,6 +341,7 @@ fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_js
         "curvature_extrema": f.curvature_extrema,
         "inflections": f.inflections,
         "solves": fit.solves,
+        "smoothing_used": fit.smoothing_used,
         "fit_seconds": fit.fit_seconds,
         "wall_seconds": wall_seconds,
     })
