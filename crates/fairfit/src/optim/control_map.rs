@@ -233,33 +233,14 @@ fn point_ders(knots: &[f64], ctrl: &[Vec3], p: usize, u: f64) -> [Vec3; 3] {
 }
 
 /// Distance of `q` from the clamped closed curve (`knots` on `[0, 1]`, `ctrl`) near its seam and
-/// the foot parameter in `[0, 1)`: Newton from both ends of the domain, the nearer foot wins (as
-/// [`super::periodic::seam_foot`]).
+/// the foot parameter in `[0, 1)`: [`super::periodic::seam_foot_by`] on the raw control points.
 pub fn seam_foot(p: usize, knots: &[f64], ctrl: &[Vec3], q: Vec3) -> (f64, f64) {
-    let mut best = ((ctrl[0] - q).norm(), 0.0);
-    for (u0, lo, hi) in [(0.0, 0.0, 0.5), (1.0, 0.5, 1.0)] {
-        let mut u: f64 = u0;
-        for _ in 0..20 {
-            let d = point_ders(knots, ctrl, p, u);
-            let diff = d[0] - q;
-            let f = d[1].dot(diff);
-            let fp = d[2].dot(diff) + d[1].norm_squared();
-            if fp.is_nan() || fp <= 0.0 {
-                break;
-            }
-            let next = (u - f / fp).clamp(lo, hi);
-            let done = (next - u).abs() < 1e-14;
-            u = next;
-            if done {
-                break;
-            }
-        }
-        let dist = (point_ders(knots, ctrl, p, u)[0] - q).norm();
-        if dist < best.0 {
-            best = (dist, u.rem_euclid(1.0));
-        }
-    }
-    best
+    super::periodic::seam_foot_by(
+        (ctrl[0] - q).norm(),
+        q,
+        |u| point_ders(knots, ctrl, p, u),
+        |u| point_ders(knots, ctrl, p, u)[0],
+    )
 }
 
 #[cfg(test)]

@@ -235,11 +235,31 @@ fn measure_periodic(data: &ClosedData, params: &[f64], ws: &mut ClosedWorkspace)
 /// (in `[0, 1)`): Newton from both ends of the domain, the nearer foot wins.
 pub fn seam_foot(curve: &NurbsCurve, q: Vec3) -> (f64, f64) {
     let mut d = [Vec3::ZERO; 3];
-    let mut best = ((curve.point(0.0) - q).norm(), 0.0);
+    seam_foot_by(
+        (curve.point(0.0) - q).norm(),
+        q,
+        |u| {
+            curve.derivatives_into(u, 2, &mut d);
+            d
+        },
+        |u| curve.point(u),
+    )
+}
+
+/// [`seam_foot`] on any evaluator of a clamped closed curve on `[0, 1]`: `ders(u)` gives the point and
+/// its first two derivatives, `point(u)` the point; `start` is the distance of `q` from the curve's
+/// start (the answer when neither Newton run gets nearer).
+pub fn seam_foot_by(
+    start: f64,
+    q: Vec3,
+    mut ders: impl FnMut(f64) -> [Vec3; 3],
+    mut point: impl FnMut(f64) -> Vec3,
+) -> (f64, f64) {
+    let mut best = (start, 0.0);
     for (u0, lo, hi) in [(0.0, 0.0, 0.5), (1.0, 0.5, 1.0)] {
         let mut u: f64 = u0;
         for _ in 0..20 {
-            curve.derivatives_into(u, 2, &mut d);
+            let d = ders(u);
             let diff = d[0] - q;
             let f = d[1].dot(diff);
             let fp = d[2].dot(diff) + d[1].norm_squared();
@@ -253,7 +273,7 @@ pub fn seam_foot(curve: &NurbsCurve, q: Vec3) -> (f64, f64) {
                 break;
             }
         }
-        let dist = (curve.point(u) - q).norm();
+        let dist = (point(u) - q).norm();
         if dist < best.0 {
             best = (dist, u.rem_euclid(1.0));
         }
