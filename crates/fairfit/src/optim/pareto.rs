@@ -7,9 +7,11 @@
 
 use super::encoding::{KnotEncoding, LOG_LAMBDA_RANGE};
 use super::integrated::{finish_curve, tolerance_of, FitQuality, IntegratedOptions};
-use super::mopso::{run_mopso, MopsoOptions};
+use super::mopso::{run_mopso, MopsoOptions, ParetoArchive};
+use super::objective::CandidateEval;
 use super::prepare::prepare;
 use super::problem::KnotProblem;
+use super::pso::SwarmProblem;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -64,23 +66,7 @@ pub fn pareto_front(
         x[problem.encoding.interior + 1] = ll.clamp(LOG_LAMBDA_RANGE.0, LOG_LAMBDA_RANGE.1);
         seeds.push(x);
     }
-    let mopts = MopsoOptions {
-        seed: opts.seed,
-        particles: opts.particles.max(20),
-        ..MopsoOptions::default()
-    };
-    let archive = run_mopso(
-        &problem,
-        &seeds,
-        &|e: &super::objective::CandidateEval| {
-            if e.solved && e.max_deviation <= DEVIATION_CAP * tol {
-                [e.max_deviation, e.fairness]
-            } else {
-                [f64::INFINITY; 2]
-            }
-        },
-        &mopts,
-    );
+    let archive = front_archive(&problem, &seeds, opts, tol);
     let mut out = Vec::with_capacity(archive.members.len());
     let mut kw = Default::default();
     for m in &archive.members {
@@ -97,6 +83,34 @@ pub fn pareto_front(
         out.push(ParetoCurve { curve, quality });
     }
     Ok(out)
+}
+
+/// The multi-objective swarm of a front from `seeds`: objectives (max deviation, F) for every solved
+/// candidate within [`DEVIATION_CAP`] tolerances (others are dominated by all), the user's seed, at
+/// least 20 particles. Shared by the open and the periodic fronts.
+pub(super) fn front_archive<P: SwarmProblem<Output = CandidateEval>>(
+    problem: &P,
+    seeds: &[Vec<f64>],
+    opts: &IntegratedOptions,
+    tol: f64,
+) -> ParetoArchive<CandidateEval> {
+    let mopts = MopsoOptions {
+        seed: opts.seed,
+        particles: opts.particles.max(20),
+        ..MopsoOptions::default()
+    };
+    run_mopso(
+        problem,
+        seeds,
+        &|e: &CandidateEval| {
+            if e.solved && e.max_deviation <= DEVIATION_CAP * tol {
+                [e.max_deviation, e.fairness]
+            } else {
+                [f64::INFINITY; 2]
+            }
+        },
+        &mopts,
+    )
 }
 
 /// The front as CSV: `index,control_points,max_deviation,rms_deviation,fairness,max_span_fairness`

@@ -14,9 +14,7 @@ use super::closed::{distinct_control_points, equal_breaks, finish_periodic};
 use super::count_search::CountProblem;
 use super::encoding::LOG_LAMBDA_RANGE;
 use super::integrated::{tolerance_of, IntegratedOptions, IntegratedResult};
-use super::mopso::{run_mopso, MopsoOptions};
-use super::objective::CandidateEval;
-use super::pareto::{ParetoCurve, DEVIATION_CAP};
+use super::pareto::{front_archive, ParetoCurve};
 use super::periodic::{ClosedData, ClosedProblem};
 use super::prepare::prepare;
 use crate::errors::{Error, Result};
@@ -56,23 +54,7 @@ pub fn pareto_front_periodic(
         x[coord] = ll.clamp(LOG_LAMBDA_RANGE.0, LOG_LAMBDA_RANGE.1);
         seeds.push(x);
     }
-    let mopts = MopsoOptions {
-        seed: opts.seed,
-        particles: opts.particles.max(20),
-        ..MopsoOptions::default()
-    };
-    let archive = run_mopso(
-        &problem,
-        &seeds,
-        &|e: &CandidateEval| {
-            if e.solved && e.max_deviation <= DEVIATION_CAP * tol {
-                [e.max_deviation, e.fairness]
-            } else {
-                [f64::INFINITY; 2]
-            }
-        },
-        &mopts,
-    );
+    let archive = front_archive(&problem, &seeds, opts, tol);
     let raw = IntegratedOptions {
         polish: false,
         band_fairing: false,
