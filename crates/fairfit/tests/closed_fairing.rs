@@ -12,8 +12,12 @@
 use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
+
+#[path = "common/sampled.rs"]
+mod sampled;
+use sampled::brute_force_deviation;
 
 /// `n` points on an ellipse with semi-axes `a`, `b`, the first repeated at the end.
 fn ellipse(n: usize, a: f64, b: f64) -> Vec<Vec3> {
@@ -76,25 +80,6 @@ fn regular_polygon_fairness(n: usize, cells: usize) -> f64 {
     length.powi(3) * energy
 }
 
-/// The largest distance from a point to the curve, by dense sampling (an upper bound of the
-/// orthogonal distance, independent of the fit's projection).
-fn brute_force_deviation(curve: &NurbsCurve, points: &[Vec3]) -> f64 {
-    let (a, b) = curve.domain();
-    let n = 40_000;
-    let samples: Vec<Vec3> = (0..=n)
-        .map(|i| curve.point(a + (b - a) * i as f64 / n as f64))
-        .collect();
-    points
-        .iter()
-        .map(|q| {
-            samples
-                .iter()
-                .map(|s| (*s - *q).norm())
-                .fold(f64::MAX, f64::min)
-        })
-        .fold(0.0, f64::max)
-}
-
 /// Derivatives 0..p at both ends of the domain agree to `rel` of their size.
 fn assert_seam_smooth(c: &NurbsCurve, rel: f64) {
     let p = c.degree();
@@ -109,6 +94,25 @@ fn assert_seam_smooth(c: &NurbsCurve, rel: f64) {
             d1[k]
         );
     }
+}
+
+/// A closed fit of round data: periodic cubic output, seam C2, F at most 1 % above the regular-polygon
+/// spline of its distinct count, and within the tolerance by dense sampling.
+fn assert_periodic_at_the_regular_polygon_minimum(r: &IntegratedResult, pts: &[Vec3], label: &str) {
+    let c = &r.curve;
+    let n_u = distinct_control_points(c);
+    assert_eq!(n_u + 3, c.n_control_points(), "{label}: periodic output");
+    assert_seam_smooth(c, 1e-9);
+    let f = curve_fairness(c).fairness;
+    let bound = regular_polygon_fairness(n_u, 2000);
+    eprintln!("{label}: n_u {n_u}, F {f}, regular polygon {bound}");
+    assert!(f <= 1.01 * bound, "F {f} vs bound {bound} at n_u {n_u}");
+    let dev = brute_force_deviation(c, pts);
+    assert!(
+        r.met && dev <= r.tolerance * 1.0001,
+        "{dev} vs {}",
+        r.tolerance
+    );
 }
 
 fn opts() -> IntegratedOptions {
@@ -135,20 +139,7 @@ fn closed_circle_is_as_fair_as_the_regular_polygon_spline_with_a_smooth_seam() {
     // seam is C2, the tolerance holds by dense sampling
     let pts = ellipse(100, 2.0, 2.0);
     let r = fit_integrated(&pts, &opts()).unwrap();
-    let c = &r.curve;
-    let n_u = distinct_control_points(c);
-    assert_eq!(n_u + 3, c.n_control_points());
-    assert_seam_smooth(c, 1e-9);
-    let f = curve_fairness(c).fairness;
-    let bound = regular_polygon_fairness(n_u, 2000);
-    eprintln!("circle: n_u {n_u}, F {f}, regular polygon {bound}");
-    assert!(f <= 1.01 * bound, "F {f} vs bound {bound} at n_u {n_u}");
-    let dev = brute_force_deviation(c, &pts);
-    assert!(
-        r.met && dev <= r.tolerance * 1.0001,
-        "{dev} vs {}",
-        r.tolerance
-    );
+    assert_periodic_at_the_regular_polygon_minimum(&r, &pts, "circle");
 }
 
 #[test]
@@ -210,20 +201,7 @@ fn iea_circular_section_is_periodic_and_as_fair_as_its_count_allows() {
     );
     let pts = fairfit::io::read_points(path).unwrap().points;
     let r = fit_integrated(&pts, &opts()).unwrap();
-    let c = &r.curve;
-    let n_u = distinct_control_points(c);
-    assert_eq!(n_u + 3, c.n_control_points(), "periodic output");
-    assert_seam_smooth(c, 1e-9);
-    let f = curve_fairness(c).fairness;
-    let bound = regular_polygon_fairness(n_u, 2000);
-    eprintln!("circular: n_u {n_u}, F {f}, regular polygon {bound}");
-    assert!(f <= 1.01 * bound, "F {f} vs bound {bound} at n_u {n_u}");
-    let dev = brute_force_deviation(c, &pts);
-    assert!(
-        r.met && dev <= r.tolerance * 1.0001,
-        "{dev} vs {}",
-        r.tolerance
-    );
+    assert_periodic_at_the_regular_polygon_minimum(&r, &pts, "circular");
 }
 
 #[test]

@@ -9,6 +9,10 @@ use fairfit::optim::periodic::{evaluate_closed, ClosedData, ClosedWorkspace};
 use fairfit::optim::prepare::prepare;
 use fairfit::{NurbsCurve, Vec3};
 
+#[path = "common/sampled.rs"]
+mod sampled;
+use sampled::brute_force_deviation;
+
 /// `n` points on an ellipse with semi-axes `a`, `b`, centred at (3, −2), the first repeated at the
 /// end when `repeat`.
 fn ellipse(n: usize, a: f64, b: f64, repeat: bool) -> Vec<Vec3> {
@@ -22,25 +26,6 @@ fn ellipse(n: usize, a: f64, b: f64, repeat: bool) -> Vec<Vec3> {
         v.push(v[0]);
     }
     v
-}
-
-/// The largest distance from a point to the curve, by dense sampling (independent of the fit's own
-/// projection): an upper bound that converges to the orthogonal distance.
-fn brute_force_deviation(curve: &NurbsCurve, points: &[Vec3]) -> f64 {
-    let (a, b) = curve.domain();
-    let n = 40_000;
-    let samples: Vec<Vec3> = (0..=n)
-        .map(|i| curve.point(a + (b - a) * i as f64 / n as f64))
-        .collect();
-    points
-        .iter()
-        .map(|q| {
-            samples
-                .iter()
-                .map(|s| (*s - *q).norm())
-                .fold(f64::MAX, f64::min)
-        })
-        .fold(0.0, f64::max)
 }
 
 fn opts() -> IntegratedOptions {
