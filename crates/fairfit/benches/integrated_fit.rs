@@ -12,20 +12,11 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion, SamplingM
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions};
 use std::time::Duration;
 
-/// The 200-point curves of the shared data, copied into examples/data.
-const CURVES: [&str; 8] = [
-    "quarter_ellipse_200.csv",
-    "quarter_ellipse_200_noise1e-4.csv",
-    "du06-w-200-selig.csv",
-    "iea15mw_airfoils/FFA-W3-211.csv",
-    "iea15mw_airfoils/FFA-W3-241.csv",
-    "iea15mw_airfoils/FFA-W3-301.csv",
-    "iea15mw_airfoils/FFA-W3-360.csv",
-    "iea15mw_airfoils/SNL-FFA-W3-500.csv",
-];
+#[path = "common/curves.rs"]
+mod curves;
 
 fn bench(c: &mut Criterion) {
-    let dir = format!("{}/../../examples/data", env!("CARGO_MANIFEST_DIR"));
+    let curves = curves::curves_200();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -55,15 +46,9 @@ fn bench(c: &mut Criterion) {
             .sample_size(10)
             .warm_up_time(Duration::from_millis(200))
             .measurement_time(Duration::from_secs(2));
-        for name in CURVES {
-            let pts = fairfit::io::read_points(format!("{dir}/{name}"))
-                .expect("readable example data")
-                .points;
-            assert_eq!(pts.len(), 200, "{name}");
-            let short = name.rsplit('/').next().unwrap_or(name);
-            let short = short.trim_end_matches(".csv");
-            g.bench_function(short, |b| {
-                b.iter(|| pool.install(|| fit_integrated(black_box(&pts), &opts).expect("a fit")))
+        for (short, pts) in &curves {
+            g.bench_function(*short, |b| {
+                b.iter(|| pool.install(|| fit_integrated(black_box(pts), &opts).expect("a fit")))
             });
         }
         g.finish();

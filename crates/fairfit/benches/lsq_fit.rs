@@ -7,31 +7,16 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use fairfit::fit::{fit_to_tolerance, FitOptions};
 use std::time::Duration;
 
-/// The 200-point curves of the shared data, copied into examples/data.
-const CURVES: [&str; 8] = [
-    "quarter_ellipse_200.csv",
-    "quarter_ellipse_200_noise1e-4.csv",
-    "du06-w-200-selig.csv",
-    "iea15mw_airfoils/FFA-W3-211.csv",
-    "iea15mw_airfoils/FFA-W3-241.csv",
-    "iea15mw_airfoils/FFA-W3-301.csv",
-    "iea15mw_airfoils/FFA-W3-360.csv",
-    "iea15mw_airfoils/SNL-FFA-W3-500.csv",
-];
+#[path = "common/curves.rs"]
+mod curves;
 
 fn bench(c: &mut Criterion) {
-    let dir = format!("{}/../../examples/data", env!("CARGO_MANIFEST_DIR"));
     let opts = FitOptions::default(); // relative tolerance 1e-3, the CLI's lsq defaults
     let mut g = c.benchmark_group("lsq_fit_rel_tol_1e-3");
     g.sample_size(30)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2));
-    for name in CURVES {
-        let pts = fairfit::io::read_points(format!("{dir}/{name}"))
-            .unwrap()
-            .points;
-        assert_eq!(pts.len(), 200, "{name}");
-        let short = name.rsplit('/').next().unwrap().trim_end_matches(".csv");
+    for (short, pts) in curves::curves_200() {
         g.bench_function(short, |b| {
             b.iter(|| fit_to_tolerance(black_box(&pts), &opts).unwrap())
         });
