@@ -170,6 +170,7 @@ class Band:
                 us.append(c0 + h * (x + 1))
                 ws.append(h * w)
         self.uq, self.wq = np.concatenate(us), np.concatenate(ws)
+        self.s2 = np.ones(self.m)  # per-point band scale squared (pin_ends() shrinks the end points' band)
         self.B1, self.B2, self.B3 = (basis(self.t, k, self.uq, nu) for nu in (1, 2, 3))
 
     # F and its gradient with respect to the control points (planar, signed curvature)
@@ -269,13 +270,13 @@ class Band:
 
             def cons(z):
                 _, r = proj(z)
-                return 1.0 - np.einsum("ij,ij->i", r, r) / tt
+                return 1.0 - np.einsum("ij,ij->i", r, r) / (tt * self.s2)
 
             def jac(z):
                 N0, r = proj(z)
                 J = np.empty((self.m, 2 * n))
-                J[:, 0::2] = -2 * tol * r[:, [0]] * N0 / tt
-                J[:, 1::2] = -2 * tol * r[:, [1]] * N0 / tt
+                J[:, 0::2] = -2 * tol * r[:, [0]] * N0 / (tt * self.s2[:, None])
+                J[:, 1::2] = -2 * tol * r[:, [1]] * N0 / (tt * self.s2[:, None])
                 return J @ M
 
             with warnings.catch_warnings():
@@ -286,7 +287,7 @@ class Band:
             total_it += res.nit
             X = xof(res.x)
             u, _, r = self.project(X, state["u"])
-            if np.max(np.einsum("ij,ij->i", r, r)) > tt * (1 + 1e-9):
+            if np.max(np.einsum("ij,ij->i", r, r) / self.s2) > tt * (1 + 1e-9):
                 X, u = self.repair(X, u)
             F1 = self.fairness(X, grad=False)[0]
             feasible = self.feasible(X, u)
@@ -299,9 +300,14 @@ class Band:
             Xc, u_c, F_prev = X, u, F1
         return Xc, u_c, res, total_it
 
+    def pin_ends(self, rel=1e-3):
+        """End points within rel * tol of the first and last data points (fairfit interpolates them)."""
+        self.s2[[0, -1]] = rel**2
+        return self
+
     def feasible(self, X, u):
         _, _, r = self.project(X, u)
-        return bool(np.max(np.einsum("ij,ij->i", r, r)) <= ((1 - MARGIN) * self.tol) ** 2 * (1 + 1e-6))
+        return bool(np.max(np.einsum("ij,ij->i", r, r) / self.s2) <= ((1 - MARGIN) * self.tol) ** 2 * (1 + 1e-6))
 
     def repair(self, X1, u1):
         """Nearest control points (least change) that satisfy the band constraints."""
@@ -312,13 +318,13 @@ class Band:
         def cons(y):
             u, N0, r = self.project(X1 + tol * y.reshape(n, 2), state["u"])
             state["u"] = u
-            return 1.0 - np.einsum("ij,ij->i", r, r) / tt
+            return 1.0 - np.einsum("ij,ij->i", r, r) / (tt * self.s2)
 
         def jac(y):
             u, N0, r = self.project(X1 + tol * y.reshape(n, 2), state["u"])
             J = np.empty((self.m, 2 * n))
-            J[:, 0::2] = -2 * tol * r[:, [0]] * N0 / tt
-            J[:, 1::2] = -2 * tol * r[:, [1]] * N0 / tt
+            J[:, 0::2] = -2 * tol * r[:, [0]] * N0 / (tt * self.s2[:, None])
+            J[:, 1::2] = -2 * tol * r[:, [1]] * N0 / (tt * self.s2[:, None])
             return J
 
         with warnings.catch_warnings():
@@ -502,6 +508,29 @@ def run_curve(csv, args):
     return out
 
 
+def table(jsonl):
+    """Markdown table (one row per curve, the last record of each curve) from a --json results file."""
+    recs = {}
+    with open(jsonl, encoding="utf-8") as fh:
+        for line in fh:
+            if line.strip():
+                r = json.loads(line)
+                recs[r["name"]] = r
+    rows = ["| curve | splprep n | splprep F | fairfit n | fairfit F (ratio) | best F at splprep's n (ratio, dev/tol, "
+            "start) | best F dense (n, ratio, dev/tol, knots) | lowest ratio found |",
+            "|---|---:|---:|---:|---:|---|---|---:|"]
+    for name, r in recs.items():
+        sp, ff = r["splprep"], r.get("fairfit", {})
+        a, b = r.get("best_at_n"), r.get("best_dense")
+        fa = f"{a['F']:.4g} ({a['ratio']:.3f}, {a['dev']:.4f}, {a['start']})" if a else "-"
+        fb = f"{b['F']:.4g} ({b['n']}, {b['ratio']:.3f}, {b['dev']:.4f}, {b['start']})" if b else "-"
+        low = min([x["ratio"] for x in (a, b) if x] + [ff.get("F", np.inf) / sp["F"]])
+        rows.append(f"| {name} | {sp['n']} | {sp['F']:.4g} | {ff.get('n', '-')} | "
+                    f"{ff.get('F', float('nan')):.4g} ({ff.get('F', float('nan')) / sp['F']:.3f}) | {fa} | {fb} | "
+                    f"{low:.3f} |")
+    return "\n".join(rows)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--only", default="*", help="curve name glob (file name without .csv)")
@@ -513,7 +542,11 @@ def main(argv=None):
     ap.add_argument("--quintic", action="store_true", help="also a quintic dense curve")
     ap.add_argument("--maxiter", type=int, default=150)
     ap.add_argument("--json", default=None, help="append one JSON line per curve to this file")
+    ap.add_argument("--table", default=None, help="only print the Markdown table of a --json results file")
     args = ap.parse_args(argv)
+    if args.table:
+        print(table(args.table))
+        return 0
     data = args.data or default_data_dir()
     if args.fairfit is None:
         args.fairfit = os.path.join(REPO, "target", "release", "fairfit")
