@@ -1,9 +1,10 @@
 //! `fairfit`: fair NURBS curves and surfaces from measured points, on the command line.
 //!
 //! Every subcommand lives in its own file under `commands/`. Errors print as one line on stderr with a
-//! non-zero exit code: 2 for usage errors (unknown or missing arguments, invalid option values; the
-//! line ends with the `--help` to read), 1 for everything else (unreadable or invalid input, failed
-//! writes); the library's typed errors already name what is wrong. `--help` and `--version` print
+//! non-zero exit code: 2 for usage errors (unknown or missing arguments, option values or combinations
+//! the command does not accept, whether clap or the command finds them, including the library's
+//! `Error::InvalidOption`; the line ends with the `--help` to read), 1 for everything else
+//! (unreadable or invalid input, failed writes); the library's typed errors already name what is wrong. `--help` and `--version` print
 //! normally and exit 0; `fairfit` without a subcommand prints the help on stderr and exits 2. A closed
 //! stdout (`fairfit info x.json | head -c 10`) ends the run quietly with exit 0.
 
@@ -135,6 +136,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.usage => {
+            eprintln!("error: {e}; see '{} --help'", command_path(&args));
+            ExitCode::from(USAGE_ERROR)
+        }
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE

@@ -22,13 +22,25 @@ fn file_with(content: &[u8]) -> NamedTempFile {
     f
 }
 
+/// A failure of the run (bad input): exit code 1, one `error:` line containing `needle`.
 fn fails_cleanly(args: &[&str], needle: &str) {
+    fails_with(1, args, needle);
+}
+
+/// A usage error (an option value or combination `fairfit curve` does not accept): exit code 2, one
+/// `error:` line containing `needle` and pointing at `fairfit curve --help`.
+fn usage_fails(args: &[&str], needle: &str) {
+    fails_with(2, args, needle);
+    fails_with(2, args, "see 'fairfit curve --help'");
+}
+
+fn fails_with(code: i32, args: &[&str], needle: &str) {
     let out = Command::cargo_bin("fairfit")
         .unwrap()
         .args(args)
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(1), "{args:?}");
+    assert_eq!(out.status.code(), Some(code), "{args:?}");
     let err = String::from_utf8_lossy(&out.stderr);
     let lines: Vec<&str> = err.lines().filter(|l| !l.starts_with("warning:")).collect();
     assert_eq!(lines.len(), 1, "one line expected: {err}");
@@ -167,27 +179,27 @@ fn ill_posed_inputs_fail_with_one_line() {
         run("/nonexistent/points.csv", "nonexistent");
     }
     let ok = data("quarter_ellipse_200.csv");
-    fails_cleanly(
+    usage_fails(
         &["curve", &ok, "--method", "integrated", "--span-fairness=-1"],
         "span fairness",
     );
-    fails_cleanly(&["curve", &ok, "--pareto-curves", "/tmp/x"], "--pareto");
+    usage_fails(&["curve", &ok, "--pareto-curves", "/tmp/x"], "--pareto");
     for method in ["lsq", "integrated"] {
-        fails_cleanly(&["curve", &ok, "--method", method, "--tol=-1"], "tolerance");
-        fails_cleanly(
+        usage_fails(&["curve", &ok, "--method", method, "--tol=-1"], "tolerance");
+        usage_fails(
             &["curve", &ok, "--method", method, "--rel-tol=0"],
             "tolerance",
         );
-        fails_cleanly(
+        usage_fails(
             &["curve", &ok, "--method", method, "--tol=nan"],
             "tolerance",
         );
     }
-    fails_cleanly(
+    usage_fails(
         &["curve", &ok, "--method", "lsq", "--corner-angle", "0"],
         "corner-angle",
     );
-    fails_cleanly(
+    usage_fails(
         &["curve", &ok, "--method", "lsq", "--smoothing=-1"],
         "smoothing",
     );
@@ -274,7 +286,7 @@ fn end_tangents_set_the_end_directions() {
         assert!(rep["max_deviation"].as_f64().unwrap() <= 1e-4);
     }
     let ok = data("quarter_ellipse_200.csv");
-    fails_cleanly(
+    usage_fails(
         &["curve", &ok, "--method", "lsq", "--start-tangent", "0,0"],
         "tangent",
     );

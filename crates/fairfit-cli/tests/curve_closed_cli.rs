@@ -126,13 +126,13 @@ fn blunt_trailing_edge_fixed_count_and_pareto_keep_the_corners() {
     }
     assert_eq!(r1["pareto_members"].as_u64().unwrap() as usize, rows.len());
     assert_eq!(std::fs::read_dir(&curves).unwrap().count(), rows.len());
-    // too few control points for the pieces: one line naming the range
+    // too few control points for the pieces: a usage error, one line naming the range
     let o = Command::cargo_bin("fairfit")
         .unwrap()
         .args(["curve", &fx, "--closed", "--control-points", "5"])
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         err.starts_with("error: ") && err.contains("between 7 and"),

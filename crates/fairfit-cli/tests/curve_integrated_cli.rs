@@ -133,7 +133,7 @@ fn control_points_fixes_the_count_and_needs_the_integrated_method() {
     // knots gives 56.5)
     let f = r["fairness"].as_f64().unwrap();
     assert!(f > 15.0 && f < 45.0, "{f}");
-    // too many for the points, and with another method: one-line errors
+    // too many for the points, and with another method: one-line usage errors
     for args in [
         vec!["--control-points", "500"],
         vec!["--control-points", "8", "--method", "lsq"],
@@ -144,10 +144,10 @@ fn control_points_fixes_the_count_and_needs_the_integrated_method() {
             .args(&args)
             .output()
             .unwrap();
-        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(
-            err.starts_with("error: ") && err.contains("control"),
+            err.starts_with("error: ") && err.contains("control") && err.contains("--help"),
             "{err}"
         );
     }

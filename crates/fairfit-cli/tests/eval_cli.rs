@@ -41,9 +41,21 @@ fn ok_json(file: &std::path::Path, at: &str) -> Vec<Value> {
     serde_json::from_slice::<Vec<Value>>(&out.stdout).unwrap()
 }
 
-/// Exit code 1, one stderr line starting with `error:` and containing `needle`, no panic text.
+/// Exit code 1 (a failure of the run), one stderr line starting with `error:` and containing
+/// `needle`, no panic text.
 fn assert_one_line_error(out: &std::process::Output, needle: &str) {
-    assert_eq!(out.status.code(), Some(1));
+    assert_one_line_exit(out, 1, needle);
+}
+
+/// Exit code 2 (a malformed `--at`: a usage error), one line as [`assert_one_line_error`], pointing
+/// at `fairfit eval --help`.
+fn assert_usage_error(out: &std::process::Output, needle: &str) {
+    assert_one_line_exit(out, 2, needle);
+    assert_one_line_exit(out, 2, "see 'fairfit eval --help'");
+}
+
+fn assert_one_line_exit(out: &std::process::Output, code: i32, needle: &str) {
+    assert_eq!(out.status.code(), Some(code));
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(err.starts_with("error: "), "{err}");
@@ -125,16 +137,16 @@ fn negative_parameter_is_parsed_and_rejected_as_outside_domain() {
 #[test]
 fn malformed_at_lists_are_errors() {
     let f = file_with(CIRCLE.as_bytes());
-    assert_one_line_error(&eval(f.path(), "0.1,,0.2"), "empty entry");
-    assert_one_line_error(&eval(f.path(), "abc"), "`abc` is not a finite number");
-    assert_one_line_error(&eval(f.path(), "0.1,NaN"), "not a finite number");
-    assert_one_line_error(&eval(f.path(), "inf"), "not a finite number");
-    assert_one_line_error(&eval(f.path(), "0.2:0.3"), "holds a curve");
-    assert_one_line_error(&eval(f.path(), ""), "empty entry");
+    assert_usage_error(&eval(f.path(), "0.1,,0.2"), "empty entry");
+    assert_usage_error(&eval(f.path(), "abc"), "`abc` is not a finite number");
+    assert_usage_error(&eval(f.path(), "0.1,NaN"), "not a finite number");
+    assert_usage_error(&eval(f.path(), "inf"), "not a finite number");
+    assert_usage_error(&eval(f.path(), "0.2:0.3"), "holds a curve");
+    assert_usage_error(&eval(f.path(), ""), "empty entry");
     let s = file_with(SADDLE.as_bytes());
-    assert_one_line_error(&eval(s.path(), "0.5"), "not a U:V pair");
-    assert_one_line_error(&eval(s.path(), "0.1:0.2:0.3"), "not a U:V pair");
-    assert_one_line_error(&eval(s.path(), "0.1:x"), "`x` is not a finite number");
+    assert_usage_error(&eval(s.path(), "0.5"), "not a U:V pair");
+    assert_usage_error(&eval(s.path(), "0.1:0.2:0.3"), "not a U:V pair");
+    assert_usage_error(&eval(s.path(), "0.1:x"), "`x` is not a finite number");
 }
 
 #[test]

@@ -16,9 +16,21 @@ fn read_json(p: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
 
+/// A failure of the run (bad input): exit code 1, one `error:` line containing `needle`.
 fn fails_with(cmd: &mut Command, needle: &str) {
+    exits_with(cmd, 1, needle);
+}
+
+/// A usage error (an option value or combination `fairfit surface` does not accept): exit code 2, one
+/// `error:` line containing `needle` and pointing at `fairfit surface --help`.
+fn usage_fails(cmd: &mut Command, needle: &str) {
+    let err = exits_with(cmd, 2, needle);
+    assert!(err.contains("see 'fairfit surface --help'"), "{err}");
+}
+
+fn exits_with(cmd: &mut Command, code: i32, needle: &str) -> String {
     let out = cmd.output().unwrap();
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(code));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.starts_with("error: ") && err.contains(needle), "{err}");
     assert!(
@@ -26,6 +38,7 @@ fn fails_with(cmd: &mut Command, needle: &str) {
         "{err}"
     );
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    err.into_owned()
 }
 
 /// OBJ of an open cylinder (radius r, height 2), optionally without the triangles in an angular window
@@ -183,7 +196,7 @@ fn unusable_inputs_are_clear_errors() {
     // a mesh without --slices, and slices that cut nothing (two far-apart rings of points)
     let mesh = dir.path().join("c.obj");
     cylinder_obj(&mesh, 1.0, false);
-    fails_with(
+    usage_fails(
         fairfit().arg("surface").arg(&mesh).arg("-o").arg(&o),
         "--slices",
     );
@@ -205,7 +218,7 @@ fn unusable_inputs_are_clear_errors() {
             .arg(&o),
         "usable section",
     );
-    fails_with(
+    usage_fails(
         fairfit()
             .arg("surface")
             .arg(&mesh)
@@ -214,7 +227,7 @@ fn unusable_inputs_are_clear_errors() {
             .arg(&o),
         "at least 2 slices",
     );
-    fails_with(
+    usage_fails(
         fairfit()
             .arg("surface")
             .arg(blade_dir())

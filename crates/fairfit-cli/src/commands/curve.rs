@@ -221,13 +221,13 @@ pub fn run(args: CurveArgs) -> CmdResult {
     outputs.extend(args.outputs.named());
     check_output_paths(&outputs, &[args.input.as_path()])?;
     if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
-        return Err(CliError(format!(
+        return Err(CliError::usage(format!(
             "--corner-angle must be in (0, 180] degrees, got {}",
             args.corner_angle
         )));
     }
     if !(args.smoothing.is_finite() && args.smoothing >= 0.0) {
-        return Err(CliError(format!(
+        return Err(CliError::usage(format!(
             "--smoothing must be a finite number >= 0, got {}",
             args.smoothing
         )));
@@ -236,15 +236,15 @@ pub fn run(args: CurveArgs) -> CmdResult {
         return Err(CliError("--degree auto needs --method integrated".into()));
     }
     if args.control_points.is_some() && args.method != Method::Integrated {
-        return Err(CliError(
-            "--control-points needs --method integrated".into(),
+        return Err(CliError::usage(
+            "--control-points needs --method integrated",
         ));
     }
     if (args.start_tangent.is_some() || args.end_tangent.is_some())
         && args.method == Method::Integrated
     {
-        return Err(CliError(
-            "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair".into(),
+        return Err(CliError::usage(
+            "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair",
         ));
     }
     let set = read_points(&args.input)?;
@@ -258,7 +258,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
     // more control points than data points leave the fit undetermined (and a huge count would run
     // the search for ever)
     if let Some(n) = args.control_points.filter(|&n| n > set.points.len()) {
-        return Err(CliError(format!(
+        return Err(CliError::usage(format!(
             "--control-points {n} exceeds the {} distinct input points",
             set.points.len()
         )));
@@ -342,8 +342,8 @@ pub fn run(args: CurveArgs) -> CmdResult {
         None => Some(text),
     };
     if let (Some(rp), Some(report)) = (&args.report, &report) {
-        let body =
-            serde_json::to_string_pretty(report).map_err(|e| CliError(format!("internal: {e}")))?;
+        let body = serde_json::to_string_pretty(report)
+            .map_err(|e| CliError::new(format!("internal: {e}")))?;
         files.push((rp.clone(), body.into_bytes()));
     }
     if args.outputs.any() {

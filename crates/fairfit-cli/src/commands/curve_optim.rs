@@ -38,7 +38,7 @@ pub fn with_pool<T: Send>(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| CliError(format!("cannot start {threads} worker threads: {e}")))?;
+        .map_err(|e| CliError::new(format!("cannot start {threads} worker threads: {e}")))?;
     pool.install(f)
 }
 
@@ -115,7 +115,7 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         write_pareto(path, args, &front)?;
         report["pareto_members"] = json!(front.len());
     } else if args.pareto_curves.is_some() {
-        return Err(CliError("--pareto-curves needs --pareto".into()));
+        return Err(CliError::usage("--pareto-curves needs --pareto"));
     }
     if !r.met {
         match args.span_fairness {
@@ -145,7 +145,7 @@ fn write_pareto(
     write_atomic(path, pareto_csv(front).as_bytes())?;
     if let Some(dir) = &args.pareto_curves {
         std::fs::create_dir_all(dir)
-            .map_err(|e| CliError(fairfit::Error::io(dir, &e).to_string()))?;
+            .map_err(|e| CliError::new(fairfit::Error::io(dir, &e).to_string()))?;
         for (i, c) in front.iter().enumerate() {
             write_atomic(
                 dir.join(format!("front_{i:03}.json")),

@@ -36,7 +36,7 @@ fn parse_number(text: &str) -> Result<f64, CliError> {
     let t = text.trim();
     match t.parse::<f64>() {
         Ok(x) if x.is_finite() => Ok(x),
-        _ => Err(CliError(format!(
+        _ => Err(CliError::usage(format!(
             "--at: `{t}` is not a finite number (expected e.g. --at 0,0.5,1 or --at 0.2:0.3,0.5:0.5)"
         ))),
     }
@@ -46,7 +46,7 @@ fn parse_number(text: &str) -> Result<f64, CliError> {
 fn entries(at: &str) -> Result<Vec<&str>, CliError> {
     let items: Vec<&str> = at.split(',').map(str::trim).collect();
     if items.iter().any(|s| s.is_empty()) {
-        return Err(CliError(format!(
+        return Err(CliError::usage(format!(
             "--at: empty entry in `{at}`; give comma-separated parameters like 0,0.5,1"
         )));
     }
@@ -59,7 +59,7 @@ fn parse_curve_params(at: &str) -> Result<Vec<f64>, CliError> {
         .into_iter()
         .map(|s| {
             if s.contains(':') {
-                Err(CliError(format!(
+                Err(CliError::usage(format!(
                     "--at: `{s}` is a surface parameter pair, but the file holds a curve"
                 )))
             } else {
@@ -75,7 +75,7 @@ fn parse_surface_params(at: &str) -> Result<Vec<(f64, f64)>, CliError> {
         .into_iter()
         .map(|s| match s.split_once(':') {
             Some((u, v)) if !v.contains(':') => Ok((parse_number(u)?, parse_number(v)?)),
-            _ => Err(CliError(format!(
+            _ => Err(CliError::usage(format!(
                 "--at: `{s}` is not a U:V pair (the file holds a surface)"
             ))),
         })

@@ -28,8 +28,8 @@ pub struct ExportArgs {
 /// Runs `fairfit export`.
 pub fn run(args: ExportArgs) -> CmdResult {
     if !args.outputs.any() && args.samples.is_none() {
-        return Err(CliError(
-            "nothing to export: give --step, --iges, --mesh, --plot, --html or --samples".into(),
+        return Err(CliError::usage(
+            "nothing to export: give --step, --iges, --mesh, --plot, --html or --samples",
         ));
     }
     let mut outputs = args.outputs.named();

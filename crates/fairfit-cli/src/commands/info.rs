@@ -73,7 +73,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
 fn surface_info(s: &NurbsSurface, n_iso: usize) -> Result<Value, CliError> {
     let f = surface_fairness(s, n_iso)?;
     let (n_u, n_v) = s.net_size();
-    let iso = serde_json::to_value(&f).map_err(|e| CliError(format!("internal: {e}")))?;
+    let iso = serde_json::to_value(&f).map_err(|e| CliError::new(format!("internal: {e}")))?;
     Ok(json!({
         "kind": "surface",
         "net_size": [n_u, n_v],

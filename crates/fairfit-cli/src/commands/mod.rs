@@ -12,31 +12,61 @@ pub mod surface;
 /// What a subcommand returns: the library's typed error, or a CLI-level message.
 pub type CmdResult = Result<(), CliError>;
 
-/// An error to print as one line.
+/// An error to print as one line: a usage error (an option value or combination the command does not
+/// accept; exit code 2, the line points at the subcommand's `--help`) or a failure of the run itself
+/// (unreadable or invalid input, failed writes; exit code 1).
 #[derive(Debug)]
-pub struct CliError(pub String);
+pub struct CliError {
+    /// The message, without the leading `error: `.
+    pub message: String,
+    /// Whether the user asked for something the command does not accept (exit code 2).
+    pub usage: bool,
+}
 
-impl std::fmt::Display for CliError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
+impl CliError {
+    /// A failure of the run (exit code 1).
+    pub fn new(message: impl Into<String>) -> Self {
+        CliError {
+            message: message.into(),
+            usage: false,
+        }
+    }
+
+    /// A usage error: an option value or combination the command does not accept (exit code 2).
+    pub fn usage(message: impl Into<String>) -> Self {
+        CliError {
+            message: message.into(),
+            usage: true,
+        }
     }
 }
 
+impl std::fmt::Display for CliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+/// The library's option errors (an invalid option value or combination) are usage errors; everything
+/// else is a failure of the run.
 impl From<fairfit::Error> for CliError {
     fn from(e: fairfit::Error) -> Self {
-        CliError(e.to_string())
+        match e {
+            fairfit::Error::InvalidOption(_) => CliError::usage(e.to_string()),
+            _ => CliError::new(e.to_string()),
+        }
     }
 }
 
 impl From<String> for CliError {
     fn from(s: String) -> Self {
-        CliError(s)
+        CliError::new(s)
     }
 }
 
 impl From<&str> for CliError {
     fn from(s: &str) -> Self {
-        CliError(s.to_string())
+        CliError::new(s)
     }
 }
 
@@ -53,14 +83,14 @@ pub fn print_stdout(text: &str) -> CmdResult {
     match written {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
-        Err(e) => Err(CliError(format!("cannot write to stdout: {e}"))),
+        Err(e) => Err(CliError::new(format!("cannot write to stdout: {e}"))),
     }
 }
 
 /// Prints a JSON value on stdout (pretty), as [`print_stdout`].
 pub fn print_json(v: &serde_json::Value) -> CmdResult {
     let text = serde_json::to_string_pretty(v)
-        .map_err(|e| CliError(format!("internal: cannot format JSON: {e}")))?;
+        .map_err(|e| CliError::new(format!("internal: cannot format JSON: {e}")))?;
     print_stdout(&text)
 }
 

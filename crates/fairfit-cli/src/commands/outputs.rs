@@ -107,14 +107,14 @@ pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdRes
     let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| file_identity(p)).collect();
     for (i, (flag, path)) in outputs.iter().enumerate() {
         if let Some(j) = ids[..i].iter().position(|id| *id == ids[i]) {
-            return Err(CliError(format!(
+            return Err(CliError::new(format!(
                 "{} and {flag} both name the file {}; give each output its own file",
                 outputs[j].0,
                 path.display()
             )));
         }
         if inputs.iter().any(|inp| file_identity(inp) == ids[i]) {
-            return Err(CliError(format!(
+            return Err(CliError::new(format!(
                 "{flag} names the input file {}; choose another output file",
                 path.display()
             )));
@@ -150,7 +150,7 @@ pub fn plot_bytes(path: &Path, svg: String, size: PlotSize) -> Result<Vec<u8>, C
     match ext.as_deref() {
         Some("svg") => Ok(svg.into_bytes()),
         Some("png") => Ok(svg_to_png(&svg, size.width, size.height)?),
-        _ => Err(CliError(format!(
+        _ => Err(CliError::new(format!(
             "{}: unknown plot format, expected a .svg or .png file name",
             path.display()
         ))),

@@ -64,7 +64,7 @@ pub fn run(args: PlotArgs) -> CmdResult {
     let pts = points.as_deref();
     let need_points = || {
         pts.filter(|p| !p.is_empty())
-            .ok_or_else(|| CliError("--kind deviation needs --points".into()))
+            .ok_or_else(|| CliError::usage("--kind deviation needs --points"))
     };
     let iso = args.iso as usize;
     let svg = match (&geometry, args.kind) {
@@ -88,7 +88,7 @@ pub fn run(args: PlotArgs) -> CmdResult {
                 .to_possible_value()
                 .map(|v| v.get_name().to_string())
                 .unwrap_or_default();
-            return Err(CliError(format!(
+            return Err(CliError::usage(format!(
                 "--kind {name} does not apply to a {what}"
             )));
         }

@@ -111,12 +111,12 @@ fn parse_normal(s: &str) -> Result<Vec3, CliError> {
         .map(|t| t.trim().parse::<f64>())
         .collect::<Result<_, _>>()
         .map_err(|_| {
-            CliError(format!(
+            CliError::usage(format!(
                 "--normal must be three numbers \"nx,ny,nz\", got `{s}`"
             ))
         })?;
     if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-        return Err(CliError(format!(
+        return Err(CliError::usage(format!(
             "--normal must be three numbers \"nx,ny,nz\", got `{s}`"
         )));
     }
@@ -152,8 +152,8 @@ fn stacking_normal(args: &SurfaceArgs) -> Result<Vec3, CliError> {
 fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
     if let Some(n) = args.slices {
         if args.input.len() != 1 {
-            return Err(CliError(
-                "--slices takes exactly one mesh or point-cloud file".into(),
+            return Err(CliError::usage(
+                "--slices takes exactly one mesh or point-cloud file",
             ));
         }
         let normal = stacking_normal(args)?;
@@ -166,7 +166,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         };
         let s = slice_mesh(&mesh, &opts)?;
         if s.sections.len() < 2 {
-            return Err(CliError(format!(
+            return Err(CliError::new(format!(
                 "slicing gave {} usable section(s) from {n} planes ({} empty); a surface needs at least 2",
                 s.sections.len(),
                 s.empty_planes.len()
@@ -185,7 +185,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         });
     }
     if args.input.len() == 1 && is_mesh(&args.input[0]) {
-        return Err(CliError(format!(
+        return Err(CliError::usage(format!(
             "{} is a mesh: give --slices N to cut it into sections",
             args.input[0].display()
         )));
@@ -195,7 +195,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
     for f in &files {
         let pts = read_section_file(f)?;
         if pts.len() < 3 {
-            return Err(CliError(format!(
+            return Err(CliError::new(format!(
                 "{}: a section needs at least 3 points, got {}",
                 f.display(),
                 pts.len()
@@ -207,7 +207,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
     if args.order == Order::Axis {
         let n = stacking_normal(args)?;
         if n.norm() <= 0.0 {
-            return Err(CliError("--normal must be a non-zero vector".into()));
+            return Err(CliError::usage("--normal must be a non-zero vector"));
         }
         let mut keyed: Vec<(f64, Section, String)> = sections
             .into_iter()
@@ -219,7 +219,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         (sections, names) = keyed.into_iter().map(|(_, s, nm)| (s, nm)).unzip();
     }
     if sections.len() < 2 {
-        return Err(CliError(format!(
+        return Err(CliError::new(format!(
             "a surface needs at least 2 sections, got {}",
             sections.len()
         )));
@@ -241,7 +241,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     let inputs: Vec<&std::path::Path> = args.input.iter().map(|p| p.as_path()).collect();
     check_output_paths(&outputs, &inputs)?;
     if stacking_normal(&args)?.norm() <= 0.0 {
-        return Err(CliError("--normal must be a non-zero vector".into()));
+        return Err(CliError::usage("--normal must be a non-zero vector"));
     }
     let input = read_input(&args)?;
     let largest = input
@@ -254,7 +254,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         (None, r) => r.unwrap_or(1e-3) * largest,
     };
     if !tol.is_finite() || tol <= 0.0 {
-        return Err(CliError(format!(
+        return Err(CliError::usage(format!(
             "the tolerance must be positive, got {tol}"
         )));
     }
@@ -325,7 +325,8 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             "empty_planes": input.empty_planes,
         });
         if let Some(path) = &args.report {
-            let text = serde_json::to_string_pretty(&rep).map_err(|e| CliError(e.to_string()))?;
+            let text =
+                serde_json::to_string_pretty(&rep).map_err(|e| CliError::new(e.to_string()))?;
             write_atomic(path, text.as_bytes())?;
         }
         if args.outputs.any() {

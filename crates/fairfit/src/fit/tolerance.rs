@@ -509,13 +509,17 @@ impl Ctx<'_> {
                 .filter(|_| at_ends.1 && m >= 1)
                 .map(|t| scaled(t, speed(m - 1, m))),
         );
+        // a pinned end takes the direction and the speed of the chord above the noise: the first
+        // segment's speed can be far lower (centripetal steps shrink only as √ of a short segment), and
+        // a slow pinned end folds a curvature spike into its first span (rae2822 at smoothing 1e-8:
+        // 0.14 of the chord's speed, F_j of the end spans ~1e7 times the others')
         if self.pinned.0 && self.ends.0.is_none() {
             let k = end_chord_index(pts, false, self.tol);
-            self.ends.0 = Some(scaled(pts[k] - pts[0], speed(0, 1)));
+            self.ends.0 = Some(scaled(pts[k] - pts[0], speed(0, k)));
         }
         if self.pinned.1 && self.ends.1.is_none() {
             let k = end_chord_index(pts, true, self.tol);
-            self.ends.1 = Some(scaled(pts[m] - pts[k], speed(m - 1, m)));
+            self.ends.1 = Some(scaled(pts[m] - pts[k], speed(k, m)));
         }
         let mut lsq = LsqOptions {
             smoothing: self.opts.smoothing,

@@ -1,0 +1,72 @@
+"""Tests of the band optimiser's building blocks against independent truths.
+
+Run with `python -m pytest bench/test_band_optimum.py` or `python bench/test_band_optimum.py`.
+"""
+
+import os
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import band_optimum as bo  # noqa: E402
+import measure  # noqa: E402
+
+
+def wavy_cubic():
+    k = 3
+    t = bo.clamp_knots([0.2, 0.45, 0.7], k)
+    n = len(t) - k - 1
+    rng = np.random.default_rng(0)
+    X = np.c_[np.linspace(0, 1, n), 0.3 * np.sin(np.linspace(0, 3, n))] + 0.02 * rng.standard_normal((n, 2))
+    return k, t, X
+
+
+def test_fairness_matches_measurer():
+    k, t, X = wavy_cubic()
+    band = bo.Band(np.zeros((3, 2)), 1e-3, k, t)
+    F, _ = band.fairness(X)
+    assert abs(F / measure.measure(k, t, X, None, X).F - 1) < 1e-6
+
+
+def test_fairness_gradient_matches_finite_differences():
+    k, t, X = wavy_cubic()
+    band = bo.Band(np.zeros((3, 2)), 1e-3, k, t)
+    _, G = band.fairness(X)
+    h = 1e-6
+    Gn = np.zeros_like(X)
+    for i in range(X.shape[0]):
+        for j in range(2):
+            Xp, Xm = X.copy(), X.copy()
+            Xp[i, j] += h
+            Xm[i, j] -= h
+            Gn[i, j] = (band.fairness(Xp, grad=False)[0] - band.fairness(Xm, grad=False)[0]) / (2 * h)
+    assert np.max(np.abs(G - Gn)) < 1e-6 * np.max(np.abs(G))
+
+
+def test_projection_gives_orthogonal_distance_of_a_circle_arc():
+    # points at radius 1 +- 0.01 around a cubic approximation of the unit quarter circle: the distance
+    # from the projection must equal the measurer's orthogonal distance.
+    k = 3
+    t = bo.clamp_knots(np.linspace(0, 1, 9)[1:-1], k)
+    s = np.linspace(0, 1, 400) * np.pi / 2
+    X = bo.refit(k, t, 1, np.r_[0.0, 0.0, np.linspace(0, 1, 400), 1.0, 1.0][1:-1],
+                 np.c_[np.cos(s), np.sin(s)])
+    ang = np.linspace(0, np.pi / 2, 30)
+    rad = 1 + 0.01 * np.where(np.arange(30) % 2 == 0, 1, -1)
+    Q = np.c_[rad * np.cos(ang), rad * np.sin(ang)]
+    band = bo.Band(Q, 0.02, k, t)
+    u0 = bo.feet(k, t, X, Q)
+    _, _, r = band.project(X, u0)
+    d = np.linalg.norm(r, axis=1)
+    dm = measure.deviations(measure.Curve(k, t, X), Q)
+    assert np.max(np.abs(d - dm)) < 1e-9
+    assert np.max(np.abs(d - 0.01)) < 1e-4  # the cubic is within 1e-4 of the circle
+
+
+if __name__ == "__main__":
+    test_fairness_matches_measurer()
+    test_fairness_gradient_matches_finite_differences()
+    test_projection_gives_orthogonal_distance_of_a_circle_arc()
+    print("ok")
