@@ -35,6 +35,8 @@ import targets  # noqa: E402
 
 REPO = os.path.dirname(HERE)
 FAIRFIT_METHODS = ["lsq", "integrated", "fit-then-fair"]
+# the integrated method's opt-in degree search, shown beside the default (targets stay on the default)
+DEGREE_AUTO = "fairfit integrated --degree auto"
 GROUPS = [
     ("airfoils", "airfoils"),
     ("synthetic", "synthetic"),
@@ -134,6 +136,15 @@ def curve_flags(exe: str) -> set[str]:
     except (OSError, subprocess.SubprocessError):
         return set()
     return set(re.findall(r"(?<![\w-])(--[a-z][a-z0-9-]*)", out))
+
+
+def degree_auto_supported(exe: str) -> bool:
+    """Whether `fairfit curve --help` offers `--degree auto` (older binaries take numbers only)."""
+    try:
+        out = subprocess.run([exe, "curve", "--help"], capture_output=True, text=True, timeout=30).stdout
+    except (OSError, subprocess.SubprocessError):
+        return False
+    return re.search(r"--degree <[A-Z_]+>\s+[^\n]*`auto`", out) is not None
 
 
 def failure_reason(stderr: str, returncode: int) -> str:
@@ -753,6 +764,7 @@ def main(argv=None):
     exe = ensure_fairfit(args.fairfit, args.build) if "fairfit" in fams else ""
     flags = curve_flags(exe) if exe and os.path.exists(exe) else set()
     ff_kw = {"threads": args.threads, "flags": flags or None}
+    auto = bool(exe) and os.path.exists(exe) and degree_auto_supported(exe)
     groups_rows = []
     raw = []
     for title, files in curve_files(data, args.only):
@@ -777,6 +789,9 @@ def main(argv=None):
                         # a fixed count cannot be shared between corner pieces: compare both methods
                         # fitted without corner detection instead (same conditions for both)
                         results += equal_without_corners(exe, path, args, pts, ff_kw)
+                if auto:
+                    results.append(run_fairfit(exe, path, "integrated", args.rel_tol, pts, args.timeout,
+                                               extra=["--degree", "auto"], name=DEGREE_AUTO, **ff_kw))
             if "splprep" in fams:
                 results.append(run_splprep(pts, tol))
             if "occ" in fams:
