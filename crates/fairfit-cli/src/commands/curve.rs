@@ -233,7 +233,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
         )));
     }
     if args.degree == DegreeArg::Auto && args.method != Method::Integrated {
-        return Err(CliError("--degree auto needs --method integrated".into()));
+        return Err(CliError::usage("--degree auto needs --method integrated"));
     }
     if args.control_points.is_some() && args.method != Method::Integrated {
         return Err(CliError::usage(
