@@ -463,6 +463,8 @@ def run_curve(csv, args):
 
     def optimise(label, k, t, X0, maxiter):
         band = Band(Q, tq, k, t)
+        if args.pin_ends:
+            band.pin_ends()
         u0 = feet(k, t, X0, Q)
         ts = time.time()
         X, u, res, nit = band.solve(X0, u0, Fref, maxiter=maxiter)
@@ -479,12 +481,18 @@ def run_curve(csv, args):
         ok = [r for r in recs if r["ok"]]
         return min(ok, key=lambda r: r["F"]) if ok else None
 
-    # (a) at splprep's count
-    recs_a = [optimise(lab, kk, tt, X0, args.maxiter) for lab, kk, tt, X0 in starts_a]
-    ba = best_of(recs_a)
+    out["pinned"] = bool(args.pin_ends)
+    # (a) at splprep's count (or the best (a) curve of an earlier run, --dense-from)
+    prev = previous_best_at_n(args.dense_from, name) if args.dense_from else None
+    if prev is not None:
+        recs_a = []
+        ba = prev
+    else:
+        recs_a = [optimise(lab, kk, tt, X0, args.maxiter) for lab, kk, tt, X0 in starts_a]
+        ba = best_of(recs_a)
     # (b) dense: adapted knots (superset of the best (a) curve's knots: exact start) and uniform knots
     recs_b = []
-    if ba is not None:
+    if ba is not None and args.dense > 0:
         tb = np.asarray(ba["knots"])
         Xb = np.asarray(ba["ctrl"])
         td = insert_to_count(tb, 3, args.dense)
@@ -506,6 +514,54 @@ def run_curve(csv, args):
             out[key + "_profile"] = arc_profile(b["k"], np.asarray(b["knots"]), np.asarray(b["ctrl"]))
     out["seconds"] = round(time.time() - t0, 1)
     return out
+
+
+def previous_best_at_n(jsonl, name):
+    """The best verified run at splprep's count of curve `name` (last record, ends not pinned) in a --json file."""
+    best = None
+    with open(jsonl, encoding="utf-8") as fh:
+        for line in fh:
+            if line.strip():
+                r = json.loads(line)
+                if r["name"] == name and not r.get("pinned") and r.get("at_n"):
+                    ok = [x for x in r["at_n"] if x["ok"]]
+                    best = min(ok, key=lambda x: x["F"]) if ok else best
+    return best
+
+
+def merged(jsonls):
+    """Per curve, from one or more --json files: splprep, fairfit, the best run at splprep's n (ends free), the
+    best dense run and the best pinned-ends run at n (each the lowest verified F over all records)."""
+    out = {}
+    for path in jsonls:
+        with open(path, encoding="utf-8") as fh:
+            for line in fh:
+                if not line.strip():
+                    continue
+                r = json.loads(line)
+                m = out.setdefault(r["name"], {"name": r["name"]})
+                m["splprep"] = r["splprep"]
+                for key in ("fairfit", "fairfit_at_n"):
+                    if key in r:
+                        m[key] = r[key]
+                slots = (("best_pinned", r.get("at_n", [])),) if r.get("pinned") else \
+                    (("best_at_n", r.get("at_n", [])), ("best_dense", r.get("dense", [])))
+                for slot, runs in slots:
+                    for x in runs:
+                        if x["ok"] and (slot not in m or x["F"] < m[slot]["F"]):
+                            m[slot] = {kk: x[kk] for kk in ("start", "k", "n", "F", "ratio", "dev")}
+    return out
+
+
+def results_csv(jsonls, path):
+    """bench/band_optimum_results.csv: per curve the lowest verified ratios F / splprep's F."""
+    fmt = lambda b: f"{b['ratio']:.4f}" if b else ""  # noqa: E731
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write("curve,splprep_n,splprep_F,best_ratio_at_n,best_ratio_dense,pinned_ends\n")
+        for name, m in merged(jsonls).items():
+            sp = m["splprep"]
+            fh.write(f"{name},{sp['n']},{sp['F']:.6g},{fmt(m.get('best_at_n'))},{fmt(m.get('best_dense'))},"
+                     f"{fmt(m.get('best_pinned'))}\n")
 
 
 def table(jsonl):
@@ -543,9 +599,18 @@ def main(argv=None):
     ap.add_argument("--maxiter", type=int, default=150)
     ap.add_argument("--json", default=None, help="append one JSON line per curve to this file")
     ap.add_argument("--table", default=None, help="only print the Markdown table of a --json results file")
+    ap.add_argument("--pin-ends", action="store_true", help="end points within 1e-3 tol of the first and last "
+                    "data points (as a curve closed at a sharp trailing edge needs)")
+    ap.add_argument("--dense-from", default=None, help="skip the runs at splprep's count: start the dense runs "
+                    "from the best such run of the same curve in this --json file")
+    ap.add_argument("--results-csv", nargs=2, metavar=("OUT", "JSONS"), default=None,
+                    help="only write the per-curve best ratios of the comma-separated --json files to OUT")
     args = ap.parse_args(argv)
     if args.table:
         print(table(args.table))
+        return 0
+    if args.results_csv:
+        results_csv(args.results_csv[1].split(","), args.results_csv[0])
         return 0
     data = args.data or default_data_dir()
     if args.fairfit is None:
