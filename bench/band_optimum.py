@@ -544,6 +544,12 @@ def merged(jsonls):
                 for key in ("fairfit", "fairfit_at_n"):
                     if key in r:
                         m[key] = r[key]
+                if not r.get("pinned"):
+                    for x in r.get("at_n", []) + r.get("dense", []):
+                        y = m.setdefault("runs", {}).get(x["start"])
+                        if y is None or (x["ok"], -x["F"]) > (y["ok"], -y["F"]):
+                            m["runs"][x["start"]] = x
+                m.setdefault("runs", {})
                 slots = (("best_pinned", r.get("at_n", [])),) if r.get("pinned") else \
                     (("best_at_n", r.get("at_n", [])), ("best_dense", r.get("dense", [])))
                 for slot, runs in slots:
@@ -564,26 +570,34 @@ def results_csv(jsonls, path):
                      f"{fmt(m.get('best_pinned'))}\n")
 
 
-def table(jsonl):
-    """Markdown table (one row per curve, the last record of each curve) from a --json results file."""
-    recs = {}
-    with open(jsonl, encoding="utf-8") as fh:
-        for line in fh:
-            if line.strip():
-                r = json.loads(line)
-                recs[r["name"]] = r
+def table(jsonls):
+    """Markdown tables (one row per curve, best verified runs over all records) from --json results files:
+    the summary and the ratio of every start."""
+    m_all = merged(jsonls)
     rows = ["| curve | splprep n | splprep F | fairfit n | fairfit F (ratio) | best F at splprep's n (ratio, dev/tol, "
-            "start) | best F dense (n, ratio, dev/tol, knots) | lowest ratio found |",
-            "|---|---:|---:|---:|---:|---|---|---:|"]
-    for name, r in recs.items():
-        sp, ff = r["splprep"], r.get("fairfit", {})
-        a, b = r.get("best_at_n"), r.get("best_dense")
+            "start) | best F dense (n, ratio, dev/tol, knots) | pinned ends at n (ratio) | lowest ratio found |",
+            "|---|---:|---:|---:|---:|---|---|---:|---:|"]
+    for name, m in m_all.items():
+        sp, ff = m["splprep"], m.get("fairfit", {})
+        a, b, p = m.get("best_at_n"), m.get("best_dense"), m.get("best_pinned")
         fa = f"{a['F']:.4g} ({a['ratio']:.3f}, {a['dev']:.4f}, {a['start']})" if a else "-"
         fb = f"{b['F']:.4g} ({b['n']}, {b['ratio']:.3f}, {b['dev']:.4f}, {b['start']})" if b else "-"
-        low = min([x["ratio"] for x in (a, b) if x] + [ff.get("F", np.inf) / sp["F"]])
+        fp = f"{p['ratio']:.3f}" if p else "-"
+        low = min([x["ratio"] for x in (a, b, p) if x] + [ff.get("F", np.inf) / sp["F"]])
         rows.append(f"| {name} | {sp['n']} | {sp['F']:.4g} | {ff.get('n', '-')} | "
                     f"{ff.get('F', float('nan')):.4g} ({ff.get('F', float('nan')) / sp['F']:.3f}) | {fa} | {fb} | "
-                    f"{low:.3f} |")
+                    f"{fp} | {low:.3f} |")
+    starts = ["splprep", "fairfit+ins", "fairfit@n", "dense adapted", "dense uniform(arc)"]
+    rows += ["", "| curve | " + " | ".join(starts) + " | fairfit's own F at n |", "|---|" + "---:|" * (len(starts) + 1)]
+    for name, m in m_all.items():
+        cells = []
+        for st in starts:
+            x = m["runs"].get(st)
+            cells.append("-" if x is None else (f"{x['ratio']:.3f}" + (" conv." if "success" in x["status"] else "")
+                                                if x["ok"] else "infeasible"))
+        fn = m.get("fairfit_at_n")
+        cells.append(f"{fn['F'] / m['splprep']['F']:.3f}" if fn else "-")
+        rows.append(f"| {name} | " + " | ".join(cells) + " |")
     return "\n".join(rows)
 
 
@@ -598,7 +612,7 @@ def main(argv=None):
     ap.add_argument("--quintic", action="store_true", help="also a quintic dense curve")
     ap.add_argument("--maxiter", type=int, default=150)
     ap.add_argument("--json", default=None, help="append one JSON line per curve to this file")
-    ap.add_argument("--table", default=None, help="only print the Markdown table of a --json results file")
+    ap.add_argument("--table", default=None, help="only print the Markdown tables of the comma-separated --json results files")
     ap.add_argument("--pin-ends", action="store_true", help="end points within 1e-3 tol of the first and last "
                     "data points (as a curve closed at a sharp trailing edge needs)")
     ap.add_argument("--dense-from", default=None, help="skip the runs at splprep's count: start the dense runs "
@@ -607,7 +621,7 @@ def main(argv=None):
                     help="only write the per-curve best ratios of the comma-separated --json files to OUT")
     args = ap.parse_args(argv)
     if args.table:
-        print(table(args.table))
+        print(table(args.table.split(",")))
         return 0
     if args.results_csv:
         results_csv(args.results_csv[1].split(","), args.results_csv[0])
