@@ -497,8 +497,9 @@ def run_curve(csv, args):
         Xb = np.asarray(ba["ctrl"])
         td = insert_to_count(tb, 3, args.dense)
         recs_b.append(optimise("dense adapted", 3, td, refit(3, td, 3, tb, Xb), args.maxiter))
-        tu = clamp_knots(np.linspace(0, 1, args.dense - 3 + 1)[1:-1], 3)
-        recs_b.append(optimise("dense uniform(arc)", 3, tu, refit(3, tu, 3, tb, Xb, params="arc"), args.maxiter))
+        if args.dense_knots == "both":
+            tu = clamp_knots(np.linspace(0, 1, args.dense - 3 + 1)[1:-1], 3)
+            recs_b.append(optimise("dense uniform(arc)", 3, tu, refit(3, tu, 3, tb, Xb, params="arc"), args.maxiter))
         if args.quintic:
             b3 = best_of(recs_b) or ba
             t3, X3 = np.asarray(b3["knots"]), np.asarray(b3["ctrl"])
@@ -609,6 +610,9 @@ def main(argv=None):
                     "checkout, else of the main checkout)")
     ap.add_argument("--rel-tol", type=float, default=1e-3)
     ap.add_argument("--dense", type=int, default=50, help="control points of the dense study")
+    ap.add_argument("--dense-knots", choices=["both", "adapted"], default="both",
+                    help="dense knots: adapted (the best n-curve's knots + midpoints) and uniform in arc length, "
+                    "or adapted only")
     ap.add_argument("--quintic", action="store_true", help="also a quintic dense curve")
     ap.add_argument("--maxiter", type=int, default=150)
     ap.add_argument("--json", default=None, help="append one JSON line per curve to this file")
