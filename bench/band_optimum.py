@@ -463,6 +463,8 @@ def run_curve(csv, args):
 
     def optimise(label, k, t, X0, maxiter):
         band = Band(Q, tq, k, t)
+        if args.pin_ends:
+            band.pin_ends()
         u0 = feet(k, t, X0, Q)
         ts = time.time()
         X, u, res, nit = band.solve(X0, u0, Fref, maxiter=maxiter)
@@ -479,18 +481,25 @@ def run_curve(csv, args):
         ok = [r for r in recs if r["ok"]]
         return min(ok, key=lambda r: r["F"]) if ok else None
 
-    # (a) at splprep's count
-    recs_a = [optimise(lab, kk, tt, X0, args.maxiter) for lab, kk, tt, X0 in starts_a]
-    ba = best_of(recs_a)
+    out["pinned"] = bool(args.pin_ends)
+    # (a) at splprep's count (or the best (a) curve of an earlier run, --dense-from)
+    prev = previous_best_at_n(args.dense_from, name) if args.dense_from else None
+    if prev is not None:
+        recs_a = []
+        ba = prev
+    else:
+        recs_a = [optimise(lab, kk, tt, X0, args.maxiter) for lab, kk, tt, X0 in starts_a]
+        ba = best_of(recs_a)
     # (b) dense: adapted knots (superset of the best (a) curve's knots: exact start) and uniform knots
     recs_b = []
-    if ba is not None:
+    if ba is not None and args.dense > 0:
         tb = np.asarray(ba["knots"])
         Xb = np.asarray(ba["ctrl"])
         td = insert_to_count(tb, 3, args.dense)
         recs_b.append(optimise("dense adapted", 3, td, refit(3, td, 3, tb, Xb), args.maxiter))
-        tu = clamp_knots(np.linspace(0, 1, args.dense - 3 + 1)[1:-1], 3)
-        recs_b.append(optimise("dense uniform(arc)", 3, tu, refit(3, tu, 3, tb, Xb, params="arc"), args.maxiter))
+        if args.dense_knots == "both":
+            tu = clamp_knots(np.linspace(0, 1, args.dense - 3 + 1)[1:-1], 3)
+            recs_b.append(optimise("dense uniform(arc)", 3, tu, refit(3, tu, 3, tb, Xb, params="arc"), args.maxiter))
         if args.quintic:
             b3 = best_of(recs_b) or ba
             t3, X3 = np.asarray(b3["knots"]), np.asarray(b3["ctrl"])
@@ -508,26 +517,88 @@ def run_curve(csv, args):
     return out
 
 
-def table(jsonl):
-    """Markdown table (one row per curve, the last record of each curve) from a --json results file."""
-    recs = {}
+def previous_best_at_n(jsonl, name):
+    """The best verified run at splprep's count of curve `name` (last record, ends not pinned) in a --json file."""
+    best = None
     with open(jsonl, encoding="utf-8") as fh:
         for line in fh:
             if line.strip():
                 r = json.loads(line)
-                recs[r["name"]] = r
+                if r["name"] == name and not r.get("pinned") and r.get("at_n"):
+                    ok = [x for x in r["at_n"] if x["ok"]]
+                    best = min(ok, key=lambda x: x["F"]) if ok else best
+    return best
+
+
+def merged(jsonls):
+    """Per curve, from one or more --json files: splprep, fairfit, the best run at splprep's n (ends free), the
+    best dense run and the best pinned-ends run at n (each the lowest verified F over all records)."""
+    out = {}
+    for path in jsonls:
+        with open(path, encoding="utf-8") as fh:
+            for line in fh:
+                if not line.strip():
+                    continue
+                r = json.loads(line)
+                m = out.setdefault(r["name"], {"name": r["name"]})
+                m["splprep"] = r["splprep"]
+                for key in ("fairfit", "fairfit_at_n"):
+                    if key in r:
+                        m[key] = r[key]
+                if not r.get("pinned"):
+                    for x in r.get("at_n", []) + r.get("dense", []):
+                        y = m.setdefault("runs", {}).get(x["start"])
+                        if y is None or (x["ok"], -x["F"]) > (y["ok"], -y["F"]):
+                            m["runs"][x["start"]] = x
+                m.setdefault("runs", {})
+                slots = (("best_pinned", r.get("at_n", [])),) if r.get("pinned") else \
+                    (("best_at_n", r.get("at_n", [])), ("best_dense", r.get("dense", [])))
+                for slot, runs in slots:
+                    for x in runs:
+                        if x["ok"] and (slot not in m or x["F"] < m[slot]["F"]):
+                            m[slot] = {kk: x[kk] for kk in ("start", "k", "n", "F", "ratio", "dev")}
+    return out
+
+
+def results_csv(jsonls, path):
+    """bench/band_optimum_results.csv: per curve the lowest verified ratios F / splprep's F."""
+    fmt = lambda b: f"{b['ratio']:.4f}" if b else ""  # noqa: E731
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write("curve,splprep_n,splprep_F,best_ratio_at_n,best_ratio_dense,pinned_ends\n")
+        for name, m in merged(jsonls).items():
+            sp = m["splprep"]
+            fh.write(f"{name},{sp['n']},{sp['F']:.6g},{fmt(m.get('best_at_n'))},{fmt(m.get('best_dense'))},"
+                     f"{fmt(m.get('best_pinned'))}\n")
+
+
+def table(jsonls):
+    """Markdown tables (one row per curve, best verified runs over all records) from --json results files:
+    the summary and the ratio of every start."""
+    m_all = merged(jsonls)
     rows = ["| curve | splprep n | splprep F | fairfit n | fairfit F (ratio) | best F at splprep's n (ratio, dev/tol, "
-            "start) | best F dense (n, ratio, dev/tol, knots) | lowest ratio found |",
-            "|---|---:|---:|---:|---:|---|---|---:|"]
-    for name, r in recs.items():
-        sp, ff = r["splprep"], r.get("fairfit", {})
-        a, b = r.get("best_at_n"), r.get("best_dense")
+            "start) | best F dense (n, ratio, dev/tol, knots) | pinned ends at n (ratio) | lowest ratio found |",
+            "|---|---:|---:|---:|---:|---|---|---:|---:|"]
+    for name, m in m_all.items():
+        sp, ff = m["splprep"], m.get("fairfit", {})
+        a, b, p = m.get("best_at_n"), m.get("best_dense"), m.get("best_pinned")
         fa = f"{a['F']:.4g} ({a['ratio']:.3f}, {a['dev']:.4f}, {a['start']})" if a else "-"
         fb = f"{b['F']:.4g} ({b['n']}, {b['ratio']:.3f}, {b['dev']:.4f}, {b['start']})" if b else "-"
-        low = min([x["ratio"] for x in (a, b) if x] + [ff.get("F", np.inf) / sp["F"]])
+        fp = f"{p['ratio']:.3f}" if p else "-"
+        low = min([x["ratio"] for x in (a, b, p) if x] + [ff.get("F", np.inf) / sp["F"]])
         rows.append(f"| {name} | {sp['n']} | {sp['F']:.4g} | {ff.get('n', '-')} | "
                     f"{ff.get('F', float('nan')):.4g} ({ff.get('F', float('nan')) / sp['F']:.3f}) | {fa} | {fb} | "
-                    f"{low:.3f} |")
+                    f"{fp} | {low:.3f} |")
+    starts = ["splprep", "fairfit+ins", "fairfit@n", "dense adapted", "dense uniform(arc)"]
+    rows += ["", "| curve | " + " | ".join(starts) + " | fairfit's own F at n |", "|---|" + "---:|" * (len(starts) + 1)]
+    for name, m in m_all.items():
+        cells = []
+        for st in starts:
+            x = m["runs"].get(st)
+            cells.append("-" if x is None else (f"{x['ratio']:.3f}" + (" conv." if "success" in x["status"] else "")
+                                                if x["ok"] else "infeasible"))
+        fn = m.get("fairfit_at_n")
+        cells.append(f"{fn['F'] / m['splprep']['F']:.3f}" if fn else "-")
+        rows.append(f"| {name} | " + " | ".join(cells) + " |")
     return "\n".join(rows)
 
 
@@ -539,13 +610,25 @@ def main(argv=None):
                     "checkout, else of the main checkout)")
     ap.add_argument("--rel-tol", type=float, default=1e-3)
     ap.add_argument("--dense", type=int, default=50, help="control points of the dense study")
+    ap.add_argument("--dense-knots", choices=["both", "adapted"], default="both",
+                    help="dense knots: adapted (the best n-curve's knots + midpoints) and uniform in arc length, "
+                    "or adapted only")
     ap.add_argument("--quintic", action="store_true", help="also a quintic dense curve")
     ap.add_argument("--maxiter", type=int, default=150)
     ap.add_argument("--json", default=None, help="append one JSON line per curve to this file")
-    ap.add_argument("--table", default=None, help="only print the Markdown table of a --json results file")
+    ap.add_argument("--table", default=None, help="only print the Markdown tables of the comma-separated --json results files")
+    ap.add_argument("--pin-ends", action="store_true", help="end points within 1e-3 tol of the first and last "
+                    "data points (as a curve closed at a sharp trailing edge needs)")
+    ap.add_argument("--dense-from", default=None, help="skip the runs at splprep's count: start the dense runs "
+                    "from the best such run of the same curve in this --json file")
+    ap.add_argument("--results-csv", nargs=2, metavar=("OUT", "JSONS"), default=None,
+                    help="only write the per-curve best ratios of the comma-separated --json files to OUT")
     args = ap.parse_args(argv)
     if args.table:
-        print(table(args.table))
+        print(table(args.table.split(",")))
+        return 0
+    if args.results_csv:
+        results_csv(args.results_csv[1].split(","), args.results_csv[0])
         return 0
     data = args.data or default_data_dir()
     if args.fairfit is None:

@@ -142,7 +142,7 @@ pub struct CurveArgs {
     pub rel_tol: Option<f64>,
     /// Degree of the curve (1 to 15), or `auto` (integrated method): fit degrees 3, 4 and 5 and keep
     /// the fairest one with no more control points and curvature extrema than the cubic's. Opt-in:
-    /// about three times the cubic's work.
+    /// three fits, about 3-5x the cubic's time.
     #[arg(long, default_value = "3", value_parser = parse_degree)]
     pub degree: DegreeArg,
     /// Parameterisation of the points.
@@ -233,7 +233,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
         )));
     }
     if args.degree == DegreeArg::Auto && args.method != Method::Integrated {
-        return Err(CliError("--degree auto needs --method integrated".into()));
+        return Err(CliError::usage("--degree auto needs --method integrated"));
     }
     if args.control_points.is_some() && args.method != Method::Integrated {
         return Err(CliError::usage(

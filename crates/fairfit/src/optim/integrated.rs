@@ -204,7 +204,8 @@ pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<Integ
 }
 
 /// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
-/// between swarm iterations (stage = control-point count being searched).
+/// between swarm iterations (stage = control-point count being searched); with a degree search
+/// ([`IntegratedOptions::max_degree`]) every degree's fit reports from its own worker thread.
 pub fn fit_integrated_with_progress(
     points: &[Vec3],
     opts: &IntegratedOptions,
