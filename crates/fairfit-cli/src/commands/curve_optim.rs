@@ -5,7 +5,7 @@
 //! Runs inside a local rayon pool of `--threads` workers (results do not depend on the count) and shows
 //! a progress spinner on stderr only when it is a terminal.
 
-use super::curve::CurveArgs;
+use super::curve::{CurveArgs, DegreeArg, AUTO_MAX_DEGREE};
 use super::CliError;
 use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
@@ -57,7 +57,8 @@ fn tolerance(args: &CurveArgs) -> Tolerance {
 
 fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
     IntegratedOptions {
-        degree: args.degree as usize,
+        degree: args.degree.lowest(),
+        max_degree: (args.degree == DegreeArg::Auto).then_some(AUTO_MAX_DEGREE),
         tolerance: tolerance(args),
         span_fairness: args.span_fairness,
         seed: args.seed,
@@ -106,6 +107,9 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
             "seconds": r.stats.seconds,
         },
     });
+    if !r.stats.degrees_tried.is_empty() {
+        report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
+    }
     if let Some(path) = &args.pareto {
         let front = fairfit::optim::pareto_joined::pareto_front_of_result(points, &opts, &r)?;
         write_pareto(path, args, &front)?;

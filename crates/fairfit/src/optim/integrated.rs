@@ -47,8 +47,13 @@ pub enum Tolerance {
 /// Settings of [`fit_integrated`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratedOptions {
-    /// Curve degree (3; the fairness metric needs ≥ 3).
+    /// Curve degree (3; the fairness metric needs ≥ 3); with [`Self::max_degree`], the lowest
+    /// degree searched and the reference of the degree search.
     pub degree: usize,
+    /// Degree search (`--degree auto`): also fit every degree from `degree + 1` up to this one and
+    /// keep one by the rule of [`super::degree_search`] (never more control points or curvature
+    /// extrema than the fit at `degree`). `None` fits `degree` only.
+    pub max_degree: Option<usize>,
     /// The fitting tolerance.
     pub tolerance: Tolerance,
     /// Per-span fairness target `F*` (every span must reach `F_j ≤ F*`).
@@ -91,6 +96,7 @@ impl Default for IntegratedOptions {
     fn default() -> Self {
         IntegratedOptions {
             degree: 3,
+            max_degree: None,
             tolerance: Tolerance::Relative(1e-3),
             span_fairness: None,
             seed: 0,
@@ -110,6 +116,17 @@ impl Default for IntegratedOptions {
     }
 }
 
+impl IntegratedOptions {
+    /// These options at the single degree `degree` (no degree search).
+    pub fn at_degree(&self, degree: usize) -> IntegratedOptions {
+        IntegratedOptions {
+            degree,
+            max_degree: None,
+            ..self.clone()
+        }
+    }
+}
+
 /// What the optimiser did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OptimStats {
@@ -123,6 +140,10 @@ pub struct OptimStats {
     pub fairness_by_count: Vec<(usize, f64)>,
     /// Accepted control-point moves of the final polish ([`super::polish`]).
     pub polish_moves: usize,
+    /// Every degree's fit, in degree order, when the degree was searched
+    /// ([`IntegratedOptions::max_degree`]; empty otherwise). Evaluations, iterations and seconds
+    /// then count all degrees; the other fields are the chosen degree's.
+    pub degrees_tried: Vec<super::degree_search::DegreeTrial>,
     /// Wall time in seconds.
     pub seconds: f64,
 }
@@ -183,7 +204,8 @@ pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<Integ
 }
 
 /// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
-/// between swarm iterations (stage = control-point count being searched).
+/// between swarm iterations (stage = control-point count being searched); with a degree search
+/// ([`IntegratedOptions::max_degree`]) every degree's fit reports from its own worker thread.
 pub fn fit_integrated_with_progress(
     points: &[Vec3],
     opts: &IntegratedOptions,
@@ -191,6 +213,9 @@ pub fn fit_integrated_with_progress(
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
+    if opts.max_degree.is_some_and(|d| d > opts.degree) {
+        return super::degree_search::fit_degree_search(points, opts, progress);
+    }
     if let Some(r) = super::closed::fit_if_closed(points, opts, progress, start)? {
         return Ok(r);
     }
@@ -423,6 +448,18 @@ fn validate(opts: &IntegratedOptions) -> Result<()> {
                 super::objective::MAX_DEGREE
             ),
         });
+    }
+    if let Some(d) = opts.max_degree {
+        if d < opts.degree || d > super::objective::MAX_DEGREE {
+            return Err(Error::InvalidDegree {
+                degree: d,
+                reason: format!(
+                    "the highest degree searched must be from {} to {}",
+                    opts.degree,
+                    super::objective::MAX_DEGREE
+                ),
+            });
+        }
     }
     let t = match opts.tolerance {
         Tolerance::Relative(r) => r,

@@ -20,6 +20,8 @@
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
+//! - [`degree_search`]: the integrated fit at several degrees and the rule that keeps one
+//!   (`--degree auto`);
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
 //! - [`pareto`]: the Pareto front of curves for `--pareto`;
 //! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners;
@@ -35,6 +37,7 @@ pub mod corner_fit;
 pub mod corners;
 pub mod count_search;
 pub mod curvature_signs;
+pub mod degree_search;
 pub mod encoding;
 pub mod integrated;
 pub mod mopso;

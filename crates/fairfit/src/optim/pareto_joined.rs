@@ -29,12 +29,14 @@ use crate::fit::shape::{detect_corners, looks_closed};
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
 
-/// The Pareto front for the integrated result `r` of `points` under `opts` (see the module docs).
+/// The Pareto front for the integrated result `r` of `points` under `opts` (see the module docs), at
+/// the result's degree (the one a degree search kept).
 pub fn pareto_front_of_result(
     points: &[Vec3],
     opts: &IntegratedOptions,
     r: &IntegratedResult,
 ) -> Result<Vec<ParetoCurve>> {
+    let opts = &opts.at_degree(r.curve.degree());
     let p = opts.degree;
     let mut seq = points.to_vec();
     if super::closed::is_closed(points, opts.closed) {

@@ -1,0 +1,181 @@
+//! The degree search of the integrated method (`fairfit curve --degree auto`,
+//! [`IntegratedOptions::max_degree`]): the whole integrated fit is run at every degree from
+//! [`IntegratedOptions::degree`] (the *reference*, the cubic by default) to `max_degree`, one degree
+//! per rayon task, and one result is kept by this rule:
+//!
+//! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the result
+//!    has no more (distinct) control points and no more curvature extrema than the reference's.
+//!    The count search's "fewest control points" and the extrema count are never traded for F;
+//! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference)` wins (ties: the lower
+//!    degree). A higher degree must buy the same factor [`IntegratedOptions::fairness_gain`] per
+//!    degree step that an added control point must buy in the count search, so the degree does not
+//!    change for F differences of a few per cent (the swarm's own noise);
+//! 3. when the reference misses the tolerance and another degree meets it, the fewest control points
+//!    among those meeting it, then the lowest F, wins; when none meets it, the reference is returned
+//!    (its miss is reported as usual).
+//!
+//! `F` and the curvature extrema are measured on the returned curves by
+//! [`crate::fair::curve_fairness`] (the report's numbers). Every degree's fit is recorded in
+//! [`OptimStats::degrees_tried`]; a degree whose fit fails (e.g. too few points for it) is left out.
+//! The fits run in parallel and are collected in degree order, and each is thread-count
+//! independent, so the result is byte-identical for any number of threads.
+
+use super::closed::distinct_control_points;
+use super::integrated::{
+    fit_integrated_with_progress, IntegratedOptions, IntegratedResult, OptimStats,
+};
+use crate::errors::Result;
+use crate::fair::curve_fairness;
+use crate::nurbs::Vec3;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::time::Instant;
+
+/// One degree's integrated fit, as the degree search saw it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DegreeTrial {
+    /// The curve degree.
+    pub degree: usize,
+    /// Distinct control points of the fit.
+    pub control_points: usize,
+    /// Its fairness `F`.
+    pub fairness: f64,
+    /// Its interior curvature extrema.
+    pub curvature_extrema: usize,
+    /// Whether it met the tolerance (and `F*`).
+    pub tolerance_met: bool,
+}
+
+/// Fits every degree from `opts.degree` to `opts.max_degree` and keeps one by the module's rule.
+pub(crate) fn fit_degree_search(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<IntegratedResult> {
+    let start = Instant::now();
+    let lowest = opts.degree;
+    let highest = opts.max_degree.unwrap_or(lowest).max(lowest);
+    let fits: Vec<Result<IntegratedResult>> = (lowest..=highest)
+        .into_par_iter()
+        .map(|d| fit_integrated_with_progress(points, &opts.at_degree(d), progress))
+        .collect();
+    let mut fits = fits.into_iter();
+    // the reference decides whether the data can be fitted at all
+    let reference = fits.next().expect("the range holds the reference degree")?;
+    let mut results = vec![reference];
+    results.extend(fits.flatten());
+    let trials: Vec<DegreeTrial> = results.iter().map(trial_of).collect();
+    let pick = choose_degree(&trials, opts.fairness_gain);
+    let evaluations = results.iter().map(|r| r.stats.evaluations).sum();
+    let iterations = results.iter().map(|r| r.stats.iterations).sum();
+    let mut chosen = results.swap_remove(pick);
+    chosen.stats = OptimStats {
+        evaluations,
+        iterations,
+        degrees_tried: trials,
+        seconds: start.elapsed().as_secs_f64(),
+        ..chosen.stats
+    };
+    Ok(chosen)
+}
+
+/// The measured summary of one fit.
+fn trial_of(r: &IntegratedResult) -> DegreeTrial {
+    let f = curve_fairness(&r.curve);
+    DegreeTrial {
+        degree: r.curve.degree(),
+        control_points: distinct_control_points(&r.curve),
+        fairness: f.fairness,
+        curvature_extrema: f.curvature_extrema,
+        tolerance_met: r.met,
+    }
+}
+
+/// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree).
+pub fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
+    let Some(reference) = trials.first() else {
+        return 0;
+    };
+    let lower = |a: (usize, f64, usize), b: (usize, f64, usize)| {
+        a.0.cmp(&b.0)
+            .then(a.1.total_cmp(&b.1))
+            .then(a.2.cmp(&b.2))
+            .is_lt()
+    };
+    let mut best: Option<(usize, (usize, f64, usize))> = None;
+    for (i, t) in trials.iter().enumerate() {
+        if !t.tolerance_met {
+            continue;
+        }
+        let key = if reference.tolerance_met {
+            if t.control_points > reference.control_points
+                || t.curvature_extrema > reference.curvature_extrema
+            {
+                continue;
+            }
+            let steps = t.degree.saturating_sub(reference.degree) as i32;
+            (0, t.fairness * fairness_gain.powi(steps), t.degree)
+        } else {
+            (t.control_points, t.fairness, t.degree)
+        };
+        if best.is_none_or(|(_, b)| lower(key, b)) {
+            best = Some((i, key));
+        }
+    }
+    best.map_or(0, |(i, _)| i)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn t(degree: usize, n: usize, f: f64, ex: usize, met: bool) -> DegreeTrial {
+        DegreeTrial {
+            degree,
+            control_points: n,
+            fairness: f,
+            curvature_extrema: ex,
+            tolerance_met: met,
+        }
+    }
+
+    #[test]
+    fn lowest_scored_fairness_among_admissible_degrees() {
+        // degree 5 is fairest but has more control points; degree 4 wins by more than the gain
+        let trials = [
+            t(3, 7, 100.0, 3, true),
+            t(4, 7, 50.0, 3, true),
+            t(5, 8, 1.0, 1, true),
+        ];
+        assert_eq!(choose_degree(&trials, 1.1), 1);
+    }
+
+    #[test]
+    fn a_few_per_cent_do_not_change_the_degree() {
+        let trials = [t(3, 7, 100.0, 3, true), t(4, 7, 95.0, 3, true)];
+        assert_eq!(choose_degree(&trials, 1.1), 0);
+        assert_eq!(choose_degree(&trials, 1.0), 1);
+    }
+
+    #[test]
+    fn more_extrema_or_a_miss_are_never_chosen() {
+        let trials = [
+            t(3, 7, 100.0, 3, true),
+            t(4, 7, 1.0, 4, true),
+            t(5, 6, 1.0, 2, false),
+        ];
+        assert_eq!(choose_degree(&trials, 1.1), 0);
+    }
+
+    #[test]
+    fn a_missed_reference_gives_way_to_the_fewest_points_meeting_the_tolerance() {
+        let trials = [
+            t(3, 7, 1.0, 0, false),
+            t(4, 9, 5.0, 3, true),
+            t(5, 8, 50.0, 5, true),
+        ];
+        assert_eq!(choose_degree(&trials, 1.1), 2);
+        let none = [t(3, 7, 1.0, 0, false), t(4, 9, 5.0, 3, false)];
+        assert_eq!(choose_degree(&none, 1.1), 0);
+    }
+}

@@ -1,0 +1,100 @@
+//! The degree search of the integrated method (`fairfit::optim::degree_search`,
+//! `IntegratedOptions::max_degree`): on a sampled circle (exact `dκ/ds = 0`) a higher degree is kept
+//! and is far fairer than the cubic; on shared airfoils the choice never costs control points or
+//! curvature extrema against a separate cubic fit.
+
+use fairfit::fair::curve_fairness;
+use fairfit::io::read_points;
+use fairfit::optim::closed::distinct_control_points;
+use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+use fairfit::Vec3;
+
+#[path = "common/sampled.rs"]
+mod sampled;
+use sampled::brute_force_deviation;
+
+fn data(name: &str) -> Vec<Vec3> {
+    let path = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
+    read_points(std::path::Path::new(&path)).unwrap().points
+}
+
+fn auto() -> IntegratedOptions {
+    IntegratedOptions {
+        tolerance: Tolerance::Relative(1e-3),
+        max_degree: Some(5),
+        ..IntegratedOptions::default()
+    }
+}
+
+#[test]
+fn a_sampled_circle_gets_a_higher_degree_and_a_small_fraction_of_the_cubics_fairness() {
+    // 120 points on a closed circle of radius 2 centred at (1, -3), first point repeated
+    let mut pts: Vec<Vec3> = (0..120)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / 120.0;
+            Vec3([1.0 + 2.0 * t.cos(), -3.0 + 2.0 * t.sin(), 0.0])
+        })
+        .collect();
+    pts.push(pts[0]);
+    let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
+    let r = fit_integrated(&pts, &auto()).unwrap();
+    assert!(r.met && cubic.met);
+    assert!(r.curve.degree() >= 4, "degree {}", r.curve.degree());
+    let (f3, f) = (
+        curve_fairness(&cubic.curve).fairness,
+        curve_fairness(&r.curve).fairness,
+    );
+    assert!(f < 0.1 * f3, "F {f} vs the cubic's {f3}");
+    assert!(distinct_control_points(&r.curve) <= distinct_control_points(&cubic.curve));
+    // the tolerance (1e-3 of the 4-unit box) holds on every point, measured by dense sampling
+    let tol = 4e-3;
+    assert!((r.tolerance - tol).abs() < 1e-12, "{}", r.tolerance);
+    let dev = brute_force_deviation(&r.curve, &pts);
+    assert!(dev <= tol * (1.0 + 1e-6), "deviation {dev}");
+    // every degree's fit is recorded, the cubic first and equal to the separate cubic fit
+    let tried = &r.stats.degrees_tried;
+    assert_eq!(
+        tried.iter().map(|t| t.degree).collect::<Vec<_>>(),
+        [3, 4, 5]
+    );
+    assert_eq!(
+        tried[0].control_points,
+        distinct_control_points(&cubic.curve)
+    );
+    assert_eq!(tried[0].fairness, f3);
+}
+
+#[test]
+fn the_degree_never_costs_control_points_or_extrema_on_airfoils() {
+    for name in ["naca4412.csv", "e387.csv", "hq17.csv"] {
+        let pts = data(name);
+        let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
+        let r = fit_integrated(&pts, &auto()).unwrap();
+        assert!(r.met && cubic.met, "{name}");
+        let (c3, c) = (curve_fairness(&cubic.curve), curve_fairness(&r.curve));
+        let (n3, n) = (
+            distinct_control_points(&cubic.curve),
+            distinct_control_points(&r.curve),
+        );
+        assert!(n <= n3, "{name}: {n} control points > the cubic's {n3}");
+        assert!(c.curvature_extrema <= c3.curvature_extrema, "{name}");
+        assert!(c.fairness <= c3.fairness, "{name}");
+        assert_eq!(r.stats.degrees_tried.len(), 3, "{name}");
+    }
+}
+
+#[test]
+fn a_degree_range_below_the_degree_is_refused() {
+    let pts = data("naca4412.csv");
+    let bad = IntegratedOptions {
+        degree: 4,
+        max_degree: Some(3),
+        ..IntegratedOptions::default()
+    };
+    assert!(fit_integrated(&pts, &bad).is_err());
+    let too_high = IntegratedOptions {
+        max_degree: Some(8),
+        ..IntegratedOptions::default()
+    };
+    assert!(fit_integrated(&pts, &too_high).is_err());
+}
