@@ -456,7 +456,7 @@ def run_curve(csv, args):
     if ffn is not None and ffn[0] == 3:
         tfn = normalise_param(3, ffn[1], ffn[2])
         mfn = measure.measure(*ffn, None, P)
-        out["fairfit_at_n"] = {"n": len(ffn[2]), "F": mfn.F, "dev": mfn.max_dev / tol}
+        out["fairfit_at_n"] = {"n": len(ffn[2]), "F": mfn.F, "dev": mfn.max_dev / tol, "extrema": mfn.extrema}
         starts_a.append(("fairfit@n", 3, tfn, frame.to(ffn[2])))
     print(f"{name}: tol {tol:.3g}, splprep n={n_sp} F={Fref:.4g}; fairfit "
           f"{out.get('fairfit', {}).get('n')} F={out.get('fairfit', {}).get('F', float('nan')):.4g}", flush=True)
@@ -489,6 +489,8 @@ def run_curve(csv, args):
         ba = prev
     else:
         recs_a = [optimise(lab, kk, tt, X0, args.maxiter) for lab, kk, tt, X0 in starts_a]
+        if "fairfit_at_n" in out and not args.pin_ends:  # fairfit's own curve at n is a candidate too
+            recs_a.append(as_is_record("fairfit@n as is", mfn, Fref, tol, tfn, frame.to(ffn[2])))
         ba = best_of(recs_a)
     # (b) dense: adapted knots (superset of the best (a) curve's knots: exact start) and uniform knots
     recs_b = []
@@ -515,6 +517,13 @@ def run_curve(csv, args):
             out[key + "_profile"] = arc_profile(b["k"], np.asarray(b["knots"]), np.asarray(b["ctrl"]))
     out["seconds"] = round(time.time() - t0, 1)
     return out
+
+
+def as_is_record(label, m, Fref, tol, t, X):
+    """A run record of an unoptimised curve (measure.py's result m)."""
+    return {"start": label, "k": 3, "n": len(X), "F": m.F, "ratio": m.F / Fref, "dev": m.max_dev / tol,
+            "ok": bool(m.max_dev <= tol * (1 + 1e-6)), "iters": 0, "status": "as is", "seconds": 0.0,
+            "extrema": m.extrema, "inflections": m.inflections, "knots": list(t), "ctrl": np.asarray(X).tolist()}
 
 
 def previous_best_at_n(jsonl, name):
