@@ -438,7 +438,7 @@ def run_curve(csv, args):
     k, t, C = splprep_curve(P, tol)
     n_sp = len(C)
     ms = measure.measure(k, t, C, None, P)
-    out["splprep"] = {"n": n_sp, "F": ms.F, "dev": ms.max_dev / tol}
+    out["splprep"] = {"n": n_sp, "F": ms.F, "dev": ms.max_dev / tol, "extrema": ms.extrema}
     Fref = ms.F
     tn_sp = normalise_param(k, t, C)
     starts_a = [("splprep", 3, tn_sp, frame.to(C))]
@@ -456,7 +456,7 @@ def run_curve(csv, args):
     if ffn is not None and ffn[0] == 3:
         tfn = normalise_param(3, ffn[1], ffn[2])
         mfn = measure.measure(*ffn, None, P)
-        out["fairfit_at_n"] = {"n": len(ffn[2]), "F": mfn.F, "dev": mfn.max_dev / tol}
+        out["fairfit_at_n"] = {"n": len(ffn[2]), "F": mfn.F, "dev": mfn.max_dev / tol, "extrema": mfn.extrema}
         starts_a.append(("fairfit@n", 3, tfn, frame.to(ffn[2])))
     print(f"{name}: tol {tol:.3g}, splprep n={n_sp} F={Fref:.4g}; fairfit "
           f"{out.get('fairfit', {}).get('n')} F={out.get('fairfit', {}).get('F', float('nan')):.4g}", flush=True)
@@ -489,6 +489,8 @@ def run_curve(csv, args):
         ba = prev
     else:
         recs_a = [optimise(lab, kk, tt, X0, args.maxiter) for lab, kk, tt, X0 in starts_a]
+        if "fairfit_at_n" in out and not args.pin_ends:  # fairfit's own curve at n is a candidate too
+            recs_a.append(as_is_record("fairfit@n as is", mfn, Fref, tol, tfn, frame.to(ffn[2])))
         ba = best_of(recs_a)
     # (b) dense: adapted knots (superset of the best (a) curve's knots: exact start) and uniform knots
     recs_b = []
@@ -517,6 +519,13 @@ def run_curve(csv, args):
     return out
 
 
+def as_is_record(label, m, Fref, tol, t, X):
+    """A run record of an unoptimised curve (measure.py's result m)."""
+    return {"start": label, "k": 3, "n": len(X), "F": m.F, "ratio": m.F / Fref, "dev": m.max_dev / tol,
+            "ok": bool(m.max_dev <= tol * (1 + 1e-6)), "iters": 0, "status": "as is", "seconds": 0.0,
+            "extrema": m.extrema, "inflections": m.inflections, "knots": list(t), "ctrl": np.asarray(X).tolist()}
+
+
 def previous_best_at_n(jsonl, name):
     """The best verified run at splprep's count of curve `name` (last record, ends not pinned) in a --json file."""
     best = None
@@ -541,7 +550,7 @@ def merged(jsonls):
                     continue
                 r = json.loads(line)
                 m = out.setdefault(r["name"], {"name": r["name"]})
-                m["splprep"] = r["splprep"]
+                m["splprep"] = {**m.get("splprep", {}), **r["splprep"]}
                 for key in ("fairfit", "fairfit_at_n"):
                     if key in r:
                         m[key] = r[key]
@@ -553,10 +562,13 @@ def merged(jsonls):
                 m.setdefault("runs", {})
                 slots = (("best_pinned", r.get("at_n", [])),) if r.get("pinned") else \
                     (("best_at_n", r.get("at_n", [])), ("best_dense", r.get("dense", [])))
+                ext = m["splprep"].get("extrema")
+                if ext is not None and not r.get("pinned"):  # issue 4 also asks extrema <= splprep's
+                    slots += (("best_at_n_ext", [x for x in r.get("at_n", []) if x["extrema"] <= ext]),)
                 for slot, runs in slots:
                     for x in runs:
                         if x["ok"] and (slot not in m or x["F"] < m[slot]["F"]):
-                            m[slot] = {kk: x[kk] for kk in ("start", "k", "n", "F", "ratio", "dev")}
+                            m[slot] = {kk: x[kk] for kk in ("start", "k", "n", "F", "ratio", "dev", "extrema")}
     return out
 
 
@@ -564,11 +576,12 @@ def results_csv(jsonls, path):
     """bench/band_optimum_results.csv: per curve the lowest verified ratios F / splprep's F."""
     fmt = lambda b: f"{b['ratio']:.4f}" if b else ""  # noqa: E731
     with open(path, "w", encoding="utf-8") as fh:
-        fh.write("curve,splprep_n,splprep_F,best_ratio_at_n,best_ratio_dense,pinned_ends\n")
+        fh.write("curve,splprep_n,splprep_F,best_ratio_at_n,best_ratio_dense,pinned_ends,splprep_extrema,"
+                 "best_ratio_at_n_extrema_ok\n")
         for name, m in merged(jsonls).items():
             sp = m["splprep"]
             fh.write(f"{name},{sp['n']},{sp['F']:.6g},{fmt(m.get('best_at_n'))},{fmt(m.get('best_dense'))},"
-                     f"{fmt(m.get('best_pinned'))}\n")
+                     f"{fmt(m.get('best_pinned'))},{sp.get('extrema', '')},{fmt(m.get('best_at_n_ext'))}\n")
 
 
 def table(jsonls):
@@ -576,18 +589,21 @@ def table(jsonls):
     the summary and the ratio of every start."""
     m_all = merged(jsonls)
     rows = ["| curve | splprep n | splprep F | fairfit n | fairfit F (ratio) | best F at splprep's n (ratio, dev/tol, "
-            "start) | best F dense (n, ratio, dev/tol, knots) | pinned ends at n (ratio) | lowest ratio found |",
-            "|---|---:|---:|---:|---:|---|---|---:|---:|"]
+            "start, extrema) | best F dense (n, ratio, dev/tol, knots) | pinned ends at n (ratio) | best ratio at n with "
+            "extrema <= splprep's (splprep's extrema) | lowest ratio found |",
+            "|---|---:|---:|---:|---:|---|---|---:|---:|---:|"]
     for name, m in m_all.items():
         sp, ff = m["splprep"], m.get("fairfit", {})
         a, b, p = m.get("best_at_n"), m.get("best_dense"), m.get("best_pinned")
-        fa = f"{a['F']:.4g} ({a['ratio']:.3f}, {a['dev']:.4f}, {a['start']})" if a else "-"
+        fa = f"{a['F']:.4g} ({a['ratio']:.3f}, {a['dev']:.4f}, {a['start']}, {a.get('extrema', '?')})" if a else "-"
+        e = m.get("best_at_n_ext")
+        fe = (f"{e['ratio']:.3f}" if e else "none") + f" ({sp.get('extrema', '?')})" if "extrema" in sp else "-"
         fb = f"{b['F']:.4g} ({b['n']}, {b['ratio']:.3f}, {b['dev']:.4f}, {b['start']})" if b else "-"
         fp = f"{p['ratio']:.3f}" if p else "-"
         low = min([x["ratio"] for x in (a, b, p) if x] + [ff.get("F", np.inf) / sp["F"]])
         rows.append(f"| {name} | {sp['n']} | {sp['F']:.4g} | {ff.get('n', '-')} | "
                     f"{ff.get('F', float('nan')):.4g} ({ff.get('F', float('nan')) / sp['F']:.3f}) | {fa} | {fb} | "
-                    f"{fp} | {low:.3f} |")
+                    f"{fp} | {fe} | {low:.3f} |")
     starts = ["splprep", "fairfit+ins", "fairfit@n", "dense adapted", "dense uniform(arc)"]
     rows += ["", "| curve | " + " | ".join(starts) + " | fairfit's own F at n |", "|---|" + "---:|" * (len(starts) + 1)]
     for name, m in m_all.items():

@@ -70,11 +70,14 @@ def test_results_csv_keeps_the_lowest_verified_ratio_per_slot(tmp_path=None):
     import tempfile
 
     d = tmp_path or tempfile.mkdtemp()
-    run = lambda st, F, ok: {"start": st, "k": 3, "n": 10, "F": F, "ratio": F / 100.0, "dev": 0.9999, "ok": ok,  # noqa: E731
-                             "status": "x"}
-    free = {"name": "c", "splprep": {"n": 10, "F": 100.0}, "at_n": [run("splprep", 60.0, True),
-            run("fairfit@n", 40.0, False), run("fairfit+ins", 55.0, True)], "dense": [run("dense adapted", 52.0, True)]}
-    pinned = {"name": "c", "pinned": True, "splprep": {"n": 10, "F": 100.0}, "at_n": [run("splprep", 58.0, True)]}
+    def run(st, F, ok, ext=3):
+        return {"start": st, "k": 3, "n": 10, "F": F, "ratio": F / 100.0, "dev": 0.9999, "ok": ok, "status": "x",
+                "extrema": ext}
+
+    sp = {"n": 10, "F": 100.0, "extrema": 4}
+    free = {"name": "c", "splprep": sp, "at_n": [run("splprep", 60.0, True), run("fairfit@n", 40.0, False),
+            run("fairfit+ins", 55.0, True, ext=6)], "dense": [run("dense adapted", 52.0, True)]}
+    pinned = {"name": "c", "pinned": True, "splprep": sp, "at_n": [run("splprep", 58.0, True)]}
     j1, j2, out = (os.path.join(str(d), f) for f in ("a.jsonl", "b.jsonl", "r.csv"))
     with open(j1, "w") as fh:
         fh.write(json.dumps(free) + "\n")
@@ -82,8 +85,9 @@ def test_results_csv_keeps_the_lowest_verified_ratio_per_slot(tmp_path=None):
         fh.write(json.dumps(pinned) + "\n")
     bo.results_csv([j1, j2], out)
     lines = open(out).read().split()
-    assert lines[0] == "curve,splprep_n,splprep_F,best_ratio_at_n,best_ratio_dense,pinned_ends"
-    assert lines[1] == "c,10,100,0.5500,0.5200,0.5800"  # the infeasible 0.40 run is ignored
+    assert lines[0].startswith("curve,splprep_n,splprep_F,best_ratio_at_n,best_ratio_dense,pinned_ends,")
+    # the infeasible 0.40 run is ignored; 0.55 has 6 curvature extrema > splprep's 4, so 0.60 is the best with <= 4
+    assert lines[1] == "c,10,100,0.5500,0.5200,0.5800,4,0.6000"
 
 
 if __name__ == "__main__":
