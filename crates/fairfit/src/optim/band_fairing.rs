@@ -348,6 +348,30 @@ fn node_derivatives(node: &Node, ctrl: &[Vec3], p: usize) -> [Vec3; 4] {
     d
 }
 
+/// `∂r/∂C^(o)_k` of a node's [`residual`] by central differences in its derivatives `d` (orders
+/// `1..=min(p, 3)`, coordinates `0..dims`; the other entries stay 0).
+fn residual_gradient(
+    d: &[Vec3; 4],
+    c_w: f64,
+    planar: bool,
+    p: usize,
+    dims: usize,
+) -> [[f64; 3]; 4] {
+    let mut grad = [[0.0; 3]; 4];
+    for o in 1..=3.min(p) {
+        let h = 1e-6 * (d[o].norm() + 1e-3 * d[1].norm()).max(1e-300);
+        for k in 0..dims {
+            let mut dp = *d;
+            dp[o][k] += h;
+            let rp = residual(&dp, c_w, planar);
+            dp[o][k] -= 2.0 * h;
+            let rm = residual(&dp, c_w, planar);
+            grad[o][k] = (rp - rm) / (2.0 * h);
+        }
+    }
+    grad
+}
+
 /// The residual `sqrt(c w / |C'|) dκ/du` of a node with derivatives `d`.
 fn residual(d: &[Vec3; 4], c_w: f64, planar: bool) -> f64 {
     let (v, dk) = speed_and_dkappa_du(d, planar);
@@ -448,19 +472,7 @@ pub fn band_fair_mapped(
             let d = node_derivatives(nd, &ctrl, p);
             let cw = c * nd.weight;
             res[g] = residual(&d, cw, data.planar);
-            // ∂r/∂C^(o)_k by central differences
-            let mut grad = [[0.0; 3]; 4];
-            for o in 1..=3.min(p) {
-                let h = 1e-6 * (d[o].norm() + 1e-3 * d[1].norm()).max(1e-300);
-                for k in 0..dims {
-                    let mut dp = d;
-                    dp[o][k] += h;
-                    let rp = residual(&dp, cw, data.planar);
-                    dp[o][k] -= 2.0 * h;
-                    let rm = residual(&dp, cw, data.planar);
-                    grad[o][k] = (rp - rm) / (2.0 * h);
-                }
-            }
+            let grad = residual_gradient(&d, cw, data.planar, p, dims);
             let row = &mut jac[g * nv..(g + 1) * nv];
             for j in 0..=p {
                 let cj = nd.span - p + j;
@@ -816,18 +828,7 @@ impl SignGuard {
             if sg * r <= 0.0 {
                 continue;
             }
-            let mut grad = [[0.0; 3]; 4];
-            for o in 1..=3.min(p) {
-                let h = 1e-6 * (d[o].norm() + 1e-3 * d[1].norm()).max(1e-300);
-                for k2 in 0..dims {
-                    let mut dp = d;
-                    dp[o][k2] += h;
-                    let rp = residual(&dp, cw, planar);
-                    dp[o][k2] -= 2.0 * h;
-                    let rm = residual(&dp, cw, planar);
-                    grad[o][k2] = (rp - rm) / (2.0 * h);
-                }
-            }
+            let grad = residual_gradient(&d, cw, planar, p, dims);
             let mut row = vec![0.0; nv];
             for j in 0..=p {
                 let cj = nd.span - p + j;
