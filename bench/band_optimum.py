@@ -34,7 +34,7 @@ import warnings
 
 import numpy as np
 from numpy.polynomial.legendre import leggauss
-from scipy.interpolate import BSpline, splprep
+from scipy.interpolate import BSpline
 from scipy.optimize import minimize
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -88,38 +88,10 @@ def find_curves(data: str, only: str):
 def splprep_curve(P, tol):
     """scipy splprep with bench/compare.py's search on s: the fewest control points meeting tol,
     and among those the largest s. Returns (k, t, ctrl)."""
-    evals = {}
+    from compare import splprep_search
 
-    def fit(s):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            tck, _ = splprep(list(P.T), s=s, k=3, quiet=2)
-        t, c, k = tck
-        n = len(t) - k - 1
-        return k, np.asarray(t), np.column_stack([np.asarray(ci)[:n] for ci in c])
-
-    def meets(s):
-        if s not in evals:
-            cur = fit(s)
-            d = measure.measure(*cur[:3], None, P, deviation_only=True).max_dev
-            evals[s] = (len(cur[2]), d, cur)
-        return evals[s][1] <= tol
-
-    base = len(P) * tol * tol
-    grid = list(np.geomspace(base * 1e-4, base * 10.0, 26))
-    flags = [meets(g) for g in grid]
-    good = [i for i, f in enumerate(flags) if f]
-    if good and good[-1] + 1 < len(grid):
-        lo, hi = grid[good[-1]], grid[good[-1] + 1]
-        for _ in range(10):
-            mid = float(np.sqrt(lo * hi))
-            if meets(mid):
-                lo = mid
-            else:
-                hi = mid
-    ok = [(n, -s, s) for s, (n, d, _) in evals.items() if d <= tol]
-    _, _, s = min(ok)
-    return evals[s][2]
+    (k, t, ctrl), _, _ = splprep_search(np.asarray(P, dtype=float), tol)
+    return k, np.asarray(t), ctrl
 
 
 def fairfit_curve(exe, csv, rel_tol, count=None):

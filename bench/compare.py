@@ -246,43 +246,53 @@ def equal_without_corners(exe, path, args, pts, ff_kw):
 # ----------------------------------------------------------------------------- splprep
 
 
-def run_splprep(pts, tol: float) -> Result:
+def splprep_fit(P, s: float):
+    """One scipy splprep call (cubic) with smoothing factor `s`: (k, t, ctrl)."""
     from scipy.interpolate import splprep
 
-    P = np.asarray(pts, dtype=float)
-    m = len(P)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tck, _ = splprep(list(P.T), s=s, k=3, quiet=2)
+    t, c, k = tck
+    n = len(t) - k - 1
+    ctrl = np.column_stack([np.asarray(ci)[:n] for ci in c])
+    return k, t, ctrl
+
+
+def splprep_search(P, tol: float):
+    """splprep with a search on s meeting `tol` (grid, then bisection; every evaluation kept): the fewest
+    control points meeting it and among those the largest s. Returns ((k, t, ctrl) or None, s or None,
+    the times in ms of the splprep calls alone, without the measurer)."""
     evals = {}
-
-    def fit(s):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            tck, _ = splprep(list(P.T), s=s, k=3, quiet=2)
-        t, c, k = tck
-        n = len(t) - k - 1
-        ctrl = np.column_stack([np.asarray(ci)[:n] for ci in c])
-        return k, t, ctrl
-
-    calls = []  # time of every splprep call of the search, without the measurer
+    calls = []
 
     def dev(s):
         if s not in evals:
             tc = time.perf_counter()
-            k, t, ctrl = fit(s)
+            k, t, ctrl = splprep_fit(P, s)
             calls.append((time.perf_counter() - tc) * 1e3)
             md = measure.measure(k, t, ctrl, None, P, deviation_only=True)
             evals[s] = (len(ctrl), md.max_dev, (k, t, ctrl))
         return evals[s]
 
-    t0 = time.perf_counter()
-    base = m * tol * tol  # s is a bound on the sum of squared residuals
+    base = len(P) * tol * tol  # s is a bound on the sum of squared residuals
     grid_search(lambda s: dev(s)[1] <= tol, np.geomspace(base * 1e-4, base * 10.0, 26))
-    total = (time.perf_counter() - t0) * 1e3
     ok = [(n, -s, s) for s, (n, d, _) in evals.items() if d <= tol]
     if not ok:
-        return Result("scipy splprep", False, "no smoothing factor met the tolerance", time_ms=total)
+        return None, None, calls
     _, _, s_best = min(ok)
-    k, t, ctrl = evals[s_best][2]
-    single = _time_single(lambda: fit(s_best))
+    return evals[s_best][2], s_best, calls
+
+
+def run_splprep(pts, tol: float) -> Result:
+    P = np.asarray(pts, dtype=float)
+    t0 = time.perf_counter()
+    curve, s_best, calls = splprep_search(P, tol)
+    total = (time.perf_counter() - t0) * 1e3
+    if curve is None:
+        return Result("scipy splprep", False, "no smoothing factor met the tolerance", time_ms=total)
+    k, t, ctrl = curve
+    single = _time_single(lambda: splprep_fit(P, s_best))
     metrics = measure.measure(k, t, ctrl, None, P)
     return Result(
         "scipy splprep", True, metrics=metrics, time_ms=total, single_ms=single,
