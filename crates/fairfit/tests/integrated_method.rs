@@ -5,6 +5,9 @@
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::Vec3;
 
+#[path = "common/sampled.rs"]
+mod sampled;
+
 /// Reads an `x,y[,z]` CSV with `#` comments and a header line (test helper, not the library reader).
 fn read_csv(name: &str) -> Vec<Vec3> {
     let path = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -195,18 +198,7 @@ fn a_corner_becomes_a_c0_knot_and_both_sides_stay_smooth_and_within_tolerance() 
     // the curve passes through the corner at the triple knot
     assert!((r.curve.point(triple[0]) - pts[corner]).norm() < 1e-9);
     // independent check of the tolerance: brute-force distance to 100 001 curve samples
-    let samples: Vec<Vec3> = (0..=100_000)
-        .map(|i| r.curve.point(i as f64 / 100_000.0))
-        .collect();
-    let worst = pts
-        .iter()
-        .map(|q| {
-            samples
-                .iter()
-                .map(|s| (*s - *q).norm())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .fold(0.0f64, f64::max);
+    let worst = sampled::brute_force_deviation_n(&r.curve, &pts, 100_000);
     assert!(worst <= r.tolerance * 1.001, "{worst} > {}", r.tolerance);
     // one smooth curve through the corner needs far more control points (or misses)
     let smooth = fit_integrated(
