@@ -372,6 +372,32 @@ fn residual_gradient(
     grad
 }
 
+/// Adds `scale ·` the node's residual gradient with respect to the free variables to `row`: the
+/// chain rule from `grad` ([`residual_gradient`], by derivative order and coordinate) through the
+/// node's basis derivatives and the control map (variable `z`, coordinate `k` at `z · dims + k`).
+fn add_node_row(
+    nd: &Node,
+    grad: &[[f64; 3]; 4],
+    p: usize,
+    dims: usize,
+    map: &ControlMap,
+    scale: f64,
+    row: &mut [f64],
+) {
+    for j in 0..=p {
+        let cj = nd.span - p + j;
+        for k in 0..dims {
+            let mut v = 0.0;
+            for o in 1..=3.min(p) {
+                v += grad[o][k] * nd.ders[o * (p + 1) + j];
+            }
+            for &(z, c) in map.row(cj) {
+                row[z * dims + k] += scale * c * v;
+            }
+        }
+    }
+}
+
 /// The residual `sqrt(c w / |C'|) dκ/du` of a node with derivatives `d`.
 fn residual(d: &[Vec3; 4], c_w: f64, planar: bool) -> f64 {
     let (v, dk) = speed_and_dkappa_du(d, planar);
@@ -473,22 +499,7 @@ pub fn band_fair_mapped(
             let cw = c * nd.weight;
             res[g] = residual(&d, cw, data.planar);
             let grad = residual_gradient(&d, cw, data.planar, p, dims);
-            let row = &mut jac[g * nv..(g + 1) * nv];
-            for j in 0..=p {
-                let cj = nd.span - p + j;
-                if map.row(cj).is_empty() {
-                    continue;
-                }
-                for k in 0..dims {
-                    let mut v = 0.0;
-                    for o in 1..=3.min(p) {
-                        v += grad[o][k] * nd.ders[o * (p + 1) + j];
-                    }
-                    for &(z, c) in map.row(cj) {
-                        row[var(z, k)] += c * v;
-                    }
-                }
-            }
+            add_node_row(nd, &grad, p, dims, map, 1.0, &mut jac[g * nv..(g + 1) * nv]);
         }
         jtj.fill(0.0);
         jtr.fill(0.0);
@@ -830,18 +841,7 @@ impl SignGuard {
             }
             let grad = residual_gradient(&d, cw, planar, p, dims);
             let mut row = vec![0.0; nv];
-            for j in 0..=p {
-                let cj = nd.span - p + j;
-                for k2 in 0..dims {
-                    let mut v = 0.0;
-                    for o in 1..=3.min(p) {
-                        v += grad[o][k2] * nd.ders[o * (p + 1) + j];
-                    }
-                    for &(z, cz) in map.row(cj) {
-                        row[z * dims + k2] -= sg * cz * v;
-                    }
-                }
-            }
+            add_node_row(nd, &grad, p, dims, map, -sg, &mut row);
             rows.push((sg * r - (SIGN_MARGIN * rmax).min(0.5 * sg * r), row));
         }
         rows
