@@ -562,7 +562,8 @@ def summary(all_rows):
 
 def time_200(all_rows):
     """Issue 4's timing target: the integrated method on the 200-point curves, and its ratio to splprep."""
-    t, r_one, r_search, t_all = [], [], [], []
+    t, r_one, r_search = [], [], []
+    t_all = targets.times_200(all_rows, ALL_CORES)[0]
     for _, npts, tol, results in all_rows:
         if npts != 200:
             continue
@@ -571,9 +572,6 @@ def time_200(all_rows):
         if fi is None or not fi.ok:
             continue
         t.append(fi.time_ms / 1e3)
-        fa = by.get(ALL_CORES)
-        if fa is not None and fa.ok:
-            t_all.append(fa.time_ms / 1e3)
         if s is not None and s.ok:
             r_one.append(fi.time_ms / s.single_ms)
             r_search.append(fi.time_ms / s.time_ms)
