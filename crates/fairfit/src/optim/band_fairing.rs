@@ -478,6 +478,7 @@ pub fn band_fair_mapped(
     let mut shrink = vec![0.0; m];
     let mut cone_of = vec![usize::MAX; m];
     let mut qp = BandQp::default();
+    let mut ipm = super::cone_ipm::IpmWork::default();
     let mut entries = Vec::new();
     let mut now_dev = vec![0.0; m];
     // dense Jacobian rows (one per node) and the normal matrix
@@ -623,7 +624,13 @@ pub fn band_fair_mapped(
                 };
             }
             out.solves += 1;
-            let Some(x) = qp.solve_clarabel() else {
+            // the dedicated interior-point solver, clarabel when it does not converge
+            let x = if super::cone_ipm::solve(&qp, &mut ipm) {
+                Some(ipm.solution.clone())
+            } else {
+                qp.solve_clarabel()
+            };
+            let Some(x) = x else {
                 mu *= 10.0;
                 continue;
             };

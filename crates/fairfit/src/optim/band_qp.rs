@@ -153,6 +153,48 @@ impl BandQp {
         }
     }
 
+    /// The objective at the step `x` (each soft row's slack at its least value) and the largest
+    /// violation of a cone or hard row.
+    pub fn evaluate(&self, x: &[f64]) -> (f64, f64) {
+        let nv = self.nv;
+        let mut obj = 0.0;
+        for a in 0..nv {
+            let px: f64 = (0..nv).map(|b| self.p[a * nv + b] * x[b]).sum();
+            obj += x[a] * (0.5 * px + self.q[a]);
+        }
+        let mut worst = 0.0f64;
+        for k in 0..self.cones() {
+            let (r0, r1) = (self.cone_row[k], self.cone_row[k + 1]);
+            let cols = &self.cols[self.cone_col[k]..self.cone_col[k + 1]];
+            let m = cols.len();
+            let s: Vec<f64> = (0..r1 - r0)
+                .map(|r| {
+                    let gx: f64 = cols
+                        .iter()
+                        .enumerate()
+                        .map(|(a, &c)| self.block[self.cone_block[k] + r * m + a] * x[c])
+                        .sum();
+                    self.h[r0 + r] - gx
+                })
+                .collect();
+            let tail: f64 = s[1..].iter().map(|v| v * v).sum::<f64>().sqrt();
+            worst = worst.max(tail - s[0]);
+        }
+        let l0 = self.cone_row[self.cones()];
+        for j in 0..self.rows() {
+            let gx: f64 = (self.row_start[j]..self.row_start[j + 1])
+                .map(|e| self.row_vals[e] * x[self.row_cols[e]])
+                .sum();
+            let s = self.h[l0 + j] - gx;
+            if self.soft[j] {
+                obj += self.slack_weight * (-s).max(0.0);
+            } else {
+                worst = worst.max(-s);
+            }
+        }
+        (obj, worst)
+    }
+
     /// The minimiser's step variables by `clarabel`; `None` when it fails or does not solve.
     pub fn solve_clarabel(&self) -> Option<Vec<f64>> {
         let nv = self.nv;
