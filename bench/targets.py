@@ -97,13 +97,15 @@ def times_200(all_rows, meth):
 
 
 def _all_cores(all_rows):
-    """The 200-point times with fairfit's default threads, when the run measured them (the target's
-    status stays on the single-threaded times)."""
+    """The 200-point times with fairfit's default threads, when the run measured them, and the max time the
+    target is judged on: the issue asks for the time "on this 2-core machine", i.e. what a user's default
+    run costs with all of its cores; a run without that row is judged on its single-threaded times (never
+    faster). Returns (text, max time or None)."""
     cli = times_200(all_rows, ALL_CORES)[0]
     if not cli:
-        return ""
-    return (f"; with fairfit's default threads (all cores, same output bit for bit): median {_g(_med(cli))} s, "
-            f"max {_g(max(cli))} s")
+        return "", None
+    return (f"; with fairfit's default threads (all cores, same output bit for bit; the target is judged on "
+            f"these): median {_g(_med(cli))} s, max {_g(max(cli))} s", max(cli))
 
 
 def _med(v):
@@ -171,13 +173,15 @@ def targets_section(all_rows, met, equal_name):
     )
     cli, own, r_one, r_search, r_calls = times_200(all_rows, INTEGRATED)
     if cli:
+        all_cores_text, all_cores_max = _all_cores(all_rows)
+        judged = max(cli) if all_cores_max is None else all_cores_max
         out.append(
             f"| Wall time of a {POINTS_200}-point curve <= {TIME_TARGET_S} s; ratio to splprep | issue 4 | "
             f"integrated, {len(cli)} curves of {POINTS_200} points, whole CLI process: median {_g(_med(cli))} s, "
             f"max {_g(max(cli))} s (fairfit's own time: median {_g(_med(own))} s); median ratio to splprep in the "
             f"same run: {_g(_med(r_search))} x splprep's s search incl. measuring each step, {_g(_med(r_calls))} x "
             f"the splprep calls of that search alone, {_g(_med(r_one))} x one splprep call"
-            f"{_all_cores(all_rows)} | {_status(max(cli) <= TIME_TARGET_S)} |"
+            f"{all_cores_text} | {_status(judged <= TIME_TARGET_S)} |"
         )
     else:
         out.append(f"| Wall time of a {POINTS_200}-point curve <= {TIME_TARGET_S} s | issue 4 | "

@@ -91,8 +91,7 @@ def test_results_csv_keeps_the_lowest_verified_ratio_per_slot(tmp_path=None):
 
 
 if __name__ == "__main__":
-    test_fairness_matches_measurer()
-    test_fairness_gradient_matches_finite_differences()
-    test_projection_gives_orthogonal_distance_of_a_circle_arc()
-    test_results_csv_keeps_the_lowest_verified_ratio_per_slot()
-    print("ok")
+    for name, fn in list(globals().items()):
+        if name.startswith("test_") and callable(fn):
+            fn()
+            print("ok", name)

@@ -173,6 +173,28 @@ def test_degree_auto_is_detected_from_the_help_text():
             assert compare.degree_auto_supported(exe) is want, help_text
 
 
+def test_time_target_is_judged_on_the_default_threads_when_measured():
+    eq = compare.EQUAL_COUNT
+    base = [
+        ("fairfit integrated", (8, 0.9, 10.0, 2), 230.0, 200.0),  # 0.23 s with --threads 1
+        ("fairfit fit-then-fair", (9, 0.9, 30.0, 3), 50.0, 40.0),
+        (eq, (9, 1.0, 20.0, 2), 150.0, 120.0),
+        ("scipy splprep", (9, 1.0, 25.0, 2), 300.0, 1.0),
+    ]
+
+    def time_line(rows):
+        md = targets.targets_section(rows, compare.met, eq)
+        return next(ln for ln in md.splitlines() if ln.startswith("| Wall time"))
+
+    # no all-cores row: judged on the single-threaded 0.23 s
+    assert time_line([_row("a", 200, base)]).endswith("| **not met** |")
+    fast = (targets.ALL_CORES, (8, 0.9, 10.0, 2), 170.0, 150.0)
+    slow = (targets.ALL_CORES, (8, 0.9, 10.0, 2), 210.0, 190.0)
+    line = time_line([_row("a", 200, base + [fast])])
+    assert line.endswith("| **met** |") and "max 0.23 s" in line and "max 0.17 s" in line
+    assert time_line([_row("a", 200, base + [slow])]).endswith("| **not met** |")
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):

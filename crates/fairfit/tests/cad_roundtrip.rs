@@ -7,6 +7,9 @@
 //! (except under `CI=true`, where it fails); set but empty, pointing at no Python, or at one without
 //! OCP: the test fails.
 
+#[path = "common/python.rs"]
+mod python;
+
 use fairfit::io::iges::{write_curve_iges, write_surface_iges, IgesOptions};
 use fairfit::io::samples::{curve_samples_json, surface_samples_json};
 use fairfit::io::step::{write_curve_step, write_surface_step, StepOptions};
@@ -177,20 +180,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
 
 #[test]
 fn opencascade_reads_back_fairfit_step_and_iges() {
-    let python = match std::env::var("FAIRFIT_PYTHON") {
-        Ok(p) => {
-            assert!(!p.trim().is_empty(), "FAIRFIT_PYTHON is set but empty");
-            p
-        }
-        Err(_) => {
-            if std::env::var("CI").as_deref() == Ok("true") {
-                panic!(
-                    "FAIRFIT_PYTHON is not set under CI=true: the CAD round trip must run in CI"
-                );
-            }
-            println!("note: FAIRFIT_PYTHON unset, skipping the OpenCASCADE round trip");
-            return;
-        }
+    let Some(python) = python::python_or_skip("the OpenCASCADE round trip") else {
+        return;
     };
     let dir = std::env::temp_dir().join(format!("fairfit-occ-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
