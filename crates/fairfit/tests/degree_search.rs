@@ -6,6 +6,7 @@
 use fairfit::fair::curve_fairness;
 use fairfit::io::read_points;
 use fairfit::optim::closed::distinct_control_points;
+use fairfit::optim::degree_search::choose_degree;
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::Vec3;
 
@@ -79,7 +80,24 @@ fn the_degree_never_costs_control_points_or_extrema_on_airfoils() {
         assert!(n <= n3, "{name}: {n} control points > the cubic's {n3}");
         assert!(c.curvature_extrema <= c3.curvature_extrema, "{name}");
         assert!(c.fairness <= c3.fairness, "{name}");
-        assert_eq!(r.stats.degrees_tried.len(), 3, "{name}");
+        // staged search: the cubic trial is the separate cubic fit, every higher degree keeps its
+        // count, and a degree is tried only after the one below it won
+        let tried = &r.stats.degrees_tried;
+        assert_eq!(tried[0].degree, 3, "{name}");
+        assert_eq!(tried[0].control_points, n3, "{name}");
+        assert_eq!(tried[0].fairness, c3.fairness, "{name}");
+        for (i, t) in tried.iter().enumerate().skip(1) {
+            assert_eq!(t.degree, 3 + i, "{name}");
+            assert_eq!(t.control_points, n3, "{name}: degree {}", t.degree);
+            if i + 1 < tried.len() {
+                assert_eq!(
+                    choose_degree(&tried[..=i], 1.1),
+                    i,
+                    "{name}: degree {}",
+                    t.degree
+                );
+            }
+        }
     }
 }
 
