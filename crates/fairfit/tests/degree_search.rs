@@ -102,6 +102,33 @@ fn the_degree_never_costs_control_points_or_extrema_on_airfoils() {
 }
 
 #[test]
+fn the_circular_section_gets_the_quintic_at_the_cubics_count() {
+    // IEA 15 MW circular root section (closed, periodic fit): the periodic cubic at 7 distinct
+    // control points is the regular heptagon's B-spline, F 135.21 (docs/optim.md); the staged search
+    // keeps those 7 and raises the degree
+    let pts = data("iea15mw_airfoils/circular.csv");
+    let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
+    let r = fit_integrated(&pts, &auto()).unwrap();
+    assert_eq!(distinct_control_points(&cubic.curve), 7);
+    let f3 = curve_fairness(&cubic.curve).fairness;
+    assert!((f3 - 135.21).abs() < 0.01, "{f3}");
+    assert!(r.met);
+    assert_eq!(r.curve.degree(), 5);
+    assert_eq!(distinct_control_points(&r.curve), 7);
+    let f = curve_fairness(&r.curve).fairness;
+    assert!(f < 0.5, "F {f}");
+    let tried: Vec<(usize, usize)> = r
+        .stats
+        .degrees_tried
+        .iter()
+        .map(|t| (t.degree, t.control_points))
+        .collect();
+    assert_eq!(tried, [(3, 7), (4, 7), (5, 7)]);
+    // the quartic already beats the cubic by two orders of magnitude
+    assert!(r.stats.degrees_tried[1].fairness < 0.01 * f3);
+}
+
+#[test]
 fn a_degree_range_below_the_degree_is_refused() {
     let pts = data("naca4412.csv");
     let bad = IntegratedOptions {

@@ -47,8 +47,8 @@ pub(crate) fn finish_open(
     let reference = reference(p, interior, log_lambda);
     let search = |d: usize| -> Option<Candidate> {
         let q = &preps[d - p];
-        // every span needs a data parameter inside
-        if q.data.points.len() < n + 1 {
+        // at least d + 1 control points, and a data parameter inside every span
+        if n < d + 1 || q.data.points.len() < n + 1 {
             return None;
         }
         let o = opts.at_degree(d);
