@@ -129,6 +129,49 @@ fn the_circular_section_gets_the_quintic_at_the_cubics_count() {
 }
 
 #[test]
+fn pieces_between_corners_share_the_raised_degree_at_their_own_counts() {
+    // two circular arcs (radius 1, then 0.8) meeting at a 90-degree corner
+    let mut pts: Vec<Vec3> = (0..60)
+        .map(|i| {
+            let t = std::f64::consts::FRAC_PI_2 * i as f64 / 59.0;
+            Vec3([t.cos() - 1.0, t.sin(), 0.0])
+        })
+        .collect();
+    pts.extend((1..60).map(|i| {
+        let t = std::f64::consts::FRAC_PI_2 * i as f64 / 59.0;
+        Vec3([0.8 * t.sin(), 1.0 - 0.8 * (1.0 - t.cos()), 0.0])
+    }));
+    let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
+    let r = fit_integrated(&pts, &auto()).unwrap();
+    assert!(r.met && cubic.met);
+    let p = r.curve.degree();
+    assert!(p >= 4, "degree {p}");
+    assert_eq!(
+        distinct_control_points(&r.curve),
+        distinct_control_points(&cubic.curve)
+    );
+    // the corner stays a knot of multiplicity p (C0), between the two pieces
+    let k = r.curve.knots();
+    let inner = &k[p + 1..k.len() - p - 1];
+    let corner = inner
+        .iter()
+        .find(|&&u| inner.iter().filter(|&&v| v == u).count() == p);
+    assert!(corner.is_some(), "{k:?}");
+    let (f3, f) = (
+        curve_fairness(&cubic.curve).fairness,
+        curve_fairness(&r.curve).fairness,
+    );
+    assert!(f < f3 / 1.1, "F {f} vs the cubic's {f3}");
+    let dev = brute_force_deviation(&r.curve, &pts);
+    assert!(
+        dev <= r.tolerance * (1.0 + 1e-6),
+        "{dev} vs {}",
+        r.tolerance
+    );
+    assert_eq!(r.stats.degrees_tried[0].fairness, f3);
+}
+
+#[test]
 fn a_degree_range_below_the_degree_is_refused() {
     let pts = data("naca4412.csv");
     let bad = IntegratedOptions {

@@ -18,18 +18,46 @@
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{pso_options, CountProblem};
-use super::degree_search::{finish_with_degrees, Candidate, CANDIDATE_BAND_SOLVES};
+use super::degree_search::{keep_degree, Attempt, CANDIDATE_BAND_SOLVES};
 use super::integrated::{
-    finish, open_problem, removal_candidates, IntegratedOptions, IntegratedResult,
+    finish, open_problem, removal_candidates, tolerance_of, IntegratedOptions, IntegratedResult,
 };
 use super::periodic::ClosedData;
-use super::prepare::{averaging_interior_knots, Prepared};
+use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::pso::{run_pso, PsoOptions};
 use super::smoothing::tune_smoothing;
 use crate::errors::Result;
+use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Salt of the candidates' random streams (apart from the count search's).
 const SALT: u64 = 2_000_003;
+
+/// A degree's knots at the reference's count, before band fairing and polish.
+#[derive(Clone, Debug)]
+struct Candidate {
+    /// Interior knots (breakpoints of a periodic curve).
+    interior: Vec<f64>,
+    log_lambda: f64,
+    /// Whether the knot search met the tolerance (and `F*`).
+    feasible: bool,
+    evaluations: usize,
+    iterations: usize,
+}
+
+impl Candidate {
+    /// The attempt of this candidate: finished by `finish` when feasible.
+    fn attempt(self, finish: impl FnOnce(&Candidate) -> Result<IntegratedResult>) -> Attempt {
+        Attempt {
+            fit: if self.feasible {
+                finish(&self).ok()
+            } else {
+                None
+            },
+            evaluations: self.evaluations,
+            iterations: self.iterations,
+        }
+    }
+}
 
 /// The degree search after the reference's count search on open data: `interior` and `log_lambda`
 /// are the reference's knots and smoothing, `prep` its prepared data.
@@ -41,35 +69,12 @@ pub(crate) fn finish_open(
     opts: &IntegratedOptions,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
-    let n = interior.len() + p + 1;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
-    let reference = reference(p, interior, log_lambda);
-    let search = |d: usize| -> Option<Candidate> {
-        let q = &preps[d - p];
-        // at least d + 1 control points, and a data parameter inside every span
-        if n < d + 1 || q.data.points.len() < n + 1 {
-            return None;
-        }
-        let o = opts.at_degree(d);
-        let mut seeds = vec![averaged_knots(interior, d - p)];
-        let mut k = interior.to_vec();
-        while k.len() + d + 1 > n {
-            match removal_candidates(&q.data, &k).into_iter().next() {
-                Some((_, r)) => k = r,
-                None => break,
-            }
-        }
-        if k.len() + d + 1 == n {
-            seeds.push(k);
-        }
-        seeds.push(averaging_interior_knots(&q.data.params, d, n));
-        short_search(&open_problem(&q.data, n, tol, &o), d, &seeds, &o)
-    };
-    let finish_one = |c: &Candidate| -> Result<IntegratedResult> {
-        let o = candidate_options(opts, c.degree);
+    let finish_at = |d: usize, c: &Candidate| {
+        let o = candidate_options(opts, d);
         finish(
-            &preps[c.degree - p],
+            &preps[d - p],
             &c.interior,
             c.log_lambda,
             tol,
@@ -77,7 +82,81 @@ pub(crate) fn finish_open(
             o.polish.then_some(tol),
         )
     };
-    finish_with_degrees(reference, p + 1..=highest, opts, &search, &finish_one)
+    let reference = || {
+        let o = opts.at_degree(p);
+        finish(prep, interior, log_lambda, tol, &o, o.polish.then_some(tol))
+    };
+    let attempt = |d: usize| match open_candidate(&preps[d - p], p, interior, tol, opts, d) {
+        Some(c) => c.attempt(|c| finish_at(d, c)),
+        None => Attempt::default(),
+    };
+    keep_degree(&reference, p + 1..=highest, opts, &attempt)
+}
+
+/// Degree `d` of an open curve at the count of the reference's `interior` knots (degree `p`), by
+/// the short knot search from the seeds of the module doc; `None` when the degree cannot have that
+/// count here.
+fn open_candidate(
+    q: &Prepared,
+    p: usize,
+    interior: &[f64],
+    tol: f64,
+    opts: &IntegratedOptions,
+    d: usize,
+) -> Option<Candidate> {
+    let n = interior.len() + p + 1;
+    // at least d + 1 control points, and a data parameter inside every span
+    if n < d + 1 || q.data.points.len() < n + 1 {
+        return None;
+    }
+    let o = opts.at_degree(d);
+    let mut seeds = vec![averaged_knots(interior, d - p)];
+    let mut k = interior.to_vec();
+    while k.len() + d + 1 > n {
+        match removal_candidates(&q.data, &k).into_iter().next() {
+            Some((_, r)) => k = r,
+            None => break,
+        }
+    }
+    if k.len() + d + 1 == n {
+        seeds.push(k);
+    }
+    seeds.push(averaging_interior_knots(&q.data.params, d, n));
+    short_search(&open_problem(&q.data, n, tol, &o), d, &seeds, &o)
+}
+
+/// Degree `d` of an open piece between corners ([`super::corner_fit`]): `points` are the piece's,
+/// `reference` its fit at `opts.degree`, `opts` the piece's options.
+pub(crate) fn raise_open_piece(
+    points: &[Vec3],
+    reference: &NurbsCurve,
+    opts: &IntegratedOptions,
+    d: usize,
+) -> Attempt {
+    let p = reference.degree();
+    let k = reference.knots();
+    let Ok(q) = prepare(points, d) else {
+        return Attempt::default();
+    };
+    if k.len() < 2 * (p + 1) {
+        return Attempt::default();
+    }
+    let interior = &k[p + 1..k.len() - p - 1];
+    let tol = tolerance_of(opts, q.scale);
+    match open_candidate(&q, p, interior, tol, opts, d) {
+        Some(c) => c.attempt(|c| {
+            let o = candidate_options(opts, d);
+            finish(
+                &q,
+                &c.interior,
+                c.log_lambda,
+                tol,
+                &o,
+                o.polish.then_some(tol),
+            )
+        }),
+        None => Attempt::default(),
+    }
 }
 
 /// [`finish_open`] for a periodic closed curve (`data`: the reference's closed data).
@@ -93,35 +172,31 @@ pub(crate) fn finish_periodic_fit(
     let n = interior.len() + 1;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
-    // the reference's data as given, the higher degrees' built here (None: too few points)
+    // the higher degrees' closed data (None: too few points for the degree)
     let datas: Vec<Option<ClosedData>> = preps
         .iter()
         .skip(1)
         .map(|q| ClosedData::new(q).ok())
         .collect();
-    let data_at = |d: usize| {
-        if d == p {
-            Some(data)
-        } else {
-            datas[d - p - 1].as_ref()
-        }
-    };
-    let reference = reference(p, interior, log_lambda);
-    let search = |d: usize| -> Option<Candidate> {
-        let cd = data_at(d)?;
+    let reference = || finish_periodic(prep, data, interior, log_lambda, tol, &opts.at_degree(p));
+    let attempt = |d: usize| {
+        let Some(cd) = datas[d - p - 1].as_ref() else {
+            return Attempt::default();
+        };
         if n < d + 1 || n + 1 > cd.points.len() {
-            return None;
+            return Attempt::default();
         }
         let o = opts.at_degree(d);
         let seeds = vec![interior.to_vec(), equal_breaks(&cd.params, n)];
-        short_search(&problem_at(cd, n, tol, &o), d, &seeds, &o)
+        match short_search(&problem_at(cd, n, tol, &o), d, &seeds, &o) {
+            Some(c) => c.attempt(|c| {
+                let o = candidate_options(opts, d);
+                finish_periodic(&preps[d - p], cd, &c.interior, c.log_lambda, tol, &o)
+            }),
+            None => Attempt::default(),
+        }
     };
-    let finish_one = |c: &Candidate| -> Result<IntegratedResult> {
-        let o = candidate_options(opts, c.degree);
-        let cd = data_at(c.degree).expect("a searched degree has its data");
-        finish_periodic(&preps[c.degree - p], cd, &c.interior, c.log_lambda, tol, &o)
-    };
-    finish_with_degrees(reference, p + 1..=highest, opts, &search, &finish_one)
+    keep_degree(&reference, p + 1..=highest, opts, &attempt)
 }
 
 /// The prepared data at every degree from `p` to `highest` (only the degree differs).
@@ -140,22 +215,14 @@ fn at_degrees(prep: &Prepared, p: usize, highest: usize) -> Vec<Prepared> {
 fn candidate_options(opts: &IntegratedOptions, degree: usize) -> IntegratedOptions {
     let mut o = opts.at_degree(degree);
     if degree > opts.degree {
-        o.band_solves = o.band_solves.min(CANDIDATE_BAND_SOLVES);
+        o.band_solves = o.band_solves.min(
+            std::env::var("FF_CAP")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(CANDIDATE_BAND_SOLVES),
+        ); // TEMP
     }
     o
-}
-
-/// The reference's knots as a candidate (always finished: the count search found them feasible,
-/// or the count is fixed).
-fn reference(degree: usize, interior: &[f64], log_lambda: f64) -> Candidate {
-    Candidate {
-        degree,
-        interior: interior.to_vec(),
-        log_lambda,
-        feasible: true,
-        evaluations: 0,
-        iterations: 0,
-    }
 }
 
 /// The short knot search of degree `degree` from the knot vectors `seeds` (module doc); `None` when
@@ -177,6 +244,10 @@ fn short_search<P: CountProblem>(
     }
     let po = PsoOptions {
         max_iterations: 0,
+        refine_evaluations: std::env::var("FF_REFINE")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(opts.refine_evaluations), // TEMP
         ..pso_options(opts, 0, false, SALT + degree as u64)
     };
     let mut r = run_pso(pr, &positions, &po, &|_| {});
@@ -187,7 +258,6 @@ fn short_search<P: CountProblem>(
         (r.position, r.output, r.fitness) = (t.position, t.output, t.fitness);
     }
     Some(Candidate {
-        degree,
         interior: pr.decode(&r.position)?,
         log_lambda: pr.log_lambda(&r.position),
         feasible: r.fitness.feasible(),

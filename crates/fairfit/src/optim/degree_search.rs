@@ -14,41 +14,38 @@
 //!    among those meeting it, then the lowest F, wins; when none meets it, the reference is returned
 //!    (its miss is reported as usual).
 //!
-//! **Staged search** (open curves and periodic closed curves, [`super::degree_candidates`]): only the
-//! reference runs the count search. Its knots and count are then the start of every higher degree:
+//! **Staged search**: only the reference runs the count search ([`super::count_search`]); its
+//! control-point count and knots are then the start of every higher degree
+//! ([`super::degree_candidates`]):
 //!
-//! - degree `d` keeps the reference's control-point count; its knots come from a short knot search
-//!   (the swarm's seeded population and the pattern search, no swarm iterations, then the smoothing
-//!   line search) seeded with the reference's knots averaged over windows of `d − 3 + 1`, the
-//!   reference's knots with the least harmful removals, and averaging knots. Open curves of
-//!   degree `d` have `d − 3` fewer interior knots at the same count; periodic curves have as many
-//!   spans as distinct control points at any degree, so the reference's breakpoints serve as is;
-//! - a degree whose knot search misses the tolerance at that count is not finished (a higher degree
-//!   would need more control points than the cubic, which rule 1 refuses); the others get band
-//!   fairing (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish;
+//! - degree `d` keeps the reference's count; its knots come from a short knot search seeded with
+//!   the reference's knots (open curves: `d − 3` fewer of them at the same count; periodic curves:
+//!   the same breakpoints, a periodic curve has as many spans as distinct control points);
+//! - a degree whose knot search misses the tolerance at that count is not finished (it would need
+//!   more control points than the reference, which rule 1 refuses); the others get band fairing
+//!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish;
 //! - the reference's band fairing and polish (serial) run side by side with the first higher
 //!   degree, so on two cores that degree mostly costs no wall time; a degree higher still is tried
 //!   only when the one below it won (on the 33 benchmark curves the quintic beat the cubic only
-//!   where the quartic did).
+//!   where the quartic did);
+//! - data with corners: the pieces between corners are fitted at the reference degree and joined
+//!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
+//!   knots and the raised pieces are joined, so one degree serves the whole curve.
 //!
-//! Data with corners (pieces joined C0 need one degree) run the whole integrated fit at every degree
-//! ([`fit_degree_search`], one rayon task per degree) and keep one by the same rule.
+//! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
+//! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:
+//! 17) at a geometric-mean F ratio of 0.360 (0.366), see docs/optim.md.
 //!
 //! `F` and the curvature extrema are measured on the returned curves by
 //! [`crate::fair::curve_fairness`] (the report's numbers). Every finished degree is recorded in
-//! [`OptimStats::degrees_tried`] in degree order. Each step is thread-count independent, so the
+//! [`super::integrated::OptimStats::degrees_tried`] in degree order. Each step is thread-count independent, so the
 //! result is byte-identical for any number of threads.
 
 use super::closed::distinct_control_points;
-use super::integrated::{
-    fit_integrated_with_progress, IntegratedOptions, IntegratedResult, OptimStats,
-};
+use super::integrated::{IntegratedOptions, IntegratedResult};
 use crate::errors::Result;
 use crate::fair::curve_fairness;
-use crate::nurbs::Vec3;
-use rayon::prelude::*;
 use serde::Serialize;
-use std::time::Instant;
 
 /// One degree's integrated fit, as the degree search saw it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -65,39 +62,6 @@ pub struct DegreeTrial {
     pub tolerance_met: bool,
 }
 
-/// Fits every degree from `opts.degree` to `opts.max_degree` and keeps one by the module's rule.
-pub(crate) fn fit_degree_search(
-    points: &[Vec3],
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<IntegratedResult> {
-    let start = Instant::now();
-    let lowest = opts.degree;
-    let highest = opts.max_degree.unwrap_or(lowest).max(lowest);
-    let fits: Vec<Result<IntegratedResult>> = (lowest..=highest)
-        .into_par_iter()
-        .map(|d| fit_integrated_with_progress(points, &opts.at_degree(d), progress))
-        .collect();
-    let mut fits = fits.into_iter();
-    // the reference decides whether the data can be fitted at all
-    let reference = fits.next().expect("the range holds the reference degree")?;
-    let mut results = vec![reference];
-    results.extend(fits.flatten());
-    let trials: Vec<DegreeTrial> = results.iter().map(trial_of).collect();
-    let pick = choose_degree(&trials, opts.fairness_gain);
-    let evaluations = results.iter().map(|r| r.stats.evaluations).sum();
-    let iterations = results.iter().map(|r| r.stats.iterations).sum();
-    let mut chosen = results.swap_remove(pick);
-    chosen.stats = OptimStats {
-        evaluations,
-        iterations,
-        degrees_tried: trials,
-        seconds: start.elapsed().as_secs_f64(),
-        ..chosen.stats
-    };
-    Ok(chosen)
-}
-
 /// Band-fairing subproblems of a higher degree in the staged search (the reference gets
 /// [`IntegratedOptions::band_solves`]). A capped stage can only make a higher degree less fair, so
 /// the cap never puts a worse curve in place of the reference's; on the 33 benchmark curves 8 and 12
@@ -106,51 +70,44 @@ pub(crate) fn fit_degree_search(
 /// polish) without winning.
 pub const CANDIDATE_BAND_SOLVES: usize = 8;
 
-/// A degree's knots at the reference's count, before band fairing and polish.
-#[derive(Clone, Debug)]
-pub(crate) struct Candidate {
-    /// The degree.
-    pub degree: usize,
-    /// Interior knots (breakpoints of a periodic curve).
-    pub interior: Vec<f64>,
-    /// `log10 λ` of the smoothing weight.
-    pub log_lambda: f64,
-    /// Whether the knot search met the tolerance (and `F*`).
-    pub feasible: bool,
-    /// Candidate evaluations and swarm iterations spent on it.
+/// One higher degree's attempt in the staged search: its fit (`None` when it could not be fitted
+/// within the tolerance at the reference's count) and the work spent on it.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Attempt {
+    /// The finished fit.
+    pub fit: Option<IntegratedResult>,
+    /// Candidate evaluations and swarm iterations spent on it (besides the fit's own statistics).
     pub evaluations: usize,
     pub iterations: usize,
 }
 
-/// After the reference's count search: finishes the reference (`finish`), tries the higher degrees
-/// `higher` one at a time (`search` makes a degree's candidate, `None` when the degree cannot be
-/// fitted at this count) and keeps one by [`choose_degree`] (module doc, "Staged search").
-pub(crate) fn finish_with_degrees(
-    reference: Candidate,
+/// The staged search's choice: the reference's fit (`reference`, run beside the first higher
+/// degree), then the higher degrees `higher` one at a time (`attempt`), a degree higher still only
+/// when the one below it won; one fit kept by [`choose_degree`] (module doc, "Staged search").
+pub(crate) fn keep_degree(
+    reference: &(dyn Fn() -> Result<IntegratedResult> + Sync),
     higher: std::ops::RangeInclusive<usize>,
     opts: &IntegratedOptions,
-    search: &(dyn Fn(usize) -> Option<Candidate> + Sync),
-    finish: &(dyn Fn(&Candidate) -> Result<IntegratedResult> + Sync),
+    attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
     let (lo, hi) = (*higher.start(), *higher.end());
-    let attempt = |d: usize| -> Option<(Candidate, Option<IntegratedResult>)> {
-        let c = search(d)?;
-        let r = if c.feasible { finish(&c).ok() } else { None };
-        Some((c, r))
-    };
     // the reference's band fairing and polish are serial: the first higher degree runs beside them
-    let (reference_fit, mut next) = rayon::join(
-        || finish(&reference),
-        || (lo <= hi).then(|| attempt(lo)).flatten(),
-    );
+    let (reference_fit, first) = rayon::join(reference, || {
+        if lo <= hi {
+            attempt(lo)
+        } else {
+            Attempt::default()
+        }
+    });
     let mut results = vec![reference_fit?];
     let mut trials = vec![trial_of(&results[0])];
-    let (mut evaluations, mut iterations) = (reference.evaluations, reference.iterations);
+    let (mut evaluations, mut iterations) = (0, 0);
+    let mut next = Some(first);
     let mut d = lo;
-    while let Some((c, r)) = next.take() {
-        evaluations += c.evaluations;
-        iterations += c.iterations;
-        let Some(r) = r else { break };
+    while let Some(a) = next.take() {
+        evaluations += a.evaluations;
+        iterations += a.iterations;
+        let Some(r) = a.fit else { break };
         trials.push(trial_of(&r));
         results.push(r);
         // a degree higher still only when this one won
@@ -158,10 +115,11 @@ pub(crate) fn finish_with_degrees(
             break;
         }
         d += 1;
-        next = attempt(d);
+        next = Some(attempt(d));
     }
     let pick = choose_degree(&trials, opts.fairness_gain);
     evaluations += results.iter().map(|r| r.stats.evaluations).sum::<usize>();
+    iterations += results.iter().map(|r| r.stats.iterations).sum::<usize>();
     let mut chosen = results.swap_remove(pick);
     chosen.stats.evaluations = evaluations;
     chosen.stats.iterations = iterations;

@@ -228,10 +228,6 @@ pub fn fit_integrated_with_progress(
     if let Some(angle) = opts.corner_angle_deg {
         let corners = crate::fit::shape::detect_corners(&prep.data.points, false, angle);
         let ranges = super::corners::pieces(prep.data.points.len(), &corners);
-        if ranges.len() > 1 && opts.searches_degree() {
-            // one degree for all pieces: every degree's whole fit (super::degree_search)
-            return super::degree_search::fit_degree_search(points, opts, progress);
-        }
         if ranges.len() > 1 {
             return super::corner_fit::fit_with_corners(&prep, &ranges, opts, progress, start);
         }
