@@ -141,8 +141,23 @@ fn pieces_between_corners_share_the_raised_degree_at_their_own_counts() {
         let t = std::f64::consts::FRAC_PI_2 * i as f64 / 59.0;
         Vec3([0.8 * t.sin(), 1.0 - 0.8 * (1.0 - t.cos()), 0.0])
     }));
-    let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
-    let r = fit_integrated(&pts, &auto()).unwrap();
+    let tolerance = Tolerance::Relative(5e-4);
+    let cubic = fit_integrated(
+        &pts,
+        &IntegratedOptions {
+            tolerance,
+            ..IntegratedOptions::default()
+        },
+    )
+    .unwrap();
+    let r = fit_integrated(
+        &pts,
+        &IntegratedOptions {
+            tolerance,
+            ..auto()
+        },
+    )
+    .unwrap();
     assert!(r.met && cubic.met);
     let p = r.curve.degree();
     assert!(p >= 4, "degree {p}");

@@ -37,16 +37,13 @@
 //! Minimising `F` also removes curvature wiggles (each costs `∫(dκ/ds)²`), so curvature extrema
 //! usually fall with it.
 
+use super::band_qp::BandQp;
 use super::control_map::ControlMap;
 use super::curvature_signs::target_signs;
 use super::objective::{speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
-use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
-};
 
 /// Settings of [`band_fair`].
 #[derive(Clone, Debug, PartialEq)]
@@ -479,7 +476,10 @@ pub fn band_fair_mapped(
     // per point: how far its cone is drawn in after a step left the band (second-order effects
     // of the tangent-plane model), its cone's first row and its present deviation in the frame
     let mut shrink = vec![0.0; m];
-    let mut cone_row = vec![usize::MAX; m];
+    let mut cone_of = vec![usize::MAX; m];
+    let mut qp = BandQp::default();
+    let mut ipm = super::cone_ipm::IpmWork::default();
+    let mut entries = Vec::new();
     let mut now_dev = vec![0.0; m];
     // dense Jacobian rows (one per node) and the normal matrix
     let mut jac = vec![0.0; nodes.len() * nv];
@@ -534,15 +534,13 @@ pub fn band_fair_mapped(
         let signed: Vec<usize> = (0..targets.len())
             .filter(|&g| targets[g] != 0 && f64::from(targets[g]) * res[g] < near)
             .collect();
-        let nt = signed.len();
-        let nx = if hard { nv } else { nv + nt };
         let max_diag = (0..nv).map(|a| jtj[a * nv + a]).fold(0.0f64, f64::max);
         if max_diag <= 0.0 {
             break;
         }
         // the cones at the current feet
-        let mut cones = Vec::with_capacity(m);
-        let (mut ai, mut aj, mut av, mut b) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        qp.reset(nv);
+        qp.slack_weight = SIGN_WEIGHT;
         for i in free.clone() {
             let u = feet[i];
             let s = find_span(n - 1, p, u, &ws.knots);
@@ -553,12 +551,12 @@ pub fn band_fair_mapped(
                 tan += ctrl[s - p + j] * basis[p + 1 + j];
             }
             let frame = local_frame(tan, data.planar, opts.tangent_weight);
-            let row0 = b.len();
             now_dev[i] = frame.iter().map(|f| f.dot(ci).powi(2)).sum::<f64>().sqrt();
-            cone_row[i] = b.len();
-            b.push(0.0);
+            cone_of[i] = qp.cones();
+            let mut h = [0.0; 4];
+            entries.clear();
             for (r, f) in frame.iter().enumerate().take(dims) {
-                b.push(f.dot(ci));
+                h[1 + r] = f.dot(ci);
                 for j in 0..=p {
                     let cj = s - p + j;
                     if basis[j] == 0.0 {
@@ -567,125 +565,75 @@ pub fn band_fair_mapped(
                     for &(z, c) in map.row(cj) {
                         for k in 0..dims {
                             if f[k] != 0.0 {
-                                ai.push(row0 + 1 + r);
-                                aj.push(var(z, k));
-                                av.push(-(c * basis[j]) * f[k]);
+                                entries.push((1 + r, var(z, k), -(c * basis[j]) * f[k]));
                             }
                         }
                     }
                 }
             }
-            cones.push(SupportedConeT::SecondOrderConeT(dims + 1));
+            qp.push_cone(&h[..dims + 1], &entries);
         }
-        let row0 = b.len();
-        for (j, &g) in signed.iter().enumerate() {
+        for &g in &signed {
             let sg = f64::from(targets[g]);
-            b.push(sg * res[g] - sign_margin);
-            for (a, &v) in jac[g * nv..(g + 1) * nv].iter().enumerate() {
-                if v != 0.0 {
-                    ai.push(row0 + j);
-                    aj.push(a);
-                    av.push(-sg * v);
-                }
-            }
-            if !hard {
-                ai.push(row0 + j);
-                aj.push(nv + j);
-                av.push(-1.0);
-            }
+            let row = &jac[g * nv..(g + 1) * nv];
+            qp.push_row(
+                sg * res[g] - sign_margin,
+                row.iter()
+                    .enumerate()
+                    .filter(|(_, &v)| v != 0.0)
+                    .map(|(a, &v)| (a, -sg * v)),
+                !hard,
+            );
         }
-        if !hard {
-            for j in 0..nt {
-                b.push(0.0);
-                ai.push(row0 + nt + j);
-                aj.push(nv + j);
-                av.push(-1.0);
-            }
-        }
-        if nt > 0 {
-            let rows = if hard { nt } else { 2 * nt };
-            cones.push(SupportedConeT::NonnegativeConeT(rows));
-        }
+        qp.end_group();
         let guard_rows = guard.rows(&extrema, &ctrl, p, data.planar, map, dims, c, rmax);
-        if !guard_rows.is_empty() {
-            let row0 = b.len();
-            for (j, (bj, coef)) in guard_rows.iter().enumerate() {
-                b.push(*bj);
-                for (a, &v) in coef.iter().enumerate() {
-                    if v != 0.0 {
-                        ai.push(row0 + j);
-                        aj.push(a);
-                        av.push(v);
-                    }
-                }
-            }
-            cones.push(SupportedConeT::NonnegativeConeT(guard_rows.len()));
+        for (bj, coef) in &guard_rows {
+            qp.push_row(
+                *bj,
+                coef.iter()
+                    .enumerate()
+                    .filter(|(_, &v)| v != 0.0)
+                    .map(|(a, &v)| (a, v)),
+                false,
+            );
         }
-        let mut q = jtr.clone();
-        q.resize(nx, SIGN_WEIGHT);
-        let a_mat = CscMatrix::new_from_triplets(b.len(), nx, ai, aj, av);
+        qp.end_group();
+        qp.q.copy_from_slice(&jtr);
         let mut accepted = false;
         let mut guarded = false;
         for _ in 0..3 {
             if out.solves >= opts.max_solves {
                 break;
             }
-            // P = JᵀJ + μ (diag(JᵀJ) + 1e-6 max diag), upper triangle, column by column
-            let (mut colptr, mut rowval, mut nzval) = (vec![0usize], Vec::new(), Vec::new());
-            for col in 0..nv {
-                for row in 0..=col {
-                    let mut v = jtj[row * nv + col];
-                    if row == col {
-                        v += mu * (v + 1e-6 * max_diag);
-                    }
-                    if v != 0.0 {
-                        rowval.push(row);
-                        nzval.push(v);
-                    }
+            // P = JᵀJ + μ (diag(JᵀJ) + 1e-6 max diag)
+            qp.p.copy_from_slice(&jtj);
+            for a in 0..nv {
+                for b in 0..a {
+                    qp.p[a * nv + b] = jtj[b * nv + a];
                 }
-                colptr.push(rowval.len());
+                let v = &mut qp.p[a * nv + a];
+                *v += mu * (*v + 1e-6 * max_diag);
             }
-            colptr.resize(nx + 1, rowval.len());
-            let p_mat = CscMatrix::new(nx, nx, colptr, rowval, nzval);
             for i in free.clone() {
                 // a point outside the band (only at a fixed count) may not get worse
                 let r = (radius - shrink[i]).max(0.5 * tol);
-                b[cone_row[i]] = if now_dev[i] > tol {
+                qp.cone_h_mut(cone_of[i])[0] = if now_dev[i] > tol {
                     r.max(now_dev[i])
                 } else {
                     r
                 };
             }
-            // no iterative refinement and 3 equilibration passes (defaults: on, 10): 33 % fewer
-            // instructions per subproblem, the same steps to 7 digits of F (docs/optim.md, speed)
-            let settings = match DefaultSettingsBuilder::default()
-                .verbose(false)
-                .max_iter(60)
-                .tol_gap_abs(1e-7)
-                .tol_gap_rel(1e-7)
-                .tol_feas(1e-7)
-                .iterative_refinement_enable(false)
-                .equilibrate_max_iter(3)
-                .build()
-            {
-                Ok(s) => s,
-                Err(_) => return finish(data, ws, &ctrl, &feet, out, map),
-            };
             out.solves += 1;
-            let Ok(mut solver) = DefaultSolver::new(&p_mat, &q, &a_mat, &b, &cones, settings)
-            else {
-                return finish(data, ws, &ctrl, &feet, out, map);
+            // the dedicated interior-point solver, clarabel when it does not converge
+            let x = if super::cone_ipm::solve(&qp, &mut ipm) {
+                Some(ipm.solution.clone())
+            } else {
+                qp.solve_clarabel()
             };
-            solver.solve();
-            let sol = &solver.solution;
-            if !matches!(
-                sol.status,
-                SolverStatus::Solved | SolverStatus::AlmostSolved
-            ) || !sol.x.iter().all(|v| v.is_finite())
-            {
+            let Some(x) = x else {
                 mu *= 10.0;
                 continue;
-            }
+            };
             // line search along the step: every point of the segment is inside the cones
             let mut t = 1.0;
             let mut left_band = false;
@@ -697,9 +645,9 @@ pub fn band_fair_mapped(
                     }
                     ws.ctrl[j] = ctrl[j];
                     for k in 0..dims {
-                        let mut step = terms[0].1 * sol.x[var(terms[0].0, k)];
+                        let mut step = terms[0].1 * x[var(terms[0].0, k)];
                         for &(z, c) in &terms[1..] {
-                            step += c * sol.x[var(z, k)];
+                            step += c * x[var(z, k)];
                         }
                         ws.ctrl[j][k] += t * step;
                     }

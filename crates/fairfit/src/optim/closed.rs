@@ -18,8 +18,9 @@
 //! The search is the open method's ([`super::integrated`]) on periodic candidates: a baseline count
 //! (the least-squares method's periodic knots mapped onto these parameters, else equal index steps),
 //! the count descent by greedy knot removal and swarm probes, the full swarm and the smoothing line
-//! search at the smallest feasible count, and up to `max_extra_control_points` more when F shrinks by
-//! `fairness_gain` per point. `--control-points N` fixes `n_u = N` distinct control points. The
+//! search at the smallest feasible count, and up to `max_extra_control_points` more, the count chosen
+//! on the finished curves ([`super::count_search`]). `--control-points N` fixes `n_u = N` distinct
+//! control points. The
 //! control-point polish of open curves is not applied (its moves would have to keep the seam
 //! periodic).
 
@@ -202,6 +203,7 @@ fn fit_periodic(
 
     // full search at the smallest feasible count, then with extra points while they pay
     let family = ClosedFamily {
+        prep,
         data: &data,
         tol,
         opts,
@@ -212,17 +214,11 @@ fn fit_periodic(
         descent: &descent,
         limit: max_n.min(baseline),
     };
-    let choice = search_counts(&family, start_at, opts, progress, &mut stats);
-    let interior = choice.interior.ok_or_else(|| {
-        Error::Fit("no valid periodic knot vector for the data (too few points?)".into())
-    })?;
-    let log_lambda = choice.log_lambda;
+    let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
     let mut result = if opts.searches_degree() {
-        super::degree_candidates::finish_periodic_fit(
-            prep, &data, &interior, log_lambda, tol, opts,
-        )?
+        super::degree_candidates::raise_periodic(prep, result, tol, opts)?
     } else {
-        finish_periodic(prep, &data, &interior, log_lambda, tol, opts)?
+        result
     };
     stats.evaluations += result.stats.evaluations;
     stats.iterations += result.stats.iterations;
@@ -253,6 +249,7 @@ pub(crate) fn problem_at<'a>(
 
 /// The periodic knot searches of one closed data set, for [`search_counts`].
 struct ClosedFamily<'a> {
+    prep: &'a Prepared,
     data: &'a ClosedData,
     tol: f64,
     opts: &'a IntegratedOptions,
@@ -271,6 +268,12 @@ impl<'a> CountFamily for ClosedFamily<'a> {
 
     fn insertion(&self, knots: &[f64], _log_lambda: f64) -> Vec<f64> {
         best_insertion(self.data, knots, self.tol)
+    }
+
+    fn finish(&self, interior: &[f64], log_lambda: f64) -> Result<IntegratedResult> {
+        finish_periodic(
+            self.prep, self.data, interior, log_lambda, self.tol, self.opts,
+        )
     }
 }
 

@@ -111,12 +111,7 @@ pub(crate) fn fit_with_corners(
         }
     };
     let highest = opts_in.max_degree.unwrap_or(p).max(p);
-    keep_degree(
-        &|| Ok(reference.clone()),
-        p + 1..=highest,
-        opts_in,
-        &attempt,
-    )
+    keep_degree(reference, p + 1..=highest, opts_in, &attempt)
 }
 
 /// The pieces joined C0 into the curve of the whole data (input coordinates), measured.

@@ -59,38 +59,34 @@ impl Candidate {
     }
 }
 
-/// The degree search after the reference's count search on open data: `interior` and `log_lambda`
-/// are the reference's knots and smoothing, `prep` its prepared data.
-pub(crate) fn finish_open(
+/// The degree search after the reference's count search on open data: `reference` is the
+/// finished fit at `opts.degree` of the prepared data `prep`.
+pub(crate) fn raise_open(
     prep: &Prepared,
-    interior: &[f64],
-    log_lambda: f64,
+    reference: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
-    let finish_at = |d: usize, c: &Candidate| {
-        let o = candidate_options(opts, d);
-        finish(
-            &preps[d - p],
-            &c.interior,
-            c.log_lambda,
-            tol,
-            &o,
-            o.polish.then_some(tol),
-        )
-    };
-    let reference = || {
-        let o = opts.at_degree(p);
-        finish(prep, interior, log_lambda, tol, &o, o.polish.then_some(tol))
-    };
+    let k = reference.curve.knots().to_vec();
+    let interior = &k[p + 1..k.len() - p - 1];
     let attempt = |d: usize| match open_candidate(&preps[d - p], p, interior, tol, opts, d) {
-        Some(c) => c.attempt(|c| finish_at(d, c)),
+        Some(c) => c.attempt(|c| {
+            let o = candidate_options(opts, d);
+            finish(
+                &preps[d - p],
+                &c.interior,
+                c.log_lambda,
+                tol,
+                &o,
+                o.polish.then_some(tol),
+            )
+        }),
         None => Attempt::default(),
     };
-    keep_degree(&reference, p + 1..=highest, opts, &attempt)
+    keep_degree(reference, p + 1..=highest, opts, &attempt)
 }
 
 /// Degree `d` of an open curve at the count of the reference's `interior` knots (degree `p`), by
@@ -159,26 +155,25 @@ pub(crate) fn raise_open_piece(
     }
 }
 
-/// [`finish_open`] for a periodic closed curve (`data`: the reference's closed data).
-pub(crate) fn finish_periodic_fit(
+/// [`raise_open`] for a periodic closed curve.
+pub(crate) fn raise_periodic(
     prep: &Prepared,
-    data: &ClosedData,
-    interior: &[f64],
-    log_lambda: f64,
+    reference: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
-    let n = interior.len() + 1;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
+    // the breakpoints between the seam at 0 and 1
+    let n = super::closed::distinct_control_points(&reference.curve);
+    let interior = reference.curve.knots()[p + 1..p + n].to_vec();
     // the higher degrees' closed data (None: too few points for the degree)
     let datas: Vec<Option<ClosedData>> = preps
         .iter()
         .skip(1)
         .map(|q| ClosedData::new(q).ok())
         .collect();
-    let reference = || finish_periodic(prep, data, interior, log_lambda, tol, &opts.at_degree(p));
     let attempt = |d: usize| {
         let Some(cd) = datas[d - p - 1].as_ref() else {
             return Attempt::default();
@@ -187,7 +182,7 @@ pub(crate) fn finish_periodic_fit(
             return Attempt::default();
         }
         let o = opts.at_degree(d);
-        let seeds = vec![interior.to_vec(), equal_breaks(&cd.params, n)];
+        let seeds = vec![interior.clone(), equal_breaks(&cd.params, n)];
         match short_search(&problem_at(cd, n, tol, &o), d, &seeds, &o) {
             Some(c) => c.attempt(|c| {
                 let o = candidate_options(opts, d);
@@ -196,7 +191,7 @@ pub(crate) fn finish_periodic_fit(
             None => Attempt::default(),
         }
     };
-    keep_degree(&reference, p + 1..=highest, opts, &attempt)
+    keep_degree(reference, p + 1..=highest, opts, &attempt)
 }
 
 /// The prepared data at every degree from `p` to `highest` (only the degree differs).

@@ -24,10 +24,10 @@
 //! - a degree whose knot search misses the tolerance at that count is not finished (it would need
 //!   more control points than the reference, which rule 1 refuses); the others get band fairing
 //!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish;
-//! - the reference's band fairing and polish (serial) run side by side with the first higher
-//!   degree, so on two cores that degree mostly costs no wall time; a degree higher still is tried
-//!   only when the one below it won (on the 33 benchmark curves the quintic beat the cubic only
-//!   where the quartic did);
+//! - the higher degrees start from the reference's finished fit (the count search finishes its
+//!   count candidates itself), one at a time: a degree higher still is tried only when the one
+//!   below it won (on the 33 benchmark curves the quintic beat the cubic only where the quartic
+//!   did);
 //! - data with corners: the pieces between corners are fitted at the reference degree and joined
 //!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
 //!   knots and the raised pieces are joined, so one degree serves the whole curve.
@@ -81,41 +81,29 @@ pub(crate) struct Attempt {
     pub iterations: usize,
 }
 
-/// The staged search's choice: the reference's fit (`reference`, run beside the first higher
-/// degree), then the higher degrees `higher` one at a time (`attempt`), a degree higher still only
-/// when the one below it won; one fit kept by [`choose_degree`] (module doc, "Staged search").
+/// The staged search's choice: the reference's fit, then the higher degrees `higher` one at a
+/// time (`attempt`), a degree higher still only when the one below it won; one fit kept by
+/// [`choose_degree`] (module doc, "Staged search").
 pub(crate) fn keep_degree(
-    reference: &(dyn Fn() -> Result<IntegratedResult> + Sync),
+    reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
     opts: &IntegratedOptions,
     attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
-    let (lo, hi) = (*higher.start(), *higher.end());
-    // the reference's band fairing and polish are serial: the first higher degree runs beside them
-    let (reference_fit, first) = rayon::join(reference, || {
-        if lo <= hi {
-            attempt(lo)
-        } else {
-            Attempt::default()
-        }
-    });
-    let mut results = vec![reference_fit?];
-    let mut trials = vec![trial_of(&results[0])];
+    let mut trials = vec![trial_of(&reference)];
+    let mut results = vec![reference];
     let (mut evaluations, mut iterations) = (0, 0);
-    let mut next = Some(first);
-    let mut d = lo;
-    while let Some(a) = next.take() {
+    for d in higher {
+        let a = attempt(d);
         evaluations += a.evaluations;
         iterations += a.iterations;
         let Some(r) = a.fit else { break };
         trials.push(trial_of(&r));
         results.push(r);
         // a degree higher still only when this one won
-        if choose_degree(&trials, opts.fairness_gain) + 1 != trials.len() || d >= hi {
+        if choose_degree(&trials, opts.fairness_gain) + 1 != trials.len() {
             break;
         }
-        d += 1;
-        next = Some(attempt(d));
     }
     let pick = choose_degree(&trials, opts.fairness_gain);
     evaluations += results.iter().map(|r| r.stats.evaluations).sum::<usize>();

@@ -15,6 +15,8 @@
 //! - [`control_map`]: the control points the fairing stages move (open: interior; periodic: distinct);
 //! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
 //!   convex programming with second-order cones);
+//! - [`band_qp`]: band fairing's convex subproblem and its general (clarabel) solver;
+//! - [`cone_ipm`]: a dense primal–dual interior-point solver for that subproblem's shape;
 //! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
 //!   extrema removed);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
@@ -32,7 +34,9 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod band_fairing;
+pub mod band_qp;
 pub mod closed;
+pub mod cone_ipm;
 pub mod control_map;
 pub mod corner_fit;
 pub mod corners;
