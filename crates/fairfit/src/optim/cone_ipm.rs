@@ -248,7 +248,8 @@ fn solve_d<const D: usize>(qp: &BandQp, w: &mut IpmWork) -> bool {
         dt.rwin.push(win);
         dt.h[nc * D + j] = qp.h[l0 + j] / n;
     }
-    // windows up to 16 wide are padded to a common width M (zeros), shifted to fit in 0..nv:
+    // windows up to 16 wide are padded to a common width M of 6, 8, 12 or 16 (zeros; 6: degree 2
+    // or a planar curve of 5 control points), shifted to fit in 0..nv:
     // fixed-size kernels for them; wider ones (a periodic seam) keep their width
     let widest = dt
         .cwin
@@ -258,7 +259,7 @@ fn solve_d<const D: usize>(qp: &BandQp, w: &mut IpmWork) -> bool {
         .filter(|&m| m <= 16)
         .max()
         .unwrap_or(0);
-    let mw = [8, 12, 16]
+    let mw = [6, 8, 12, 16]
         .into_iter()
         .find(|&m| m >= widest && m <= nv)
         .unwrap_or(0);
@@ -286,6 +287,7 @@ fn solve_d<const D: usize>(qp: &BandQp, w: &mut IpmWork) -> bool {
     }
     let (dt, st, it, status) = (&w.data, &mut w.st, &mut w.iterations, &mut w.status);
     let ok = match mw {
+        6 => iterate::<D, 6>(dt, st, it, status),
         8 => iterate::<D, 8>(dt, st, it, status),
         12 => iterate::<D, 12>(dt, st, it, status),
         16 => iterate::<D, 16>(dt, st, it, status),

@@ -93,6 +93,8 @@ pub struct IntegratedOptions {
     /// Whether the final control points are first faired inside the tolerance band by sequential
     /// convex programming ([`super::band_fairing`]; with `polish`, the polish then finishes).
     pub band_fairing: bool,
+    /// Most convex subproblems of the band fairing.
+    pub band_solves: usize,
 }
 
 impl Default for IntegratedOptions {
@@ -113,6 +115,7 @@ impl Default for IntegratedOptions {
             control_points: None,
             polish: true,
             band_fairing: true,
+            band_solves: BandOptions::default().max_solves,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
             closed: crate::fit::tolerance::ClosedMode::Auto,
         }
@@ -120,6 +123,11 @@ impl Default for IntegratedOptions {
 }
 
 impl IntegratedOptions {
+    /// Whether the degree is searched ([`Self::max_degree`] above [`Self::degree`]).
+    pub fn searches_degree(&self) -> bool {
+        self.max_degree.is_some_and(|d| d > self.degree)
+    }
+
     /// These options at the single degree `degree` (no degree search).
     pub fn at_degree(&self, degree: usize) -> IntegratedOptions {
         IntegratedOptions {
@@ -216,9 +224,6 @@ pub fn fit_integrated_with_progress(
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
-    if opts.max_degree.is_some_and(|d| d > opts.degree) {
-        return super::degree_search::fit_degree_search(points, opts, progress);
-    }
     if let Some(r) = super::closed::fit_if_closed(points, opts, progress, start)? {
         return Ok(r);
     }
@@ -358,8 +363,15 @@ pub fn fit_integrated_with_progress(
         limit: m1.min(baseline),
     };
     let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
+    let mut result = if opts.searches_degree() {
+        super::degree_candidates::raise_open(&prep, result, tol, opts)?
+    } else {
+        result
+    };
     stats.evaluations += result.stats.evaluations;
+    stats.iterations += result.stats.iterations;
     stats.polish_moves = result.stats.polish_moves;
+    stats.degrees_tried = std::mem::take(&mut result.stats.degrees_tried);
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(IntegratedResult {
         baseline_control_points: baseline,
@@ -369,7 +381,7 @@ pub fn fit_integrated_with_progress(
 }
 
 /// The open knot search for `n` control points.
-fn open_problem<'a>(
+pub(crate) fn open_problem<'a>(
     data: &'a FitData,
     n: usize,
     tol: f64,
@@ -555,7 +567,7 @@ fn lsq_method_knots(data: &FitData, tol: f64) -> Option<Vec<f64>> {
 /// Every way to remove one interior knot, refitted by least squares (no smoothing), sorted by the
 /// resulting maximum deviation (ties by knot index): `(deviation, knots)`. Evaluated in parallel,
 /// collected in order.
-fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
+pub(crate) fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
     let enc = KnotEncoding::new(knots.len().saturating_sub(1), 0.0, false);
     let mut out: Vec<(usize, f64, Vec<f64>)> = (0..knots.len())
         .into_par_iter()
@@ -647,6 +659,15 @@ fn best_insertion(data: &FitData, knots: &[f64], log_lambda: f64, tol: f64) -> V
     }
 }
 
+/// The band fairing's subproblem budget under `opts` (0: no band fairing).
+pub(crate) fn band_solves(opts: &IntegratedOptions) -> usize {
+    if opts.band_fairing {
+        opts.band_solves
+    } else {
+        0
+    }
+}
+
 /// The tolerance in normalised units.
 pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
     match opts.tolerance {
@@ -658,13 +679,14 @@ pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
 /// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
 ///
 /// With `polish_within = Some((tol, F*, band))` the control points are then refined by [`polish`]
-/// within `tol` (and the per-span target `F*`), after [`band_fair`] when `band` is set.
+/// within `tol` (and the per-span target `F*`), after [`band_fair`] with at most `band` convex
+/// subproblems when `band > 0`.
 pub(crate) fn finish_curve(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
     degree: usize,
-    polish_within: Option<(f64, Option<f64>, bool)>,
+    polish_within: Option<(f64, Option<f64>, usize)>,
 ) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut ws = EvalWorkspace::default();
     set_knots(degree, interior, &mut ws);
@@ -676,10 +698,11 @@ pub(crate) fn finish_curve(
     }
     let mut polished = None;
     if let Some((tol, span_cap, band)) = polish_within {
-        if band {
+        if band > 0 {
             let start = ws.foot_params.clone();
             let bo = BandOptions {
                 span_cap,
+                max_solves: band,
                 ..BandOptions::default()
             };
             band_fair(&prep.data, &mut ws, &start, tol, &bo);
@@ -708,7 +731,7 @@ pub(crate) fn finish_curve(
 }
 
 /// Builds the curve in input coordinates from normalised interior knots and measures it.
-fn finish(
+pub(crate) fn finish(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
@@ -721,7 +744,7 @@ fn finish(
         interior,
         log_lambda,
         opts.degree,
-        polish_within.map(|t| (t, opts.span_fairness, opts.band_fairing)),
+        polish_within.map(|t| (t, opts.span_fairness, band_solves(opts))),
     )?;
     let met = quality.max_deviation <= tol * prep.scale
         && opts
