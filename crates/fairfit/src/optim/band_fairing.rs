@@ -54,7 +54,8 @@ pub struct BandOptions {
     /// own feasibility tolerance cannot push a point outside.
     pub margin: f64,
     /// Stop after two accepted steps in a row that lower `F` (with sign targets: the merit) by
-    /// less than this fraction and do not cut the sign-target violation by a tenth.
+    /// less than this fraction and do not cut the sign-target violation by a tenth, or when a
+    /// subproblem's model predicts less than this fraction.
     pub min_rel_gain: f64,
     /// A per-span fairness target `F*`: steps may not raise `max_j F_j` above it (or above the
     /// starting curve's, if larger).
@@ -601,6 +602,7 @@ pub fn band_fair_mapped(
         qp.q.copy_from_slice(&jtr);
         let mut accepted = false;
         let mut guarded = false;
+        let mut converged = false;
         for _ in 0..3 {
             if out.solves >= opts.max_solves {
                 break;
@@ -634,6 +636,12 @@ pub fn band_fair_mapped(
                 mu *= 10.0;
                 continue;
             };
+            // the model's own merit gain (½ F/F_k is ½ + the model value): a step it predicts to
+            // gain less than `min_rel_gain` ends the stage
+            if (cur_merit - 0.5 - qp.model_value(&x)) < opts.min_rel_gain * cur_merit {
+                converged = true;
+                break;
+            }
             // line search along the step: every point of the segment is inside the cones
             let mut t = 1.0;
             let mut left_band = false;
@@ -722,7 +730,7 @@ pub fn band_fair_mapped(
                 mu *= 8.0;
             }
         }
-        if (!accepted && !guarded) || small_gains >= 2 {
+        if (!accepted && !guarded) || small_gains >= 2 || converged {
             break;
         }
     }

@@ -153,15 +153,28 @@ impl BandQp {
         }
     }
 
-    /// The objective at the step `x` (each soft row's slack at its least value) and the largest
-    /// violation of a cone or hard row.
-    pub fn evaluate(&self, x: &[f64]) -> (f64, f64) {
+    /// The objective at the step `x`, each soft row's slack at its least value
+    /// `max(0, gᵀx − h)`.
+    pub fn model_value(&self, x: &[f64]) -> f64 {
         let nv = self.nv;
         let mut obj = 0.0;
         for a in 0..nv {
             let px: f64 = (0..nv).map(|b| self.p[a * nv + b] * x[b]).sum();
             obj += x[a] * (0.5 * px + self.q[a]);
         }
+        let l0 = self.cone_row[self.cones()];
+        for j in (0..self.rows()).filter(|&j| self.soft[j]) {
+            let gx: f64 = (self.row_start[j]..self.row_start[j + 1])
+                .map(|e| self.row_vals[e] * x[self.row_cols[e]])
+                .sum();
+            obj += self.slack_weight * (gx - self.h[l0 + j]).max(0.0);
+        }
+        obj
+    }
+
+    /// [`BandQp::model_value`] and the largest violation of a cone or hard row at `x`.
+    #[cfg(test)]
+    pub fn evaluate(&self, x: &[f64]) -> (f64, f64) {
         let mut worst = 0.0f64;
         for k in 0..self.cones() {
             let (r0, r1) = (self.cone_row[k], self.cone_row[k + 1]);
@@ -181,18 +194,13 @@ impl BandQp {
             worst = worst.max(tail - s[0]);
         }
         let l0 = self.cone_row[self.cones()];
-        for j in 0..self.rows() {
+        for j in (0..self.rows()).filter(|&j| !self.soft[j]) {
             let gx: f64 = (self.row_start[j]..self.row_start[j + 1])
                 .map(|e| self.row_vals[e] * x[self.row_cols[e]])
                 .sum();
-            let s = self.h[l0 + j] - gx;
-            if self.soft[j] {
-                obj += self.slack_weight * (-s).max(0.0);
-            } else {
-                worst = worst.max(-s);
-            }
+            worst = worst.max(gx - self.h[l0 + j]);
         }
-        (obj, worst)
+        (self.model_value(x), worst)
     }
 
     /// The minimiser's step variables by `clarabel`; `None` when it fails or does not solve.
