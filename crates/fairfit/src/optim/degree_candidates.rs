@@ -1,6 +1,8 @@
 //! The higher degrees of the staged degree search ([`super::degree_search`], module doc "Staged
-//! search"): after the reference degree's count search, every higher degree keeps the reference's
-//! control-point count and starts from its knots.
+//! search"): every higher degree keeps a control-point count of the reference degree's and starts
+//! from its knots (open curves: the first higher degree from the count descent's knots at the
+//! smallest feasible count, beside the count search, [`open_next`]; otherwise the reference's
+//! finished fit).
 //!
 //! - **Open curves**: degree `d` at `n` control points has `n − d − 1` interior knots, `d − p` fewer
 //!   than the reference's. Seeds: the reference's knots averaged over windows of `d − p + 1`
@@ -66,17 +68,53 @@ pub(crate) fn raise_open(
     reference: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
+    first: Option<Attempt>,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
     let k = reference.curve.knots().to_vec();
     let interior = &k[p + 1..k.len() - p - 1];
-    let attempt = |d: usize| match open_candidate(&preps[d - p], p, interior, tol, opts, d) {
+    let first = std::sync::Mutex::new(first);
+    let attempt = |d: usize| {
+        if d == p + 1 {
+            if let Some(a) = first.lock().expect("not poisoned").take() {
+                return a;
+            }
+        }
+        open_attempt(&preps[d - p], p, interior, tol, opts, d)
+    };
+    keep_degree(reference, p + 1..=highest, opts, &attempt)
+}
+
+/// The attempt of degree `opts.degree + 1` at the count of the reference degree's `interior` knots
+/// (run beside the count search, from the descent's knots).
+pub(crate) fn open_next(
+    prep: &Prepared,
+    interior: &[f64],
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> Attempt {
+    let (p, d) = (opts.degree, opts.degree + 1);
+    let mut q = prep.clone();
+    q.data.degree = d;
+    open_attempt(&q, p, interior, tol, opts, d)
+}
+
+/// Degree `d` (data `q`) at the count of the degree-`p` `interior` knots, finished when feasible.
+fn open_attempt(
+    q: &Prepared,
+    p: usize,
+    interior: &[f64],
+    tol: f64,
+    opts: &IntegratedOptions,
+    d: usize,
+) -> Attempt {
+    match open_candidate(q, p, interior, tol, opts, d) {
         Some(c) => c.attempt(|c| {
             let o = candidate_options(opts, d);
             finish(
-                &preps[d - p],
+                q,
                 &c.interior,
                 c.log_lambda,
                 tol,
@@ -85,8 +123,7 @@ pub(crate) fn raise_open(
             )
         }),
         None => Attempt::default(),
-    };
-    keep_degree(reference, p + 1..=highest, opts, &attempt)
+    }
 }
 
 /// Degree `d` of an open curve at the count of the reference's `interior` knots (degree `p`), by

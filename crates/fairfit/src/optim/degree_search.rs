@@ -24,10 +24,12 @@
 //! - a degree whose knot search misses the tolerance at that count is not finished (it would need
 //!   more control points than the reference, which rule 1 refuses); the others get band fairing
 //!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish;
-//! - the higher degrees start from the reference's finished fit (the count search finishes its
-//!   count candidates itself), one at a time: a degree higher still is tried only when the one
-//!   below it won (on the 33 benchmark curves the quintic beat the cubic only where the quartic
-//!   did);
+//! - open curves: the first higher degree runs beside the reference's count search (rayon
+//!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
+//!   the cores the count search leaves idle (its serial band fairing and polish); periodic curves
+//!   and pieces between corners start from the reference's finished fit;
+//! - a degree higher still is tried only when the one below it won (on the 33 benchmark curves
+//!   the quintic beat the cubic only where the quartic did), from the reference's finished knots;
 //! - data with corners: the pieces between corners are fitted at the reference degree and joined
 //!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
 //!   knots and the raised pieces are joined, so one degree serves the whole curve.

@@ -362,11 +362,18 @@ pub fn fit_integrated_with_progress(
         descent: &descent,
         limit: m1.min(baseline),
     };
-    let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
+    // with a degree search, the next degree (from the descent's knots) runs beside the count search
+    let (result, first) = rayon::join(
+        || search_counts(&family, start_at, opts, progress, &mut stats),
+        || {
+            opts.searches_degree()
+                .then(|| super::degree_candidates::open_next(&prep, &best_knots, tol, opts))
+        },
+    );
     let mut result = if opts.searches_degree() {
-        super::degree_candidates::raise_open(&prep, result, tol, opts)?
+        super::degree_candidates::raise_open(&prep, result?, tol, opts, first)?
     } else {
-        result
+        result?
     };
     stats.evaluations += result.stats.evaluations;
     stats.iterations += result.stats.iterations;
