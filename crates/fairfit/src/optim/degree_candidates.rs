@@ -20,7 +20,9 @@
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{pso_options, CountProblem};
-use super::degree_search::{keep_degree, Attempt, CANDIDATE_BAND_SOLVES};
+use super::degree_search::{
+    keep_degree, Attempt, CANDIDATE_BAND_SOLVES, CANDIDATE_POLISH_EVALUATIONS,
+};
 use super::integrated::{
     finish, open_problem, removal_candidates, tolerance_of, IntegratedOptions, IntegratedResult,
 };
@@ -243,16 +245,13 @@ fn at_degrees(prep: &Prepared, p: usize, highest: usize) -> Vec<Prepared> {
 }
 
 /// The options a degree is finished with: the reference's own, a higher degree's band fairing
-/// capped at [`CANDIDATE_BAND_SOLVES`].
+/// capped at [`CANDIDATE_BAND_SOLVES`] subproblems and its polish at
+/// [`CANDIDATE_POLISH_EVALUATIONS`] measurements.
 fn candidate_options(opts: &IntegratedOptions, degree: usize) -> IntegratedOptions {
     let mut o = opts.at_degree(degree);
     if degree > opts.degree {
-        o.band_solves = o.band_solves.min(
-            std::env::var("FF_CAP")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(CANDIDATE_BAND_SOLVES),
-        ); // TEMP
+        o.band_solves = o.band_solves.min(CANDIDATE_BAND_SOLVES);
+        o.polish_evaluations = o.polish_evaluations.min(CANDIDATE_POLISH_EVALUATIONS);
     }
     o
 }
@@ -276,10 +275,6 @@ fn short_search<P: CountProblem>(
     }
     let po = PsoOptions {
         max_iterations: 0,
-        refine_evaluations: std::env::var("FF_REFINE")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(opts.refine_evaluations), // TEMP
         ..pso_options(opts, 0, false, SALT + degree as u64)
     };
     let mut r = run_pso(pr, &positions, &po, &|_| {});
