@@ -17,6 +17,7 @@
 //!   convex programming with second-order cones);
 //! - [`band_qp`]: band fairing's convex subproblem and its general (clarabel) solver;
 //! - [`cone_ipm`]: a dense primal–dual interior-point solver for that subproblem's shape;
+//! - [`cone_algebra`]: the second-order cone's Jordan algebra, NT scaling, a small Cholesky;
 //! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
 //!   extrema removed);
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
@@ -36,6 +37,7 @@
 pub mod band_fairing;
 pub mod band_qp;
 pub mod closed;
+pub mod cone_algebra;
 pub mod cone_ipm;
 pub mod control_map;
 pub mod corner_fit;

@@ -122,6 +122,31 @@ fn measure_moved(
     }
 }
 
+/// [`measure_moved`] of a trial move against the current curve `cur`: the deviation (the
+/// projections, most of the cost) only when `F` decreases and `max_j F_j` stays within
+/// `span_cap`, since a trial failing either is rejected anyway (then the deviations are
+/// reported infinite). After band fairing half of the polish's trials fail on `F`. A move of a
+/// seam point (measured in full either way) is measured once.
+fn measure_trial(
+    data: &FitData,
+    map: &ControlMap,
+    v: usize,
+    start: &[f64],
+    cur: &CandidateEval,
+    span_cap: f64,
+    ws: &mut EvalWorkspace,
+) -> CandidateEval {
+    if map.col(v).len() != 1 {
+        return measure_moved(data, map, v, start, true, ws);
+    }
+    let e = measure_moved(data, map, v, start, false, ws);
+    if e.solved && e.max_span_fairness <= span_cap && e.fairness < cur.fairness * (1.0 - 1e-9) {
+        measure_moved(data, map, v, start, true, ws)
+    } else {
+        e
+    }
+}
+
 /// Sets the clamped control points moved by movable point `v` to `ctrl` plus `delta` times their
 /// coefficient.
 fn apply_move(map: &ControlMap, v: usize, ctrl: &[Vec3], delta: Vec3, ws: &mut EvalWorkspace) {
@@ -208,7 +233,7 @@ pub fn polish_mapped(
                 }
                 apply_move(map, r, &ctrl, delta * t, ws);
                 t *= 0.5;
-                let e = measure_moved(data, map, r, &params, true, ws);
+                let e = measure_trial(data, map, r, &params, &cur, span_cap, ws);
                 out.evaluations += 1;
                 if e.solved
                     && e.max_deviation <= allowed
@@ -306,7 +331,7 @@ fn gradient_move(
             }
             apply_move(map, r, ctrl, dir * t, ws);
             t *= 0.5;
-            let e = measure_moved(data, map, r, params, true, ws);
+            let e = measure_trial(data, map, r, params, cur, span_cap, ws);
             out.evaluations += 1;
             if e.solved
                 && e.max_deviation <= allowed
