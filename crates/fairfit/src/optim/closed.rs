@@ -295,7 +295,14 @@ pub(crate) fn finish_periodic(
     }
     let mut stats = OptimStats::default();
     if opts.polish {
-        let f = fair_periodic(data, &mut ws, tol, opts.span_fairness, band_solves(opts))?;
+        let f = fair_periodic(
+            data,
+            &mut ws,
+            tol,
+            opts.span_fairness,
+            band_solves(opts),
+            opts.polish_evaluations,
+        )?;
         e = f.eval;
         stats.evaluations = f.evaluations;
         stats.polish_moves = f.moves;

@@ -1,6 +1,8 @@
 //! The higher degrees of the staged degree search ([`super::degree_search`], module doc "Staged
-//! search"): after the reference degree's count search, every higher degree keeps the reference's
-//! control-point count and starts from its knots.
+//! search"): every higher degree keeps a control-point count of the reference degree's and starts
+//! from its knots (open curves: the first higher degree from the count descent's knots at the
+//! smallest feasible count, beside the count search, [`open_next`]; otherwise the reference's
+//! finished fit).
 //!
 //! - **Open curves**: degree `d` at `n` control points has `n − d − 1` interior knots, `d − p` fewer
 //!   than the reference's. Seeds: the reference's knots averaged over windows of `d − p + 1`
@@ -18,7 +20,9 @@
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{pso_options, CountProblem};
-use super::degree_search::{keep_degree, Attempt, CANDIDATE_BAND_SOLVES};
+use super::degree_search::{
+    keep_degree, Attempt, CANDIDATE_BAND_SOLVES, CANDIDATE_POLISH_EVALUATIONS,
+};
 use super::integrated::{
     finish, open_problem, removal_candidates, tolerance_of, IntegratedOptions, IntegratedResult,
 };
@@ -66,17 +70,53 @@ pub(crate) fn raise_open(
     reference: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
+    first: Option<Attempt>,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
     let k = reference.curve.knots().to_vec();
     let interior = &k[p + 1..k.len() - p - 1];
-    let attempt = |d: usize| match open_candidate(&preps[d - p], p, interior, tol, opts, d) {
+    let first = std::sync::Mutex::new(first);
+    let attempt = |d: usize| {
+        if d == p + 1 {
+            if let Some(a) = first.lock().expect("not poisoned").take() {
+                return a;
+            }
+        }
+        open_attempt(&preps[d - p], p, interior, tol, opts, d)
+    };
+    keep_degree(reference, p + 1..=highest, opts, &attempt)
+}
+
+/// The attempt of degree `opts.degree + 1` at the count of the reference degree's `interior` knots
+/// (run beside the count search, from the descent's knots).
+pub(crate) fn open_next(
+    prep: &Prepared,
+    interior: &[f64],
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> Attempt {
+    let (p, d) = (opts.degree, opts.degree + 1);
+    let mut q = prep.clone();
+    q.data.degree = d;
+    open_attempt(&q, p, interior, tol, opts, d)
+}
+
+/// Degree `d` (data `q`) at the count of the degree-`p` `interior` knots, finished when feasible.
+fn open_attempt(
+    q: &Prepared,
+    p: usize,
+    interior: &[f64],
+    tol: f64,
+    opts: &IntegratedOptions,
+    d: usize,
+) -> Attempt {
+    match open_candidate(q, p, interior, tol, opts, d) {
         Some(c) => c.attempt(|c| {
             let o = candidate_options(opts, d);
             finish(
-                &preps[d - p],
+                q,
                 &c.interior,
                 c.log_lambda,
                 tol,
@@ -85,8 +125,7 @@ pub(crate) fn raise_open(
             )
         }),
         None => Attempt::default(),
-    };
-    keep_degree(reference, p + 1..=highest, opts, &attempt)
+    }
 }
 
 /// Degree `d` of an open curve at the count of the reference's `interior` knots (degree `p`), by
@@ -206,16 +245,13 @@ fn at_degrees(prep: &Prepared, p: usize, highest: usize) -> Vec<Prepared> {
 }
 
 /// The options a degree is finished with: the reference's own, a higher degree's band fairing
-/// capped at [`CANDIDATE_BAND_SOLVES`].
+/// capped at [`CANDIDATE_BAND_SOLVES`] subproblems and its polish at
+/// [`CANDIDATE_POLISH_EVALUATIONS`] measurements.
 fn candidate_options(opts: &IntegratedOptions, degree: usize) -> IntegratedOptions {
     let mut o = opts.at_degree(degree);
     if degree > opts.degree {
-        o.band_solves = o.band_solves.min(
-            std::env::var("FF_CAP")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(CANDIDATE_BAND_SOLVES),
-        ); // TEMP
+        o.band_solves = o.band_solves.min(CANDIDATE_BAND_SOLVES);
+        o.polish_evaluations = o.polish_evaluations.min(CANDIDATE_POLISH_EVALUATIONS);
     }
     o
 }
@@ -239,10 +275,6 @@ fn short_search<P: CountProblem>(
     }
     let po = PsoOptions {
         max_iterations: 0,
-        refine_evaluations: std::env::var("FF_REFINE")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(opts.refine_evaluations), // TEMP
         ..pso_options(opts, 0, false, SALT + degree as u64)
     };
     let mut r = run_pso(pr, &positions, &po, &|_| {});

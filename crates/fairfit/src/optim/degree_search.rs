@@ -23,11 +23,14 @@
 //!   the same breakpoints, a periodic curve has as many spans as distinct control points);
 //! - a degree whose knot search misses the tolerance at that count is not finished (it would need
 //!   more control points than the reference, which rule 1 refuses); the others get band fairing
-//!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish;
-//! - the higher degrees start from the reference's finished fit (the count search finishes its
-//!   count candidates itself), one at a time: a degree higher still is tried only when the one
-//!   below it won (on the 33 benchmark curves the quintic beat the cubic only where the quartic
-//!   did);
+//!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
+//!   [`CANDIDATE_POLISH_EVALUATIONS`] measurements);
+//! - open curves: the first higher degree runs beside the reference's count search (rayon
+//!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
+//!   the cores the count search leaves idle (its serial band fairing and polish); periodic curves
+//!   and pieces between corners start from the reference's finished fit;
+//! - a degree higher still is tried only when the one below it won (on the 33 benchmark curves
+//!   the quintic beat the cubic only where the quartic did), from the reference's finished knots;
 //! - data with corners: the pieces between corners are fitted at the reference degree and joined
 //!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
 //!   knots and the raised pieces are joined, so one degree serves the whole curve.
@@ -69,6 +72,13 @@ pub struct DegreeTrial {
 /// FFA-W3-241's quartic took 26 subproblems (2.9 times the reference's whole band fairing and
 /// polish) without winning.
 pub const CANDIDATE_BAND_SOLVES: usize = 8;
+
+/// Polish measurements of a higher degree in the staged search (the reference gets
+/// [`IntegratedOptions::polish_evaluations`]). After band fairing the polish changes F by a few
+/// per cent at most: on the 33 benchmark curves 500 (and even none) keep the same degrees, and
+/// the quartic's full polish cost FFA-W3-211 and -241 about 0.2·10⁹ instructions each, a third of
+/// the quartic's work.
+pub const CANDIDATE_POLISH_EVALUATIONS: usize = 500;
 
 /// One higher degree's attempt in the staged search: its fit (`None` when it could not be fitted
 /// within the tolerance at the reference's count) and the work spent on it.

@@ -95,6 +95,8 @@ pub struct IntegratedOptions {
     pub band_fairing: bool,
     /// Most convex subproblems of the band fairing.
     pub band_solves: usize,
+    /// Most curve measurements of the polish.
+    pub polish_evaluations: usize,
 }
 
 impl Default for IntegratedOptions {
@@ -116,6 +118,7 @@ impl Default for IntegratedOptions {
             polish: true,
             band_fairing: true,
             band_solves: BandOptions::default().max_solves,
+            polish_evaluations: PolishOptions::default().max_evaluations,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
             closed: crate::fit::tolerance::ClosedMode::Auto,
         }
@@ -362,11 +365,18 @@ pub fn fit_integrated_with_progress(
         descent: &descent,
         limit: m1.min(baseline),
     };
-    let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
+    // with a degree search, the next degree (from the descent's knots) runs beside the count search
+    let (result, first) = rayon::join(
+        || search_counts(&family, start_at, opts, progress, &mut stats),
+        || {
+            opts.searches_degree()
+                .then(|| super::degree_candidates::open_next(&prep, &best_knots, tol, opts))
+        },
+    );
     let mut result = if opts.searches_degree() {
-        super::degree_candidates::raise_open(&prep, result, tol, opts)?
+        super::degree_candidates::raise_open(&prep, result?, tol, opts, first)?
     } else {
-        result
+        result?
     };
     stats.evaluations += result.stats.evaluations;
     stats.iterations += result.stats.iterations;
@@ -659,6 +669,19 @@ fn best_insertion(data: &FitData, knots: &[f64], log_lambda: f64, tol: f64) -> V
     }
 }
 
+/// How [`finish_curve`] finishes the control points of a knot vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Finishing {
+    /// The tolerance (normalised units).
+    pub tol: f64,
+    /// The per-span fairness target `F*`.
+    pub span_cap: Option<f64>,
+    /// Most band-fairing subproblems (0: no band fairing).
+    pub band_solves: usize,
+    /// Most polish measurements.
+    pub polish_evaluations: usize,
+}
+
 /// The band fairing's subproblem budget under `opts` (0: no band fairing).
 pub(crate) fn band_solves(opts: &IntegratedOptions) -> usize {
     if opts.band_fairing {
@@ -678,15 +701,14 @@ pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
 
 /// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
 ///
-/// With `polish_within = Some((tol, F*, band))` the control points are then refined by [`polish`]
-/// within `tol` (and the per-span target `F*`), after [`band_fair`] with at most `band` convex
-/// subproblems when `band > 0`.
+/// With `polish_within = Some(f)` the control points are then refined by [`polish`] within
+/// `f.tol` (and the per-span target `f.span_cap`), after [`band_fair`] when `f.band_solves > 0`.
 pub(crate) fn finish_curve(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
     degree: usize,
-    polish_within: Option<(f64, Option<f64>, usize)>,
+    polish_within: Option<Finishing>,
 ) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut ws = EvalWorkspace::default();
     set_knots(degree, interior, &mut ws);
@@ -697,7 +719,13 @@ pub(crate) fn finish_curve(
         ));
     }
     let mut polished = None;
-    if let Some((tol, span_cap, band)) = polish_within {
+    if let Some(Finishing {
+        tol,
+        span_cap,
+        band_solves: band,
+        polish_evaluations,
+    }) = polish_within
+    {
         if band > 0 {
             let start = ws.foot_params.clone();
             let bo = BandOptions {
@@ -710,6 +738,7 @@ pub(crate) fn finish_curve(
         let start = ws.foot_params.clone();
         let po = PolishOptions {
             span_cap,
+            max_evaluations: polish_evaluations,
             ..PolishOptions::default()
         };
         let pol = polish(&prep.data, &mut ws, &start, tol, &po);
@@ -744,7 +773,12 @@ pub(crate) fn finish(
         interior,
         log_lambda,
         opts.degree,
-        polish_within.map(|t| (t, opts.span_fairness, band_solves(opts))),
+        polish_within.map(|tol| Finishing {
+            tol,
+            span_cap: opts.span_fairness,
+            band_solves: band_solves(opts),
+            polish_evaluations: opts.polish_evaluations,
+        }),
     )?;
     let met = quality.max_deviation <= tol * prep.scale
         && opts

@@ -28,7 +28,7 @@ pub struct PeriodicFaired {
 
 /// Fairs the periodic curve left in `ws` by [`super::periodic::evaluate_closed`] within `tol`
 /// (and the per-span target `span_cap`): band fairing first (at most `band` convex subproblems,
-/// none when 0), then the polish. On
+/// none when 0), then the polish (at most `polish_evaluations` measurements). On
 /// return `ws.ctrl` holds the faired periodic control points (`ws.knots` unchanged) and
 /// `ws.eval` its clamped form, measured.
 pub fn fair_periodic(
@@ -37,6 +37,7 @@ pub fn fair_periodic(
     tol: f64,
     span_cap: Option<f64>,
     band: usize,
+    polish_evaluations: usize,
 ) -> Result<PeriodicFaired> {
     let p = data.degree();
     let n_u = ws.ctrl.len() - p;
@@ -54,6 +55,7 @@ pub fn fair_periodic(
     let start = ev.foot_params.clone();
     let po = PolishOptions {
         span_cap,
+        max_evaluations: polish_evaluations,
         ..PolishOptions::default()
     };
     let pol = polish_mapped(&data.measure, ev, &start, tol, &po, &map);
