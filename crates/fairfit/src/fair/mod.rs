@@ -21,7 +21,7 @@ pub mod metrics;
 pub mod surface;
 
 pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
-pub use extrema::{count_extrema, ExtremaCounts};
+pub use extrema::{count_extrema, count_extrema_sampled, ExtremaCounts};
 pub use fairing::{fair_curve, FairingOptions, FairingResult};
 pub use metrics::{curve_fairness, CurveFairness};
 pub use surface::{surface_fairness, IsoCurveFairness, SurfaceFairness, DEFAULT_ISO_CURVES};

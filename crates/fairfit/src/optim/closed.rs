@@ -26,8 +26,8 @@
 
 use super::count_search::{pso_options, search_counts, CountFamily, CountProblem, CountStart};
 use super::integrated::{
-    fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions, IntegratedResult,
-    OptimStats,
+    band_solves, fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions,
+    IntegratedResult, OptimStats,
 };
 use super::objective::CandidateEval;
 use super::periodic::{evaluate_closed, ClosedData, ClosedProblem, ClosedWorkspace};
@@ -214,9 +214,16 @@ fn fit_periodic(
         descent: &descent,
         limit: max_n.min(baseline),
     };
-    let mut result = search_counts(&family, start_at, opts, progress, &mut stats)?;
+    let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
+    let mut result = if opts.searches_degree() {
+        super::degree_candidates::raise_periodic(prep, result, tol, opts)?
+    } else {
+        result
+    };
     stats.evaluations += result.stats.evaluations;
+    stats.iterations += result.stats.iterations;
     stats.polish_moves = result.stats.polish_moves;
+    stats.degrees_tried = std::mem::take(&mut result.stats.degrees_tried);
     stats.seconds = start.elapsed().as_secs_f64();
     result.baseline_control_points = baseline;
     result.stats = stats;
@@ -224,7 +231,7 @@ fn fit_periodic(
 }
 
 /// The periodic knot search for `n` distinct control points.
-fn problem_at<'a>(
+pub(crate) fn problem_at<'a>(
     data: &'a ClosedData,
     n: usize,
     tol: f64,
@@ -288,7 +295,14 @@ pub(crate) fn finish_periodic(
     }
     let mut stats = OptimStats::default();
     if opts.polish {
-        let f = fair_periodic(data, &mut ws, tol, opts.span_fairness, opts.band_fairing)?;
+        let f = fair_periodic(
+            data,
+            &mut ws,
+            tol,
+            opts.span_fairness,
+            band_solves(opts),
+            opts.polish_evaluations,
+        )?;
         e = f.eval;
         stats.evaluations = f.evaluations;
         stats.polish_moves = f.moves;

@@ -18,6 +18,8 @@
 //! the pieces can take is an [`Error::InvalidOption`] naming the range.
 
 use super::corners::{join, straight_piece};
+use super::degree_candidates::raise_open_piece;
+use super::degree_search::{keep_degree, Attempt};
 use super::integrated::{
     fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions, IntegratedResult,
     OptimStats, Tolerance,
@@ -26,9 +28,11 @@ use super::prepare::Prepared;
 use crate::errors::{Error, Result};
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// One fitted piece (normalised coordinates).
+#[derive(Clone)]
 struct Piece {
     curve: NurbsCurve,
     max_dev: f64,
@@ -51,7 +55,9 @@ pub(crate) fn fit_with_corners(
     start: Instant,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
-    let pts = &prep.data.points;
+    // the pieces share one degree: a degree search is made on the joined curve (below)
+    let opts_in = opts;
+    let opts = &opts.at_degree(p);
     let mut pieces: Vec<Piece> = (0..ranges.len())
         .map(|i| fit_piece(prep, ranges, i, opts, None, progress))
         .collect::<Result<_>>()?;
@@ -77,6 +83,48 @@ pub(crate) fn fit_with_corners(
             }
         }
     }
+    let reference = joined(prep, ranges, &pieces, extra, opts, start)?;
+    if !opts_in.searches_degree() {
+        return Ok(reference);
+    }
+    // staged degree search: every piece raised at its own count from its own knots
+    let attempt = |d: usize| {
+        let raised: Vec<(Option<Piece>, usize, usize)> = pieces
+            .par_iter()
+            .enumerate()
+            .map(|(i, q)| raise_piece(prep, ranges, i, q, opts, d))
+            .collect();
+        let evaluations = raised.iter().map(|r| r.1).sum();
+        let iterations = raised.iter().map(|r| r.2).sum();
+        let fit = raised
+            .into_iter()
+            .map(|r| r.0)
+            .collect::<Option<Vec<Piece>>>()
+            .and_then(|ps| {
+                let o = opts.at_degree(d);
+                joined(prep, ranges, &ps, OptimStats::default(), &o, start).ok()
+            });
+        Attempt {
+            fit,
+            evaluations,
+            iterations,
+        }
+    };
+    let highest = opts_in.max_degree.unwrap_or(p).max(p);
+    keep_degree(reference, p + 1..=highest, opts_in, &attempt)
+}
+
+/// The pieces joined C0 into the curve of the whole data (input coordinates), measured.
+fn joined(
+    prep: &Prepared,
+    ranges: &[(usize, usize)],
+    pieces: &[Piece],
+    extra: OptimStats,
+    opts: &IntegratedOptions,
+    start: Instant,
+) -> Result<IntegratedResult> {
+    let p = opts.degree;
+    let pts = &prep.data.points;
     let tol = tolerance_of(opts, prep.scale);
     let mut shares = Vec::with_capacity(ranges.len());
     let mut stats = extra;
@@ -96,7 +144,7 @@ pub(crate) fn fit_with_corners(
         baseline += q.baseline - usize::from(i > 0);
         accumulate(&mut stats, &q.stats);
     }
-    let curves: Vec<NurbsCurve> = pieces.into_iter().map(|q| q.curve).collect();
+    let curves: Vec<NurbsCurve> = pieces.iter().map(|q| q.curve.clone()).collect();
     let joined = join(&curves, &shares)?;
     let ctrl: Vec<Vec3> = joined
         .control_points()
@@ -166,26 +214,65 @@ fn fit_piece(
             straight: true,
         });
     }
-    let sub = IntegratedOptions {
+    let sub = piece_options(prep, i, opts, count);
+    let r = fit_integrated_with_progress(piece, &sub, progress)?;
+    Ok(piece_of(r, piece.len()))
+}
+
+/// The options of piece `i`'s own fit (its seed stream, the whole curve's tolerance).
+fn piece_options(
+    prep: &Prepared,
+    i: usize,
+    opts: &IntegratedOptions,
+    count: Option<usize>,
+) -> IntegratedOptions {
+    IntegratedOptions {
         tolerance: Tolerance::Absolute(tolerance_of(opts, prep.scale)),
         corner_angle_deg: None,
         closed: ClosedMode::Open,
         control_points: count,
         seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
         ..opts.clone()
-    };
-    let r = fit_integrated_with_progress(piece, &sub, progress)?;
-    Ok(Piece {
+    }
+}
+
+/// A piece of `len` points from its integrated fit.
+fn piece_of(r: IntegratedResult, len: usize) -> Piece {
+    Piece {
         max_dev: r.quality.max_deviation,
         // the piece's RMS is over all its points (its interpolated ends count as 0)
-        sum2: r.quality.rms_deviation.powi(2) * piece.len() as f64,
-        count: piece.len(),
+        sum2: r.quality.rms_deviation.powi(2) * len as f64,
+        count: len,
         met: r.met,
         baseline: r.baseline_control_points,
         stats: r.stats,
         straight: false,
         curve: r.curve,
-    })
+    }
+}
+
+/// Piece `i` (fitted at `opts.degree` as `q`) at degree `d`, at its count from its knots
+/// ([`raise_open_piece`]); a straight piece is the same segment at degree `d`. `None` when the piece
+/// cannot be fitted within the tolerance at its count; with the evaluations and iterations spent.
+fn raise_piece(
+    prep: &Prepared,
+    ranges: &[(usize, usize)],
+    i: usize,
+    q: &Piece,
+    opts: &IntegratedOptions,
+    d: usize,
+) -> (Option<Piece>, usize, usize) {
+    let (a, b) = ranges[i];
+    let piece = &prep.data.points[a..=b];
+    if q.straight {
+        let curve = straight_piece(piece[0], piece[piece.len() - 1], d).ok();
+        return (curve.map(|curve| Piece { curve, ..q.clone() }), 0, 0);
+    }
+    let count = Some(super::closed::distinct_control_points(&q.curve));
+    let sub = piece_options(prep, i, opts, count);
+    let at = raise_open_piece(piece, &q.curve, &sub, d);
+    let r = at.fit.map(|r| piece_of(r, piece.len()));
+    (r, at.evaluations, at.iterations)
 }
 
 /// Shares the joined count `n` among pieces with free counts `free` and bounds `lo..=hi` (see the

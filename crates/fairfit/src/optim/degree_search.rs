@@ -1,7 +1,7 @@
-//! The degree search of the integrated method (`fairfit curve --degree auto`,
-//! [`IntegratedOptions::max_degree`]): the whole integrated fit is run at every degree from
-//! [`IntegratedOptions::degree`] (the *reference*, the cubic by default) to `max_degree`, one degree
-//! per rayon task, and one result is kept by this rule:
+//! The degree search of the integrated method (`fairfit curve --degree auto`, the default of
+//! `fairfit curve`; [`IntegratedOptions::max_degree`]): besides the *reference* degree
+//! [`IntegratedOptions::degree`] (the cubic), higher degrees up to `max_degree` are tried, and one
+//! result is kept by [`choose_degree`]:
 //!
 //! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the result
 //!    has no more (distinct) control points and no more curvature extrema than the reference's.
@@ -14,22 +14,41 @@
 //!    among those meeting it, then the lowest F, wins; when none meets it, the reference is returned
 //!    (its miss is reported as usual).
 //!
+//! **Staged search**: only the reference runs the count search ([`super::count_search`]); its
+//! control-point count and knots are then the start of every higher degree
+//! ([`super::degree_candidates`]):
+//!
+//! - degree `d` keeps the reference's count; its knots come from a short knot search seeded with
+//!   the reference's knots (open curves: `d − 3` fewer of them at the same count; periodic curves:
+//!   the same breakpoints, a periodic curve has as many spans as distinct control points);
+//! - a degree whose knot search misses the tolerance at that count is not finished (it would need
+//!   more control points than the reference, which rule 1 refuses); the others get band fairing
+//!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
+//!   [`CANDIDATE_POLISH_EVALUATIONS`] measurements);
+//! - open curves: the first higher degree runs beside the reference's count search (rayon
+//!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
+//!   the cores the count search leaves idle (its serial band fairing and polish); periodic curves
+//!   and pieces between corners start from the reference's finished fit;
+//! - a degree higher still is tried only when the one below it won (on the 33 benchmark curves
+//!   the quintic beat the cubic only where the quartic did), from the reference's finished knots;
+//! - data with corners: the pieces between corners are fitted at the reference degree and joined
+//!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
+//!   knots and the raised pieces are joined, so one degree serves the whole curve.
+//!
+//! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
+//! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:
+//! 17) at a geometric-mean F ratio of 0.360 (0.366), see docs/optim.md.
+//!
 //! `F` and the curvature extrema are measured on the returned curves by
-//! [`crate::fair::curve_fairness`] (the report's numbers). Every degree's fit is recorded in
-//! [`OptimStats::degrees_tried`]; a degree whose fit fails (e.g. too few points for it) is left out.
-//! The fits run in parallel and are collected in degree order, and each is thread-count
-//! independent, so the result is byte-identical for any number of threads.
+//! [`crate::fair::curve_fairness`] (the report's numbers). Every finished degree is recorded in
+//! [`super::integrated::OptimStats::degrees_tried`] in degree order. Each step is thread-count independent, so the
+//! result is byte-identical for any number of threads.
 
 use super::closed::distinct_control_points;
-use super::integrated::{
-    fit_integrated_with_progress, IntegratedOptions, IntegratedResult, OptimStats,
-};
+use super::integrated::{IntegratedOptions, IntegratedResult};
 use crate::errors::Result;
 use crate::fair::curve_fairness;
-use crate::nurbs::Vec3;
-use rayon::prelude::*;
 use serde::Serialize;
-use std::time::Instant;
 
 /// One degree's integrated fit, as the degree search saw it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -46,36 +65,63 @@ pub struct DegreeTrial {
     pub tolerance_met: bool,
 }
 
-/// Fits every degree from `opts.degree` to `opts.max_degree` and keeps one by the module's rule.
-pub(crate) fn fit_degree_search(
-    points: &[Vec3],
+/// Band-fairing subproblems of a higher degree in the staged search (the reference gets
+/// [`IntegratedOptions::band_solves`]). A capped stage can only make a higher degree less fair, so
+/// the cap never puts a worse curve in place of the reference's; on the 33 benchmark curves 8 and 12
+/// keep the same degrees (rae2822, naca633418: the quartic; circular: the quintic), while
+/// FFA-W3-241's quartic took 26 subproblems (2.9 times the reference's whole band fairing and
+/// polish) without winning.
+pub const CANDIDATE_BAND_SOLVES: usize = 8;
+
+/// Polish measurements of a higher degree in the staged search (the reference gets
+/// [`IntegratedOptions::polish_evaluations`]). After band fairing the polish changes F by a few
+/// per cent at most: on the 33 benchmark curves 500 (and even none) keep the same degrees, and
+/// the quartic's full polish cost FFA-W3-211 and -241 about 0.2·10⁹ instructions each, a third of
+/// the quartic's work.
+pub const CANDIDATE_POLISH_EVALUATIONS: usize = 500;
+
+/// One higher degree's attempt in the staged search: its fit (`None` when it could not be fitted
+/// within the tolerance at the reference's count) and the work spent on it.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Attempt {
+    /// The finished fit.
+    pub fit: Option<IntegratedResult>,
+    /// Candidate evaluations and swarm iterations spent on it (besides the fit's own statistics).
+    pub evaluations: usize,
+    pub iterations: usize,
+}
+
+/// The staged search's choice: the reference's fit, then the higher degrees `higher` one at a
+/// time (`attempt`), a degree higher still only when the one below it won; one fit kept by
+/// [`choose_degree`] (module doc, "Staged search").
+pub(crate) fn keep_degree(
+    reference: IntegratedResult,
+    higher: std::ops::RangeInclusive<usize>,
     opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
-    let start = Instant::now();
-    let lowest = opts.degree;
-    let highest = opts.max_degree.unwrap_or(lowest).max(lowest);
-    let fits: Vec<Result<IntegratedResult>> = (lowest..=highest)
-        .into_par_iter()
-        .map(|d| fit_integrated_with_progress(points, &opts.at_degree(d), progress))
-        .collect();
-    let mut fits = fits.into_iter();
-    // the reference decides whether the data can be fitted at all
-    let reference = fits.next().expect("the range holds the reference degree")?;
+    let mut trials = vec![trial_of(&reference)];
     let mut results = vec![reference];
-    results.extend(fits.flatten());
-    let trials: Vec<DegreeTrial> = results.iter().map(trial_of).collect();
+    let (mut evaluations, mut iterations) = (0, 0);
+    for d in higher {
+        let a = attempt(d);
+        evaluations += a.evaluations;
+        iterations += a.iterations;
+        let Some(r) = a.fit else { break };
+        trials.push(trial_of(&r));
+        results.push(r);
+        // a degree higher still only when this one won
+        if choose_degree(&trials, opts.fairness_gain) + 1 != trials.len() {
+            break;
+        }
+    }
     let pick = choose_degree(&trials, opts.fairness_gain);
-    let evaluations = results.iter().map(|r| r.stats.evaluations).sum();
-    let iterations = results.iter().map(|r| r.stats.iterations).sum();
+    evaluations += results.iter().map(|r| r.stats.evaluations).sum::<usize>();
+    iterations += results.iter().map(|r| r.stats.iterations).sum::<usize>();
     let mut chosen = results.swap_remove(pick);
-    chosen.stats = OptimStats {
-        evaluations,
-        iterations,
-        degrees_tried: trials,
-        seconds: start.elapsed().as_secs_f64(),
-        ..chosen.stats
-    };
+    chosen.stats.evaluations = evaluations;
+    chosen.stats.iterations = iterations;
+    chosen.stats.degrees_tried = trials;
     Ok(chosen)
 }
 

@@ -93,6 +93,10 @@ pub struct IntegratedOptions {
     /// Whether the final control points are first faired inside the tolerance band by sequential
     /// convex programming ([`super::band_fairing`]; with `polish`, the polish then finishes).
     pub band_fairing: bool,
+    /// Most convex subproblems of the band fairing.
+    pub band_solves: usize,
+    /// Most curve measurements of the polish.
+    pub polish_evaluations: usize,
 }
 
 impl Default for IntegratedOptions {
@@ -113,6 +117,8 @@ impl Default for IntegratedOptions {
             control_points: None,
             polish: true,
             band_fairing: true,
+            band_solves: BandOptions::default().max_solves,
+            polish_evaluations: PolishOptions::default().max_evaluations,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
             closed: crate::fit::tolerance::ClosedMode::Auto,
         }
@@ -120,6 +126,11 @@ impl Default for IntegratedOptions {
 }
 
 impl IntegratedOptions {
+    /// Whether the degree is searched ([`Self::max_degree`] above [`Self::degree`]).
+    pub fn searches_degree(&self) -> bool {
+        self.max_degree.is_some_and(|d| d > self.degree)
+    }
+
     /// These options at the single degree `degree` (no degree search).
     pub fn at_degree(&self, degree: usize) -> IntegratedOptions {
         IntegratedOptions {
@@ -216,9 +227,6 @@ pub fn fit_integrated_with_progress(
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
-    if opts.max_degree.is_some_and(|d| d > opts.degree) {
-        return super::degree_search::fit_degree_search(points, opts, progress);
-    }
     if let Some(r) = super::closed::fit_if_closed(points, opts, progress, start)? {
         return Ok(r);
     }
@@ -357,9 +365,23 @@ pub fn fit_integrated_with_progress(
         descent: &descent,
         limit: m1.min(baseline),
     };
-    let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
+    // with a degree search, the next degree (from the descent's knots) runs beside the count search
+    let (result, first) = rayon::join(
+        || search_counts(&family, start_at, opts, progress, &mut stats),
+        || {
+            opts.searches_degree()
+                .then(|| super::degree_candidates::open_next(&prep, &best_knots, tol, opts))
+        },
+    );
+    let mut result = if opts.searches_degree() {
+        super::degree_candidates::raise_open(&prep, result?, tol, opts, first)?
+    } else {
+        result?
+    };
     stats.evaluations += result.stats.evaluations;
+    stats.iterations += result.stats.iterations;
     stats.polish_moves = result.stats.polish_moves;
+    stats.degrees_tried = std::mem::take(&mut result.stats.degrees_tried);
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(IntegratedResult {
         baseline_control_points: baseline,
@@ -369,7 +391,7 @@ pub fn fit_integrated_with_progress(
 }
 
 /// The open knot search for `n` control points.
-fn open_problem<'a>(
+pub(crate) fn open_problem<'a>(
     data: &'a FitData,
     n: usize,
     tol: f64,
@@ -555,7 +577,7 @@ fn lsq_method_knots(data: &FitData, tol: f64) -> Option<Vec<f64>> {
 /// Every way to remove one interior knot, refitted by least squares (no smoothing), sorted by the
 /// resulting maximum deviation (ties by knot index): `(deviation, knots)`. Evaluated in parallel,
 /// collected in order.
-fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
+pub(crate) fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
     let enc = KnotEncoding::new(knots.len().saturating_sub(1), 0.0, false);
     let mut out: Vec<(usize, f64, Vec<f64>)> = (0..knots.len())
         .into_par_iter()
@@ -647,6 +669,28 @@ fn best_insertion(data: &FitData, knots: &[f64], log_lambda: f64, tol: f64) -> V
     }
 }
 
+/// How [`finish_curve`] finishes the control points of a knot vector.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Finishing {
+    /// The tolerance (normalised units).
+    pub tol: f64,
+    /// The per-span fairness target `F*`.
+    pub span_cap: Option<f64>,
+    /// Most band-fairing subproblems (0: no band fairing).
+    pub band_solves: usize,
+    /// Most polish measurements.
+    pub polish_evaluations: usize,
+}
+
+/// The band fairing's subproblem budget under `opts` (0: no band fairing).
+pub(crate) fn band_solves(opts: &IntegratedOptions) -> usize {
+    if opts.band_fairing {
+        opts.band_solves
+    } else {
+        0
+    }
+}
+
 /// The tolerance in normalised units.
 pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
     match opts.tolerance {
@@ -657,14 +701,14 @@ pub(crate) fn tolerance_of(opts: &IntegratedOptions, scale: f64) -> f64 {
 
 /// The curve (input coordinates) and its quality for normalised interior knots and smoothing.
 ///
-/// With `polish_within = Some((tol, F*, band))` the control points are then refined by [`polish`]
-/// within `tol` (and the per-span target `F*`), after [`band_fair`] when `band` is set.
+/// With `polish_within = Some(f)` the control points are then refined by [`polish`] within
+/// `f.tol` (and the per-span target `f.span_cap`), after [`band_fair`] when `f.band_solves > 0`.
 pub(crate) fn finish_curve(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
     degree: usize,
-    polish_within: Option<(f64, Option<f64>, bool)>,
+    polish_within: Option<Finishing>,
 ) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut ws = EvalWorkspace::default();
     set_knots(degree, interior, &mut ws);
@@ -675,11 +719,18 @@ pub(crate) fn finish_curve(
         ));
     }
     let mut polished = None;
-    if let Some((tol, span_cap, band)) = polish_within {
-        if band {
+    if let Some(Finishing {
+        tol,
+        span_cap,
+        band_solves: band,
+        polish_evaluations,
+    }) = polish_within
+    {
+        if band > 0 {
             let start = ws.foot_params.clone();
             let bo = BandOptions {
                 span_cap,
+                max_solves: band,
                 ..BandOptions::default()
             };
             band_fair(&prep.data, &mut ws, &start, tol, &bo);
@@ -687,6 +738,7 @@ pub(crate) fn finish_curve(
         let start = ws.foot_params.clone();
         let po = PolishOptions {
             span_cap,
+            max_evaluations: polish_evaluations,
             ..PolishOptions::default()
         };
         let pol = polish(&prep.data, &mut ws, &start, tol, &po);
@@ -708,7 +760,7 @@ pub(crate) fn finish_curve(
 }
 
 /// Builds the curve in input coordinates from normalised interior knots and measures it.
-fn finish(
+pub(crate) fn finish(
     prep: &Prepared,
     interior: &[f64],
     log_lambda: f64,
@@ -721,7 +773,12 @@ fn finish(
         interior,
         log_lambda,
         opts.degree,
-        polish_within.map(|t| (t, opts.span_fairness, opts.band_fairing)),
+        polish_within.map(|tol| Finishing {
+            tol,
+            span_cap: opts.span_fairness,
+            band_solves: band_solves(opts),
+            polish_evaluations: opts.polish_evaluations,
+        }),
     )?;
     let met = quality.max_deviation <= tol * prep.scale
         && opts

@@ -25,6 +25,7 @@
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
 //! - [`degree_search`]: the integrated fit at several degrees and the rule that keeps one
 //!   (`--degree auto`);
+//! - [`degree_candidates`]: the higher degrees at the reference's count and knots (staged search);
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
 //! - [`pareto`]: the Pareto front of curves for `--pareto`;
 //! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners;
@@ -43,6 +44,7 @@ pub mod corner_fit;
 pub mod corners;
 pub mod count_search;
 pub mod curvature_signs;
+pub mod degree_candidates;
 pub mod degree_search;
 pub mod encoding;
 pub mod integrated;

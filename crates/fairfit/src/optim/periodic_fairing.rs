@@ -27,7 +27,8 @@ pub struct PeriodicFaired {
 }
 
 /// Fairs the periodic curve left in `ws` by [`super::periodic::evaluate_closed`] within `tol`
-/// (and the per-span target `span_cap`): band fairing first when `band`, then the polish. On
+/// (and the per-span target `span_cap`): band fairing first (at most `band` convex subproblems,
+/// none when 0), then the polish (at most `polish_evaluations` measurements). On
 /// return `ws.ctrl` holds the faired periodic control points (`ws.knots` unchanged) and
 /// `ws.eval` its clamped form, measured.
 pub fn fair_periodic(
@@ -35,16 +36,18 @@ pub fn fair_periodic(
     ws: &mut ClosedWorkspace,
     tol: f64,
     span_cap: Option<f64>,
-    band: bool,
+    band: usize,
+    polish_evaluations: usize,
 ) -> Result<PeriodicFaired> {
     let p = data.degree();
     let n_u = ws.ctrl.len() - p;
     let map = ControlMap::periodic(p, &ws.knots, n_u, data.points.len())?;
     let ev = &mut ws.eval;
-    if band {
+    if band > 0 {
         let start = ev.foot_params.clone();
         let bo = BandOptions {
             span_cap,
+            max_solves: band,
             ..BandOptions::default()
         };
         band_fair_mapped(&data.measure, ev, &start, tol, &bo, &map);
@@ -52,6 +55,7 @@ pub fn fair_periodic(
     let start = ev.foot_params.clone();
     let po = PolishOptions {
         span_cap,
+        max_evaluations: polish_evaluations,
         ..PolishOptions::default()
     };
     let pol = polish_mapped(&data.measure, ev, &start, tol, &po, &map);
