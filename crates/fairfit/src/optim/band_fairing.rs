@@ -27,7 +27,8 @@
 //!   interior-point solver, sequential and deterministic.
 //! - **Acceptance**: a step is kept only when the true `F` (measured afresh) decreases, the maximum
 //!   orthogonal deviation stays within the allowance and `max_j F_j` within the per-span cap `F*`;
-//!   else the step is halved, and after two halvings `μ` grows and the subproblem is solved again.
+//!   else the step is halved, and after two halvings `μ` grows and the subproblem is solved again;
+//!   a step kept only at `t < 1` grows `μ` by `1/t²` for the next subproblem.
 //!   A full step that fails only because it adds curvature extrema is not halved: the samples of
 //!   the extrema count whose `dκ/ds` it flipped are held on their side by linearised rows in every
 //!   later subproblem ([`SignGuard`]) and the subproblem is solved again, so the next step can be
@@ -756,6 +757,11 @@ pub fn band_fair_mapped(
                     accepted = true;
                     if t == 1.0 {
                         mu = (mu / 3.0).max(1e-8);
+                    } else {
+                        // the model overreached: a shorter step next time (×4 after a half
+                        // step, ×16 after a quarter; unchanged, the next full step usually failed
+                        // again and cost two more solves)
+                        mu /= t * t;
                     }
                     break;
                 }
