@@ -41,7 +41,9 @@
 use super::band_qp::BandQp;
 use super::control_map::ControlMap;
 use super::curvature_signs::target_signs;
-use super::objective::{speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X};
+use super::objective::{
+    speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X, MAX_DEGREE,
+};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
@@ -127,17 +129,31 @@ struct Node {
     span: usize,
     weight: f64,
     /// `ders[o * (p + 1) + j]`: the `o`-th derivative of `N_{span−p+j}` (o = 0..=3).
-    ders: Vec<f64>,
+    ders: [f64; NDERS],
 }
 
-/// Basis functions and derivatives up to `nd` at `u` in knot span `span`.
-fn basis_ders(knots: &[f64], p: usize, span: usize, u: f64, nd: usize) -> Vec<f64> {
+/// Basis derivatives 0..=3 of a degree up to [`MAX_DEGREE`].
+const NDERS: usize = 4 * (MAX_DEGREE + 1);
+
+/// Basis functions and derivatives up to `nd` (at most 3) at `u` in knot span `span` (degree `p`
+/// at most [`MAX_DEGREE`]), laid out as [`Node::ders`]; no allocation.
+fn basis_ders(knots: &[f64], p: usize, span: usize, u: f64, nd: usize) -> [f64; NDERS] {
+    const P1: usize = MAX_DEGREE + 1;
     let p1 = p + 1;
-    let (mut left, mut right) = (vec![0.0; p1], vec![0.0; p1]);
-    let (mut ndu, mut a) = (vec![0.0; p1 * p1], vec![0.0; 2 * p1]);
-    let mut ders = vec![0.0; (nd + 1) * p1];
+    let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
+    let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
+    let mut ders = [0.0; NDERS];
     ders_basis_funs_into(
-        span, u, p, nd, knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
+        span,
+        u,
+        p,
+        nd,
+        knots,
+        &mut left[..p1],
+        &mut right[..p1],
+        &mut ndu[..p1 * p1],
+        &mut a[..2 * p1],
+        &mut ders[..(nd + 1) * p1],
     );
     ders
 }
@@ -281,8 +297,10 @@ pub struct ExtremaCount {
 }
 
 impl ExtremaCount {
-    /// The node rule of a B-spline of degree `p` with `n` control points on `knots`.
+    /// The node rule of a B-spline of degree `p` (at most [`MAX_DEGREE`]) with `n` control points
+    /// on `knots`.
     pub fn new(knots: &[f64], p: usize, n: usize, planar: bool) -> Self {
+        assert!(p <= MAX_DEGREE, "degree {p} above {MAX_DEGREE}");
         let mut nodes = Vec::new();
         for s in p..n {
             let (a, b) = (knots[s], knots[s + 1]);
@@ -492,7 +510,7 @@ pub fn band_fair_mapped(
         steps: 0,
         solves: 0,
     };
-    if !cur.solved || !cur.fairness.is_finite() || n < 3 || m < 3 || p < 3 {
+    if !cur.solved || !cur.fairness.is_finite() || n < 3 || m < 3 || p < 3 || p > MAX_DEGREE {
         return out;
     }
     let dims = if data.planar { 2 } else { 3 };

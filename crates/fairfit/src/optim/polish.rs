@@ -20,6 +20,7 @@ use super::band_fairing::ExtremaCount;
 use super::control_map::ControlMap;
 use super::objective::{
     measure_move, measure_move_within, CandidateEval, EvalWorkspace, FitData, MeasureState,
+    MAX_DEGREE,
 };
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
@@ -207,8 +208,8 @@ pub fn polish_mapped(
         .span_cap
         .map_or(f64::INFINITY, |c| c.max(cur.max_span_fairness));
     let gram = Gram::new(p, &ws.knots, n, p.min(3));
-    let mut counter =
-        (opts.keep_extrema && p >= 3).then(|| ExtremaCount::new(&ws.knots, p, n, data.planar));
+    let mut counter = (opts.keep_extrema && (3..=MAX_DEGREE).contains(&p))
+        .then(|| ExtremaCount::new(&ws.knots, p, n, data.planar));
     let current = counter.as_mut().map_or(0, |c| c.count(&ws.ctrl));
     let mut guard = ExtremaGuard { counter, current };
     let mut ctrl: Vec<Vec3> = ws.ctrl.clone();
