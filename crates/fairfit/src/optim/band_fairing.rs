@@ -510,7 +510,8 @@ pub fn band_fair_mapped(
         steps: 0,
         solves: 0,
     };
-    if !cur.solved || !cur.fairness.is_finite() || n < 3 || m < 3 || p < 3 || p > MAX_DEGREE {
+    if !cur.solved || !cur.fairness.is_finite() || n < 3 || m < 3 || !(3..=MAX_DEGREE).contains(&p)
+    {
         return out;
     }
     let dims = if data.planar { 2 } else { 3 };
