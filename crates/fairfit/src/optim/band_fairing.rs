@@ -271,7 +271,12 @@ pub struct ExtremaCount {
     nodes: Vec<Node>,
     degree: usize,
     planar: bool,
+    /// Per sample of the last count: `dκ/ds` and its share `w |C'|` of the length.
     dkds: Vec<f64>,
+    wv: Vec<f64>,
+    /// The samples [`ExtremaCount::count_moved`] changed and their values before.
+    changed: std::ops::Range<usize>,
+    saved: Vec<(f64, f64)>,
 }
 
 impl ExtremaCount {
@@ -295,12 +300,14 @@ impl ExtremaCount {
             }
             nodes.push(at(b - EXTREMA_EDGE * (b - a), 0.0));
         }
-        let dkds = Vec::with_capacity(nodes.len());
         ExtremaCount {
+            dkds: vec![0.0; nodes.len()],
+            wv: vec![0.0; nodes.len()],
             nodes,
             degree: p,
             planar,
-            dkds,
+            changed: 0..0,
+            saved: Vec::new(),
         }
     }
 
@@ -323,13 +330,57 @@ impl ExtremaCount {
 
     /// Curvature extrema of the curve with control points `ctrl`.
     pub fn count(&mut self, ctrl: &[Vec3]) -> usize {
-        self.dkds.clear();
-        let mut length = 0.0;
-        for nd in &self.nodes {
+        self.changed = 0..0;
+        self.sample(ctrl, 0..self.nodes.len());
+        self.total()
+    }
+
+    /// [`ExtremaCount::count`] of `ctrl` when it differs from the last counted curve only in the
+    /// control points `moved` (clamped indices): only the samples of the knot spans those reach
+    /// are evaluated again, with the same arithmetic, so the count is the full one's.
+    /// [`ExtremaCount::revert`] restores the last counted curve's samples.
+    pub fn count_moved(&mut self, ctrl: &[Vec3], moved: std::ops::RangeInclusive<usize>) -> usize {
+        let (lo, hi) = (*moved.start(), moved.end() + self.degree);
+        let a = self.nodes.partition_point(|nd| nd.span < lo);
+        let b = self.nodes.partition_point(|nd| nd.span <= hi);
+        self.saved.clear();
+        self.saved.extend(
+            self.dkds[a..b]
+                .iter()
+                .copied()
+                .zip(self.wv[a..b].iter().copied()),
+        );
+        self.changed = a..b;
+        self.sample(ctrl, a..b);
+        self.total()
+    }
+
+    /// Restores the samples of the curve counted before the last
+    /// [`ExtremaCount::count_moved`].
+    pub fn revert(&mut self) {
+        for (k, &(d, w)) in self.changed.clone().zip(&self.saved) {
+            self.dkds[k] = d;
+            self.wv[k] = w;
+        }
+        self.changed = 0..0;
+    }
+
+    /// Evaluates the samples `range` of the curve with control points `ctrl`.
+    fn sample(&mut self, ctrl: &[Vec3], range: std::ops::Range<usize>) {
+        for k in range {
+            let nd = &self.nodes[k];
             let (v, dk) =
                 speed_and_dkappa_du(&node_derivatives(nd, ctrl, self.degree), self.planar);
-            length += nd.weight * v;
-            self.dkds.push(if v > 0.0 { dk / v } else { 0.0 });
+            self.wv[k] = nd.weight * v;
+            self.dkds[k] = if v > 0.0 { dk / v } else { 0.0 };
+        }
+    }
+
+    /// The extrema of the sampled curve (the length summed in sample order).
+    fn total(&self) -> usize {
+        let mut length = 0.0;
+        for &w in &self.wv {
+            length += w;
         }
         sign_changes(&self.dkds, length * length)
     }
@@ -902,6 +953,31 @@ mod tests {
             integral += dk * dk / ds;
         }
         length.powi(3) * integral
+    }
+
+    #[test]
+    fn a_count_after_moving_one_control_point_is_the_full_count() {
+        // a cubic with 10 control points on a wave: its curvature has extrema between the
+        // bumps; pushing one control point across adds a wiggle. The incremental count must
+        // equal a fresh full count of the moved curve, and after `revert` the original count.
+        let n = 10;
+        let knots: Vec<f64> = [0.0; 4]
+            .into_iter()
+            .chain((1..n - 3).map(|i| i as f64 / (n - 3) as f64))
+            .chain([1.0; 4])
+            .collect();
+        let ctrl: Vec<Vec3> = (0..n)
+            .map(|i| Vec3::new(i as f64, (0.9 * i as f64).sin(), 0.0))
+            .collect();
+        let mut counter = ExtremaCount::new(&knots, 3, n, true);
+        let before = counter.count(&ctrl);
+        let mut moved = ctrl.clone();
+        moved[5] += Vec3::new(0.0, -2.5, 0.0);
+        let full = ExtremaCount::new(&knots, 3, n, true).count(&moved);
+        assert!(full != before, "{full} {before}");
+        assert_eq!(counter.count_moved(&moved, 5..=5), full);
+        counter.revert();
+        assert_eq!(counter.count_moved(&ctrl, 5..=5), before);
     }
 
     #[test]

@@ -336,6 +336,26 @@ pub fn measure_move(
     with_deviation: bool,
     ws: &mut EvalWorkspace,
 ) -> CandidateEval {
+    let give_up = if with_deviation {
+        f64::INFINITY
+    } else {
+        f64::NAN
+    };
+    measure_move_within(data, r, start, give_up, ws)
+}
+
+/// [`measure_move`] with the deviations, except that the projections stop at the first data point
+/// farther than `give_up` from the moved curve (its distance is then reported as the maximum, the
+/// RMS as infinite, and `ws` is left part-updated: restore it): a move that must stay within
+/// `give_up` is rejected either way. `give_up = NaN`: no deviations.
+pub fn measure_move_within(
+    data: &FitData,
+    r: usize,
+    start: &[f64],
+    give_up: f64,
+    ws: &mut EvalWorkspace,
+) -> CandidateEval {
+    let with_deviation = !give_up.is_nan();
     let p = data.degree;
     if !ws.ctrl[r].is_finite() || ws.breaks.is_empty() || ws.dev2.len() != data.points.len() {
         return CandidateEval::failed();
@@ -369,6 +389,15 @@ pub fn measure_move(
                 };
                 ws.foot_params[k] = best_u;
                 ws.dev2[k] = best;
+                if best.sqrt() > give_up {
+                    return CandidateEval {
+                        solved: true,
+                        max_deviation: best.sqrt(),
+                        rms_deviation: f64::INFINITY,
+                        fairness,
+                        max_span_fairness,
+                    };
+                }
             }
         }
         (max_deviation, rms_deviation) = deviation_totals(&ws.dev2);

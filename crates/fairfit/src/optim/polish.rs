@@ -18,7 +18,9 @@
 
 use super::band_fairing::ExtremaCount;
 use super::control_map::ControlMap;
-use super::objective::{measure_move, CandidateEval, EvalWorkspace, FitData, MeasureState};
+use super::objective::{
+    measure_move, measure_move_within, CandidateEval, EvalWorkspace, FitData, MeasureState,
+};
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
 
@@ -62,14 +64,20 @@ struct ExtremaGuard {
 }
 
 impl ExtremaGuard {
-    /// Whether the curve with control points `ctrl` has no more extrema than the current one; the
-    /// caller accepts the move when this holds, so its count becomes the current one.
-    fn admits(&mut self, ctrl: &[Vec3]) -> bool {
+    /// Whether the curve with control points `ctrl`, the current one with the control points of
+    /// movable point `v` of `map` moved, has no more extrema than the current one; the caller
+    /// accepts the move when this holds, so its count becomes the current one (only the samples
+    /// of the spans the move reaches are evaluated again).
+    fn admits(&mut self, ctrl: &[Vec3], map: &ControlMap, v: usize) -> bool {
         let Some(counter) = self.counter.as_mut() else {
             return true;
         };
-        let k = counter.count(ctrl);
+        let col = map.col(v);
+        let lo = col.iter().map(|c| c.0).min().unwrap_or(0);
+        let hi = col.iter().map(|c| c.0).max().unwrap_or(0);
+        let k = counter.count_moved(ctrl, lo..=hi);
         if k > self.current {
+            counter.revert();
             return false;
         }
         self.current = k;
@@ -124,9 +132,12 @@ fn measure_moved(
 
 /// [`measure_moved`] of a trial move against the current curve `cur`: the deviation (the
 /// projections, most of the cost) only when `F` decreases and `max_j F_j` stays within
-/// `span_cap`, since a trial failing either is rejected anyway (then the deviations are
-/// reported infinite). After band fairing half of the polish's trials fail on `F`. A move of a
-/// seam point (measured in full either way) is measured once.
+/// `span_cap`, and only until a point is farther than `allowed`, since a trial failing any of
+/// these is rejected anyway (then the deviations are reported infinite, or the first distance
+/// beyond `allowed` as the maximum). After band fairing half of the polish's trials fail on `F`
+/// and most of the others on the deviation. A move of a seam point (measured in full either
+/// way) is measured once.
+#[allow(clippy::too_many_arguments)]
 fn measure_trial(
     data: &FitData,
     map: &ControlMap,
@@ -134,6 +145,7 @@ fn measure_trial(
     start: &[f64],
     cur: &CandidateEval,
     span_cap: f64,
+    allowed: f64,
     ws: &mut EvalWorkspace,
 ) -> CandidateEval {
     if map.col(v).len() != 1 {
@@ -141,7 +153,9 @@ fn measure_trial(
     }
     let e = measure_moved(data, map, v, start, false, ws);
     if e.solved && e.max_span_fairness <= span_cap && e.fairness < cur.fairness * (1.0 - 1e-9) {
-        measure_moved(data, map, v, start, true, ws)
+        let j = map.col(v)[0].0;
+        let e = measure_move_within(data, j, start, allowed, ws);
+        map.with_seam(e, data, ws)
     } else {
         e
     }
@@ -233,13 +247,13 @@ pub fn polish_mapped(
                 }
                 apply_move(map, r, &ctrl, delta * t, ws);
                 t *= 0.5;
-                let e = measure_trial(data, map, r, &params, &cur, span_cap, ws);
+                let e = measure_trial(data, map, r, &params, &cur, span_cap, allowed, ws);
                 out.evaluations += 1;
                 if e.solved
                     && e.max_deviation <= allowed
                     && e.max_span_fairness <= span_cap
                     && e.fairness < cur.fairness * (1.0 - 1e-9)
-                    && guard.admits(&ws.ctrl)
+                    && guard.admits(&ws.ctrl, map, r)
                 {
                     copy_moved(map, r, &ws.ctrl, &mut ctrl);
                     cur = e;
@@ -331,13 +345,13 @@ fn gradient_move(
             }
             apply_move(map, r, ctrl, dir * t, ws);
             t *= 0.5;
-            let e = measure_trial(data, map, r, params, cur, span_cap, ws);
+            let e = measure_trial(data, map, r, params, cur, span_cap, allowed, ws);
             out.evaluations += 1;
             if e.solved
                 && e.max_deviation <= allowed
                 && e.max_span_fairness <= span_cap
                 && e.fairness < cur.fairness * (1.0 - 1e-9)
-                && guard.admits(&ws.ctrl)
+                && guard.admits(&ws.ctrl, map, r)
             {
                 copy_moved(map, r, &ws.ctrl, ctrl);
                 *cur = e;
