@@ -40,9 +40,12 @@ fn closed_circle_is_periodic_and_its_pareto_front_is_periodic() {
     assert_eq!(r["tolerance_met"], true);
     let n_u = r["control_points"].as_u64().unwrap() as usize;
     let ctrl = c["control_points"].as_array().unwrap();
-    // periodic: n_u + 3 control points, the last three repeat the first three
-    assert_eq!(ctrl.len(), n_u + 3);
-    assert_eq!(ctrl[..3], ctrl[n_u..]);
+    // periodic: n_u + p control points, the last p repeat the first p (p = 5: the default degree
+    // search keeps the quintic on a circle)
+    let p = c["degree"].as_u64().unwrap() as usize;
+    assert_eq!(p, 5);
+    assert_eq!(ctrl.len(), n_u + p);
+    assert_eq!(ctrl[..p], ctrl[n_u..]);
     assert!(r["fairness"].as_f64().unwrap() < 200.0);
     // --pareto: the front of the periodic curve at its count, every member periodic
     let front = dir.path().join("front.csv");
@@ -80,8 +83,8 @@ fn closed_circle_is_periodic_and_its_pareto_front_is_periodic() {
         )
         .unwrap();
         let mc = m["control_points"].as_array().unwrap();
-        assert_eq!(mc.len(), n_u + 3);
-        assert_eq!(mc[..3], mc[n_u..], "member {i} is periodic");
+        assert_eq!(mc.len(), n_u + p);
+        assert_eq!(mc[..p], mc[n_u..], "member {i} is periodic");
     }
 }
 

@@ -1,6 +1,7 @@
-//! `fairfit curve --degree auto` (the integrated method's degree search) and fixed degrees 4 and 5:
-//! byte-identical output for 1 and 2 threads, every degree in the report, the chosen one within the
-//! cubic's control points, and a fixed count a quintic cannot meet reported as a miss.
+//! `fairfit curve --degree auto` (the integrated method's degree search, its default) and fixed
+//! degrees 4 and 5: byte-identical output for 1 and 2 threads, every degree in the report, the chosen
+//! one within the cubic's control points, `--degree 3` the cubic search alone, and a fixed count a
+//! quintic cannot meet reported as a miss.
 
 use assert_cmd::Command;
 use serde_json::Value;
@@ -76,6 +77,53 @@ fn auto_is_byte_identical_for_one_and_two_threads_and_reports_every_degree() {
     }
     assert!(!outputs[0].is_empty());
     assert_eq!(outputs[0], outputs[1]);
+}
+
+#[test]
+fn the_default_is_auto_and_degree_3_is_its_cubic_trial() {
+    let dir = TempDir::new().unwrap();
+    let input = data("iea15mw_airfoils/circular.csv");
+    let mut reports = Vec::new();
+    for degree in [None, Some("3")] {
+        let rep = dir
+            .path()
+            .join(format!("r{}.json", degree.unwrap_or("default")));
+        let out = dir.path().join("c.json");
+        let mut args = vec![
+            "curve",
+            &input,
+            "-o",
+            out.to_str().unwrap(),
+            "--report",
+            rep.to_str().unwrap(),
+        ];
+        if let Some(d) = degree {
+            args.extend(["--degree", d]);
+        }
+        run(&args);
+        reports.push(report(&rep));
+    }
+    let (auto, cubic) = (&reports[0], &reports[1]);
+    // the closed circular section: the quintic at the cubic's 7 distinct control points, F below 0.5
+    // against the periodic cubic's polygon value 135.21 (docs/optim.md)
+    assert_eq!(auto["degree"], 5);
+    assert_eq!(auto["control_points"], 7);
+    let f = auto["fairness"].as_f64().unwrap();
+    assert!(f < 0.5, "F {f}");
+    assert_eq!(auto["tolerance_met"], true);
+    let tried = auto["optimizer"]["degrees_tried"].as_array().unwrap();
+    let degrees: Vec<u64> = tried
+        .iter()
+        .map(|t| t["degree"].as_u64().unwrap())
+        .collect();
+    assert_eq!(degrees, [3, 4, 5]);
+    // --degree 3: no search, the cubic trial of the default run
+    assert_eq!(cubic["degree"], 3);
+    assert!(cubic["optimizer"].get("degrees_tried").is_none());
+    assert_eq!(cubic["control_points"], tried[0]["control_points"]);
+    assert_eq!(cubic["fairness"], tried[0]["fairness"]);
+    let f3 = cubic["fairness"].as_f64().unwrap();
+    assert!((f3 - 135.21).abs() < 0.01, "cubic F {f3}");
 }
 
 #[test]

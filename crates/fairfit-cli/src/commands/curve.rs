@@ -140,11 +140,11 @@ pub struct CurveArgs {
     /// Tolerance relative to the largest side of the points' bounding box (default 1e-3).
     #[arg(long)]
     pub rel_tol: Option<f64>,
-    /// Degree of the curve (1 to 15), or `auto` (integrated method): fit degrees 3, 4 and 5 and keep
-    /// the fairest one with no more control points and curvature extrema than the cubic's. Opt-in:
-    /// three fits, about 3-5x the cubic's time.
-    #[arg(long, default_value = "3", value_parser = parse_degree)]
-    pub degree: DegreeArg,
+    /// Degree of the curve (1 to 15), or `auto` (integrated method, its default): the cubic's count
+    /// search, then degrees 4 and 5 at the cubic's control points, keeping the fairest with no more
+    /// curvature extrema than the cubic's [default: auto for integrated, 3 for lsq and fit-then-fair]
+    #[arg(long, value_parser = parse_degree)]
+    pub degree: Option<DegreeArg>,
     /// Parameterisation of the points.
     #[arg(long = "param", value_enum, default_value_t = ParamArg::Centripetal)]
     pub param: ParamArg,
@@ -208,6 +208,16 @@ pub struct CurveArgs {
     pub outputs: OutputArgs,
 }
 
+impl CurveArgs {
+    /// `--degree`, or the method's default: `auto` for the integrated method, 3 otherwise.
+    pub fn degree(&self) -> DegreeArg {
+        self.degree.unwrap_or(match self.method {
+            Method::Integrated => DegreeArg::Auto,
+            _ => DegreeArg::Fixed(3),
+        })
+    }
+}
+
 /// Runs `fairfit curve`.
 pub fn run(args: CurveArgs) -> CmdResult {
     let wall = Instant::now();
@@ -232,7 +242,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
             args.smoothing
         )));
     }
-    if args.degree == DegreeArg::Auto && args.method != Method::Integrated {
+    if args.degree() == DegreeArg::Auto && args.method != Method::Integrated {
         return Err(CliError::usage("--degree auto needs --method integrated"));
     }
     if args.control_points.is_some() && args.method != Method::Integrated {
@@ -264,7 +274,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
         )));
     }
     let opts = FitOptions {
-        degree: args.degree.lowest(),
+        degree: args.degree().lowest(),
         parameterization: args.param.into(),
         tolerance: match (args.tol, args.rel_tol) {
             (Some(t), _) => Tolerance::Absolute(t),

@@ -57,8 +57,8 @@ fn tolerance(args: &CurveArgs) -> Tolerance {
 
 fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
     IntegratedOptions {
-        degree: args.degree.lowest(),
-        max_degree: (args.degree == DegreeArg::Auto).then_some(AUTO_MAX_DEGREE),
+        degree: args.degree().lowest(),
+        max_degree: (args.degree() == DegreeArg::Auto).then_some(AUTO_MAX_DEGREE),
         tolerance: tolerance(args),
         span_fairness: args.span_fairness,
         seed: args.seed,
