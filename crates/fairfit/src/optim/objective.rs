@@ -100,6 +100,18 @@ pub struct EvalWorkspace {
     /// Squared orthogonal distance of every data point (0 at the interpolated ends).
     dev2: Vec<f64>,
     kept: KeptFit,
+    span_ders: SpanDers,
+}
+
+/// Basis derivatives `0..=p` at the start of every knot span, for [`measure_move`]'s power-form
+/// updates: a move changes the control points on fixed knots, so they are computed once per knot
+/// vector (the same values [`span_power_coefs`] computes afresh every time).
+#[derive(Clone, Debug, Default)]
+struct SpanDers {
+    knots: Vec<f64>,
+    degree: usize,
+    /// `P1 * P1` values per knot span index `s`.
+    ders: Vec<f64>,
 }
 
 /// A fit kept during a parameter correction ([`evaluate_candidate_within`]).
@@ -355,7 +367,6 @@ pub fn measure_move_within(
     give_up: f64,
     ws: &mut EvalWorkspace,
 ) -> CandidateEval {
-    let with_deviation = !give_up.is_nan();
     let p = data.degree;
     if !ws.ctrl[r].is_finite() || ws.breaks.is_empty() || ws.dev2.len() != data.points.len() {
         return CandidateEval::failed();
@@ -367,47 +378,69 @@ pub fn measure_move_within(
         return CandidateEval::failed();
     }
     for j in j0..j1 {
-        span_power_coefs(p, ws.break_knot[j], j * (p + 1), ws);
+        span_power_coefs_cached(p, ws.break_knot[j], j * (p + 1), ws);
         let (e, len) = span_energy_length(data, ws, j);
         ws.span_energy[j] = e;
         ws.span_length[j] = len;
     }
     let (fairness, max_span_fairness) = fairness_totals(ws);
-    let (mut max_deviation, mut rms_deviation) = (f64::INFINITY, f64::INFINITY);
-    if with_deviation {
-        let a = ws.breaks[j0];
-        let b = ws.breaks.get(j1).copied().unwrap_or(1.0);
-        let mut hint = j0;
-        let flat = is_flat(data, ws);
-        for k in 1..data.points.len().saturating_sub(1) {
-            let u = start[k];
-            if u >= a && u <= b {
-                let (best, best_u) = if flat {
-                    project_planar(data, k, u, ws, &mut hint)
-                } else {
-                    project(data, k, u, ws, &mut hint)
-                };
-                ws.foot_params[k] = best_u;
-                ws.dev2[k] = best;
-                if best.sqrt() > give_up {
-                    return CandidateEval {
-                        solved: true,
-                        max_deviation: best.sqrt(),
-                        rms_deviation: f64::INFINITY,
-                        fairness,
-                        max_span_fairness,
-                    };
-                }
-            }
-        }
-        (max_deviation, rms_deviation) = deviation_totals(&ws.dev2);
-    }
-    CandidateEval {
+    let e = CandidateEval {
         solved: true,
-        max_deviation,
-        rms_deviation,
+        max_deviation: f64::INFINITY,
+        rms_deviation: f64::INFINITY,
         fairness,
         max_span_fairness,
+    };
+    if give_up.is_nan() {
+        e
+    } else {
+        measure_move_deviations(data, r, start, give_up, e, ws)
+    }
+}
+
+/// The deviations part of [`measure_move_within`] for a move whose fairness part `e` (a
+/// [`measure_move_within`] with `give_up = NaN`) has just updated the power form in `ws`.
+pub fn measure_move_deviations(
+    data: &FitData,
+    r: usize,
+    start: &[f64],
+    give_up: f64,
+    e: CandidateEval,
+    ws: &mut EvalWorkspace,
+) -> CandidateEval {
+    let p = data.degree;
+    if !e.solved {
+        return e;
+    }
+    let j0 = ws.break_knot.partition_point(|&s| s < r);
+    let j1 = ws.break_knot.partition_point(|&s| s <= r + p);
+    let a = ws.breaks[j0];
+    let b = ws.breaks.get(j1).copied().unwrap_or(1.0);
+    let mut hint = j0;
+    let flat = is_flat(data, ws);
+    for k in 1..data.points.len().saturating_sub(1) {
+        let u = start[k];
+        if u >= a && u <= b {
+            let (best, best_u) = if flat {
+                project_planar(data, k, u, ws, &mut hint)
+            } else {
+                project(data, k, u, ws, &mut hint)
+            };
+            ws.foot_params[k] = best_u;
+            ws.dev2[k] = best;
+            if best.sqrt() > give_up {
+                return CandidateEval {
+                    max_deviation: best.sqrt(),
+                    ..e
+                };
+            }
+        }
+    }
+    let (max_deviation, rms_deviation) = deviation_totals(&ws.dev2);
+    CandidateEval {
+        max_deviation,
+        rms_deviation,
+        ..e
     }
 }
 
@@ -479,6 +512,47 @@ fn span_power_coefs(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
     ders_basis_funs_into(
         s, u0, p, p, &ws.knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
     );
+    let mut fact = 1.0;
+    for k in 0..=p {
+        if k > 0 {
+            fact *= k as f64;
+        }
+        let mut c = Vec3::default();
+        for j in 0..=p {
+            c += ws.ctrl[s - p + j] * ders[k * (p + 1) + j];
+        }
+        ws.coef[at + k] = c / fact;
+    }
+}
+
+/// [`span_power_coefs`] with the basis derivatives from `ws.span_ders` (rebuilt when the knots or
+/// the degree changed): the same arithmetic, so the same coefficients.
+fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
+    if ws.span_ders.degree != p || ws.span_ders.knots != ws.knots {
+        let cache = &mut ws.span_ders;
+        cache.knots.clone_from(&ws.knots);
+        cache.degree = p;
+        cache.ders.clear();
+        cache.ders.resize(ws.knots.len() * P1 * P1, 0.0);
+        let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
+        let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
+        for k in p..ws.knots.len().saturating_sub(p + 1) {
+            let ders = &mut cache.ders[k * P1 * P1..(k + 1) * P1 * P1];
+            ders_basis_funs_into(
+                k,
+                ws.knots[k],
+                p,
+                p,
+                &ws.knots,
+                &mut left,
+                &mut right,
+                &mut ndu,
+                &mut a,
+                ders,
+            );
+        }
+    }
+    let ders = &ws.span_ders.ders[s * P1 * P1..(s + 1) * P1 * P1];
     let mut fact = 1.0;
     for k in 0..=p {
         if k > 0 {

@@ -19,7 +19,7 @@
 use super::band_fairing::ExtremaCount;
 use super::control_map::ControlMap;
 use super::objective::{
-    measure_move, measure_move_within, CandidateEval, EvalWorkspace, FitData, MeasureState,
+    measure_move, measure_move_deviations, CandidateEval, EvalWorkspace, FitData, MeasureState,
     MAX_DEGREE,
 };
 use crate::fair::gram::Gram;
@@ -155,7 +155,7 @@ fn measure_trial(
     let e = measure_moved(data, map, v, start, false, ws);
     if e.solved && e.max_span_fairness <= span_cap && e.fairness < cur.fairness * (1.0 - 1e-9) {
         let j = map.col(v)[0].0;
-        let e = measure_move_within(data, j, start, allowed, ws);
+        let e = measure_move_deviations(data, j, start, allowed, e, ws);
         map.with_seam(e, data, ws)
     } else {
         e
