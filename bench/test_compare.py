@@ -142,7 +142,7 @@ def test_equal_count_uses_the_no_corner_pair_when_present():
     assert (wins, total, lost) == (1, 1, []) and abs(ratios[0] - 0.5) < 1e-12
 
 
-def test_degree_auto_row_is_summarised_beside_the_default_and_leaves_the_targets_alone():
+def test_cubic_row_is_summarised_beside_the_default_and_leaves_the_targets_alone():
     eq = compare.EQUAL_COUNT
     base = [
         ("fairfit integrated", (8, 0.9, 20.0, 2), 150.0, 120.0),
@@ -150,14 +150,14 @@ def test_degree_auto_row_is_summarised_beside_the_default_and_leaves_the_targets
         (eq, (9, 1.0, 20.0, 2), 150.0, 120.0),
         ("scipy splprep", (9, 1.0, 25.0, 2), 300.0, 1.0),
     ]
-    auto = (compare.DEGREE_AUTO, (8, 0.9, 10.0, 2), 450.0, 400.0)
-    without, with_auto = [_row("a", 200, base)], [_row("a", 200, base[:3] + [auto] + base[3:])]
-    lines = {ln.split(" | ")[0].lstrip("| "): ln for ln in compare.summary(with_auto).splitlines()}
+    cubic = (compare.CUBIC, (8, 0.9, 10.0, 2), 450.0, 400.0)
+    without, with_cubic = [_row("a", 200, base)], [_row("a", 200, base[:3] + [cubic] + base[3:])]
+    lines = {ln.split(" | ")[0].lstrip("| "): ln for ln in compare.summary(with_cubic).splitlines()}
     # 1 curve, tolerance met, count <= splprep, F 10 <= 0.5 x 25, extrema <= splprep, 0.45 s > 0.2 s
-    assert lines[compare.DEGREE_AUTO].startswith("| fairfit integrated --degree auto | 1 | 1 | 1 | 1 | 1 | 1 | 0 |")
+    assert lines[compare.CUBIC].startswith("| fairfit integrated --degree 3 | 1 | 1 | 1 | 1 | 1 | 1 | 0 |")
     assert lines["fairfit integrated"].startswith("| fairfit integrated | 1 | 1 | 1 | 1 | 0 | 1 | 1 |")
-    assert targets.targets_section(with_auto, compare.met, eq) == targets.targets_section(without, compare.met, eq)
-    assert "0.150 s" in compare.time_200(with_auto) and "0.450" not in compare.time_200(with_auto)
+    assert targets.targets_section(with_cubic, compare.met, eq) == targets.targets_section(without, compare.met, eq)
+    assert "0.150 s" in compare.time_200(with_cubic) and "0.450" not in compare.time_200(with_cubic)
 
 
 def test_degree_auto_is_detected_from_the_help_text():

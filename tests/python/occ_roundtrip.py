@@ -9,7 +9,10 @@ converts what it reads to millimetres, so points of a file declared in metres ar
 STEPControl_Reader or IGESControl_Reader (by extension), take the one edge (curve) or one face (surface),
 require it to be a B-spline, evaluate Geom_BSplineCurve / Geom_BSplineSurface at the sample parameters and
 compare with fairfit's points to 1e-9 relative to the geometry's size; a surface must be exactly one face
-that BRepCheck_Analyzer reports valid. Prints one JSON line per file; exit 1 on any failure.
+that BRepCheck_Analyzer reports valid. With `"seam": "u"` in SAMPLES.json the surface must also read back
+closed in u (Geom_BSplineSurface.IsUClosed) with a continuous seam: at 21 v the first and second u
+derivatives at the two ends of the u range agree to 1e-9 relative (tangent angle and curvature jump are
+reported). Prints one JSON line per file; exit 1 on any failure.
 """
 
 import json
@@ -24,6 +27,7 @@ from OCP.STEPControl import STEPControl_Reader
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
+from OCP.gp import gp_Pnt, gp_Vec
 
 REL_TOL = 1e-9
 
@@ -44,6 +48,36 @@ def sub_shapes(shape, kind):
         out.append(explorer.Current())
         explorer.Next()
     return out
+
+
+def seam_check(geom, scale, result, path):
+    """Closed in u with matching first and second u derivatives across the seam."""
+    u0, u1, v0, v1 = geom.Bounds()
+    result["u_closed"] = bool(geom.IsUClosed())
+    result["u_periodic"] = bool(geom.IsUPeriodic())
+    if not result["u_closed"]:
+        raise RuntimeError(f"{path}: surface not closed in u")
+    worst_angle = worst_d1 = worst_d2 = worst_kappa = 0.0
+    for k in range(21):
+        v = v0 + (v1 - v0) * k / 20
+        ends = []
+        for u in (u0, u1):
+            p, du, dv, duu, dvv, duv = gp_Pnt(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec(), gp_Vec()
+            geom.D2(u, v, p, du, dv, duu, dvv, duv)
+            ends.append((du, duu))
+        (a1, a2), (b1, b2) = ends
+        worst_angle = max(worst_angle, a1.Angle(b1))
+        worst_d1 = max(worst_d1, (a1 - b1).Magnitude() / max(a1.Magnitude(), 1e-300))
+        worst_d2 = max(worst_d2, (a2 - b2).Magnitude() / max(a2.Magnitude(), a1.Magnitude(), 1e-300))
+        ka = a1.Crossed(a2).Magnitude() / a1.Magnitude() ** 3
+        kb = b1.Crossed(b2).Magnitude() / b1.Magnitude() ** 3
+        worst_kappa = max(worst_kappa, abs(ka - kb) / max(ka, kb, 1e-300))
+    result["seam_tangent_angle"] = worst_angle
+    result["seam_curvature_jump"] = worst_kappa
+    if max(worst_d1, worst_d2, worst_angle) > REL_TOL:
+        raise RuntimeError(
+            f"{path}: seam not continuous: angle {worst_angle}, d1 {worst_d1}, d2 {worst_d2}"
+        )
 
 
 def check(path, samples_path):
@@ -79,6 +113,8 @@ def check(path, samples_path):
         result["degrees"] = [geom.UDegree(), geom.VDegree()]
         result["poles"] = [geom.NbUPoles(), geom.NbVPoles()]
         result["valid_faces"] = 1
+        if samples.get("seam") == "u":
+            seam_check(geom, scale, result, path)
     worst = 0.0
     for prm, want in zip(samples["params"], points):
         got = evaluate(prm)

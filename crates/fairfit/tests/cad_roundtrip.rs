@@ -1,8 +1,9 @@
 //! The STEP and IGES files fairfit writes, read back by a real CAD kernel (OpenCASCADE through OCP).
 //!
-//! Writes a rational curve, a rational bicubic surface, a closed tube, a cone with a collapsed edge and
-//! the real IEA 15 MW blade surface fitted by `fairfit surface` (fixture `tests/data/`) to STEP and IGES,
-//! each with a JSON of 100+ sample parameters and fairfit's own points beside it, and runs
+//! Writes a rational curve, a rational bicubic surface, a closed tube, a cone with a collapsed edge, a
+//! periodic tube (checked closed in u with a C2 seam after reading) and the real IEA 15 MW blade
+//! surface fitted by `fairfit surface` (fixture `tests/data/`) to STEP and IGES, each with a JSON of
+//! 100+ sample parameters and fairfit's own points beside it, and runs
 //! `tests/python/occ_roundtrip.py` with `$FAIRFIT_PYTHON`. Unset: the test is skipped with a note
 //! (except under `CI=true`, where it fails); set but empty, pointing at no Python, or at one without
 //! OCP: the test fails.
@@ -107,6 +108,33 @@ fn cone() -> NurbsSurface {
     NurbsSurface::new(2, 2, ku, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0], net, Some(w)).unwrap()
 }
 
+/// A periodic bicubic tube (what `fairfit surface` makes of smooth closed sections): an unclamped
+/// periodic u knot vector whose last 3 control rows repeat the first, so it is C2 across the u seam.
+fn periodic_tube() -> NurbsSurface {
+    let breaks = [0.0, 0.1, 0.25, 0.4, 0.5, 0.62, 0.75, 0.9, 1.0];
+    let ku = fairfit::fit::lsq::periodic_knots(&breaks, 3);
+    let ring: Vec<(f64, f64)> = (0..8)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / 8.0;
+            (12.0 * t.cos(), 7.0 * t.sin() + 0.5 * (2.0 * t).cos())
+        })
+        .collect();
+    let net: Vec<Vec<Vec3>> = (0..11)
+        .map(|i| {
+            let (x, y) = ring[i % 8];
+            (0..5)
+                .map(|j| {
+                    let z = 20.0 * j as f64;
+                    let r = 1.0 + 0.1 * j as f64 + 0.02 * (j * j) as f64;
+                    Vec3::new(r * x + 0.3 * z, r * y, z)
+                })
+                .collect()
+        })
+        .collect();
+    let kv = vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0];
+    NurbsSurface::new(3, 3, ku, kv, net, None).unwrap()
+}
+
 /// The IEA 15 MW blade surface as fitted by `fairfit surface` (see `tests/data/README.md`).
 fn blade() -> NurbsSurface {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/iea15mw_blade_surface.json");
@@ -126,6 +154,11 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
     std::fs::write(&cone_samples, surface_samples_json(&cone(), 12, 10)).unwrap();
     let tube_samples = dir.join("tube.samples.json");
     std::fs::write(&tube_samples, surface_samples_json(&tube(), 12, 10)).unwrap();
+    let periodic_samples = dir.join("periodic.samples.json");
+    let mut samples: serde_json::Value =
+        serde_json::from_str(&surface_samples_json(&periodic_tube(), 12, 10)).unwrap();
+    samples["seam"] = "u".into();
+    std::fs::write(&periodic_samples, samples.to_string()).unwrap();
     let blade_samples = dir.join("blade.samples.json");
     // The blade is in metres and written as such: OpenCASCADE reads it back in millimetres.
     let mut samples: serde_json::Value =
@@ -149,6 +182,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
     write_surface_iges(dir.join("surface.igs"), &s, &io).unwrap();
     write_surface_step(dir.join("tube.step"), &tube(), &so).unwrap();
     write_surface_iges(dir.join("tube.igs"), &tube(), &io).unwrap();
+    write_surface_step(dir.join("periodic.step"), &periodic_tube(), &so).unwrap();
+    write_surface_iges(dir.join("periodic.igs"), &periodic_tube(), &io).unwrap();
     write_surface_step(dir.join("cone.step"), &cone(), &so).unwrap();
     write_surface_iges(dir.join("cone.igs"), &cone(), &io).unwrap();
     let names = [
@@ -160,6 +195,8 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
         "tube.igs",
         "cone.step",
         "cone.igs",
+        "periodic.step",
+        "periodic.igs",
         "blade.step",
         "blade.igs",
     ];
@@ -171,6 +208,7 @@ fn write_files(dir: &Path) -> Vec<PathBuf> {
                 "surf" => &surface_samples,
                 "cone" => &cone_samples,
                 "blad" => &blade_samples,
+                "peri" => &periodic_samples,
                 _ => &tube_samples,
             };
             [dir.join(f), samples.clone()]
@@ -219,7 +257,12 @@ fn opencascade_reads_back_fairfit_step_and_iges() {
     }
     let blade = blade();
     let (n_u, n_v) = blade.net_size();
-    for r in &reports[8..] {
+    for r in &reports[8..10] {
+        assert_eq!(r["u_closed"], true, "{r}");
+        assert!(r["seam_tangent_angle"].as_f64().unwrap() <= 1e-9, "{r}");
+        assert!(r["seam_curvature_jump"].as_f64().unwrap() <= 1e-9, "{r}");
+    }
+    for r in &reports[10..] {
         assert_eq!(r["poles"], serde_json::json!([n_u, n_v]), "{r}");
         assert!(r["samples"].as_u64().unwrap() >= 300, "{r}");
         assert_eq!(r["unit_factor"], 1000.0, "{r}");

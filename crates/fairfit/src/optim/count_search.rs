@@ -5,14 +5,19 @@
 //!
 //! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the descent
 //! met at that count and the spread knots of [`CountFamily::spread_knots`]) is followed by the
-//! smoothing line search ([`tune_smoothing`]). At every count above `n` two such searches run, as
-//! two restarts of the same search, and the one with the lower swarm F goes on (ties: the first):
+//! smoothing line search ([`tune_smoothing`]). At every count above `n` two such searches run, in
+//! effect two restarts of the same search (finished F 10-40 % apart at one count, either one
+//! better, and the swarm F does not tell which):
 //!
 //! - the *chain*: seeded with the previous count's best knots with one knot inserted
 //!   ([`CountFamily::insertion`]), so it runs after it;
 //! - the *independent* search: seeded with the descent's knots at that count (what
 //!   `--control-points` at that count starts from), so it runs in parallel with the chain.
 //!
+//! Both searches at an extra count are candidates (one when they end at the same knots and
+//! smoothing) while the better swarm F of the two is [`WEAK_STEP_GAIN`] below the best swarm F at
+//! the count below ([`candidate_draws`]; naca633418: the chain's swarm F at 13 points is the lower,
+//! its finished F 0.513 x splprep's, the independent search's 0.480 x).
 //! Extra counts stop at `limit` (never more than the least-squares baseline), at the first count
 //! where neither search meets the tolerance, and are skipped with a fixed count
 //! ([`IntegratedOptions::control_points`]). Every search's `(count, swarm F)` is recorded in
@@ -25,8 +30,7 @@
 //! 0.475; hq17: swarm 0.44 at 13, 0.48 at 15, finished 0.56 and 0.26). A short band fairing does
 //! not rank them either: SNL-FFA-W3-500's F at 13 points is 3.5e7 after 3 subproblems, 3.1e7 at
 //! the end of band fairing and 6.1e6 after the polish. So every candidate is finished, in
-//! parallel (one serial band fairing per candidate: two candidates keep both cores of a two-core
-//! machine busy).
+//! parallel (one serial band fairing per candidate; two or three candidates on most curves).
 //!
 //! **Rule** ([`choose_count`]), on the finished curves (F as [`curve_fairness`] measures it,
 //! infinite when the tolerance or `F*` is missed; curvature extrema counted at
@@ -196,22 +200,7 @@ pub(crate) fn search_counts<C: CountFamily>(
         stats.counts_tried.extend(&d.stats.counts_tried);
         stats.fairness_by_count.extend(&d.stats.fairness_by_count);
     }
-    // the candidates: the search at n, then at every count the better of its two searches while
-    // it is a clear step down in swarm F
-    let mut candidates = vec![&chain[0]];
-    for count in n + 1..=top {
-        let best = chain
-            .iter()
-            .chain(&independent)
-            .filter(|d| d.count == count && d.interior.is_some())
-            .reduce(|a, b| if b.fairness < a.fairness { b } else { a });
-        match best {
-            Some(d) if !weak_step(candidates[candidates.len() - 1].fairness, d.fairness) => {
-                candidates.push(d)
-            }
-            _ => break,
-        }
-    }
+    let candidates = candidate_draws(&chain, &independent, n, top);
     let finished: Vec<Result<IntegratedResult>> = candidates
         .par_iter()
         .map(|d| match &d.interior {
@@ -245,6 +234,35 @@ pub(crate) fn search_counts<C: CountFamily>(
             "no valid knot vector for the data (too few points?)".into(),
         ))
     })
+}
+
+/// The draws finished as candidates (module doc): the search at `n`, then at every count up to
+/// `top` all of its searches (chain first; a search with the knots and smoothing of one before it
+/// is left out) while the best of their swarm F is a clear step down from the count below.
+fn candidate_draws<'d>(
+    chain: &'d [Draw],
+    independent: &'d [Draw],
+    n: usize,
+    top: usize,
+) -> Vec<&'d Draw> {
+    let mut candidates = vec![&chain[0]];
+    let mut prev_fairness = chain[0].fairness;
+    for count in n + 1..=top {
+        let mut at: Vec<&Draw> = Vec::new();
+        for d in chain.iter().chain(independent) {
+            let same = |e: &&Draw| e.interior == d.interior && e.log_lambda == d.log_lambda;
+            if d.count == count && d.interior.is_some() && !at.iter().any(same) {
+                at.push(d);
+            }
+        }
+        let best = at.iter().map(|d| d.fairness).fold(f64::INFINITY, f64::min);
+        if at.is_empty() || weak_step(prev_fairness, best) {
+            break;
+        }
+        candidates.extend(at);
+        prev_fairness = best;
+    }
+    candidates
 }
 
 /// The index of the chosen candidate (module doc): `counts[i]` control points ranked
@@ -331,7 +349,54 @@ fn full_search<C: CountFamily>(
 
 #[cfg(test)]
 mod tests {
-    use super::{choose_count, weak_step, Ranked};
+    use super::{candidate_draws, choose_count, weak_step, Draw, Ranked};
+    use crate::optim::integrated::OptimStats;
+
+    fn draw(count: usize, knot: f64, fairness: f64) -> Draw {
+        Draw {
+            count,
+            interior: Some(vec![knot]),
+            log_lambda: -3.0,
+            fairness,
+            stats: OptimStats::default(),
+        }
+    }
+
+    #[test]
+    fn every_search_at_a_clear_step_is_a_candidate() {
+        let counts = |c: &[&Draw]| c.iter().map(|d| (d.count, d.fairness)).collect::<Vec<_>>();
+        // naca633418's swarm F (ratios to splprep's): 1.387 at 12, chain 1.060 and independent
+        // 1.122 at 13: both searches at 13 are finished (they finish at 0.513 and 0.480)
+        let chain = [draw(12, 0.5, 1.387), draw(13, 0.4, 1.060)];
+        let independent = [draw(13, 0.6, 1.122)];
+        let c = candidate_draws(&chain, &independent, 12, 13);
+        assert_eq!(counts(&c), vec![(12, 1.387), (13, 1.060), (13, 1.122)]);
+        // the step is measured from the best search below: 13 steps from 1.0 to 0.97, 14 must
+        // be 2 % below 0.97 (0.96 is not; 0.94 is)
+        let chain = [draw(12, 0.5, 1.0), draw(13, 0.4, 0.97), draw(14, 0.3, 0.96)];
+        let independent = [draw(13, 0.6, 0.99), draw(14, 0.7, 0.94)];
+        let c = candidate_draws(&chain, &independent, 12, 14);
+        assert_eq!(
+            counts(&c),
+            vec![(12, 1.0), (13, 0.97), (13, 0.99), (14, 0.96), (14, 0.94)]
+        );
+        let c = candidate_draws(&chain, &independent[..1], 12, 14);
+        assert_eq!(counts(&c), vec![(12, 1.0), (13, 0.97), (13, 0.99)]);
+        // a weak step ends the candidates (hq17: 0.442 at 13, 0.441 and 0.434 at 14)
+        let chain = [draw(13, 0.5, 0.442), draw(14, 0.4, 0.441)];
+        let independent = [draw(14, 0.6, 0.434)];
+        assert_eq!(
+            counts(&candidate_draws(&chain, &independent, 13, 14)).len(),
+            1
+        );
+        // the same knots and smoothing are finished once; a search without knots is left out
+        let chain = [draw(10, 0.5, 1.0), draw(11, 0.4, 0.8)];
+        let mut none = draw(11, 0.6, 0.7);
+        none.interior = None;
+        let independent = [draw(11, 0.4, 0.8), none];
+        let c = candidate_draws(&chain, &independent, 10, 11);
+        assert_eq!(counts(&c), vec![(10, 1.0), (11, 0.8)]);
+    }
 
     #[test]
     fn weak_step_needs_two_percent_drop() {

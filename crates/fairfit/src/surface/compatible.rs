@@ -10,9 +10,11 @@
 //! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
 
 use super::orient::Section;
+use super::seam::periodic_seam;
 use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
 use crate::errors::{Error, Result};
 use crate::fair::FairnessEvaluator;
+use crate::fit::lsq::periodic_knots;
 use crate::nurbs::NurbsCurve;
 use rayon::prelude::*;
 
@@ -39,6 +41,11 @@ pub struct CompatibleOptions {
     /// Blends of uniform and curvature-driven knot density tried for each control-point count
     /// (1 = uniform knots).
     pub uniform_blends: Vec<f64>,
+    /// Fit closed sections that are smooth at their seams periodically (one periodic knot vector,
+    /// `C^(p−1)` across the seam, see [`super::seam`]); `false` keeps the clamped fit (C0 seam).
+    pub periodic_closed: bool,
+    /// Turning angle (degrees) above which a point next to a seam is a corner (the seam stays C0).
+    pub corner_angle_deg: f64,
 }
 
 impl Default for CompatibleOptions {
@@ -52,6 +59,8 @@ impl Default for CompatibleOptions {
             fairing_weights: vec![1e-7, 1e-8, 1e-9, 1e-10],
             section_params: None,
             uniform_blends: vec![0.5, 0.25],
+            periodic_closed: true,
+            corner_angle_deg: crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG,
         }
     }
 }
@@ -59,8 +68,11 @@ impl Default for CompatibleOptions {
 /// Sections fitted on one shared knot vector.
 #[derive(Clone, Debug)]
 pub struct CompatibleSections {
-    /// The shared knot vector.
+    /// The shared knot vector: clamped, or periodic when [`Self::periodic`].
     pub knots: Vec<f64>,
+    /// True when the closed sections were fitted periodically (smooth seam): the knot vector is
+    /// unclamped and every curve's last `p` control points repeat its first.
+    pub periodic: bool,
     /// One fit per section, in input order.
     pub fits: Vec<SectionFit>,
     /// Worst orthogonal deviation over all sections.
@@ -150,6 +162,66 @@ fn knots_from_density(cdf: &[f64], blend: f64, degree: usize, n_ctrl: usize) -> 
     }
     knots.extend(std::iter::repeat_n(1.0, degree + 1));
     knots
+}
+
+/// Clamped or periodic shared knot vectors, built from their interior knots (the breakpoints strictly
+/// inside `(0, 1)`; both forms hold them at indices `p + 1 .. len − p − 1`).
+#[derive(Clone, Copy)]
+struct KnotForm {
+    degree: usize,
+    periodic: bool,
+}
+
+impl KnotForm {
+    fn full(self, interior: &[f64]) -> Vec<f64> {
+        let p = self.degree;
+        if self.periodic {
+            let mut b = Vec::with_capacity(interior.len() + 2);
+            b.push(0.0);
+            b.extend_from_slice(interior);
+            b.push(1.0);
+            periodic_knots(&b, p)
+        } else {
+            let mut k = vec![0.0; p + 1];
+            k.extend_from_slice(interior);
+            k.extend(std::iter::repeat_n(1.0, p + 1));
+            k
+        }
+    }
+
+    fn interior(self, knots: &[f64]) -> &[f64] {
+        &knots[self.degree + 1..knots.len() - self.degree - 1]
+    }
+
+    /// Distinct control points (a periodic curve repeats `p` of them).
+    fn distinct(self, knots: &[f64]) -> usize {
+        let n = knots.len() - self.degree - 1;
+        if self.periodic {
+            n - self.degree
+        } else {
+            n
+        }
+    }
+
+    /// Fewest interior knots: a periodic knot vector needs `p + 1` spans.
+    fn min_interior(self) -> usize {
+        if self.periodic {
+            self.degree
+        } else {
+            0
+        }
+    }
+
+    /// The form's knot vector with `n_ctrl` distinct control points from [`knots_from_density`].
+    fn by_density(self, cdf: &[f64], blend: f64, n_ctrl: usize) -> Vec<f64> {
+        let p = self.degree;
+        if self.periodic {
+            let k = knots_from_density(cdf, blend, p, n_ctrl.max(p + 1) + p);
+            self.full(self.interior(&k))
+        } else {
+            knots_from_density(cdf, blend, p, n_ctrl)
+        }
+    }
 }
 
 struct Candidate {
@@ -380,6 +452,11 @@ pub fn make_compatible_with_progress(
             given.clone()
         }
     };
+    let periodic = opts.periodic_closed && periodic_seam(sections, opts.corner_angle_deg);
+    let form = KnotForm {
+        degree: p,
+        periodic,
+    };
     const GRID: usize = 2000;
     let cdfs: Vec<Vec<f64>> = sections
         .iter()
@@ -413,25 +490,27 @@ pub fn make_compatible_with_progress(
     let n0 = (p + 1 + 4).min(n_max);
     let mut finals: Vec<Candidate> = Vec::new();
     let mut best_fail: Option<Candidate> = None;
-    // a single span first: cheap, and exact when the sections are polynomial
-    tried += 1;
-    progress(tried);
-    if let Some(c) = evaluate(
-        sections,
-        &params,
-        knots_from_density(&cdf, 1.0, p, p + 1),
-        opts,
-        false,
-    ) {
-        if c.max_dev <= opts.tolerance {
-            finals.push(c);
+    // a single span first: cheap, and exact when the sections are polynomial (open fits only)
+    if !periodic {
+        tried += 1;
+        progress(tried);
+        if let Some(c) = evaluate(
+            sections,
+            &params,
+            knots_from_density(&cdf, 1.0, p, p + 1),
+            opts,
+            false,
+        ) {
+            if c.max_dev <= opts.tolerance {
+                finals.push(c);
+            }
         }
     }
     for &b in &blends {
         if !finals.is_empty() {
             break;
         }
-        let mut knots = knots_from_density(&cdf, b.clamp(0.0, 1.0), p, n0);
+        let mut knots = form.by_density(&cdf, b.clamp(0.0, 1.0), n0);
         let mut passed: Option<Candidate> = None;
         loop {
             tried += 1;
@@ -443,7 +522,7 @@ pub fn make_compatible_with_progress(
                 passed = Some(c);
                 break;
             }
-            let n_ctrl = knots.len() - p - 1;
+            let n_ctrl = form.distinct(&knots);
             let room = n_max.saturating_sub(n_ctrl);
             let next = insertion_knots(&c, p, opts.tolerance, room.min((n_ctrl / 6).max(1)));
             if best_fail.as_ref().is_none_or(|f| c.max_dev < f.max_dev) {
@@ -452,17 +531,23 @@ pub fn make_compatible_with_progress(
             if next.is_empty() {
                 break;
             }
+            let mut interior = form.interior(&knots).to_vec();
             for t in next {
-                let pos = knots.partition_point(|&k| k <= t);
-                knots.insert(pos, t);
+                let pos = interior.partition_point(|&k| k <= t);
+                interior.insert(pos, t);
             }
+            knots = form.full(&interior);
         }
         let Some(mut cur) = passed else { continue };
         // greedy knot removal, smallest spans first
-        let mut i = p + 1;
-        while i < cur.knots.len() - p - 1 {
-            let mut k2 = cur.knots.clone();
-            k2.remove(i);
+        let mut i = 0;
+        while i < form.interior(&cur.knots).len() {
+            if form.interior(&cur.knots).len() <= form.min_interior() {
+                break;
+            }
+            let mut interior = form.interior(&cur.knots).to_vec();
+            interior.remove(i);
+            let k2 = form.full(&interior);
             tried += 1;
             progress(tried);
             match evaluate(sections, &params, k2, opts, false) {
@@ -485,6 +570,7 @@ pub fn make_compatible_with_progress(
             max_span_fairness: msf,
             within_tolerance: false,
             candidates_tried: tried,
+            periodic,
         });
     }
     // fewest control points, then the fairest (smallest worst-span F over all sections)
@@ -508,5 +594,6 @@ pub fn make_compatible_with_progress(
         fits: c.fits,
         max_span_fairness: msf,
         candidates_tried: tried,
+        periodic,
     })
 }

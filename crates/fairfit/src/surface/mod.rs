@@ -2,7 +2,8 @@
 //! point clouds), made compatible on one shared knot vector with fair section curves, skinned into a
 //! NURBS surface, and measured (orthogonal deviation, iso-curve fairness, net size).
 //!
-//! Files, one concept each: [`orient`] (sections, orientation, seams), [`section_fit`] (least squares on
+//! Files, one concept each: [`orient`] (sections, orientation, seams), [`seam`] (smooth or C0 seams of closed sections),
+//! a private periodic least-squares fit of closed sections, [`section_fit`] (least squares on
 //! fixed knots), [`compatible`] (the shared knot vector), [`skinning`], [`measure`],
 //! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds to sections), plus a private dense solver. Fairness
 //! comes from [`crate::fair`], iso-curves from [`crate::nurbs::NurbsSurface`].
@@ -12,7 +13,9 @@ pub mod compatible;
 mod linalg;
 pub mod measure;
 pub mod orient;
+mod periodic_fit;
 pub mod pipeline;
+pub mod seam;
 pub mod section_fit;
 pub mod skinning;
 pub mod slicing;
@@ -24,4 +27,5 @@ pub use pipeline::{
     reconstruct_surface, reconstruct_surface_with_progress, validate_sections, Stage,
     SurfaceOptions, SurfaceReconstruction,
 };
+pub use seam::{periodic_seam, seam_continuity, SeamContinuity};
 pub use skinning::{skin, Skin, SkinOptions, VParams};

@@ -4,7 +4,11 @@
 use super::compatible::{make_compatible_with_progress, CompatibleOptions, CompatibleSections};
 use super::measure::{surface_deviation, Deviation};
 use super::orient::{align_sections, extent, Section};
+use super::seam::{seam_continuity, SeamContinuity};
 use super::skinning::{skin, SkinOptions};
+
+/// Iso-curves `v = const` at which the seam continuity is measured (ends included: one more).
+const SEAM_SAMPLES: usize = 40;
 use crate::errors::{Error, Result};
 use crate::fair::{surface_fairness, SurfaceFairness};
 use crate::nurbs::NurbsSurface;
@@ -50,6 +54,9 @@ pub struct SurfaceReconstruction {
     pub section_deviation: Vec<f64>,
     /// Fairness of iso-curves in both directions (`u_iso`: across the sections).
     pub fairness: SurfaceFairness,
+    /// When every section is closed: the surface's continuity across its u seam (tangent angle and
+    /// curvature jump, ~0 when the sections were fitted periodically, see [`super::seam`]).
+    pub seam: Option<SeamContinuity>,
 }
 
 /// Checks that sections can make a surface; the message names the offending section.
@@ -120,6 +127,10 @@ pub fn reconstruct_surface_with_progress(
     }
     let deviation = surface_deviation(&sk.surface, &pts, Some(&hints));
     let fairness = surface_fairness(&sk.surface, opts.iso_curves.max(1))?;
+    let seam = sections
+        .iter()
+        .all(|s| s.closed)
+        .then(|| seam_continuity(&sk.surface, SEAM_SAMPLES));
     progress(Stage::Measured);
     Ok(SurfaceReconstruction {
         surface: sk.surface,
@@ -130,5 +141,6 @@ pub fn reconstruct_surface_with_progress(
         v_params: sk.v_params,
         deviation,
         fairness,
+        seam,
     })
 }

@@ -8,10 +8,11 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::linalg::{cholesky, cholesky_solve, Dense};
+use super::periodic_fit::lsq_periodic_control_points;
 use crate::diffgeo::CurveProjector;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
-use crate::nurbs::knots::find_span;
+use crate::nurbs::knots::{find_span, is_clamped};
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Chord-length parameters of ordered points, normalised to `[0, 1]`.
@@ -230,6 +231,11 @@ pub struct SectionFit {
 
 /// Fits `points` (initial parameters `params`) on `knots`, then corrects the parameters by orthogonal
 /// projection `corrections` times (keeping the best fit seen), and measures orthogonal deviations.
+///
+/// A clamped knot vector interpolates the first and last point; an unclamped one must be periodic
+/// ([`crate::fit::lsq::periodic_knots`]) and fits the closed section (last point = first) periodically
+/// ([`super::periodic_fit`]); its deviations are measured on the clamped copy (same geometry on
+/// `[0, 1]`), the first and last parameters stay at the seam.
 pub fn fit_section(
     points: &[Vec3],
     params: &[f64],
@@ -253,21 +259,32 @@ pub(crate) fn fit_section_with(
     global: bool,
 ) -> Result<SectionFit> {
     let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
+    let periodic = !is_clamped(knots, degree);
     let mut params = params.to_vec();
     let mut best: Option<SectionFit> = None;
     let mut stalls = 0;
     let mut last_rms = f64::INFINITY;
     for _ in 0..=corrections {
-        let ctrl = lsq_control_points(&data, &params, degree, knots, smoothing)?;
+        let ctrl = if periodic {
+            lsq_periodic_control_points(&data, &params, degree, knots, smoothing)?
+        } else {
+            lsq_control_points(&data, &params, degree, knots, smoothing)?
+        };
         let curve =
             NurbsCurve::bspline(degree, knots.to_vec(), ctrl.into_iter().map(Vec3).collect())?;
-        let proj = global.then(|| CurveProjector::new(&curve, 8));
+        let clamped = if periodic {
+            Some(curve.clamped()?)
+        } else {
+            None
+        };
+        let measured = clamped.as_ref().unwrap_or(&curve);
+        let proj = global.then(|| CurveProjector::new(measured, 8));
         let mut devs = vec![0.0; points.len()];
         let mut new_params = params.clone();
         let mut der = [Vec3::ZERO; 3];
         let (mut maxd, mut sum2, mut worst) = (0.0f64, 0.0, 0);
         for (k, q) in points.iter().enumerate() {
-            let (mut u, mut d) = newton_from(&curve, *q, params[k], &mut der);
+            let (mut u, mut d) = newton_from(measured, *q, params[k], &mut der);
             if let Some(pr) = proj.as_ref().map(|p| p.project_near(*q, params[k])) {
                 if pr.distance < d {
                     (u, d) = (pr.u, pr.distance);

@@ -8,7 +8,7 @@ use super::linalg::{lu_solve, Dense};
 use super::section_fit::lsq_control_points;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::basis_funs_into;
-use crate::nurbs::knots::find_span;
+use crate::nurbs::knots::{find_span, is_clamped};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 
 /// How the sections' v parameters are chosen.
@@ -96,6 +96,17 @@ fn averaged_params(cols: &[Vec<[f64; 4]>], centripetal: bool) -> Result<Vec<f64>
     Ok(v)
 }
 
+/// The number of trailing control columns that repeat the leading ones of a periodic u knot vector
+/// (`p` when the knots are unclamped and the columns wrap, else 0).
+fn periodic_copies(knots: &[f64], p: usize, cols: &[Vec<[f64; 4]>]) -> usize {
+    let n = cols.len();
+    if is_clamped(knots, p) || n < 2 * p + 1 || (0..p).any(|i| cols[i] != cols[n - p + i]) {
+        0
+    } else {
+        p
+    }
+}
+
 /// Knot vector by averaging the parameters (NURBS Book eq. 9.8), for interpolation.
 pub fn averaging_knots(params: &[f64], degree: usize) -> Vec<f64> {
     let n = params.len() - 1;
@@ -169,9 +180,13 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
     let cols: Vec<Vec<[f64; 4]>> = (0..n_u)
         .map(|i| sections.iter().map(|s| s.homogeneous_points()[i]).collect())
         .collect();
+    // periodic sections: the last p columns repeat the first; each distinct column counts once and
+    // the copies are copied, so the surface stays periodic (C^(p−1)) across the u seam
+    let copies = periodic_copies(first.knots(), first.degree(), &cols);
+    let distinct = &cols[..n_u - copies];
     let v_params = match &opts.params {
-        VParams::ChordLength => averaged_params(&cols, false)?,
-        VParams::Centripetal => averaged_params(&cols, true)?,
+        VParams::ChordLength => averaged_params(distinct, false)?,
+        VParams::Centripetal => averaged_params(distinct, true)?,
         VParams::Given(v) => {
             if v.len() != k1 {
                 return Err(Error::InvalidOption(format!(
@@ -201,7 +216,7 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
             }
             let kv = approximation_knots(&v_params, q, n_v);
             let mut net = Vec::with_capacity(n_u);
-            for col in &cols {
+            for col in distinct {
                 net.push(lsq_control_points(col, &v_params, q, &kv, opts.smoothing)?);
             }
             (q, kv, net)
@@ -220,7 +235,7 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
                 }
             }
             let mut net = Vec::with_capacity(n_u);
-            for col in &cols {
+            for col in distinct {
                 let mut m = a.clone();
                 let mut b = col.clone();
                 lu_solve(&mut m, &mut b)?;
@@ -229,6 +244,10 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
             (q, kv, net)
         }
     };
+    let mut net_cw = net_cw;
+    for i in 0..copies {
+        net_cw.push(net_cw[i].clone());
+    }
     let mut pts = Vec::with_capacity(n_u);
     let mut wts = Vec::with_capacity(n_u);
     let mut rational = false;
