@@ -129,40 +129,6 @@ fn the_circular_section_gets_the_quintic_at_the_cubics_count() {
 }
 
 #[test]
-fn naca633418_gets_the_quartic_at_the_cubics_count_after_the_descent_count_missed() {
-    // the quartic beside the count search misses the tolerance at the descent's 12 points; the
-    // cubic keeps 13, and the quartic tried again there from the cubic's finished knots is 11 %
-    // fairer with as few curvature extrema: below half of scipy splprep's F (9.955e5 at 14 control
-    // points, 1 curvature extremum, docs/benchmarks.md)
-    let pts = data("naca633418.csv");
-    let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
-    let r = fit_integrated(&pts, &auto()).unwrap();
-    assert!(r.met && cubic.met);
-    assert_eq!(distinct_control_points(&cubic.curve), 13);
-    assert_eq!(r.curve.degree(), 4);
-    assert_eq!(distinct_control_points(&r.curve), 13);
-    let (c3, c) = (curve_fairness(&cubic.curve), curve_fairness(&r.curve));
-    assert!(c.fairness < 0.5 * 9.955e5, "F {}", c.fairness);
-    assert!(
-        c.fairness < c3.fairness / 1.1,
-        "{} vs {}",
-        c.fairness,
-        c3.fairness
-    );
-    // curvature extrema as dense as the benchmark's measurer (192 samples per span)
-    let dense = |m: &fairfit::fair::CurveFairness, curve| {
-        fairfit::fair::count_extrema_sampled(curve, m.length, 192).curvature_extrema
-    };
-    assert!(dense(&c, &r.curve) <= dense(&c3, &cubic.curve).min(1));
-    let dev = brute_force_deviation(&r.curve, &pts);
-    assert!(
-        dev <= r.tolerance * (1.0 + 1e-6),
-        "{dev} vs {}",
-        r.tolerance
-    );
-}
-
-#[test]
 fn pieces_between_corners_share_the_raised_degree_at_their_own_counts() {
     // two circular arcs (radius 1, then 0.8) meeting at a 90-degree corner
     let mut pts: Vec<Vec3> = (0..60)
