@@ -129,6 +129,38 @@ fn the_circular_section_gets_the_quintic_at_the_cubics_count() {
 }
 
 #[test]
+fn naca633418_keeps_the_cubic_below_half_of_splprep() {
+    // the cubic at 13 points is below half of scipy splprep's F (9.955e5 at 14 control points, 1
+    // curvature extremum, docs/benchmarks.md); the degree search must not replace it by a higher
+    // degree with more curvature extrema (the quartic from its knots at 13: F 5.4e5, 2 extrema)
+    let pts = data("naca633418.csv");
+    let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
+    let r = fit_integrated(&pts, &auto()).unwrap();
+    assert!(r.met && cubic.met);
+    assert_eq!(distinct_control_points(&cubic.curve), 13);
+    assert_eq!(distinct_control_points(&r.curve), 13);
+    let (c3, c) = (curve_fairness(&cubic.curve), curve_fairness(&r.curve));
+    assert!(c.fairness < 0.5 * 9.955e5, "F {}", c.fairness);
+    assert!(
+        c.fairness <= c3.fairness,
+        "{} vs {}",
+        c.fairness,
+        c3.fairness
+    );
+    // curvature extrema as dense as the benchmark's measurer (192 samples per span)
+    let dense = |m: &fairfit::fair::CurveFairness, curve| {
+        fairfit::fair::count_extrema_sampled(curve, m.length, 192).curvature_extrema
+    };
+    assert!(dense(&c, &r.curve) <= dense(&c3, &cubic.curve).min(1));
+    let dev = brute_force_deviation(&r.curve, &pts);
+    assert!(
+        dev <= r.tolerance * (1.0 + 1e-6),
+        "{dev} vs {}",
+        r.tolerance
+    );
+}
+
+#[test]
 fn pieces_between_corners_share_the_raised_degree_at_their_own_counts() {
     // two circular arcs (radius 1, then 0.8) meeting at a 90-degree corner
     let mut pts: Vec<Vec3> = (0..60)
