@@ -132,7 +132,9 @@ fn periodic_tube() -> NurbsSurface {
         })
         .collect();
     let kv = vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0];
-    NurbsSurface::new(3, 3, ku, kv, net, None).unwrap()
+    let s = NurbsSurface::new(3, 3, ku, kv, net, None).unwrap();
+    assert!(s.is_periodic_u() && !s.is_periodic_v());
+    s
 }
 
 /// The IEA 15 MW blade surface as fitted by `fairfit surface` (see `tests/data/README.md`).
@@ -258,7 +260,10 @@ fn opencascade_reads_back_fairfit_step_and_iges() {
     let blade = blade();
     let (n_u, n_v) = blade.net_size();
     for r in &reports[8..10] {
+        // the closed / periodic flags make OpenCASCADE rebuild it periodic on the 8 distinct rows
         assert_eq!(r["u_closed"], true, "{r}");
+        assert_eq!(r["u_periodic"], true, "{r}");
+        assert_eq!(r["poles"], serde_json::json!([8, 5]), "{r}");
         assert!(r["seam_tangent_angle"].as_f64().unwrap() <= 1e-9, "{r}");
         assert!(r["seam_curvature_jump"].as_f64().unwrap() <= 1e-9, "{r}");
     }

@@ -318,6 +318,8 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             "section_max_span_fairness": r.compatible.max_span_fairness,
             "iso_fairness": r.fairness,
             "knots_u": r.compatible.knots,
+            "periodic_u": r.compatible.periodic,
+            "seam": r.seam,
             "v_params": r.v_params,
             "candidates_tried": r.compatible.candidates_tried,
             "sections": sections,

@@ -224,16 +224,19 @@ fn surface_entity(s: &NurbsSurface) -> Entity {
         |a: usize, b: usize| (0..n_v).all(|j| s.control_point(a, j) == s.control_point(b, j));
     let col_eq =
         |a: usize, b: usize| (0..n_u).all(|i| s.control_point(i, a) == s.control_point(i, b));
+    // closed: the end rows coincide, or periodic (the last p rows repeat the first, see
+    // NurbsSurface::is_periodic_u), which readers then rebuild as periodic
+    let (per_u, per_v) = (s.is_periodic_u(), s.is_periodic_v());
     let flags = [
         n_u - 1,
         n_v - 1,
         s.degree_u(),
         s.degree_v(),
-        row_eq(0, n_u - 1) as usize,
-        col_eq(0, n_v - 1) as usize,
+        (per_u || row_eq(0, n_u - 1)) as usize,
+        (per_v || col_eq(0, n_v - 1)) as usize,
         (!s.is_rational()) as usize,
-        0,
-        0,
+        per_u as usize,
+        per_v as usize,
     ];
     let mut params: Vec<String> = flags.iter().map(|v| v.to_string()).collect();
     params.extend(s.knots_u().iter().map(|&k| format_real(k)));

@@ -104,8 +104,10 @@ fn curve_entity(d: &mut Data, c: &NurbsCurve) -> usize {
     }
 }
 
-/// Writes the surface entity (plain or rational complex form); returns its id.
-fn surface_entity(d: &mut Data, s: &NurbsSurface) -> usize {
+/// Writes the surface entity (plain or rational complex form) with its closed flags; returns its id.
+fn surface_entity(d: &mut Data, s: &NurbsSurface, closed_u: bool, closed_v: bool) -> usize {
+    let flag = |c: bool| if c { ".T." } else { ".F." };
+    let closed = format!("{},{}", flag(closed_u), flag(closed_v));
     let (n_u, n_v) = s.net_size();
     let rows: Vec<String> = (0..n_u)
         .map(|i| {
@@ -122,13 +124,13 @@ fn surface_entity(d: &mut Data, s: &NurbsSurface) -> usize {
         let w: Vec<String> = s.weight_net().iter().map(|r| reals(r)).collect();
         let w = format!("({})", w.join(","));
         d.add(format!(
-            "( BOUNDED_SURFACE() B_SPLINE_SURFACE({pu},{pv},{net},.UNSPECIFIED.,.F.,.F.,.F.) \
+            "( BOUNDED_SURFACE() B_SPLINE_SURFACE({pu},{pv},{net},.UNSPECIFIED.,{closed},.F.) \
              B_SPLINE_SURFACE_WITH_KNOTS({knots},.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() \
              RATIONAL_B_SPLINE_SURFACE({w}) REPRESENTATION_ITEM('') SURFACE() )"
         ))
     } else {
         d.add(format!(
-            "B_SPLINE_SURFACE_WITH_KNOTS('',{pu},{pv},{net},.UNSPECIFIED.,.F.,.F.,.F.,{knots},.UNSPECIFIED.)"
+            "B_SPLINE_SURFACE_WITH_KNOTS('',{pu},{pv},{net},.UNSPECIFIED.,{closed},.F.,{knots},.UNSPECIFIED.)"
         ))
     }
 }
@@ -248,7 +250,7 @@ pub fn surface_to_step(s: &NurbsSurface, opts: &StepOptions) -> Result<String> {
     let mut d = Data { lines: Vec::new() };
     let ctx = context(&mut d, opts);
     let ax = axis(&mut d);
-    let surf = surface_entity(&mut d, s);
+    let surf = surface_entity(&mut d, s, closed_u, closed_v);
     let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
     let vertex = |d: &mut Data, u: f64, v: f64| {
         let p = d.point(s.point(u, v));

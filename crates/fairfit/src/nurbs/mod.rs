@@ -18,6 +18,7 @@ mod reparam;
 pub mod scale;
 pub mod surface;
 mod surface_knot_ops;
+mod surface_periodic;
 pub mod vec3;
 
 pub use curve::NurbsCurve;

@@ -1,0 +1,58 @@
+//! Periodicity of a surface in one direction: an unclamped knot vector whose spans repeat with the
+//! period of the domain and whose last `p` control rows (or columns) repeat the first `p`, as
+//! [`crate::fit::lsq::periodic_knots`] builds it. Such a surface is closed and `C^(p−1)` across its
+//! seam; the CAD writers flag it so.
+
+use super::knots::is_clamped;
+use super::surface::NurbsSurface;
+
+/// Periodic knots `k` of degree `p` with `n` control points: `k[i + n − p] − k[i]` is the domain's
+/// length for every `i` (relative 1e-12).
+fn periodic_knots(k: &[f64], p: usize, n: usize) -> bool {
+    if p == 0 || n < 2 * p + 1 || is_clamped(k, p) {
+        return false;
+    }
+    let nu = n - p;
+    let period = k[n] - k[p];
+    let tol = 1e-12
+        * period
+            .abs()
+            .max(k.iter().fold(0.0f64, |a, &x| a.max(x.abs())));
+    period > 0.0 && (0..k.len() - nu).all(|i| ((k[i + nu] - k[i]) - period).abs() <= tol)
+}
+
+impl NurbsSurface {
+    /// True when the surface is periodic in u: periodic u knots and the last `p_u` control rows
+    /// (points and weights) equal to the first `p_u`.
+    ///
+    /// ```
+    /// use fairfit::nurbs::{NurbsSurface, Vec3};
+    /// // a periodic cubic ring of 4 distinct rows (3 repeated), linear in v
+    /// let ku: Vec<f64> = (-3..=7).map(|i| i as f64 / 4.0).collect();
+    /// let ring = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)];
+    /// let net = (0..7)
+    ///     .map(|i| (0..2).map(|j| Vec3::new(ring[i % 4].0, ring[i % 4].1, j as f64)).collect())
+    ///     .collect();
+    /// let s = NurbsSurface::new(3, 1, ku, vec![0.0, 0.0, 1.0, 1.0], net, None).unwrap();
+    /// assert!(s.is_periodic_u() && !s.is_periodic_v());
+    /// assert!((s.point(0.0, 0.5) - s.point(1.0, 0.5)).norm() < 1e-15);
+    /// ```
+    pub fn is_periodic_u(&self) -> bool {
+        let (n_u, n_v) = self.net_size();
+        let p = self.degree_u();
+        periodic_knots(self.knots_u(), p, n_u) && {
+            let h = self.homogeneous_points();
+            (0..p).all(|i| (0..n_v).all(|j| h[i * n_v + j] == h[(n_u - p + i) * n_v + j]))
+        }
+    }
+
+    /// True when the surface is periodic in v (see [`Self::is_periodic_u`]).
+    pub fn is_periodic_v(&self) -> bool {
+        let (n_u, n_v) = self.net_size();
+        let q = self.degree_v();
+        periodic_knots(self.knots_v(), q, n_v) && {
+            let h = self.homogeneous_points();
+            (0..q).all(|j| (0..n_u).all(|i| h[i * n_v + j] == h[i * n_v + n_v - q + j]))
+        }
+    }
+}
