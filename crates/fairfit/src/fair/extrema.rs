@@ -46,31 +46,15 @@ pub struct ExtremaCounts {
 /// Counts curvature extrema and inflections of `curve`, whose arc length is `length` (used for the
 /// scale-free noise floor; pass [`crate::diffgeo::arc_length()`] or the `length` of a fairness summary).
 pub fn count_extrema(curve: &NurbsCurve, length: f64) -> ExtremaCounts {
-    count_with(curve, length, SAMPLES_PER_SPAN, true)
+    count_extrema_sampled(curve, length, SAMPLES_PER_SPAN)
 }
 
-/// Curvature extrema and inflections at `samples_per_span` samples in every distinct knot span
-/// with the **curvature-scale floor** of the count before session 8: samples with
-/// `|dκ/ds| <= η K / L` (extrema) or `|κ| <= η K` (inflections) are skipped, `K = max(max|κ|, 1/L)`.
-/// That floor is lower than the measurer's (`η max|dκ/ds L²| + ε`), so it can count a shallow
-/// wiggle the measurer does not. The count search's rule (`optim::count_search`) was tuned on this
-/// count (hq17's restart: 6 extrema against the chain's 5 here, 6 against 3 by the measurer), so it
-/// keeps it; [`count_extrema`] is the measurer's.
+/// [`count_extrema`] with `samples_per_span` samples in every distinct knot span (a sparser
+/// sampling steps over shallow wiggles).
 pub fn count_extrema_sampled(
     curve: &NurbsCurve,
     length: f64,
     samples_per_span: usize,
-) -> ExtremaCounts {
-    count_with(curve, length, samples_per_span, false)
-}
-
-/// The counts at `samples_per_span` samples per span, with the measurer's floor (`measurer`) or
-/// the curvature-scale floor ([`count_extrema_sampled`]).
-fn count_with(
-    curve: &NurbsCurve,
-    length: f64,
-    samples_per_span: usize,
-    measurer: bool,
 ) -> ExtremaCounts {
     let planar = plane_normal(curve);
     let breaks = distinct_breakpoints(curve.knots(), curve.degree());
@@ -94,34 +78,6 @@ fn count_with(
         .fold(0.0f64, |m, p| m.max(p.max_abs()));
     if length.is_nan() || length <= 1e-12 * coord || kappa.is_empty() {
         return ExtremaCounts::default();
-    }
-    if !measurer {
-        let kmax = kappa.iter().fold(0.0f64, |m, k| m.max(k.abs()));
-        let kref = kmax.max(1.0 / length);
-        let floor_k = NOISE_FLOOR * kref;
-        let floor_d = NOISE_FLOOR * kref / length;
-        let changes = |xs: &[f64], floor: f64| {
-            let mut last = 0.0f64;
-            let mut n = 0;
-            for &x in xs {
-                if x.is_nan() || x.abs() <= floor {
-                    continue;
-                }
-                if last != 0.0 && (x > 0.0) != (last > 0.0) {
-                    n += 1;
-                }
-                last = x;
-            }
-            n
-        };
-        return ExtremaCounts {
-            curvature_extrema: changes(&dkds, floor_d),
-            inflections: if planar.is_some() {
-                changes(&kappa, floor_k)
-            } else {
-                binormal_reversals(&binormal, &kappa, floor_k)
-            },
-        };
     }
     // the dimensionless signals dκ/ds L² and κ L
     let l2 = length * length;
