@@ -39,6 +39,7 @@ pub mod band_qp;
 pub mod closed;
 pub mod cone_algebra;
 pub mod cone_ipm;
+pub(crate) mod cone_newton;
 pub mod control_map;
 pub mod corner_fit;
 pub mod corners;
