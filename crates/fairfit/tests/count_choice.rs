@@ -116,3 +116,59 @@ fn naca633418_keeps_the_fairer_of_both_searches_at_the_extra_count() {
     .unwrap();
     assert_eq!(curve_fairness(&fixed.curve).fairness, m.fairness);
 }
+
+/// splprep on hq17 at rel. tol 1e-3 (bench/band_optimum_results.csv, docs/benchmarks.md): 17
+/// control points, F = 1.59112e7, 6 curvature extrema (the benchmark's measurer).
+const SPLPREP_HQ17: (usize, f64, usize) = (17, 1.59112e7, 6);
+
+#[test]
+fn hq17_takes_the_restart_at_the_smallest_count_with_one_more_extremum_for_half_the_f() {
+    let pts = read_csv("hq17.csv");
+    let opts = IntegratedOptions {
+        tolerance: Tolerance::Relative(1e-3),
+        ..IntegratedOptions::default()
+    };
+    let r = fit_integrated(&pts, &opts).unwrap();
+    let m = curve_fairness(&r.curve);
+    let dense = count_extrema_sampled(&r.curve, m.length, 192).curvature_extrema;
+    let dev = sampled::brute_force_deviation_n(&r.curve, &pts, 400_000);
+    // the chain's search alone: what a fixed count runs (no restarts)
+    let chain = fit_integrated(
+        &pts,
+        &IntegratedOptions {
+            control_points: Some(13),
+            ..opts.clone()
+        },
+    )
+    .unwrap();
+    let mc = curve_fairness(&chain.curve);
+    let dense_chain = count_extrema_sampled(&chain.curve, mc.length, 192).curvature_extrema;
+    eprintln!(
+        "hq17: n={} F {:.4e} ({:.3} x splprep) extrema {dense} dev/tol {:.5}; chain at 13: F \
+         {:.4e} ({:.3} x) extrema {dense_chain}",
+        r.curve.n_control_points(),
+        m.fairness,
+        m.fairness / SPLPREP_HQ17.1,
+        dev / r.tolerance,
+        mc.fairness,
+        mc.fairness / SPLPREP_HQ17.1,
+    );
+    assert!(
+        r.met && dev <= r.tolerance,
+        "deviation {dev} > {}",
+        r.tolerance
+    );
+    assert_eq!(r.curve.n_control_points(), 13);
+    assert!(dense <= SPLPREP_HQ17.2);
+    assert!(
+        m.fairness <= 0.5 * SPLPREP_HQ17.1,
+        "F {} > 0.5 x splprep {}",
+        m.fairness,
+        SPLPREP_HQ17.1
+    );
+    // the chain's curve at 13 points misses the F target (0.561 x) with one extremum fewer (5);
+    // the restart's extremum more is within a quarter of 5 and bought by more than 1.5x in F
+    assert!(mc.fairness > 0.5 * SPLPREP_HQ17.1);
+    assert_eq!(dense, dense_chain + 1);
+    assert!(1.5 * m.fairness < mc.fairness);
+}

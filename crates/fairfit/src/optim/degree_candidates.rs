@@ -70,26 +70,18 @@ pub(crate) fn raise_open(
     reference: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
-    first: Option<(usize, Attempt)>,
+    first: Option<Attempt>,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
     let k = reference.curve.knots().to_vec();
     let interior = &k[p + 1..k.len() - p - 1];
-    let n = interior.len() + p + 1;
     let first = std::sync::Mutex::new(first);
     let attempt = |d: usize| {
         if d == p + 1 {
-            if let Some((count, a)) = first.lock().expect("not poisoned").take() {
-                // missed at the descent's smaller count: again at the reference's own count
-                if a.fit.is_some() || count >= n {
-                    return a;
-                }
-                let mut again = open_attempt(&preps[d - p], p, interior, tol, opts, d);
-                again.evaluations += a.evaluations;
-                again.iterations += a.iterations;
-                return again;
+            if let Some(a) = first.lock().expect("not poisoned").take() {
+                return a;
             }
         }
         open_attempt(&preps[d - p], p, interior, tol, opts, d)
@@ -98,18 +90,17 @@ pub(crate) fn raise_open(
 }
 
 /// The attempt of degree `opts.degree + 1` at the count of the reference degree's `interior` knots
-/// (run beside the count search, from the descent's knots), with that count.
+/// (run beside the count search, from the descent's knots).
 pub(crate) fn open_next(
     prep: &Prepared,
     interior: &[f64],
     tol: f64,
     opts: &IntegratedOptions,
-) -> (usize, Attempt) {
+) -> Attempt {
     let (p, d) = (opts.degree, opts.degree + 1);
     let mut q = prep.clone();
     q.data.degree = d;
-    let count = interior.len() + p + 1;
-    (count, open_attempt(&q, p, interior, tol, opts, d))
+    open_attempt(&q, p, interior, tol, opts, d)
 }
 
 /// Degree `d` (data `q`) at the count of the degree-`p` `interior` knots, finished when feasible.

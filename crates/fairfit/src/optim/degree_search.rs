@@ -40,9 +40,11 @@
 //! 17) at a geometric-mean F ratio of 0.360 (0.366), see docs/optim.md.
 //!
 //! `F` and the curvature extrema are measured on the returned curves by
-//! [`crate::fair::curve_fairness`] (the report's numbers). Every finished degree is recorded in
-//! [`super::integrated::OptimStats::degrees_tried`] in degree order. Each step is thread-count independent, so the
-//! result is byte-identical for any number of threads.
+//! [`crate::fair::curve_fairness`] (the report's numbers; the extrema at 192 samples per span with
+//! the benchmark measurer's noise floor, so the rule never admits a wiggle the measurer counts).
+//! Every finished degree is recorded in [`super::integrated::OptimStats::degrees_tried`] in degree
+//! order. Each step is thread-count independent, so the result is byte-identical for any number of
+//! threads.
 
 use super::closed::distinct_control_points;
 use super::integrated::{IntegratedOptions, IntegratedResult};
