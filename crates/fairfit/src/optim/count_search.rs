@@ -14,13 +14,6 @@
 //! - the *independent* search: seeded with the descent's knots at that count (what
 //!   `--control-points` at that count starts from), so it runs in parallel with the chain.
 //!
-//! At `n` the chain's search (seeded with the given knots) has [`RESTARTS`] restarts beside it:
-//! the same seeds on other random streams (not with a fixed count). A restart is a candidate only
-//! when its swarm F is below the chain's: the swarm F does not rank finished curves reliably, but
-//! on the 33 benchmark curves the restarts above it finished at most 9 % fairer (none reaching a
-//! target), and the filter saves their finish on 22 of the 33. hq17 at 13 points: swarm F 0.442
-//! and 0.335 x splprep's, finished 0.561 x (the chain) and 0.274 x (the restart).
-//!
 //! Both searches at an extra count are candidates (one when they end at the same knots and
 //! smoothing) while the better swarm F of the two is [`WEAK_STEP_GAIN`] below the best swarm F at
 //! the count below ([`candidate_draws`]; naca633418: the chain's swarm F at 13 points is the lower,
@@ -41,14 +34,9 @@
 //!
 //! **Rule** ([`choose_count`]), on the finished curves (F as [`curve_fairness`] measures it,
 //! infinite when the tolerance or `F*` is missed; curvature extrema counted at
-//! [`EXTREMA_SAMPLES_PER_SPAN`] samples per span): of the candidates with at most
-//! `fewest + fewest / 4` curvature extrema ([`extrema_allowed`]; `fewest` of any candidate), the
-//! lowest `F · EXTRA_POINT_GAIN^extra · EXTRA_EXTREMUM_GAIN^wiggles` (`extra` points above the
-//! smallest count, `wiggles` extrema above `fewest`; ties: the fewer extrema, then the fewer
-//! points). So an added point must buy [`EXTRA_POINT_GAIN`] (5 %); below 4 extrema no candidate
-//! may add one (a simple section keeps its one leading-edge extremum), from 4 on a quarter more
-//! may, each for a factor [`EXTRA_EXTREMUM_GAIN`] (1.5) in F: on a curve that already has
-//! several wiggles, one more shallow one is a small change in shape, halving F is not.
+//! [`EXTREMA_SAMPLES_PER_SPAN`] samples per span): the fewest curvature extrema first, then the
+//! lowest `F · EXTRA_POINT_GAIN^extra` (`extra` points above the smallest count; ties: the fewer
+//! points), so an added point must buy [`EXTRA_POINT_GAIN`] and may not add a wiggle.
 //!
 //! Only the problem type differs between open and periodic curves: [`CountProblem`] is the knot
 //! search at one count, [`CountFamily`] makes it for any count.
@@ -69,23 +57,6 @@ use rayon::prelude::*;
 /// declined ones (where the fewer points keep their targets) are below 5 %: FFA-W3-301 4 %,
 /// naca2412 and FFA-W3-241 below 2 %.
 pub(crate) const EXTRA_POINT_GAIN: f64 = 1.05;
-
-/// The factor by which the finished F must fall per curvature extremum above the fewest of any
-/// candidate (module doc; within [`extrema_allowed`]). hq17's restart at 13 points gains 2.05 with
-/// one extremum more (0.274 x splprep's F, 6 extrema, against 0.561, 5); on the 33 benchmark
-/// curves any factor from 1.25 to 2 chooses the same curves.
-pub(crate) const EXTRA_EXTREMUM_GAIN: f64 = 1.5;
-
-/// A candidate may have `fewest / EXTREMA_SLACK_DIVISOR` more curvature extrema than the fewest
-/// of any candidate (module doc): none while the fewest is below 4.
-pub(crate) const EXTREMA_SLACK_DIVISOR: usize = 4;
-
-/// Restarts of the full search at the smallest feasible count, on other random streams (module
-/// doc).
-pub(crate) const RESTARTS: u64 = 1;
-
-/// The step between the random streams of the restarts ([`RESTARTS`]).
-const RESTART_SEED_STEP: u64 = 0x1234_5678_9abc;
 
 /// Samples per knot span of the curvature-extrema count the rule compares (module doc): as dense as
 /// the benchmark's measurer (4 x 48), which finds shallow wiggles the report's 32 samples step over
@@ -197,38 +168,29 @@ pub(crate) fn search_counts<C: CountFamily>(
         opts.max_extra_control_points
     };
     let top = (n + max_extra).min(limit).max(n);
-    let search = |count: usize, seed: &[f64], restart: u64| {
-        full_search(family, count, seed, restart, descent, opts, progress)
+    let search = |count: usize, seeds: &[Vec<f64>]| {
+        full_search(family, count, seeds, descent, opts, progress)
     };
-    // beside the chain: the restarts at `n` (not with a fixed count) and the independent searches
-    let restarts = if opts.control_points.is_some() {
-        0
-    } else {
-        RESTARTS
-    };
-    let jobs: Vec<(usize, &[f64], u64)> = (1..=restarts)
-        .map(|r| (n, knots, r))
-        .chain((n + 1..=top).filter_map(|count| {
-            let (_, k) = descent.iter().find(|(c, _)| *c == count)?;
-            Some((count, k.as_slice(), 0))
-        }))
-        .collect();
     let (chain, independent) = rayon::join(
         || {
-            let mut chain = vec![search(n, knots, 0)];
+            let mut chain = vec![search(n, &[knots.to_vec()])];
             for count in n + 1..=top {
                 let prev = &chain[chain.len() - 1];
                 let (true, Some(k)) = (prev.fairness.is_finite(), &prev.interior) else {
                     break;
                 };
                 let seed = family.insertion(k, prev.log_lambda);
-                chain.push(search(count, &seed, 0));
+                chain.push(search(count, &[seed]));
             }
             chain
         },
         || {
-            jobs.par_iter()
-                .map(|&(count, k, restart)| search(count, k, restart))
+            (n + 1..=top)
+                .into_par_iter()
+                .filter_map(|count| {
+                    let (_, k) = descent.iter().find(|(c, _)| *c == count)?;
+                    Some(search(count, std::slice::from_ref(k)))
+                })
                 .collect::<Vec<Draw>>()
         },
     );
@@ -274,78 +236,58 @@ pub(crate) fn search_counts<C: CountFamily>(
     })
 }
 
-/// The draws finished as candidates (module doc): the searches at `n` (the chain's, and the
-/// restarts in `independent` whose swarm F is below the chain's), then at every count up to `top` all of its searches (chain first;
-/// a search with the knots and smoothing of one before it is left out) while the best of their
-/// swarm F is a clear step down from the count below (at `n`: from the chain's).
+/// The draws finished as candidates (module doc): the search at `n`, then at every count up to
+/// `top` all of its searches (chain first; a search with the knots and smoothing of one before it
+/// is left out) while the best of their swarm F is a clear step down from the count below.
 fn candidate_draws<'d>(
     chain: &'d [Draw],
     independent: &'d [Draw],
     n: usize,
     top: usize,
 ) -> Vec<&'d Draw> {
-    let mut candidates: Vec<&Draw> = Vec::new();
+    let mut candidates = vec![&chain[0]];
     let mut prev_fairness = chain[0].fairness;
-    for count in n..=top {
+    for count in n + 1..=top {
         let mut at: Vec<&Draw> = Vec::new();
         for d in chain.iter().chain(independent) {
             let same = |e: &&Draw| e.interior == d.interior && e.log_lambda == d.log_lambda;
-            // a restart at n only when its swarm F is below the chain's (module doc)
-            let first = std::ptr::eq(d, &chain[0]);
-            let better = count > n || d.fairness < chain[0].fairness;
-            let kept = first || (d.interior.is_some() && better);
-            if d.count == count && kept && !at.iter().any(same) {
+            if d.count == count && d.interior.is_some() && !at.iter().any(same) {
                 at.push(d);
             }
         }
-        if count > n {
-            let best = at.iter().map(|d| d.fairness).fold(f64::INFINITY, f64::min);
-            if at.is_empty() || weak_step(prev_fairness, best) {
-                break;
-            }
-            prev_fairness = best;
+        let best = at.iter().map(|d| d.fairness).fold(f64::INFINITY, f64::min);
+        if at.is_empty() || weak_step(prev_fairness, best) {
+            break;
         }
         candidates.extend(at);
+        prev_fairness = best;
     }
     candidates
 }
 
 /// The index of the chosen candidate (module doc): `counts[i]` control points ranked
-/// `ranked[i]`. Of the candidates within the tolerance (finite F) with at most
-/// [`extrema_allowed`] curvature extrema, the lowest
-/// `F · EXTRA_POINT_GAIN^(count − smallest count) · EXTRA_EXTREMUM_GAIN^(extrema − fewest)`, then
-/// the fewer extrema, then the fewer points; with none within the tolerance, the first.
+/// `ranked[i]`. Of the candidates within the tolerance (finite F), the fewest curvature extrema
+/// first, then the lowest `F · EXTRA_POINT_GAIN^(count − smallest count)`, then the fewer points;
+/// with none within the tolerance, the first.
 pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked]) -> usize {
-    let ok = || (0..counts.len()).filter(|&i| ranked[i].fairness.is_finite());
-    let (Some(lowest), Some(fewest)) = (
-        counts.iter().copied().min(),
-        ok().map(|i| ranked[i].extrema).min(),
-    ) else {
+    let Some(lowest) = counts.iter().copied().min() else {
         return 0;
     };
     let key = |i: usize| {
-        let score = ranked[i].fairness
-            * EXTRA_POINT_GAIN.powi((counts[i] - lowest) as i32)
-            * EXTRA_EXTREMUM_GAIN.powi((ranked[i].extrema - fewest) as i32);
-        (score, ranked[i].extrema, counts[i])
+        let score = ranked[i].fairness * EXTRA_POINT_GAIN.powi((counts[i] - lowest) as i32);
+        (ranked[i].extrema, score, counts[i])
     };
     let mut best: Option<usize> = None;
-    for i in ok().filter(|&i| ranked[i].extrema <= extrema_allowed(fewest)) {
-        let (s, e, c) = key(i);
+    for i in (0..counts.len()).filter(|&i| ranked[i].fairness.is_finite()) {
+        let (e, s, c) = key(i);
         if best.is_none_or(|b| {
-            let (bs, be, bc) = key(b);
-            s < bs || (s == bs && (e < be || (e == be && c < bc)))
+            let (be, bs, bc) = key(b);
+            e < be || (e == be && (s < bs || (s == bs && c < bc)))
         }) {
             best = Some(i);
         }
     }
     best.unwrap_or(0)
-}
-
-/// The most curvature extrema a candidate may have when the fewest of any candidate is `fewest`:
-/// `fewest + fewest / 4` (module doc).
-pub(crate) fn extrema_allowed(fewest: usize) -> usize {
-    fewest + fewest / EXTREMA_SLACK_DIVISOR
 }
 
 /// True when `f_next` is not at least [`WEAK_STEP_GAIN`] below `f_prev` (no gain from infinity).
@@ -362,14 +304,12 @@ fn swarm_fairness(r: &PsoResult<CandidateEval>) -> f64 {
     }
 }
 
-/// The full swarm at count `n` from the `seed` knots (plus the descent's knots at `n` and the
-/// spread knots) and the smoothing line search, on the random streams of `restart` (0: the
-/// search's own); records `(n, F)`.
+/// The full swarm at count `n` from the `seeds` knots (plus the descent's knots at `n` and the
+/// spread knots) and the smoothing line search; records `(n, F)`.
 fn full_search<C: CountFamily>(
     family: &C,
     n: usize,
-    seed: &[f64],
-    restart: u64,
+    seeds: &[Vec<f64>],
     descent: &[(usize, Vec<f64>)],
     opts: &IntegratedOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
@@ -377,14 +317,17 @@ fn full_search<C: CountFamily>(
     let mut stats = OptimStats::default();
     stats.counts_tried.push(n);
     let pr = family.problem(n);
-    let mut x0 = vec![pr.position(seed)];
-    if let Some((_, k)) = descent.iter().find(|(c, k)| *c == n && k != seed) {
+    let mut x0: Vec<Vec<f64>> = seeds.iter().map(|k| pr.position(k)).collect();
+    if let Some((_, k)) = descent.iter().find(|(c, k)| *c == n && !seeds.contains(k)) {
         x0.push(pr.position(k));
     }
     x0.push(pr.position(&family.spread_knots(n)));
-    let mut pso = pso_options(opts, opts.max_iterations, false, n as u64 + 1_000_003);
-    pso.seed ^= restart.wrapping_mul(RESTART_SEED_STEP);
-    let mut r = run_pso(&pr, &x0, &pso, &|it| progress(n, it));
+    let mut r = run_pso(
+        &pr,
+        &x0,
+        &pso_options(opts, opts.max_iterations, false, n as u64 + 1_000_003),
+        &|it| progress(n, it),
+    );
     stats.evaluations += r.evaluations;
     stats.iterations += r.iterations;
     if let Some(coord) = pr.smoothing_coord() {
@@ -406,7 +349,7 @@ fn full_search<C: CountFamily>(
 
 #[cfg(test)]
 mod tests {
-    use super::{candidate_draws, choose_count, extrema_allowed, weak_step, Draw, Ranked};
+    use super::{candidate_draws, choose_count, weak_step, Draw, Ranked};
     use crate::optim::integrated::OptimStats;
 
     fn draw(count: usize, knot: f64, fairness: f64) -> Draw {
@@ -417,12 +360,6 @@ mod tests {
             fairness,
             stats: OptimStats::default(),
         }
-    }
-
-    #[test]
-    fn a_quarter_more_extrema_from_four_on() {
-        let allowed: Vec<usize> = (0..=12).map(extrema_allowed).collect();
-        assert_eq!(allowed, [0, 1, 2, 3, 5, 6, 7, 8, 10, 11, 12, 13, 15]);
     }
 
     #[test]
@@ -459,19 +396,6 @@ mod tests {
         let independent = [draw(11, 0.4, 0.8), none];
         let c = candidate_draws(&chain, &independent, 10, 11);
         assert_eq!(counts(&c), vec![(10, 1.0), (11, 0.8)]);
-        // a restart at n below the chain's swarm F is a candidate, one above it is not; the
-        // step to n + 1 is measured from the chain at n
-        let chain = [draw(13, 0.5, 0.442), draw(14, 0.4, 0.43)];
-        let independent = [
-            draw(13, 0.6, 0.335),
-            draw(13, 0.8, 0.45),
-            draw(14, 0.7, 0.434),
-        ];
-        let c = candidate_draws(&chain, &independent, 13, 14);
-        assert_eq!(
-            counts(&c),
-            vec![(13, 0.442), (13, 0.335), (14, 0.43), (14, 0.434)]
-        );
     }
 
     #[test]
@@ -509,21 +433,6 @@ mod tests {
         // and fewer extrema win even at a higher F (naca633418: 12 points 0.496 with 3 extrema
         // at the dense count, 13 points 0.509 with 1)
         assert_eq!(choose_count(&[12, 13], &[r(0.496, 3), r(0.509, 1)]), 1);
-        // from 4 extrema on, a quarter more may buy F at 1.5 per extremum (hq17: the restart at
-        // 13 points, 0.274 with 6 extrema, against the chain's 0.561 with 5)
-        assert_eq!(choose_count(&[13, 13], &[r(0.561, 5), r(0.274, 6)]), 1);
-        assert_eq!(choose_count(&[13, 13], &[r(1.0, 4), r(0.7, 5)]), 0);
-        assert_eq!(choose_count(&[13, 13], &[r(1.0, 4), r(0.6, 5)]), 1);
-        assert_eq!(choose_count(&[13, 13], &[r(1.0, 4), r(0.1, 6)]), 0);
-        assert_eq!(choose_count(&[13, 14], &[r(1.0, 4), r(0.65, 5)]), 0);
-        assert_eq!(choose_count(&[13, 14], &[r(1.0, 4), r(0.63, 5)]), 1);
-        assert_eq!(choose_count(&[13, 13], &[r(1.0, 8), r(0.4, 10)]), 1);
-        assert_eq!(choose_count(&[13, 13], &[r(1.0, 8), r(0.01, 11)]), 0);
-        // below 4 extrema none more (du84132v: 12 points 0.362 with 3, 13 points 0.327 with 4)
-        assert_eq!(choose_count(&[12, 13], &[r(0.362, 3), r(0.327, 4)]), 0);
-        assert_eq!(choose_count(&[12, 13], &[r(0.362, 3), r(0.01, 4)]), 0);
-        // equal scores: the fewer extrema
-        assert_eq!(choose_count(&[13, 13], &[r(0.75, 5), r(1.125, 4)]), 1);
         // outside the tolerance (infinite F) never wins, whatever its extrema
         assert_eq!(choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(5.0, 2)]), 1);
         assert_eq!(choose_count(&[9, 10], &[r(1.0, 1), r(f64::INFINITY, 0)]), 0);
