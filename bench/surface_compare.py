@@ -493,6 +493,16 @@ def main(argv=None):
     print(f"wrote {args.out}", file=sys.stderr)
 
 
+def seam_cell(report):
+    """The report's seam: periodic or clamped, largest tangent angle and curvature jump across it."""
+    seam = report.get("seam")
+    if not seam:
+        return "not closed"
+    kind = "periodic (C2)" if report.get("periodic_u") else "clamped (C0)"
+    return (f"{kind}: tangent angle {g(seam['max_tangent_angle'])} rad, curvature jump "
+            f"{g(seam['max_curvature_jump'])}")
+
+
 def bunny(exe, data, tmp):
     """fairfit on the Stanford bunny, 20 slices along z; the deviation from our measurer and the CLI's
     gap report.  The measured points are the sliced section points (what the surface was fitted to)."""
@@ -549,6 +559,7 @@ def bunny(exe, data, tmp):
             f"| F between sections max / median | {g(m['F_across_max'])} / {g(m['F_across_median'])} |",
             f"| F along sections max / median | {g(m['F_along_max'])} / {g(m['F_along_median'])} |",
             f"| gaps reported | {len(gaps)} |",
+            f"| u seam (closed sections) | {seam_cell(r)} |",
             "",
         ]
         if gaps:

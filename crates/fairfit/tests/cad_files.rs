@@ -200,3 +200,40 @@ fn long_and_non_ascii_names_keep_the_files_valid() {
     check_step(&step).unwrap();
     assert!(step.is_ascii());
 }
+
+/// A periodic bicubic ring (8 distinct rows, the last 3 of 11 repeating the first), linear in v.
+fn periodic_ring() -> NurbsSurface {
+    let breaks: Vec<f64> = (0..=8).map(|i| i as f64 / 8.0).collect();
+    let ku = fairfit::fit::lsq::periodic_knots(&breaks, 3);
+    let net = (0..11)
+        .map(|i| {
+            let t = std::f64::consts::TAU * (i % 8) as f64 / 8.0;
+            (0..2)
+                .map(|j| Vec3::new(3.0 * t.cos(), 2.0 * t.sin(), 5.0 * j as f64))
+                .collect()
+        })
+        .collect();
+    NurbsSurface::new(3, 1, ku, vec![0.0, 0.0, 1.0, 1.0], net, None).unwrap()
+}
+
+#[test]
+fn closed_and_periodic_surfaces_are_flagged() {
+    let s = periodic_ring();
+    assert!(s.is_periodic_u() && !s.is_periodic_v());
+    assert!(!bicubic().is_periodic_u());
+    // IGES 128: PROP1 closed in u, PROP2 closed in v, PROP3 polynomial, PROP4 / PROP5 periodic
+    let summary = check_iges(&surface_to_iges(&s, &IgesOptions::default()).unwrap()).unwrap();
+    let v = numbers(&summary.parameters[0]);
+    assert_eq!(
+        &v[..10],
+        &[128.0, 10.0, 1.0, 3.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0]
+    );
+    // STEP: u_closed .T., one seam edge shared by both u ends (3 edges, 2 vertices)
+    let text = surface_to_step(&s, &StepOptions::default()).unwrap();
+    let e = check_step(&text).unwrap().entities;
+    assert_eq!(e.get("EDGE_CURVE"), Some(&3));
+    assert_eq!(e.get("VERTEX_POINT"), Some(&2));
+    assert!(text.contains(",.UNSPECIFIED.,.T.,.F.,.F.,"), "{text}");
+    let open = surface_to_step(&bicubic(), &StepOptions::default()).unwrap();
+    assert!(open.contains(",.UNSPECIFIED.,.F.,.F.,.F.)"));
+}
