@@ -121,6 +121,34 @@ fn sliced_cylinder_mesh_and_its_hole() {
         .unwrap()
         .iter()
         .all(|s| s["closed"] == true));
+    // smooth closed sections: periodic in u, no crease at the seam (tangent angle and relative
+    // curvature jump at rounding level); --clamped-seam gives the clamped fit and its C0 edge
+    // (about 0.014 rad and a 15 % curvature jump here)
+    assert_eq!(r["periodic_u"], true);
+    assert!(r["seam"]["max_tangent_angle"].as_f64().unwrap() < 1e-12);
+    assert!(r["seam"]["max_curvature_jump"].as_f64().unwrap() < 1e-12);
+    fairfit()
+        .arg("surface")
+        .arg(&mesh)
+        .args([
+            "--slices",
+            "6",
+            "--axis",
+            "z",
+            "--rel-tol",
+            "1e-3",
+            "--clamped-seam",
+        ])
+        .arg("-o")
+        .arg(dir.path().join("c.json"))
+        .arg("--report")
+        .arg(&rep)
+        .assert()
+        .success();
+    let r = read_json(&rep);
+    assert_eq!(r["periodic_u"], false);
+    assert_eq!(r["within_tolerance"], true);
+    assert!(r["seam"]["max_tangent_angle"].as_f64().unwrap() > 1e-3);
     // 5 slices: the middle plane (z = 1) crosses the hole; it is reported with its size
     let holed = dir.path().join("holed.obj");
     cylinder_obj(&holed, 2.0, true);

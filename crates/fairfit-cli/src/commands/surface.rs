@@ -94,6 +94,10 @@ pub struct SurfaceArgs {
     /// Smoothing weight of the approximation across the sections (relative to the data term).
     #[arg(long, default_value_t = 1e-3, value_parser = super::finite_non_negative)]
     pub smooth_v: f64,
+    /// Fit closed sections clamped, with a C0 edge at their aligned seam, even when they are smooth
+    /// there (by default smooth closed sections are fitted and skinned periodically in u: no crease).
+    #[arg(long)]
+    pub clamped_seam: bool,
     /// A chain edge longer than this many median spacings is reported as a gap (slicing).
     #[arg(long, default_value_t = 5.0, value_parser = super::finite_positive)]
     pub gap_factor: f64,
@@ -262,6 +266,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     opts.sections.degree = args.degree;
     opts.sections.tolerance = tol;
     opts.sections.max_control_points = args.max_ctrl;
+    opts.sections.periodic_closed = !args.clamped_seam;
     opts.skin.degree_v = args.degree_v;
     opts.skin.params = match args.v_params {
         VParam::Chord => VParams::ChordLength,
