@@ -135,16 +135,7 @@ pub(super) fn g_mul<const D: usize, const M: usize>(dt: &Data, x: &[f64], out: &
     let (lin, slk) = out[l0..].split_at_mut(dt.nr);
     for (j, win) in dt.rwin.iter().enumerate() {
         let g = &dt.rvals[win.off..win.off + win.m];
-        let mut v = if M > 0 && win.m == M {
-            let (g, xw): (&[f64; M], &[f64; M]) = (arr(g), arr(&x[win.vars()]));
-            let mut t = 0.0;
-            for b in 0..M {
-                t += g[b] * xw[b];
-            }
-            t
-        } else {
-            dot(g, &x[win.vars()])
-        };
+        let mut v = dot_win::<M>(g, x, win);
         let t = dt.slack_of[j];
         if t != usize::MAX {
             let xt = x[dt.nv + t];

@@ -33,8 +33,9 @@
 //! parallel (one serial band fairing per candidate; two or three candidates on most curves).
 //!
 //! **Rule** ([`choose_count`]), on the finished curves (F as [`curve_fairness`] measures it,
-//! infinite when the tolerance or `F*` is missed; curvature extrema counted at
-//! [`EXTREMA_SAMPLES_PER_SPAN`] samples per span): the fewest curvature extrema first, then the
+//! infinite when the tolerance or `F*` is missed; its curvature extrema, counted as the benchmark's
+//! measurer counts them at [`crate::fair::extrema::SAMPLES_PER_SPAN`] samples per span, which finds
+//! shallow wiggles 32 samples step over, e.g. naca633418 at 12 points: 3 against 1): the fewest curvature extrema first, then the
 //! lowest `F · EXTRA_POINT_GAIN^extra` (`extra` points above the smallest count; ties: the fewer
 //! points), so an added point must buy [`EXTRA_POINT_GAIN`] and may not add a wiggle.
 //!
@@ -46,7 +47,6 @@ use super::objective::CandidateEval;
 use super::pso::{run_pso, PsoOptions, PsoResult, SwarmProblem};
 use super::smoothing::tune_smoothing;
 use crate::errors::{Error, Result};
-use crate::fair::count_extrema_sampled;
 use crate::fair::metrics::curve_fairness;
 use rayon::prelude::*;
 
@@ -57,11 +57,6 @@ use rayon::prelude::*;
 /// declined ones (where the fewer points keep their targets) are below 5 %: FFA-W3-301 4 %,
 /// naca2412 and FFA-W3-241 below 2 %.
 pub(crate) const EXTRA_POINT_GAIN: f64 = 1.05;
-
-/// Samples per knot span of the curvature-extrema count the rule compares (module doc): as dense as
-/// the benchmark's measurer (4 x 48), which finds shallow wiggles the report's 32 samples step over
-/// (naca633418 at 12 points: 3 extrema against 1).
-pub(crate) const EXTREMA_SAMPLES_PER_SPAN: usize = 192;
 
 /// The relative drop in swarm F from one count to the next below which the next count is not
 /// finished (module doc).
@@ -216,10 +211,9 @@ pub(crate) fn search_counts<C: CountFamily>(
         .map(|r| match r {
             Ok(r) => {
                 let m = curve_fairness(&r.curve);
-                let dense = count_extrema_sampled(&r.curve, m.length, EXTREMA_SAMPLES_PER_SPAN);
                 Ranked {
                     fairness: if r.met { m.fairness } else { f64::INFINITY },
-                    extrema: dense.curvature_extrema,
+                    extrema: m.curvature_extrema,
                 }
             }
             Err(_) => Ranked {

@@ -177,21 +177,7 @@ pub(crate) fn raise_open_piece(
         return Attempt::default();
     }
     let interior = &k[p + 1..k.len() - p - 1];
-    let tol = tolerance_of(opts, q.scale);
-    match open_candidate(&q, p, interior, tol, opts, d) {
-        Some(c) => c.attempt(|c| {
-            let o = candidate_options(opts, d);
-            finish(
-                &q,
-                &c.interior,
-                c.log_lambda,
-                tol,
-                &o,
-                o.polish.then_some(tol),
-            )
-        }),
-        None => Attempt::default(),
-    }
+    open_attempt(&q, p, interior, tolerance_of(opts, q.scale), opts, d)
 }
 
 /// [`raise_open`] for a periodic closed curve.

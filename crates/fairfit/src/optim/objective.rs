@@ -512,17 +512,7 @@ fn span_power_coefs(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
     ders_basis_funs_into(
         s, u0, p, p, &ws.knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
     );
-    let mut fact = 1.0;
-    for k in 0..=p {
-        if k > 0 {
-            fact *= k as f64;
-        }
-        let mut c = Vec3::default();
-        for j in 0..=p {
-            c += ws.ctrl[s - p + j] * ders[k * (p + 1) + j];
-        }
-        ws.coef[at + k] = c / fact;
-    }
+    taylor_coefs(p, &ws.ctrl[s - p..=s], &ders, &mut ws.coef[at..=at + p]);
 }
 
 /// [`span_power_coefs`] with the basis derivatives from `ws.span_ders` (rebuilt when the knots or
@@ -553,6 +543,13 @@ fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace
         }
     }
     let ders = &ws.span_ders.ders[s * P1 * P1..(s + 1) * P1 * P1];
+    taylor_coefs(p, &ws.ctrl[s - p..=s], ders, &mut ws.coef[at..=at + p]);
+}
+
+/// The `p + 1` Taylor coefficients `C^(k)(u_0) / k!` of a span from its `p + 1` control points and
+/// the basis derivatives `ders[k (p + 1) + j] = N_j^(k)(u_0)` at the span's start.
+#[inline]
+fn taylor_coefs(p: usize, ctrl: &[Vec3], ders: &[f64], coef: &mut [Vec3]) {
     let mut fact = 1.0;
     for k in 0..=p {
         if k > 0 {
@@ -560,9 +557,9 @@ fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace
         }
         let mut c = Vec3::default();
         for j in 0..=p {
-            c += ws.ctrl[s - p + j] * ders[k * (p + 1) + j];
+            c += ctrl[j] * ders[k * (p + 1) + j];
         }
-        ws.coef[at + k] = c / fact;
+        coef[k] = c / fact;
     }
 }
 
