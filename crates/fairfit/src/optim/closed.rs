@@ -213,6 +213,7 @@ fn fit_periodic(
         knots: &best_knots,
         descent: &descent,
         limit: max_n.min(baseline),
+        alt: &[],
     };
     let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
     let mut result = if opts.searches_degree() {

@@ -23,13 +23,13 @@
 //! methods at equal control points.
 
 use super::band_fairing::{band_fair, BandOptions};
-use super::count_search::{pso_options, search_counts, CountFamily, CountProblem, CountStart};
+use super::count_search::{search_counts, CountFamily, CountStart};
+use super::descent::{descend, second_descent};
 use super::encoding::KnotEncoding;
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
 use super::polish::{polish, PolishOptions, Polished};
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::problem::KnotProblem;
-use super::pso::run_pso;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 use rayon::prelude::*;
@@ -281,15 +281,12 @@ pub fn fit_integrated_with_progress(
         }
     }
 
-    let pso_opts = |iters: usize, probe: bool, salt: u64| pso_options(opts, iters, probe, salt);
-    let problem_for = |n: usize| open_problem(data, n, tol, opts);
-
     // 3. count search downwards from the baseline: greedy knot removal, then a swarm probe
     // a fixed count descends from the baseline to it (feasible seeds), or starts above it
     let fixed = opts.control_points;
-    let mut best_n = fixed.map_or(baseline, |n| n.max(baseline));
+    let best_n = fixed.map_or(baseline, |n| n.max(baseline));
     let lowest = fixed.unwrap_or(p + 1).max(p + 1).max(4);
-    let mut best_knots = match lsq_start {
+    let best_knots = match lsq_start {
         Some((n, k)) if n == best_n => k,
         Some((n, mut k)) if n < best_n => {
             // a fixed count above the least-squares one: add knots where they help most
@@ -300,47 +297,16 @@ pub fn fit_integrated_with_progress(
         }
         _ => averaging_interior_knots(&data.params, p, best_n),
     };
-    // feasible knots met on the way down, by count: seeds for the searches with extra points
-    let mut descent: Vec<(usize, Vec<f64>)> = vec![(best_n, best_knots.clone())];
-    while best_n > lowest {
-        let cand = best_n - 1;
-        stats.counts_tried.push(cand);
-        let removals = removal_candidates(data, &best_knots);
-        stats.evaluations += best_knots.len();
-        if let Some((dev, knots)) = removals.first() {
-            if *dev <= tol {
-                best_knots = knots.clone();
-                best_n = cand;
-                descent.push((cand, best_knots.clone()));
-                continue;
-            }
-        }
-        let pr = problem_for(cand);
-        let mut seeds: Vec<Vec<f64>> = removals
-            .iter()
-            .take(3)
-            .map(|(_, k)| pr.position(k))
-            .collect();
-        seeds.push(pr.position(&averaging_interior_knots(&data.params, p, cand)));
-        let r = run_pso(
-            &pr,
-            &seeds,
-            &pso_opts(opts.probe_iterations, true, cand as u64),
-            &|it| progress(cand, it),
-        );
-        stats.evaluations += r.evaluations;
-        stats.iterations += r.iterations;
-        if !r.fitness.feasible() {
-            break;
-        }
-        let mut kw = Default::default();
-        if !pr.decode_into(&r.position, &mut kw) {
-            break;
-        }
-        best_knots = kw.interior;
-        best_n = cand;
-        descent.push((cand, best_knots.clone()));
+    // feasible knots met on the way down, by count: seeds for the searches with extra points;
+    // a second descent on other random streams seeds the count search's restart
+    let first = descend(data, tol, opts, (best_n, best_knots), lowest, 0, progress);
+    let second = second_descent(&first, data, tol, opts, lowest, progress).unwrap_or_default();
+    for d in [&first, &second] {
+        stats.counts_tried.extend(&d.counts_tried);
+        stats.evaluations += d.evaluations;
+        stats.iterations += d.iterations;
     }
+    let (mut best_n, mut best_knots, descent) = (first.n, first.knots, first.by_count);
     if let Some(n) = fixed {
         // the tolerance cannot be met at the fixed count: remove the knots that hurt least anyway
         while best_n > n {
@@ -364,6 +330,7 @@ pub fn fit_integrated_with_progress(
         knots: &best_knots,
         descent: &descent,
         limit: m1.min(baseline),
+        alt: &second.by_count,
     };
     // with a degree search, the next degree (from the descent's knots) runs beside the count search
     let (result, first) = rayon::join(

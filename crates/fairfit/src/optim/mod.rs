@@ -7,6 +7,7 @@
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
 //! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
+//! - [`descent`]: the count descent of an open curve and its second start (the restart's seeds);
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
@@ -47,6 +48,7 @@ pub mod count_search;
 pub mod curvature_signs;
 pub mod degree_candidates;
 pub mod degree_search;
+pub(crate) mod descent;
 pub mod encoding;
 pub mod integrated;
 pub mod mopso;
