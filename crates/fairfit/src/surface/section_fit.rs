@@ -9,6 +9,7 @@
 
 use super::linalg::{cholesky, cholesky_solve, Dense};
 use super::periodic_fit::lsq_periodic_control_points;
+use super::seam_tie::lsq_tied_control_points;
 use crate::diffgeo::CurveProjector;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
@@ -245,11 +246,23 @@ pub fn fit_section(
     smoothing: f64,
     corrections: usize,
 ) -> Result<SectionFit> {
-    fit_section_with(points, params, degree, knots, smoothing, corrections, true)
+    fit_section_with(
+        points,
+        params,
+        degree,
+        knots,
+        smoothing,
+        corrections,
+        true,
+        0,
+    )
 }
 
 /// [`fit_section`]; with `global = false` the distances come from Newton started at each point's
 /// current parameter only (fast, may overestimate a distance, never underestimates it), for searches.
+/// `seam_tie > 0` on a clamped knot vector ties the end derivatives of a closed section up to that order
+/// ([`super::seam_tie`]; untied when there are too few control points).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_section_with(
     points: &[Vec3],
     params: &[f64],
@@ -258,6 +271,7 @@ pub(crate) fn fit_section_with(
     smoothing: f64,
     corrections: usize,
     global: bool,
+    seam_tie: usize,
 ) -> Result<SectionFit> {
     let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
     let periodic = !is_clamped(knots, degree);
@@ -271,10 +285,17 @@ pub(crate) fn fit_section_with(
     let mut stalls = 0;
     let mut last_rms = f64::INFINITY;
     for _ in 0..=corrections {
-        let ctrl = if periodic {
-            lsq_periodic_control_points(&data, &params, degree, knots, smoothing)?
+        let tied = if periodic || seam_tie == 0 {
+            None
         } else {
-            lsq_control_points(&data, &params, degree, knots, smoothing)?
+            lsq_tied_control_points(&data, &params, degree, knots, smoothing, seam_tie)?
+        };
+        let ctrl = match tied {
+            Some(c) => c,
+            None if periodic => {
+                lsq_periodic_control_points(&data, &params, degree, knots, smoothing)?
+            }
+            None => lsq_control_points(&data, &params, degree, knots, smoothing)?,
         };
         let curve =
             NurbsCurve::bspline(degree, knots.to_vec(), ctrl.into_iter().map(Vec3).collect())?;
