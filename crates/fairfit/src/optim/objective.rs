@@ -751,37 +751,64 @@ fn is_flat(data: &FitData, ws: &EvalWorkspace) -> bool {
 }
 
 /// [`project`] for a curve and data in the xy plane: the same Newton steps on two coordinates
-/// (the z terms it leaves out are exact zeros, so the feet and distances are the same).
+/// (the z terms it leaves out are exact zeros, so the feet and distances are the same). Degrees 3
+/// to 5 run with a constant degree (unrolled Horner loops, the same arithmetic).
 #[inline]
 fn project_planar(
     data: &FitData,
+    k: usize,
+    u: f64,
+    ws: &EvalWorkspace,
+    hint: &mut usize,
+) -> (f64, f64) {
+    match data.degree {
+        3 => project_planar_any(data, 3, k, u, ws, hint),
+        4 => project_planar_any(data, 4, k, u, ws, hint),
+        5 => project_planar_any(data, 5, k, u, ws, hint),
+        p => project_planar_any(data, p, k, u, ws, hint),
+    }
+}
+
+/// Value, first and second derivative (x, y) at `u` of the planar power form by Horner, as
+/// [`power_eval2`]; `hint` is the span of the last evaluation (updated).
+#[inline(always)]
+fn planar_eval2(
+    breaks: &[f64],
+    coef: &[Vec3],
+    p: usize,
+    u: f64,
+    hint: &mut usize,
+) -> [[f64; 2]; 3] {
+    let j = power_span_from(breaks, u, *hint);
+    *hint = j;
+    let t = u - breaks[j];
+    let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
+    let mut v = [[c[p][0], c[p][1]], [0.0; 2], [0.0; 2]];
+    for ck in c[..p].iter().rev() {
+        for a in 0..2 {
+            v[2][a] = v[2][a] * t + v[1][a];
+            v[1][a] = v[1][a] * t + v[0][a];
+            v[0][a] = v[0][a] * t + ck[a];
+        }
+    }
+    v[2] = [v[2][0] * 2.0, v[2][1] * 2.0];
+    v
+}
+
+/// [`project_planar`] for degree `p` (always inlined so a constant `p` unrolls the Horner loops).
+#[inline(always)]
+fn project_planar_any(
+    data: &FitData,
+    p: usize,
     k: usize,
     mut u: f64,
     ws: &EvalWorkspace,
     hint: &mut usize,
 ) -> (f64, f64) {
-    let p = data.degree;
-    let (breaks, coef) = (&ws.breaks, &ws.coef);
-    // value, first and second derivative (x, y) by Horner, as `power_eval2`
-    let mut eval = |u: f64| -> [[f64; 2]; 3] {
-        let j = power_span_from(breaks, u, *hint);
-        *hint = j;
-        let t = u - breaks[j];
-        let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
-        let mut v = [[c[p][0], c[p][1]], [0.0; 2], [0.0; 2]];
-        for ck in c[..p].iter().rev() {
-            for a in 0..2 {
-                v[2][a] = v[2][a] * t + v[1][a];
-                v[1][a] = v[1][a] * t + v[0][a];
-                v[0][a] = v[0][a] * t + ck[a];
-            }
-        }
-        v[2] = [v[2][0] * 2.0, v[2][1] * 2.0];
-        v
-    };
+    let (breaks, coef) = (&ws.breaks[..], &ws.coef[..]);
     let q = data.points[k];
     let (qx, qy) = (q[0], q[1]);
-    let mut d = eval(u);
+    let mut d = planar_eval2(breaks, coef, p, u, hint);
     let dist2 = |d: &[[f64; 2]; 3]| {
         let (x, y) = (d[0][0] - qx, d[0][1] - qy);
         x * x + y * y
@@ -797,7 +824,7 @@ fn project_planar(
         }
         let step = (-f / fp).clamp(-0.05, 0.05);
         u = (u + step).clamp(0.0, 1.0);
-        d = eval(u);
+        d = planar_eval2(breaks, coef, p, u, hint);
         let d2 = dist2(&d);
         if d2 < best {
             best = d2;
