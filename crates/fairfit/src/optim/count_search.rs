@@ -62,6 +62,9 @@ pub(crate) const EXTRA_POINT_GAIN: f64 = 1.05;
 /// finished (module doc).
 pub(crate) const WEAK_STEP_GAIN: f64 = 0.02;
 
+/// The salt of the count search's full swarms (added to the count).
+const MAIN_SALT: u64 = 1_000_003;
+
 /// The knot search at one control-point count.
 pub(crate) trait CountProblem: SwarmProblem<Output = CandidateEval> + Clone + Send {
     /// The particle position of interior knots, smoothing coordinate at its lower bound.
@@ -164,7 +167,7 @@ pub(crate) fn search_counts<C: CountFamily>(
     };
     let top = (n + max_extra).min(limit).max(n);
     let search = |count: usize, seeds: &[Vec<f64>]| {
-        full_search(family, count, seeds, descent, opts, progress)
+        full_search(family, count, seeds, descent, opts, progress, MAIN_SALT)
     };
     let (chain, independent) = rayon::join(
         || {
@@ -196,7 +199,20 @@ pub(crate) fn search_counts<C: CountFamily>(
         stats.fairness_by_count.extend(&d.stats.fairness_by_count);
     }
     let candidates = candidate_draws(&chain, &independent, n, top);
-    let finished: Vec<Result<IntegratedResult>> = candidates
+    let finished = finish_draws(family, &candidates);
+    let counts: Vec<usize> = candidates.iter().map(|d| d.count).collect();
+    let ranked: Vec<Ranked> = finished.iter().map(rank).collect();
+    let best = choose_count(&counts, &ranked);
+    finished.into_iter().nth(best).unwrap_or_else(|| {
+        Err(Error::Fit(
+            "no valid knot vector for the data (too few points?)".into(),
+        ))
+    })
+}
+
+/// Finishes the draws in parallel (an error for a draw without knots).
+fn finish_draws<C: CountFamily>(family: &C, draws: &[&Draw]) -> Vec<Result<IntegratedResult>> {
+    draws
         .par_iter()
         .map(|d| match &d.interior {
             Some(k) => family.finish(k, d.log_lambda),
@@ -204,30 +220,24 @@ pub(crate) fn search_counts<C: CountFamily>(
                 "no valid knot vector for the data (too few points?)".into(),
             )),
         })
-        .collect();
-    let counts: Vec<usize> = candidates.iter().map(|d| d.count).collect();
-    let ranked: Vec<Ranked> = finished
-        .iter()
-        .map(|r| match r {
-            Ok(r) => {
-                let m = curve_fairness(&r.curve);
-                Ranked {
-                    fairness: if r.met { m.fairness } else { f64::INFINITY },
-                    extrema: m.curvature_extrema,
-                }
+        .collect()
+}
+
+/// How a finished curve ranks: F infinite when the tolerance or `F*` is missed.
+fn rank(r: &Result<IntegratedResult>) -> Ranked {
+    match r {
+        Ok(r) => {
+            let m = curve_fairness(&r.curve);
+            Ranked {
+                fairness: if r.met { m.fairness } else { f64::INFINITY },
+                extrema: m.curvature_extrema,
             }
-            Err(_) => Ranked {
-                fairness: f64::INFINITY,
-                extrema: usize::MAX,
-            },
-        })
-        .collect();
-    let best = choose_count(&counts, &ranked);
-    finished.into_iter().nth(best).unwrap_or_else(|| {
-        Err(Error::Fit(
-            "no valid knot vector for the data (too few points?)".into(),
-        ))
-    })
+        }
+        Err(_) => Ranked {
+            fairness: f64::INFINITY,
+            extrema: usize::MAX,
+        },
+    }
 }
 
 /// The draws finished as candidates (module doc): the search at `n`, then at every count up to
@@ -307,6 +317,7 @@ fn full_search<C: CountFamily>(
     descent: &[(usize, Vec<f64>)],
     opts: &IntegratedOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
+    salt: u64,
 ) -> Draw {
     let mut stats = OptimStats::default();
     stats.counts_tried.push(n);
@@ -316,12 +327,8 @@ fn full_search<C: CountFamily>(
         x0.push(pr.position(k));
     }
     x0.push(pr.position(&family.spread_knots(n)));
-    let mut r = run_pso(
-        &pr,
-        &x0,
-        &pso_options(opts, opts.max_iterations, false, n as u64 + 1_000_003),
-        &|it| progress(n, it),
-    );
+    let po = pso_options(opts, opts.max_iterations, false, n as u64 + salt);
+    let mut r = run_pso(&pr, &x0, &po, &|it| progress(n, it));
     stats.evaluations += r.evaluations;
     stats.iterations += r.iterations;
     if let Some(coord) = pr.smoothing_coord() {
