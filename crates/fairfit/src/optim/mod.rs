@@ -23,6 +23,8 @@
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
+//! - [`knot_edits`]: knot removals and insertions, the least-squares method's knots and the
+//!   descent's swarm probe, shared by open and periodic searches;
 //! - [`degree_search`]: the integrated fit at several degrees and the rule that keeps one
 //!   (`--degree auto`);
 //! - [`degree_candidates`]: the higher degrees at the reference's count and knots (staged search);
@@ -49,6 +51,7 @@ pub mod degree_candidates;
 pub mod degree_search;
 pub mod encoding;
 pub mod integrated;
+pub(crate) mod knot_edits;
 pub mod mopso;
 pub mod objective;
 pub mod pareto;

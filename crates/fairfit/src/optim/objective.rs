@@ -103,9 +103,9 @@ pub struct EvalWorkspace {
     span_ders: SpanDers,
 }
 
-/// Basis derivatives `0..=p` at the start of every knot span, for [`measure_move`]'s power-form
-/// updates: a move changes the control points on fixed knots, so they are computed once per knot
-/// vector (the same values [`span_power_coefs`] computes afresh every time).
+/// Basis derivatives `0..=p` at the start of every knot span, for the power form
+/// ([`span_power_coefs_cached`]): a parameter correction or a control-point move changes the
+/// control points on fixed knots, so they are computed once per knot vector.
 #[derive(Clone, Debug, Default)]
 struct SpanDers {
     knots: Vec<f64>,
@@ -499,24 +499,14 @@ fn build_power_form(p: usize, ws: &mut EvalWorkspace) {
         ws.breaks.push(u0);
         ws.break_knot.push(s);
         ws.coef.extend(std::iter::repeat_n(Vec3::default(), p + 1));
-        span_power_coefs(p, s, ws.coef.len() - (p + 1), ws);
+        span_power_coefs_cached(p, s, ws.coef.len() - (p + 1), ws);
     }
 }
 
-/// Writes the `p + 1` Taylor coefficients of knot span `s` at `ws.coef[at..]`.
-fn span_power_coefs(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
-    let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
-    let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
-    let mut ders = [0.0; P1 * P1];
-    let u0 = ws.knots[s];
-    ders_basis_funs_into(
-        s, u0, p, p, &ws.knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
-    );
-    taylor_coefs(p, &ws.ctrl[s - p..=s], &ders, &mut ws.coef[at..=at + p]);
-}
-
-/// [`span_power_coefs`] with the basis derivatives from `ws.span_ders` (rebuilt when the knots or
-/// the degree changed): the same arithmetic, so the same coefficients.
+/// Writes the `p + 1` Taylor coefficients of knot span `s` at `ws.coef[at..]`, with the basis
+/// derivatives at the span starts from `ws.span_ders` (rebuilt when the knots or the degree
+/// changed): a candidate's parameter correction, band fairing's and the polish's measurements
+/// reuse them on the same knots.
 fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
     if ws.span_ders.degree != p || ws.span_ders.knots != ws.knots {
         let cache = &mut ws.span_ders;
@@ -631,11 +621,13 @@ fn power_span(breaks: &[f64], u: f64) -> usize {
 /// [`power_span`] by walking from the span `hint` (same result; cheap for ordered queries).
 #[inline]
 fn power_span_from(breaks: &[f64], u: f64, hint: usize) -> usize {
+    // plain comparisons: `breaks[j]` for `j > 0` is positive, so they order as `total_cmp` does
+    // for every `u` but NaN (whose evaluation is NaN in any span and never kept)
     let mut j = hint.min(breaks.len().saturating_sub(1));
-    while j + 1 < breaks.len() && breaks[j + 1].total_cmp(&u).is_le() {
+    while j + 1 < breaks.len() && breaks[j + 1] <= u {
         j += 1;
     }
-    while j > 0 && breaks[j].total_cmp(&u).is_gt() {
+    while j > 0 && breaks[j] > u {
         j -= 1;
     }
     j
