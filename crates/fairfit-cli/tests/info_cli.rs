@@ -72,6 +72,7 @@ fn circle_summary() {
     assert_eq!(v["span_fairness"].as_array().unwrap().len(), 4);
     assert!((v["bending_energy"].as_f64().unwrap() - 2.0 * PI / r).abs() < 1e-10);
     assert_eq!(v["curvature_extrema"], 0);
+    assert_eq!(v["curvature_extrema_exact"], 0);
     assert_eq!(v["inflections"], 0);
 }
 
@@ -87,6 +88,7 @@ fn s_curve_counts_and_span_sum() {
     let v: Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["inflections"], 1);
     assert_eq!(v["curvature_extrema"], 2);
+    assert_eq!(v["curvature_extrema_exact"], 2);
     assert_eq!(v["rational"], false);
     let fj: f64 = v["span_fairness"]
         .as_array()

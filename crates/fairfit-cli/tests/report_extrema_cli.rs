@@ -83,5 +83,13 @@ fn the_reported_extrema_are_the_measurers() {
         // the numbers of 2026-11-26, and what 32 samples per span counted
         assert_eq!(e, extrema, "{name}");
         assert_eq!(measured(&python, &out, 32).0, sparse, "{name}");
+        // the exact count (roots of dκ/ds) is the measurer's at 20 000 samples per span
+        let dense = measured(&python, &out, 20_000).0;
+        assert_eq!(
+            report["curvature_extrema_exact"].as_u64(),
+            Some(dense),
+            "{name}"
+        );
+        assert!(dense >= e, "{name}");
     }
 }

@@ -240,3 +240,43 @@ fn corner_at_the_seam_and_open_sections_keep_the_clamped_fit() {
         }
     }
 }
+
+/// The whole IEA blade: the two circular root sections are closed and smooth at the seam, the outer
+/// sections are open (blunt trailing edges), so the shared knot vector stays clamped. The root circles'
+/// seams are tied (C2, see `surface::seam_tie`): the surface's iso-curves at the root are smooth across
+/// the trailing-edge line instead of creased by 4.4° (`periodic_closed = false` keeps that crease).
+#[test]
+fn mixed_blade_ties_the_seam_of_its_closed_root() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data/iea15mw_sections");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "csv"))
+        .collect();
+    files.sort();
+    let secs: Vec<Section> = files
+        .iter()
+        .map(|f| Section::from_points(read_section_file(f).unwrap()))
+        .collect();
+    assert!(secs[0].closed && secs[1].closed && !secs[9].closed);
+    // the root's iso-curve angle at the seam, from the exact surface derivatives
+    let root_angle = |s: &NurbsSurface| {
+        let (a, b) = (s.derivatives(0.0, 0.0, 1), s.derivatives(1.0, 0.0, 1));
+        let (ta, tb) = (a[2], b[2]);
+        ta.cross(tb).norm().atan2(ta.dot(tb))
+    };
+    let tied = reconstruct_surface(secs.clone(), &tube_options(0.0057, true)).unwrap();
+    let plain = reconstruct_surface(secs, &tube_options(0.0057, false)).unwrap();
+    for r in [&tied, &plain] {
+        assert!(!r.compatible.periodic);
+        assert!(r.deviation.max <= 0.0057, "{}", r.deviation.max);
+        let (p0, p1) = (r.surface.point(0.0, 0.0), r.surface.point(1.0, 0.0));
+        assert!((p0 - p1).norm() < 1e-12, "{p0:?} {p1:?}");
+    }
+    let (a_tied, a_plain) = (root_angle(&tied.surface), root_angle(&plain.surface));
+    println!("blade root seam angle: tied {a_tied:.3e} rad, plain {a_plain:.3e} rad");
+    assert!(a_tied < 1e-9, "{a_tied:e}");
+    assert!(a_plain > 0.05, "{a_plain:e}");
+    // the tie costs no control points
+    assert_eq!(tied.surface.net_size(), plain.surface.net_size());
+}

@@ -1,12 +1,15 @@
 //! `fairfit info`: a summary of a curve or surface JSON file as a JSON object on stdout. Curves: size,
-//! knots, domain, length and every fairness measure of `fairfit::fair::curve_fairness`; surfaces: net
+//! knots, domain, length and every fairness measure of `fairfit::fair::curve_fairness` (its
+//! `curvature_extrema` counts at the benchmark measurer's 192 samples per span;
+//! `curvature_extrema_exact` is `fairfit::fair::count_extrema_exact`, from the roots of `dκ/ds`, which
+//! also sees wiggles narrower than the samples); surfaces: net
 //! size, degrees, domains and the fairness of iso-parametric curves in both directions: `along_u` holds
 //! the curves `u ↦ S(u, v_k)` (the section curves of a skinned surface), `along_v` the curves
 //! `v ↦ S(u_k, v)`, as in the `iso_fairness` of the `fairfit surface` report (same count by default).
 
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
-use fairfit::fair::{curve_fairness, surface_fairness, DEFAULT_ISO_CURVES};
+use fairfit::fair::{count_extrema_exact, curve_fairness, surface_fairness, DEFAULT_ISO_CURVES};
 use fairfit::io::{read_geometry, Geometry};
 use fairfit::nurbs::{NurbsCurve, NurbsSurface};
 use serde_json::{json, Value};
@@ -66,6 +69,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "span_fairness": f.span_fairness,
         "bending_energy": f.bending_energy,
         "curvature_extrema": f.curvature_extrema,
+        "curvature_extrema_exact": count_extrema_exact(c, f.length).curvature_extrema,
         "inflections": f.inflections,
     })
 }

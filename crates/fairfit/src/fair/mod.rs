@@ -6,14 +6,18 @@
 //! - [`evaluator`]: [`FairnessEvaluator`], the allocation-free adaptive span-by-span integrator used by
 //!   the optimiser (`F`, `max F_j`, `F_j`);
 //! - [`extrema`]: curvature extrema and inflections by sign changes above a scale-free noise floor;
+//! - [`exact_extrema`]: the exact count of curvature extrema of planar polynomial curves (the real
+//!   roots of the `dκ/du` numerator per span, no sampling), on [`bernstein`] polynomials;
 //! - [`metrics`]: [`curve_fairness`], the full [`CurveFairness`] summary;
 //! - [`surface`]: [`surface_fairness`], the metrics on iso-parametric curves in both directions;
 //! - [`gram`]: Gram matrices of basis derivatives (parametric energies as quadratic forms);
 //! - [`fairing`]: [`fair_curve`], the fit-then-fair baseline (Eck–Hadenfeld local energy fairing held
 //!   to a tolerance).
 
+pub mod bernstein;
 pub mod energy;
 pub mod evaluator;
+pub mod exact_extrema;
 pub mod extrema;
 pub mod fairing;
 pub mod gram;
@@ -21,6 +25,7 @@ pub mod metrics;
 pub mod surface;
 
 pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
+pub use exact_extrema::{count_extrema_exact, ExactExtrema};
 pub use extrema::{count_extrema, count_extrema_sampled, ExtremaCounts};
 pub use fairing::{fair_curve, FairingOptions, FairingResult};
 pub use metrics::{curve_fairness, CurveFairness};

@@ -89,9 +89,34 @@ pub fn basis_funs(span: usize, u: f64, knots: &[f64], ws: &mut BasisWorkspace, o
 /// `ders` is row-major `(nd + 1) x (p + 1)`: `ders[k * (p + 1) + j]` is the k-th derivative of
 /// `N[span - p + j]`. Derivative orders above `p` are zero. Scratch slices: `left`, `right` of length
 /// `p + 1`, `ndu` of length `(p + 1)^2`, `a` of length `2 (p + 1)`.
+///
+/// Degrees 3 to 5 run with a constant degree (unrolled loops, the same arithmetic, so the same
+/// values).
 #[allow(clippy::too_many_arguments)]
-#[inline]
 pub fn ders_basis_funs_into(
+    span: usize,
+    u: f64,
+    p: usize,
+    nd: usize,
+    knots: &[f64],
+    left: &mut [f64],
+    right: &mut [f64],
+    ndu: &mut [f64],
+    a: &mut [f64],
+    ders: &mut [f64],
+) {
+    match p {
+        3 => ders_basis_funs_any(span, u, 3, nd, knots, left, right, ndu, a, ders),
+        4 => ders_basis_funs_any(span, u, 4, nd, knots, left, right, ndu, a, ders),
+        5 => ders_basis_funs_any(span, u, 5, nd, knots, left, right, ndu, a, ders),
+        _ => ders_basis_funs_any(span, u, p, nd, knots, left, right, ndu, a, ders),
+    }
+}
+
+/// [`ders_basis_funs_into`] for any degree (always inlined so a constant `p` unrolls the loops).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn ders_basis_funs_any(
     span: usize,
     u: f64,
     p: usize,

@@ -144,6 +144,38 @@ pub fn is_clamped(knots: &[f64], degree: usize) -> bool {
         && knots[m - degree - 1..].iter().all(|&k| k == knots[m - 1])
 }
 
+/// True when `knots` is a periodic knot vector of degree `degree` as
+/// [`crate::fit::lsq::periodic_knots`] builds it: unclamped, at least `degree + 1` distinct spans, and
+/// `knots[i + n_u] − knots[i]` equal to the domain's length for every `i` (relative 1e-12), where `n_u`
+/// is the number of distinct control points (`knots.len() − 2·degree − 1`).
+///
+/// ```
+/// use fairfit::fit::lsq::periodic_knots;
+/// use fairfit::nurbs::knots::is_periodic;
+/// let k = periodic_knots(&[0.0, 0.2, 0.5, 0.7, 1.0], 3);
+/// assert!(is_periodic(&k, 3));
+/// assert!(!is_periodic(&[0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0], 3)); // clamped
+/// assert!(!is_periodic(&[-0.3, -0.2, -0.1, 0.0, 0.4, 1.0, 1.1, 1.2, 1.3], 3)); // spans do not repeat
+/// ```
+pub fn is_periodic(knots: &[f64], degree: usize) -> bool {
+    let p = degree;
+    if p == 0 || knots.len() < 2 * p + 2 {
+        return false;
+    }
+    let n = knots.len() - p - 1;
+    if n < 2 * p + 1 || is_clamped(knots, p) {
+        return false;
+    }
+    let nu = n - p;
+    let period = knots[n] - knots[p];
+    let tol = 1e-12
+        * period
+            .abs()
+            .max(knots.iter().fold(0.0f64, |a, &x| a.max(x.abs())));
+    period > 0.0
+        && (0..knots.len() - nu).all(|i| ((knots[i + nu] - knots[i]) - period).abs() <= tol)
+}
+
 /// A clamped knot vector on `[0, 1]` with `n_ctrl` control points and uniform interior knots.
 pub fn uniform_clamped(degree: usize, n_ctrl: usize) -> Vec<f64> {
     let spans = n_ctrl - degree;

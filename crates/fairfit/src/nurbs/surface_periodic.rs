@@ -3,23 +3,8 @@
 //! [`crate::fit::lsq::periodic_knots`] builds it. Such a surface is closed and `C^(p−1)` across its
 //! seam; the CAD writers flag it so.
 
-use super::knots::is_clamped;
+use super::knots::is_periodic;
 use super::surface::NurbsSurface;
-
-/// Periodic knots `k` of degree `p` with `n` control points: `k[i + n − p] − k[i]` is the domain's
-/// length for every `i` (relative 1e-12).
-fn periodic_knots(k: &[f64], p: usize, n: usize) -> bool {
-    if p == 0 || n < 2 * p + 1 || is_clamped(k, p) {
-        return false;
-    }
-    let nu = n - p;
-    let period = k[n] - k[p];
-    let tol = 1e-12
-        * period
-            .abs()
-            .max(k.iter().fold(0.0f64, |a, &x| a.max(x.abs())));
-    period > 0.0 && (0..k.len() - nu).all(|i| ((k[i + nu] - k[i]) - period).abs() <= tol)
-}
 
 impl NurbsSurface {
     /// True when the surface is periodic in u: periodic u knots and the last `p_u` control rows
@@ -40,7 +25,7 @@ impl NurbsSurface {
     pub fn is_periodic_u(&self) -> bool {
         let (n_u, n_v) = self.net_size();
         let p = self.degree_u();
-        periodic_knots(self.knots_u(), p, n_u) && {
+        is_periodic(self.knots_u(), p) && {
             let h = self.homogeneous_points();
             (0..p).all(|i| (0..n_v).all(|j| h[i * n_v + j] == h[(n_u - p + i) * n_v + j]))
         }
@@ -50,7 +35,7 @@ impl NurbsSurface {
     pub fn is_periodic_v(&self) -> bool {
         let (n_u, n_v) = self.net_size();
         let q = self.degree_v();
-        periodic_knots(self.knots_v(), q, n_v) && {
+        is_periodic(self.knots_v(), q) && {
             let h = self.homogeneous_points();
             (0..q).all(|j| (0..n_u).all(|i| h[i * n_v + j] == h[i * n_v + n_v - q + j]))
         }

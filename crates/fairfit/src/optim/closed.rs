@@ -24,16 +24,17 @@
 //! control-point polish of open curves is not applied (its moves would have to keep the seam
 //! periodic).
 
-use super::count_search::{pso_options, search_counts, CountFamily, CountProblem, CountStart};
+use super::count_search::{search_counts, CountFamily, CountStart};
 use super::integrated::{
     band_solves, fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions,
     IntegratedResult, OptimStats,
 };
+use super::knot_edits::{self, descend, insertion_spans, lsq_method_fit, map_knots, Descent};
 use super::objective::CandidateEval;
 use super::periodic::{evaluate_closed, ClosedData, ClosedProblem, ClosedWorkspace};
 use super::periodic_fairing::fair_periodic;
 use super::prepare::{prepare, Prepared};
-use super::pso::{run_pso, SwarmProblem};
+use super::pso::SwarmProblem;
 use crate::errors::{Error, Result};
 use crate::fit::shape::{detect_corners, looks_closed};
 use crate::fit::tolerance::ClosedMode;
@@ -145,69 +146,28 @@ fn fit_periodic(
             best_n += 1;
         }
     }
-    let pso_opts = |iters: usize, probe: bool, salt: u64| pso_options(opts, iters, probe, salt);
-    let problem_for = |n: usize| problem_at(&data, n, tol, opts);
-
     // count descent: greedy removal, then a swarm probe
-    let lowest = fixed.unwrap_or(p + 1).max(p + 1);
-    let mut descent: Vec<(usize, Vec<f64>)> = vec![(best_n, best_knots.clone())];
-    while best_n > lowest {
-        let cand = best_n - 1;
-        stats.counts_tried.push(cand);
-        let removals = removal_candidates(&data, &best_knots);
-        stats.evaluations += best_knots.len();
-        if let Some((dev, k)) = removals.first() {
-            if *dev <= tol {
-                best_knots = k.clone();
-                best_n = cand;
-                descent.push((cand, best_knots.clone()));
-                continue;
-            }
-        }
-        if fixed.is_some() {
-            // the tolerance is out of reach at the fixed count: the least harmful removal
-            match removals.into_iter().next() {
-                Some((_, k)) => best_knots = k,
-                None => best_knots = equal_breaks(&data.params, cand),
-            }
-            best_n = cand;
-            continue;
-        }
-        let pr = problem_for(cand);
-        let mut seeds: Vec<Vec<f64>> = removals
-            .iter()
-            .take(3)
-            .map(|(_, k)| pr.position(k))
-            .collect();
-        seeds.push(pr.position(&equal_breaks(&data.params, cand)));
-        let r = run_pso(
-            &pr,
-            &seeds,
-            &pso_opts(opts.probe_iterations, true, cand as u64),
-            &|it| progress(cand, it),
-        );
-        stats.evaluations += r.evaluations;
-        stats.iterations += r.iterations;
-        let Some(k) = r
-            .fitness
-            .feasible()
-            .then(|| pr.decode(&r.position))
-            .flatten()
-        else {
-            break;
-        };
-        best_knots = k;
-        best_n = cand;
-        descent.push((cand, best_knots.clone()));
-    }
-
-    // full search at the smallest feasible count, then with extra points while they pay
     let family = ClosedFamily {
         prep,
         data: &data,
         tol,
         opts,
     };
+    let lowest = fixed.unwrap_or(p + 1).max(p + 1);
+    let mut down = Descent::new(best_n, best_knots);
+    let removals = |k: &[f64]| removal_candidates(&data, k);
+    let force = fixed.is_some();
+    descend(
+        &family, &mut down, lowest, tol, removals, force, opts, progress, &mut stats,
+    );
+    let Descent {
+        n: best_n,
+        knots: best_knots,
+        met: descent,
+        ..
+    } = down;
+
+    // full search at the smallest feasible count, then with extra points while they pay
     let start_at = CountStart {
         n: best_n,
         knots: &best_knots,
@@ -221,11 +181,7 @@ fn fit_periodic(
     } else {
         result
     };
-    stats.evaluations += result.stats.evaluations;
-    stats.iterations += result.stats.iterations;
-    stats.polish_moves = result.stats.polish_moves;
-    stats.degrees_tried = std::mem::take(&mut result.stats.degrees_tried);
-    stats.seconds = start.elapsed().as_secs_f64();
+    stats.absorb(&mut result.stats, start);
     result.baseline_control_points = baseline;
     result.stats = stats;
     Ok(result)
@@ -387,20 +343,8 @@ fn baseline(
 /// centripetal, corners off), mapped onto `data.params` through the data index; `None` when that
 /// fit fails or gives no valid breakpoints here.
 fn lsq_periodic_knots(data: &ClosedData, tol: f64) -> Option<Vec<f64>> {
-    use crate::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance as FitTol};
     let p = data.degree();
-    let fit = fit_to_tolerance(
-        &data.points,
-        &FitOptions {
-            degree: p,
-            tolerance: FitTol::Absolute(tol),
-            closed: ClosedMode::Closed,
-            corner_angle_deg: None,
-            parameterization: crate::fit::Parameterization::Centripetal,
-            ..FitOptions::default()
-        },
-    )
-    .ok()?;
+    let fit = lsq_method_fit(&data.points, p, tol, ClosedMode::Closed)?;
     if !fit.closed || fit.params.len() != data.params.len() {
         return None;
     }
@@ -422,17 +366,7 @@ fn lsq_periodic_knots(data: &ClosedData, tol: f64) -> Option<Vec<f64>> {
         .chain(std::iter::once(1.0))
         .collect();
     let up = &data.measure.params;
-    let mut out = Vec::with_capacity(interior.len());
-    for &t in interior {
-        let i = fp.partition_point(|&u| u <= t).clamp(1, fp.len() - 1) - 1;
-        let w = fp[i + 1] - fp[i];
-        let a = if w > 0.0 {
-            ((t - fp[i]) / w).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        out.push(up[i] + a * (up[i + 1] - up[i]));
-    }
+    let mut out = map_knots(interior, &fp, up);
     let enc = super::encoding::KnotEncoding::new(out.len(), 0.0, false);
     (out.windows(2).all(|w| w[0] < w[1]) && enc.repair(&mut out, up)).then_some(out)
 }
@@ -443,48 +377,17 @@ fn removal_candidates(data: &ClosedData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> 
     if knots.len() < data.degree() + 1 {
         return Vec::new();
     }
-    let enc = super::encoding::KnotEncoding::new(knots.len() - 1, 0.0, false);
-    let mut out: Vec<(usize, f64, Vec<f64>)> = (0..knots.len())
-        .into_par_iter()
-        .map_init(ClosedWorkspace::default, |ws, j| {
-            let mut k = knots.to_vec();
-            k.remove(j);
-            if !enc.repair(&mut k, &data.measure.params) {
-                return (j, f64::INFINITY, k);
-            }
-            let e = evaluate_closed(data, &k, f64::NEG_INFINITY, ws);
-            (
-                j,
-                if e.solved {
-                    e.max_deviation
-                } else {
-                    f64::INFINITY
-                },
-                k,
-            )
-        })
-        .collect();
-    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-    out.into_iter().map(|(_, d, k)| (d, k)).collect()
+    knot_edits::removal_candidates(
+        knots,
+        &data.measure.params,
+        |ws: &mut ClosedWorkspace, k| evaluate_closed(data, k, f64::NEG_INFINITY, ws),
+    )
 }
 
 /// The breakpoints with one more at the middle of the span (holding at least two data parameters)
 /// whose refit is best by the feasibility-first fitness; the widest span when none holds two.
 fn best_insertion(data: &ClosedData, knots: &[f64], tol: f64) -> Vec<f64> {
-    let mut edges = Vec::with_capacity(knots.len() + 2);
-    edges.push(0.0);
-    edges.extend_from_slice(knots);
-    edges.push(1.0);
-    let params = &data.params;
-    let spans: Vec<usize> = (0..edges.len() - 1)
-        .filter(|&j| {
-            params
-                .iter()
-                .filter(|&&u| u > edges[j] && u < edges[j + 1])
-                .count()
-                >= 2
-        })
-        .collect();
+    let (edges, spans) = insertion_spans(knots, &data.params);
     let problem = ClosedProblem::new(data, knots.len() + 2, 0.0, false, tol, None);
     let scored: Vec<(super::pso::Fitness, Vec<f64>)> = spans
         .par_iter()

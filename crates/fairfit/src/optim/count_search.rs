@@ -76,6 +76,10 @@ pub(crate) const WEAK_STEP_GAIN: f64 = 0.02;
 
 /// The salt of the count search's full swarms (added to the count).
 const MAIN_SALT: u64 = 1_000_003;
+/// The fewest curvature extrema of the chosen curve that call for the restart (module doc): one
+/// extremum (an airfoil's leading edge, a quarter ellipse's vertex) leaves no wiggle to remove.
+pub(crate) const RESTART_MIN_EXTREMA: usize = 2;
+
 /// The salt of the restart's full swarm (added to the count): another stream of the same seed.
 const RESTART_SALT: u64 = 2_000_029;
 
@@ -221,7 +225,7 @@ pub(crate) fn search_counts<C: CountFamily>(
     let mut counts: Vec<usize> = candidates.iter().map(|d| d.count).collect();
     let mut ranked: Vec<Ranked> = finished.iter().map(rank).collect();
     let mut best = choose_count(&counts, &ranked);
-    {
+    if ranked[best].extrema >= RESTART_MIN_EXTREMA {
         // the restart at the chosen count (module doc): from the second descent's knots there, else
         // from the first descent's on another stream
         let count = counts[best];

@@ -24,13 +24,15 @@
 
 use super::band_fairing::{band_fair, BandOptions};
 use super::count_search::{search_counts, CountFamily, CountStart};
-use super::descent::{descend, second_descent};
+use super::descent::second_descent;
 use super::encoding::KnotEncoding;
+use super::knot_edits::{self, descend, insertion_spans, lsq_method_fit, map_knots, Descent};
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
 use super::polish::{polish, PolishOptions, Polished};
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::problem::KnotProblem;
 use crate::errors::{Error, Result};
+use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -160,6 +162,18 @@ pub struct OptimStats {
     pub degrees_tried: Vec<super::degree_search::DegreeTrial>,
     /// Wall time in seconds.
     pub seconds: f64,
+}
+
+impl OptimStats {
+    /// Adds the evaluations and iterations of the chosen result's `finished` statistics and takes
+    /// its polish moves and degree trials; the wall time is measured from `start`.
+    pub(crate) fn absorb(&mut self, finished: &mut OptimStats, start: Instant) {
+        self.evaluations += finished.evaluations;
+        self.iterations += finished.iterations;
+        self.polish_moves = finished.polish_moves;
+        self.degrees_tried = std::mem::take(&mut finished.degrees_tried);
+        self.seconds = start.elapsed().as_secs_f64();
+    }
 }
 
 /// The measured quality of a fitted curve (in the input's units).
@@ -297,16 +311,27 @@ pub fn fit_integrated_with_progress(
         }
         _ => averaging_interior_knots(&data.params, p, best_n),
     };
-    // feasible knots met on the way down, by count: seeds for the searches with extra points;
+    // feasible knots met on the way down, by count: seeds for the searches with extra points
+    let family = OpenFamily {
+        prep: &prep,
+        tol,
+        opts,
+    };
+    let mut down = Descent::new(best_n, best_knots);
+    let removals = |k: &[f64]| removal_candidates(data, k);
+    descend(
+        &family, &mut down, lowest, tol, removals, false, opts, progress, &mut stats,
+    );
     // a second descent on other random streams seeds the count search's restart
-    let first = descend(data, tol, opts, (best_n, best_knots), lowest, 0, progress);
-    let second = second_descent(&first, data, tol, opts, lowest, progress).unwrap_or_default();
-    for d in [&first, &second] {
-        stats.counts_tried.extend(&d.counts_tried);
-        stats.evaluations += d.evaluations;
-        stats.iterations += d.iterations;
-    }
-    let (mut best_n, mut best_knots, descent) = (first.n, first.knots, first.by_count);
+    let alt = second_descent(
+        &family, &down, lowest, tol, removals, opts, progress, &mut stats,
+    );
+    let Descent {
+        n: mut best_n,
+        knots: mut best_knots,
+        met: descent,
+        ..
+    } = down;
     if let Some(n) = fixed {
         // the tolerance cannot be met at the fixed count: remove the knots that hurt least anyway
         while best_n > n {
@@ -320,17 +345,12 @@ pub fn fit_integrated_with_progress(
 
     // 4. full search at the smallest feasible count, then at one more control point at a time
     //    while that buys a factor `fairness_gain` in F (never more than the baseline)
-    let family = OpenFamily {
-        prep: &prep,
-        tol,
-        opts,
-    };
     let start_at = CountStart {
         n: best_n,
         knots: &best_knots,
         descent: &descent,
         limit: m1.min(baseline),
-        alt: &second.by_count,
+        alt: &alt,
     };
     // with a degree search, the next degree (from the descent's knots) runs beside the count search
     let (result, first) = rayon::join(
@@ -345,11 +365,7 @@ pub fn fit_integrated_with_progress(
     } else {
         result?
     };
-    stats.evaluations += result.stats.evaluations;
-    stats.iterations += result.stats.iterations;
-    stats.polish_moves = result.stats.polish_moves;
-    stats.degrees_tried = std::mem::take(&mut result.stats.degrees_tried);
-    stats.seconds = start.elapsed().as_secs_f64();
+    stats.absorb(&mut result.stats, start);
     Ok(IntegratedResult {
         baseline_control_points: baseline,
         stats,
@@ -506,37 +522,14 @@ fn validate(opts: &IntegratedOptions) -> Result<()> {
 /// normalised points, mapped from its parameterisation onto `data.params` piecewise linearly (corner
 /// or coincident knots are spread by the encoding's repair). `None` when that fit fails.
 fn lsq_method_knots(data: &FitData, tol: f64) -> Option<Vec<f64>> {
-    use crate::fit::tolerance::{fit_to_tolerance, ClosedMode, FitOptions, Tolerance as FitTol};
     let p = data.degree;
-    let fit = fit_to_tolerance(
-        &data.points,
-        &FitOptions {
-            degree: p,
-            tolerance: FitTol::Absolute(tol),
-            closed: ClosedMode::Open,
-            corner_angle_deg: None,
-            parameterization: crate::fit::Parameterization::Centripetal,
-            ..FitOptions::default()
-        },
-    )
-    .ok()?;
+    let fit = lsq_method_fit(&data.points, p, tol, ClosedMode::Open)?;
     if fit.closed || fit.params.len() != data.params.len() || fit.curve.degree() != p {
         return None;
     }
     let knots = fit.curve.knots();
     let interior = knots.get(p + 1..knots.len().checked_sub(p + 1)?)?;
-    let fp = &fit.params;
-    let mut out = Vec::with_capacity(interior.len());
-    for &t in interior {
-        let i = fp.partition_point(|&u| u <= t).clamp(1, fp.len() - 1) - 1;
-        let w = fp[i + 1] - fp[i];
-        let a = if w > 0.0 {
-            ((t - fp[i]) / w).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        out.push(data.params[i] + a * (data.params[i + 1] - data.params[i]));
-    }
+    let mut out = map_knots(interior, &fit.params, &data.params);
     let enc = KnotEncoding::new(out.len(), 0.0, false);
     enc.repair(&mut out, &data.params).then_some(out)
 }
@@ -545,27 +538,10 @@ fn lsq_method_knots(data: &FitData, tol: f64) -> Option<Vec<f64>> {
 /// resulting maximum deviation (ties by knot index): `(deviation, knots)`. Evaluated in parallel,
 /// collected in order.
 pub(crate) fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec<f64>)> {
-    let enc = KnotEncoding::new(knots.len().saturating_sub(1), 0.0, false);
-    let mut out: Vec<(usize, f64, Vec<f64>)> = (0..knots.len())
-        .into_par_iter()
-        .map_init(EvalWorkspace::default, |ws, j| {
-            let mut k: Vec<f64> = knots.to_vec();
-            k.remove(j);
-            if !enc.repair(&mut k, &data.params) {
-                return (j, f64::INFINITY, k);
-            }
-            set_knots(data.degree, &k, ws);
-            let e = evaluate_candidate(data, f64::NEG_INFINITY, ws);
-            let dev = if e.solved {
-                e.max_deviation
-            } else {
-                f64::INFINITY
-            };
-            (j, dev, k)
-        })
-        .collect();
-    out.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-    out.into_iter().map(|(_, d, k)| (d, k)).collect()
+    knot_edits::removal_candidates(knots, &data.params, |ws: &mut EvalWorkspace, k| {
+        set_knots(data.degree, k, ws);
+        evaluate_candidate(data, f64::NEG_INFINITY, ws)
+    })
 }
 
 /// The interior knots with one more knot at the middle of one span: of all spans holding at least
@@ -573,20 +549,8 @@ pub(crate) fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec
 /// feasibility-first fitness (violation of `tol`, then `F + max_j F_j`; ties by span index).
 /// Evaluated in parallel, chosen in span order.
 fn best_insertion(data: &FitData, knots: &[f64], log_lambda: f64, tol: f64) -> Vec<f64> {
-    let mut edges = Vec::with_capacity(knots.len() + 2);
-    edges.push(0.0);
-    edges.extend_from_slice(knots);
-    edges.push(1.0);
     let inner = &data.params[1..data.params.len().saturating_sub(1)];
-    let spans: Vec<usize> = (0..edges.len() - 1)
-        .filter(|&j| {
-            inner
-                .iter()
-                .filter(|&&u| u > edges[j] && u < edges[j + 1])
-                .count()
-                >= 2
-        })
-        .collect();
+    let (edges, spans) = insertion_spans(knots, inner);
     let scored: Vec<(f64, f64, Vec<f64>)> = spans
         .par_iter()
         .map_init(EvalWorkspace::default, |ws, &j| {

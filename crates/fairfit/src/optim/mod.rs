@@ -7,7 +7,7 @@
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
 //! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
-//! - [`descent`]: the count descent of an open curve and its second start (the restart's seeds);
+//! - [`descent`]: the second start of an open curve's count descent (the count search's restart seeds);
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
@@ -24,6 +24,8 @@
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
+//! - [`knot_edits`]: knot removals and insertions, the least-squares method's knots and the
+//!   descent's swarm probe, shared by open and periodic searches;
 //! - [`degree_search`]: the integrated fit at several degrees and the rule that keeps one
 //!   (`--degree auto`);
 //! - [`degree_candidates`]: the higher degrees at the reference's count and knots (staged search);
@@ -51,6 +53,7 @@ pub mod degree_search;
 pub(crate) mod descent;
 pub mod encoding;
 pub mod integrated;
+pub(crate) mod knot_edits;
 pub mod mopso;
 pub mod objective;
 pub mod pareto;

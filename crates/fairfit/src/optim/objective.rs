@@ -103,14 +103,14 @@ pub struct EvalWorkspace {
     span_ders: SpanDers,
 }
 
-/// Basis derivatives `0..=p` at the start of every knot span, for [`measure_move`]'s power-form
-/// updates: a move changes the control points on fixed knots, so they are computed once per knot
-/// vector (the same values [`span_power_coefs`] computes afresh every time).
+/// Basis derivatives `0..=p` at the start of every knot span, for the power form
+/// ([`span_power_coefs_cached`]): a parameter correction or a control-point move changes the
+/// control points on fixed knots, so they are computed once per knot vector.
 #[derive(Clone, Debug, Default)]
 struct SpanDers {
     knots: Vec<f64>,
     degree: usize,
-    /// `P1 * P1` values per knot span index `s`.
+    /// `(p + 1)²` values per knot span index `s` (every one written when the cache is rebuilt).
     ders: Vec<f64>,
 }
 
@@ -499,35 +499,25 @@ fn build_power_form(p: usize, ws: &mut EvalWorkspace) {
         ws.breaks.push(u0);
         ws.break_knot.push(s);
         ws.coef.extend(std::iter::repeat_n(Vec3::default(), p + 1));
-        span_power_coefs(p, s, ws.coef.len() - (p + 1), ws);
+        span_power_coefs_cached(p, s, ws.coef.len() - (p + 1), ws);
     }
 }
 
-/// Writes the `p + 1` Taylor coefficients of knot span `s` at `ws.coef[at..]`.
-fn span_power_coefs(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
-    let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
-    let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
-    let mut ders = [0.0; P1 * P1];
-    let u0 = ws.knots[s];
-    ders_basis_funs_into(
-        s, u0, p, p, &ws.knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
-    );
-    taylor_coefs(p, &ws.ctrl[s - p..=s], &ders, &mut ws.coef[at..=at + p]);
-}
-
-/// [`span_power_coefs`] with the basis derivatives from `ws.span_ders` (rebuilt when the knots or
-/// the degree changed): the same arithmetic, so the same coefficients.
+/// Writes the `p + 1` Taylor coefficients of knot span `s` at `ws.coef[at..]`, with the basis
+/// derivatives at the span starts from `ws.span_ders` (rebuilt when the knots or the degree
+/// changed): a candidate's parameter correction, band fairing's and the polish's measurements
+/// reuse them on the same knots.
 fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
+    let q = (p + 1) * (p + 1);
     if ws.span_ders.degree != p || ws.span_ders.knots != ws.knots {
         let cache = &mut ws.span_ders;
         cache.knots.clone_from(&ws.knots);
         cache.degree = p;
-        cache.ders.clear();
-        cache.ders.resize(ws.knots.len() * P1 * P1, 0.0);
+        cache.ders.resize(ws.knots.len() * q, 0.0);
         let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
         let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
         for k in p..ws.knots.len().saturating_sub(p + 1) {
-            let ders = &mut cache.ders[k * P1 * P1..(k + 1) * P1 * P1];
+            let ders = &mut cache.ders[k * q..(k + 1) * q];
             ders_basis_funs_into(
                 k,
                 ws.knots[k],
@@ -542,7 +532,7 @@ fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace
             );
         }
     }
-    let ders = &ws.span_ders.ders[s * P1 * P1..(s + 1) * P1 * P1];
+    let ders = &ws.span_ders.ders[s * q..(s + 1) * q];
     taylor_coefs(p, &ws.ctrl[s - p..=s], ders, &mut ws.coef[at..=at + p]);
 }
 
@@ -631,11 +621,13 @@ fn power_span(breaks: &[f64], u: f64) -> usize {
 /// [`power_span`] by walking from the span `hint` (same result; cheap for ordered queries).
 #[inline]
 fn power_span_from(breaks: &[f64], u: f64, hint: usize) -> usize {
+    // plain comparisons: `breaks[j]` for `j > 0` is positive, so they order as `total_cmp` does
+    // for every `u` but NaN (whose evaluation is NaN in any span and never kept)
     let mut j = hint.min(breaks.len().saturating_sub(1));
-    while j + 1 < breaks.len() && breaks[j + 1].total_cmp(&u).is_le() {
+    while j + 1 < breaks.len() && breaks[j + 1] <= u {
         j += 1;
     }
-    while j > 0 && breaks[j].total_cmp(&u).is_gt() {
+    while j > 0 && breaks[j] > u {
         j -= 1;
     }
     j
@@ -751,37 +743,64 @@ fn is_flat(data: &FitData, ws: &EvalWorkspace) -> bool {
 }
 
 /// [`project`] for a curve and data in the xy plane: the same Newton steps on two coordinates
-/// (the z terms it leaves out are exact zeros, so the feet and distances are the same).
+/// (the z terms it leaves out are exact zeros, so the feet and distances are the same). Degrees 3
+/// to 5 run with a constant degree (unrolled Horner loops, the same arithmetic).
 #[inline]
 fn project_planar(
     data: &FitData,
+    k: usize,
+    u: f64,
+    ws: &EvalWorkspace,
+    hint: &mut usize,
+) -> (f64, f64) {
+    match data.degree {
+        3 => project_planar_any(data, 3, k, u, ws, hint),
+        4 => project_planar_any(data, 4, k, u, ws, hint),
+        5 => project_planar_any(data, 5, k, u, ws, hint),
+        p => project_planar_any(data, p, k, u, ws, hint),
+    }
+}
+
+/// Value, first and second derivative (x, y) at `u` of the planar power form by Horner, as
+/// [`power_eval2`]; `hint` is the span of the last evaluation (updated).
+#[inline(always)]
+fn planar_eval2(
+    breaks: &[f64],
+    coef: &[Vec3],
+    p: usize,
+    u: f64,
+    hint: &mut usize,
+) -> [[f64; 2]; 3] {
+    let j = power_span_from(breaks, u, *hint);
+    *hint = j;
+    let t = u - breaks[j];
+    let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
+    let mut v = [[c[p][0], c[p][1]], [0.0; 2], [0.0; 2]];
+    for ck in c[..p].iter().rev() {
+        for a in 0..2 {
+            v[2][a] = v[2][a] * t + v[1][a];
+            v[1][a] = v[1][a] * t + v[0][a];
+            v[0][a] = v[0][a] * t + ck[a];
+        }
+    }
+    v[2] = [v[2][0] * 2.0, v[2][1] * 2.0];
+    v
+}
+
+/// [`project_planar`] for degree `p` (always inlined so a constant `p` unrolls the Horner loops).
+#[inline(always)]
+fn project_planar_any(
+    data: &FitData,
+    p: usize,
     k: usize,
     mut u: f64,
     ws: &EvalWorkspace,
     hint: &mut usize,
 ) -> (f64, f64) {
-    let p = data.degree;
-    let (breaks, coef) = (&ws.breaks, &ws.coef);
-    // value, first and second derivative (x, y) by Horner, as `power_eval2`
-    let mut eval = |u: f64| -> [[f64; 2]; 3] {
-        let j = power_span_from(breaks, u, *hint);
-        *hint = j;
-        let t = u - breaks[j];
-        let c = &coef[j * (p + 1)..(j + 1) * (p + 1)];
-        let mut v = [[c[p][0], c[p][1]], [0.0; 2], [0.0; 2]];
-        for ck in c[..p].iter().rev() {
-            for a in 0..2 {
-                v[2][a] = v[2][a] * t + v[1][a];
-                v[1][a] = v[1][a] * t + v[0][a];
-                v[0][a] = v[0][a] * t + ck[a];
-            }
-        }
-        v[2] = [v[2][0] * 2.0, v[2][1] * 2.0];
-        v
-    };
+    let (breaks, coef) = (&ws.breaks[..], &ws.coef[..]);
     let q = data.points[k];
     let (qx, qy) = (q[0], q[1]);
-    let mut d = eval(u);
+    let mut d = planar_eval2(breaks, coef, p, u, hint);
     let dist2 = |d: &[[f64; 2]; 3]| {
         let (x, y) = (d[0][0] - qx, d[0][1] - qy);
         x * x + y * y
@@ -797,7 +816,7 @@ fn project_planar(
         }
         let step = (-f / fp).clamp(-0.05, 0.05);
         u = (u + step).clamp(0.0, 1.0);
-        d = eval(u);
+        d = planar_eval2(breaks, coef, p, u, hint);
         let d2 = dist2(&d);
         if d2 < best {
             best = d2;

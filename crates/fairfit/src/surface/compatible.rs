@@ -10,7 +10,8 @@
 //! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
 
 use super::orient::Section;
-use super::seam::periodic_seam;
+use super::seam::{periodic_seam, smooth_at_seam};
+use super::seam_tie::tie_order;
 use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
 use crate::errors::{Error, Result};
 use crate::fair::FairnessEvaluator;
@@ -42,7 +43,9 @@ pub struct CompatibleOptions {
     /// (1 = uniform knots).
     pub uniform_blends: Vec<f64>,
     /// Fit closed sections that are smooth at their seams periodically (one periodic knot vector,
-    /// `C^(p−1)` across the seam, see [`super::seam`]); `false` keeps the clamped fit (C0 seam).
+    /// `C^(p−1)` across the seam, see [`super::seam`]); when some section is open the knot vector stays
+    /// clamped and each smooth closed section gets its seam tied (`C^(p−1)`, at most `C^2`, see
+    /// [`super::seam_tie`]). `false` keeps the plain clamped fit (C0 seams).
     pub periodic_closed: bool,
     /// Turning angle (degrees) above which a point next to a seam is a corner (the seam stays C0).
     pub corner_angle_deg: f64,
@@ -236,11 +239,13 @@ fn evaluate(
     knots: Vec<f64>,
     opts: &CompatibleOptions,
     global: bool,
+    ties: &[usize],
 ) -> Option<Candidate> {
     let fits: Result<Vec<SectionFit>> = sections
         .par_iter()
         .zip(params.par_iter())
-        .map(|(s, t)| {
+        .zip(ties.par_iter())
+        .map(|((s, t), &tie)| {
             fit_section_with(
                 &s.points,
                 t,
@@ -249,6 +254,7 @@ fn evaluate(
                 opts.smoothing,
                 opts.corrections,
                 global,
+                tie,
             )
         })
         .collect();
@@ -305,6 +311,7 @@ fn fair_per_section(
     params: &[Vec<f64>],
     mut c: Candidate,
     opts: &CompatibleOptions,
+    ties: &[usize],
 ) -> Candidate {
     if opts.fairing_weights.is_empty() {
         return c;
@@ -312,7 +319,8 @@ fn fair_per_section(
     let improved: Vec<Option<SectionFit>> = sections
         .par_iter()
         .zip(params.par_iter())
-        .map(|(s, t)| {
+        .zip(ties.par_iter())
+        .map(|((s, t), &tie)| {
             opts.fairing_weights.iter().find_map(|&w| {
                 fit_section_with(
                     &s.points,
@@ -322,6 +330,7 @@ fn fair_per_section(
                     w,
                     opts.corrections,
                     true,
+                    tie,
                 )
                 .ok()
                 .filter(|f| f.max_deviation <= opts.tolerance)
@@ -457,6 +466,19 @@ pub fn make_compatible_with_progress(
         degree: p,
         periodic,
     };
+    // on a clamped knot vector, closed sections that are smooth at the seam get their ends tied
+    // (C^(p-1), at most C^2) unless the user asked for C0 seams
+    let ties: Vec<usize> = sections
+        .iter()
+        .map(|s| {
+            let tie = !periodic && opts.periodic_closed && smooth_at_seam(s, opts.corner_angle_deg);
+            if tie {
+                tie_order(p)
+            } else {
+                0
+            }
+        })
+        .collect();
     const GRID: usize = 2000;
     let cdfs: Vec<Vec<f64>> = sections
         .iter()
@@ -500,6 +522,7 @@ pub fn make_compatible_with_progress(
             knots_from_density(&cdf, 1.0, p, p + 1),
             opts,
             false,
+            &ties,
         ) {
             if c.max_dev <= opts.tolerance {
                 finals.push(c);
@@ -515,7 +538,7 @@ pub fn make_compatible_with_progress(
         loop {
             tried += 1;
             progress(tried);
-            let Some(c) = evaluate(sections, &params, knots.clone(), opts, false) else {
+            let Some(c) = evaluate(sections, &params, knots.clone(), opts, false, &ties) else {
                 break;
             };
             if c.max_dev <= opts.tolerance {
@@ -550,7 +573,7 @@ pub fn make_compatible_with_progress(
             let k2 = form.full(&interior);
             tried += 1;
             progress(tried);
-            match evaluate(sections, &params, k2, opts, false) {
+            match evaluate(sections, &params, k2, opts, false, &ties) {
                 Some(c) if c.max_dev <= opts.tolerance => cur = c,
                 _ => i += 1,
             }
@@ -561,7 +584,7 @@ pub fn make_compatible_with_progress(
         let c = best_fail.ok_or_else(|| {
             Error::Fit("no knot vector gave a well-posed fit for every section".into())
         })?;
-        let c = evaluate(sections, &params, c.knots.clone(), opts, true).unwrap_or(c);
+        let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
         let msf = worst_span_fairness(&c.fits);
         return Ok(CompatibleSections {
             knots: c.knots,
@@ -584,8 +607,8 @@ pub fn make_compatible_with_progress(
     }
     let (msf, c) = best.ok_or_else(|| Error::Fit("internal: lost the passing candidate".into()))?;
     // final measurement with global projection (never larger than the search's estimate)
-    let c = evaluate(sections, &params, c.knots.clone(), opts, true).unwrap_or(c);
-    let c = fair_per_section(sections, &params, c, opts);
+    let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
+    let c = fair_per_section(sections, &params, c, opts, &ties);
     let msf = worst_span_fairness(&c.fits).min(msf);
     Ok(CompatibleSections {
         knots: c.knots,

@@ -3,7 +3,8 @@
 //! NURBS surface, and measured (orthogonal deviation, iso-curve fairness, net size).
 //!
 //! Files, one concept each: [`orient`] (sections, orientation, seams), [`seam`] (smooth or C0 seams of closed sections),
-//! a private periodic least-squares fit of closed sections, [`section_fit`] (least squares on
+//! a private periodic least-squares fit of closed sections, a private seam tie (smooth closed
+//! sections on a clamped knot vector), [`section_fit`] (least squares on
 //! fixed knots), [`compatible`] (the shared knot vector), [`skinning`], [`measure`],
 //! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds to sections), plus a private dense solver. Fairness
 //! comes from [`crate::fair`], iso-curves from [`crate::nurbs::NurbsSurface`].
@@ -16,6 +17,7 @@ pub mod orient;
 mod periodic_fit;
 pub mod pipeline;
 pub mod seam;
+mod seam_tie;
 pub mod section_fit;
 pub mod skinning;
 pub mod slicing;

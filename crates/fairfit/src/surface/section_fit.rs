@@ -9,10 +9,11 @@
 
 use super::linalg::{cholesky, cholesky_solve, Dense};
 use super::periodic_fit::lsq_periodic_control_points;
+use super::seam_tie::lsq_tied_control_points;
 use crate::diffgeo::CurveProjector;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
-use crate::nurbs::knots::{find_span, is_clamped};
+use crate::nurbs::knots::{find_span, is_clamped, is_periodic};
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Chord-length parameters of ordered points, normalised to `[0, 1]`.
@@ -232,7 +233,8 @@ pub struct SectionFit {
 /// Fits `points` (initial parameters `params`) on `knots`, then corrects the parameters by orthogonal
 /// projection `corrections` times (keeping the best fit seen), and measures orthogonal deviations.
 ///
-/// A clamped knot vector interpolates the first and last point; an unclamped one must be periodic
+/// A clamped knot vector interpolates the first and last point; an unclamped one must be periodic (else
+/// [`Error::InvalidKnots`])
 /// ([`crate::fit::lsq::periodic_knots`]) and fits the closed section (last point = first) periodically
 /// ([`super::periodic_fit`]); its deviations are measured on the clamped copy (same geometry on
 /// `[0, 1]`), the first and last parameters stay at the seam.
@@ -244,11 +246,23 @@ pub fn fit_section(
     smoothing: f64,
     corrections: usize,
 ) -> Result<SectionFit> {
-    fit_section_with(points, params, degree, knots, smoothing, corrections, true)
+    fit_section_with(
+        points,
+        params,
+        degree,
+        knots,
+        smoothing,
+        corrections,
+        true,
+        0,
+    )
 }
 
 /// [`fit_section`]; with `global = false` the distances come from Newton started at each point's
 /// current parameter only (fast, may overestimate a distance, never underestimates it), for searches.
+/// `seam_tie > 0` on a clamped knot vector ties the end derivatives of a closed section up to that order
+/// ([`super::seam_tie`]; untied when there are too few control points).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_section_with(
     points: &[Vec3],
     params: &[f64],
@@ -257,18 +271,31 @@ pub(crate) fn fit_section_with(
     smoothing: f64,
     corrections: usize,
     global: bool,
+    seam_tie: usize,
 ) -> Result<SectionFit> {
     let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
     let periodic = !is_clamped(knots, degree);
+    if periodic && !is_periodic(knots, degree) {
+        return Err(Error::InvalidKnots(
+            "a section's knot vector must be clamped or periodic (fit::lsq::periodic_knots)".into(),
+        ));
+    }
     let mut params = params.to_vec();
     let mut best: Option<SectionFit> = None;
     let mut stalls = 0;
     let mut last_rms = f64::INFINITY;
     for _ in 0..=corrections {
-        let ctrl = if periodic {
-            lsq_periodic_control_points(&data, &params, degree, knots, smoothing)?
+        let tied = if periodic || seam_tie == 0 {
+            None
         } else {
-            lsq_control_points(&data, &params, degree, knots, smoothing)?
+            lsq_tied_control_points(&data, &params, degree, knots, smoothing, seam_tie)?
+        };
+        let ctrl = match tied {
+            Some(c) => c,
+            None if periodic => {
+                lsq_periodic_control_points(&data, &params, degree, knots, smoothing)?
+            }
+            None => lsq_control_points(&data, &params, degree, knots, smoothing)?,
         };
         let curve =
             NurbsCurve::bspline(degree, knots.to_vec(), ctrl.into_iter().map(Vec3).collect())?;
@@ -366,6 +393,30 @@ mod tests {
             f.max_deviation,
             f0.max_deviation
         );
+    }
+
+    #[test]
+    fn unclamped_knots_must_be_periodic() {
+        // a circle sampled closed (last point = first)
+        let pts: Vec<Vec3> = (0..=40)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 40.0;
+                Vec3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        let us: Vec<f64> = (0..=40).map(|k| k as f64 / 40.0).collect();
+        let periodic = crate::fit::lsq::periodic_knots(&[0.0, 0.25, 0.5, 0.75, 1.0], 3);
+        let f = fit_section(&pts, &us, 3, &periodic, 0.0, 0).unwrap();
+        // 4 distinct control points of a uniform periodic cubic: the least-squares circle is off by
+        // 1.45 % of the radius (a clamped or open fit would not even close)
+        assert!(f.max_deviation < 0.02, "{}", f.max_deviation);
+        let closed = f.curve.point(0.0) - f.curve.point(1.0);
+        assert!(closed.norm() < 1e-12, "{}", closed.norm());
+        // unclamped but not periodic: a typed error, not a silent open curve
+        let mut skewed = periodic.clone();
+        skewed[0] -= 0.1;
+        let e = fit_section(&pts, &us, 3, &skewed, 0.0, 0).unwrap_err();
+        assert!(matches!(e, Error::InvalidKnots(_)), "{e}");
     }
 
     #[test]
