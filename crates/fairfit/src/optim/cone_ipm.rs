@@ -262,6 +262,7 @@ fn iterate<const D: usize, const M: usize>(
         &mut st.lsq,
         &mut st.v,
         &mut st.rz,
+        &mut st.wrz,
         &mut st.rc,
         &mut st.u,
         &mut st.t1,
@@ -359,6 +360,7 @@ fn iterate<const D: usize, const M: usize>(
             st.dl[i] = (si / zi).sqrt();
         }
         w_mul::<D, false>(dt, &st.eta, &st.v, &st.dl, &st.z, &mut st.lambda);
+        w_mul::<D, true>(dt, &st.eta, &st.v, &st.dl, &st.rz, &mut st.wrz);
         if !factor::<D, M>(dt, st) {
             // the normal matrix lost definiteness to round-off near the optimum
             *status = "cholesky";

@@ -92,6 +92,8 @@ pub(super) struct State {
     pub(super) block: Vec<f64>,
     pub(super) rx: Vec<f64>,
     pub(super) rz: Vec<f64>,
+    /// `W⁻¹ rz`, the same for the predictor and the corrector of one iteration.
+    pub(super) wrz: Vec<f64>,
     pub(super) rc: Vec<f64>,
     pub(super) u: Vec<f64>,
     pub(super) t1: Vec<f64>,
@@ -373,7 +375,7 @@ pub(super) fn solve_reduced<const M: usize>(dt: &Data, st: &State, r: &mut [f64]
 }
 
 /// One Newton solve for the complementarity right-hand side `st.rc` (residuals `st.rx`,
-/// `st.rz`): `st.dx`, `st.ds`, `st.dz`.
+/// `st.rz`, and `st.wrz = W⁻¹ rz` of the current scaling): `st.dx`, `st.ds`, `st.dz`.
 pub(super) fn newton<const D: usize, const M: usize>(dt: &Data, st: &mut State) {
     let l0 = dt.nc * D;
     // u = λ⁻¹ ∘ rc
@@ -392,9 +394,8 @@ pub(super) fn newton<const D: usize, const M: usize>(dt: &Data, st: &mut State) 
         *u = rc / l;
     }
     // t2 = −W⁻¹ (W⁻¹ rz + u)
-    w_mul::<D, true>(dt, &st.eta, &st.v, &st.dl, &st.rz, &mut st.t1);
-    for (t, &u) in st.t1.iter_mut().zip(&st.u) {
-        *t = -(*t + u);
+    for ((t, &w), &u) in st.t1.iter_mut().zip(&st.wrz).zip(&st.u) {
+        *t = -(w + u);
     }
     w_mul::<D, true>(dt, &st.eta, &st.v, &st.dl, &st.t1, &mut st.t2);
     // (P + Gᵀ W⁻² G) dx = −rx + Gᵀ t2

@@ -110,7 +110,7 @@ pub struct EvalWorkspace {
 struct SpanDers {
     knots: Vec<f64>,
     degree: usize,
-    /// `P1 * P1` values per knot span index `s`.
+    /// `(p + 1)²` values per knot span index `s` (every one written when the cache is rebuilt).
     ders: Vec<f64>,
 }
 
@@ -508,16 +508,16 @@ fn build_power_form(p: usize, ws: &mut EvalWorkspace) {
 /// changed): a candidate's parameter correction, band fairing's and the polish's measurements
 /// reuse them on the same knots.
 fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
+    let q = (p + 1) * (p + 1);
     if ws.span_ders.degree != p || ws.span_ders.knots != ws.knots {
         let cache = &mut ws.span_ders;
         cache.knots.clone_from(&ws.knots);
         cache.degree = p;
-        cache.ders.clear();
-        cache.ders.resize(ws.knots.len() * P1 * P1, 0.0);
+        cache.ders.resize(ws.knots.len() * q, 0.0);
         let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
         let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
         for k in p..ws.knots.len().saturating_sub(p + 1) {
-            let ders = &mut cache.ders[k * P1 * P1..(k + 1) * P1 * P1];
+            let ders = &mut cache.ders[k * q..(k + 1) * q];
             ders_basis_funs_into(
                 k,
                 ws.knots[k],
@@ -532,7 +532,7 @@ fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace
             );
         }
     }
-    let ders = &ws.span_ders.ders[s * P1 * P1..(s + 1) * P1 * P1];
+    let ders = &ws.span_ders.ders[s * q..(s + 1) * q];
     taylor_coefs(p, &ws.ctrl[s - p..=s], ders, &mut ws.coef[at..=at + p]);
 }
 
