@@ -467,3 +467,35 @@ fn an_unmet_span_fairness_target_is_named_in_the_warning() {
     );
     assert!(!err.contains("tolerance"), "{err}");
 }
+
+/// Coordinates near the floating-point limit overflow every length; the error says so (not "all points
+/// coincide") and names the fix, with every method.
+#[test]
+fn overflowing_coordinates_ask_for_rescaling() {
+    let f = Fixture::new();
+    std::fs::write(
+        f.root.join("limit.csv"),
+        "0,0\n1,1e308\n2,-1e308\n3,1\n4,2\n",
+    )
+    .unwrap();
+    for method in ["lsq", "integrated", "fit-then-fair"] {
+        let out = Command::cargo_bin("fairfit")
+            .unwrap()
+            .args(strings(&[
+                "curve",
+                &f.path("limit.csv"),
+                "--method",
+                method,
+                "-o",
+                &f.path("o.json"),
+            ]))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{method}: {err}");
+        assert!(
+            err.contains("too far apart") && err.contains("rescale"),
+            "{method}: {err}"
+        );
+    }
+}

@@ -80,7 +80,12 @@ pub fn parameterize_into(
     } else {
         acc
     };
-    if total.is_nan() || total <= 0.0 || !total.is_finite() {
+    if !total.is_finite() {
+        return Err(Error::InvalidData(
+            "the points are too far apart to measure (coordinates near the floating-point limit): rescale the data".into(),
+        ));
+    }
+    if total.is_nan() || total <= 0.0 {
         return Err(Error::InvalidData(
             "all points coincide: the data have no length to parameterise".into(),
         ));

@@ -57,10 +57,13 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
     }
     // the largest side of the bounding box: the unit of relative tolerances across fairfit
     let scale = (hi - lo).max_abs();
-    if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
+    if !scale.is_finite() {
         return Err(Error::InvalidData(
-            "all points coincide (or are too far apart to measure)".into(),
+            "the points are too far apart to measure (coordinates near the floating-point limit): rescale the data".into(),
         ));
+    }
+    if scale.is_nan() || scale <= 0.0 {
+        return Err(Error::InvalidData("all points coincide".into()));
     }
     let snapped: Vec<Vec3> = points
         .iter()
