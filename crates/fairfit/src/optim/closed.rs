@@ -164,6 +164,7 @@ fn fit_periodic(
         n: best_n,
         knots: best_knots,
         met: descent,
+        ..
     } = down;
 
     // full search at the smallest feasible count, then with extra points while they pay
@@ -172,6 +173,7 @@ fn fit_periodic(
         knots: &best_knots,
         descent: &descent,
         limit: max_n.min(baseline),
+        alt: &[],
     };
     let result = search_counts(&family, start_at, opts, progress, &mut stats)?;
     let mut result = if opts.searches_degree() {

@@ -24,6 +24,7 @@
 
 use super::band_fairing::{band_fair, BandOptions};
 use super::count_search::{search_counts, CountFamily, CountStart};
+use super::descent::second_descent;
 use super::encoding::KnotEncoding;
 use super::knot_edits::{self, descend, insertion_spans, lsq_method_fit, map_knots, Descent};
 use super::objective::{evaluate_candidate, set_knots, CandidateEval, EvalWorkspace, FitData};
@@ -321,10 +322,15 @@ pub fn fit_integrated_with_progress(
     descend(
         &family, &mut down, lowest, tol, removals, false, opts, progress, &mut stats,
     );
+    // a second descent on other random streams seeds the count search's restart
+    let alt = second_descent(
+        &family, &down, lowest, tol, removals, opts, progress, &mut stats,
+    );
     let Descent {
         n: mut best_n,
         knots: mut best_knots,
         met: descent,
+        ..
     } = down;
     if let Some(n) = fixed {
         // the tolerance cannot be met at the fixed count: remove the knots that hurt least anyway
@@ -344,6 +350,7 @@ pub fn fit_integrated_with_progress(
         knots: &best_knots,
         descent: &descent,
         limit: m1.min(baseline),
+        alt: &alt,
     };
     // with a degree search, the next degree (from the descent's knots) runs beside the count search
     let (result, first) = rayon::join(

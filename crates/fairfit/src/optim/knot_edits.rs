@@ -101,6 +101,10 @@ pub(crate) struct Descent {
     pub knots: Vec<f64>,
     /// The knots met at every count, from the start down.
     pub met: Vec<(usize, Vec<f64>)>,
+    /// The count and knots the first probe started from (`None`: no probe yet).
+    pub probe_start: Option<(usize, Vec<f64>)>,
+    /// Added to the probes' salts (0; another stream for a second descent, [`super::descent`]).
+    pub salt: u64,
 }
 
 impl Descent {
@@ -110,6 +114,8 @@ impl Descent {
             n,
             met: vec![(n, knots.clone())],
             knots,
+            probe_start: None,
+            salt: 0,
         }
     }
 
@@ -172,6 +178,9 @@ pub(crate) fn descend<C: CountFamily>(
             }
             continue;
         }
+        if down.probe_start.is_none() {
+            down.probe_start = Some((down.n, down.knots.clone()));
+        }
         let pr = family.problem(cand);
         let mut seeds: Vec<Vec<f64>> = removals
             .iter()
@@ -182,7 +191,7 @@ pub(crate) fn descend<C: CountFamily>(
         let r = run_pso(
             &pr,
             &seeds,
-            &pso_options(opts, opts.probe_iterations, true, cand as u64),
+            &pso_options(opts, opts.probe_iterations, true, cand as u64 + down.salt),
             &|it| progress(cand, it),
         );
         stats.evaluations += r.evaluations;

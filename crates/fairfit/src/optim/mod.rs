@@ -7,6 +7,7 @@
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
 //! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
+//! - [`descent`]: the second start of an open curve's count descent (the count search's restart seeds);
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
@@ -49,6 +50,7 @@ pub mod count_search;
 pub mod curvature_signs;
 pub mod degree_candidates;
 pub mod degree_search;
+pub(crate) mod descent;
 pub mod encoding;
 pub mod integrated;
 pub(crate) mod knot_edits;
