@@ -595,7 +595,7 @@ pub fn band_fair_mapped(
     };
     let mut edge_res = vec![0.0; edges.len()];
     let mut trial_edge = vec![0.0; edges.len()];
-    let mut edge_jac = vec![0.0; edges.len() * nv];
+    let mut edge_row = vec![0.0; nv];
     let mut trial_res = vec![0.0; nodes.len()];
     // samples of the extrema count held on their side of dκ/ds = 0 (rows added when a step that
     // was good in every other respect added extrema there)
@@ -633,15 +633,8 @@ pub fn band_fair_mapped(
             let grad = residual_gradient(&d, cw, data.planar, p, dims);
             add_node_row(nd, &grad, p, dims, map, 1.0, &mut jac[g * nv..(g + 1) * nv]);
         }
-        edge_jac.fill(0.0);
-        for (g, nd) in edges.iter().enumerate() {
-            let d = node_derivatives(nd, &ctrl, p);
-            let cw = c * nd.weight;
-            edge_res[g] = residual(&d, cw, data.planar);
-            let grad = residual_gradient(&d, cw, data.planar, p, dims);
-            let row = &mut edge_jac[g * nv..(g + 1) * nv];
-            add_node_row(nd, &grad, p, dims, map, 1.0, row);
-        }
+        // the edge nodes' residuals (their Jacobian rows only where a row is set up below)
+        node_residuals(&edges, &ctrl, p, data.planar, c, &mut edge_res);
         jtj.fill(0.0);
         jtr.fill(0.0);
         for g in 0..nodes.len() {
@@ -732,7 +725,12 @@ pub fn band_fair_mapped(
         }
         for &g in &edge_signed {
             let sg = f64::from(edge_targets[g]);
-            let row = &edge_jac[g * nv..(g + 1) * nv];
+            let nd = &edges[g];
+            let d = node_derivatives(nd, &ctrl, p);
+            let grad = residual_gradient(&d, c * nd.weight, data.planar, p, dims);
+            edge_row.fill(0.0);
+            add_node_row(nd, &grad, p, dims, map, 1.0, &mut edge_row);
+            let row = &edge_row;
             qp.push_row(
                 sg * edge_res[g] - sign_margin,
                 row.iter()

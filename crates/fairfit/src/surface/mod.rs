@@ -29,5 +29,5 @@ pub use pipeline::{
     reconstruct_surface, reconstruct_surface_with_progress, validate_sections, Stage,
     SurfaceOptions, SurfaceReconstruction,
 };
-pub use seam::{periodic_seam, seam_continuity, SeamContinuity};
+pub use seam::{periodic_seam, seam_continuity, seam_continuity_at, SeamContinuity};
 pub use skinning::{skin, Skin, SkinOptions, VParams};

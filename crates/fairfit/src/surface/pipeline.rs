@@ -4,7 +4,7 @@
 use super::compatible::{make_compatible_with_progress, CompatibleOptions, CompatibleSections};
 use super::measure::{surface_deviation, Deviation};
 use super::orient::{align_sections, extent, Section};
-use super::seam::{seam_continuity, SeamContinuity};
+use super::seam::{seam_continuity, seam_continuity_at, SeamContinuity};
 use super::skinning::{skin, SkinOptions};
 
 /// Iso-curves `v = const` at which the seam continuity is measured (ends included: one more).
@@ -55,7 +55,9 @@ pub struct SurfaceReconstruction {
     /// Fairness of iso-curves in both directions (`u_iso`: across the sections).
     pub fairness: SurfaceFairness,
     /// When every section is closed: the surface's continuity across its u seam (tangent angle and
-    /// curvature jump, ~0 when the sections were fitted periodically, see [`super::seam`]).
+    /// curvature jump, ~0 when the sections were fitted periodically, see [`super::seam`]), over
+    /// equally spaced iso-curves. When only some are closed: the same at those sections (~0 where their
+    /// seams were tied, see [`super::seam_tie`]). `None` when no section is closed.
     pub seam: Option<SeamContinuity>,
 }
 
@@ -127,10 +129,19 @@ pub fn reconstruct_surface_with_progress(
     }
     let deviation = surface_deviation(&sk.surface, &pts, Some(&hints));
     let fairness = surface_fairness(&sk.surface, opts.iso_curves.max(1))?;
-    let seam = sections
+    let closed_vs: Vec<f64> = sections
         .iter()
-        .all(|s| s.closed)
-        .then(|| seam_continuity(&sk.surface, SEAM_SAMPLES));
+        .zip(&sk.v_params)
+        .filter(|(s, _)| s.closed)
+        .map(|(_, &v)| v)
+        .collect();
+    let seam = if closed_vs.len() == sections.len() {
+        Some(seam_continuity(&sk.surface, SEAM_SAMPLES))
+    } else if !closed_vs.is_empty() {
+        Some(seam_continuity_at(&sk.surface, &closed_vs))
+    } else {
+        None
+    };
     progress(Stage::Measured);
     Ok(SurfaceReconstruction {
         surface: sk.surface,

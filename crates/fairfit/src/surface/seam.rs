@@ -43,8 +43,18 @@ pub struct SeamContinuity {
 /// The seam discontinuity of `surface` between `u = u_0` and `u = u_1` (the ends of its u domain) at
 /// `samples + 1` equally spaced v (ends included). Meaningful when the surface is closed in u.
 pub fn seam_continuity(surface: &NurbsSurface, samples: usize) -> SeamContinuity {
-    let ((u0, u1), (v0, v1)) = (surface.domain_u(), surface.domain_v());
+    let (v0, v1) = surface.domain_v();
     let n = samples.max(1);
+    let vs: Vec<f64> = (0..=n)
+        .map(|k| v0 + (v1 - v0) * k as f64 / n as f64)
+        .collect();
+    seam_continuity_at(surface, &vs)
+}
+
+/// The seam discontinuity of `surface` (see [`seam_continuity`]) on the iso-curves at `vs` only, e.g.
+/// at the closed sections of a surface lofted through closed and open sections.
+pub fn seam_continuity_at(surface: &NurbsSurface, vs: &[f64]) -> SeamContinuity {
+    let (u0, u1) = surface.domain_u();
     let mut ws = SurfaceWorkspace::new(surface, 2);
     let (mut a, mut b) = ([Vec3::ZERO; 9], [Vec3::ZERO; 9]);
     let mut out = SeamContinuity::default();
@@ -57,8 +67,7 @@ pub fn seam_continuity(surface: &NurbsSurface, samples: usize) -> SeamContinuity
             0.0
         }
     };
-    for k in 0..=n {
-        let v = v0 + (v1 - v0) * k as f64 / n as f64;
+    for &v in vs {
         surface.derivatives_with(u0, v, 2, &mut ws, &mut a);
         surface.derivatives_with(u1, v, 2, &mut ws, &mut b);
         let (ta, tb) = (a[3], b[3]);
