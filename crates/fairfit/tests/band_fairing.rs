@@ -7,18 +7,9 @@ use fairfit::fair::curve_fairness;
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
 
-/// Reads an `x,y[,z]` CSV with `#` comments and a header line (test helper, not the library reader).
-fn read_csv(name: &str) -> Vec<Vec3> {
-    let path = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap();
-    text.lines()
-        .filter(|l| !l.starts_with('#'))
-        .filter_map(|l| {
-            let v: Vec<f64> = l.split(',').filter_map(|s| s.trim().parse().ok()).collect();
-            (v.len() >= 2).then(|| Vec3([v[0], v[1], v.get(2).copied().unwrap_or(0.0)]))
-        })
-        .collect()
-}
+#[path = "common/example_data.rs"]
+mod example_data;
+use example_data::read_csv;
 
 /// Largest distance from the points to the curve: the nearest of 200 001 uniform curve samples,
 /// refined by a golden-section search between its neighbours.

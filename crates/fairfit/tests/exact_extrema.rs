@@ -10,6 +10,10 @@ use fairfit::fair::{count_extrema, count_extrema_sampled};
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
 
+#[path = "common/example_data.rs"]
+mod example_data;
+use example_data::read_csv;
+
 fn curve(p: usize, knots: &[f64], pts: &[(f64, f64)]) -> NurbsCurve {
     let ctrl = pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
     NurbsCurve::bspline(p, knots.to_vec(), ctrl).unwrap()
@@ -167,19 +171,6 @@ fn a_wiggle_next_to_a_knot_that_192_samples_miss_is_counted() {
         count_extrema_sampled(&c, l, 20_000).curvature_extrema,
         truth
     );
-}
-
-/// Reads an `x,y[,z]` CSV with `#` comments and a header line (test helper, not the library reader).
-fn read_csv(name: &str) -> Vec<Vec3> {
-    let path = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(&path).unwrap();
-    text.lines()
-        .filter(|l| !l.starts_with('#'))
-        .filter_map(|l| {
-            let v: Vec<f64> = l.split(',').filter_map(|s| s.trim().parse().ok()).collect();
-            (v.len() >= 2).then(|| Vec3([v[0], v[1], v.get(2).copied().unwrap_or(0.0)]))
-        })
-        .collect()
 }
 
 #[test]
