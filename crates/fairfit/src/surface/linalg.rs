@@ -1,13 +1,15 @@
 //! Small dense linear solvers for the surface module: Cholesky for the (small, symmetric positive definite)
 //! normal equations of section fitting and LU with partial pivoting for the skinning interpolation systems.
 //!
-//! Written here rather than pulling in a linear-algebra crate: the systems are at most a few dozen unknowns
-//! (control points of one section, or one control column), solved once per refinement step; a dense
-//! O(n³) factorisation with explicit pivot checks is both fast enough and simple to audit.
+//! The systems are at most about a hundred unknowns (control points of one section, or one control
+//! column) in a dense matrix. The Cholesky factor comes from the fitting side's envelope solver
+//! ([`crate::fit::banded::EnvelopeCholesky`]) on the matrix's own envelope; LU is a plain dense
+//! factorisation with explicit pivot checks (the skinning systems are small and solved once).
 
 #![allow(clippy::needless_range_loop)]
 
 use crate::errors::{Error, Result};
+use crate::fit::banded::EnvelopeCholesky;
 
 /// A dense row-major square matrix.
 #[derive(Clone, Debug)]
@@ -38,36 +40,28 @@ impl Dense {
 
 /// Cholesky factorisation in place (lower triangle); fails when the matrix is not positive definite.
 ///
-/// Envelope (skyline) form: the factor of a symmetric matrix keeps the envelope of its lower triangle
-/// (row `i` is zero left of its first nonzero), so only products inside the envelopes are formed. The
-/// normal matrices of the section fits are banded (open fits) or banded with `p` full rows and columns
-/// at the end (periodic fits): `O(n p²)` instead of `O(n³)`. The skipped terms are exact zeros, so the
-/// result is the dense factorisation's, bit for bit.
+/// The factor is [`EnvelopeCholesky`]'s (the fitting side's envelope solver): the factor of a symmetric
+/// matrix keeps the envelope of its lower triangle (row `i` is zero left of its first nonzero), so only
+/// products inside the envelopes are formed. The normal matrices of the section fits are banded (open
+/// fits) or banded with `p` full rows at the end (periodic fits): `O(n p²)` instead of `O(n³)`. The
+/// skipped terms are exact zeros, so the result is the dense factorisation's, bit for bit.
 pub(crate) fn cholesky(m: &mut Dense) -> Result<()> {
     let n = m.n;
-    let scale = (0..n).map(|i| m.get(i, i).abs()).fold(0.0, f64::max);
     let first: Vec<usize> = (0..n)
         .map(|i| (0..i).find(|&j| m.get(i, j) != 0.0).unwrap_or(i))
         .collect();
+    let mut env = EnvelopeCholesky::new();
+    env.reset_envelope(&first);
     for i in 0..n {
-        let fi = first[i];
-        for j in fi..i {
-            let mut s = m.get(i, j);
-            for k in fi.max(first[j])..j {
-                s -= m.get(i, k) * m.get(j, k);
-            }
-            *m.at(i, j) = s / m.get(j, j);
+        for j in first[i]..=i {
+            *env.entry_mut(i, j) = m.get(i, j);
         }
-        let mut d = m.get(i, i);
-        for k in fi..i {
-            d -= m.get(i, k) * m.get(i, k);
+    }
+    env.factor()?;
+    for i in 0..n {
+        for j in first[i]..=i {
+            *m.at(i, j) = env.get(i, j);
         }
-        if d.is_nan() || d <= 1e-14 * scale || !d.is_finite() {
-            return Err(Error::Fit(format!(
-                "least-squares system is singular (pivot {i} of {n}): too few points in some knot span"
-            )));
-        }
-        *m.at(i, i) = d.sqrt();
     }
     m.first = first;
     Ok(())
