@@ -1,5 +1,6 @@
-//! The exact count of curvature extrema of a planar polynomial B-spline: the sign changes of
-//! `dκ/ds` located as the real roots of a polynomial per knot span, not looked for on samples.
+//! The exact count of curvature extrema of a B-spline curve (planar polynomial here, rational and
+//! spatial through [`super::exact_nurbs`]): the sign changes of `dκ/ds` located as the real roots
+//! of a polynomial per knot span, not looked for on samples.
 //!
 //! [`super::extrema::count_extrema`] (the benchmark measurer's count) samples `dκ/ds` at 192
 //! points per span; a wiggle narrower than the sample spacing, typically right next to a knot
@@ -44,7 +45,7 @@
 //! unsigned one by the measurer, which adds one extremum (the minimum `|κ| = 0`) per inflection.
 //!
 //! **Fallback**: only a numerator of degree above [`super::exact_nurbs::MAX_NUMERATOR_DEGREE`]
-//! (a spatial rational curve of degree 13 or more) or a degenerate curve is counted by dense
+//! (a spatial rational curve of degree 14 or more) or a degenerate curve is counted by dense
 //! sampling, [`DENSE_SAMPLES`] per span, with the same floor; [`ExactExtrema::exact`] says which
 //! count was made.
 

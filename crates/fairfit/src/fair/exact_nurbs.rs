@@ -11,7 +11,7 @@
 //! not from the reported roots). The intervals are counted by
 //! [`super::exact_extrema::alternations`] with the measurer's floor.
 //!
-//! A numerator of degree above [`MAX_NUMERATOR_DEGREE`] (a spatial rational curve of degree 13
+//! A numerator of degree above [`MAX_NUMERATOR_DEGREE`] (a spatial rational curve of degree 14
 //! or more) is not formed: the callers fall back to dense sampling.
 
 use super::bernstein;
