@@ -230,9 +230,11 @@ fn lcg(seed: u64) -> impl FnMut() -> f64 {
 fn spatial_and_rational_curves_agree_with_20000_samples_per_span() {
     let mut rnd = lcg(7);
     let mut seen = Vec::new();
-    for case in 0..6 {
+    for case in 0..9 {
         let n = 9;
-        // a conical helix's points, jittered; rational for odd cases, quintic for case 4
+        // a conical helix's points, jittered; rational for odd cases, quintic for case 4, degree 7
+        // (rational: a numerator of degree 13·7 − 9 = 82 per span) for case 5; cases 6 to 8 are
+        // planar (z = 0) rational curves of degrees 3, 5 and 8
         let ctrl: Vec<Vec3> = (0..n)
             .map(|i| {
                 let t = i as f64 * 0.9;
@@ -240,17 +242,17 @@ fn spatial_and_rational_curves_agree_with_20000_samples_per_span() {
                 Vec3::new(
                     r * t.cos() + 0.3 * rnd(),
                     r * t.sin() + 0.3 * rnd(),
-                    0.4 * t + 0.3 * rnd(),
+                    if case < 6 { 0.4 * t + 0.3 * rnd() } else { 0.0 },
                 )
             })
             .collect();
-        let p = if case == 4 { 5 } else { 3 };
+        let p = [3, 3, 3, 3, 5, 7, 3, 5, 8][case];
         let mut knots = vec![0.0; p + 1];
         for k in 1..n - p {
             knots.push(k as f64 + 0.5 * rnd());
         }
         knots.extend(vec![(n - p) as f64; p + 1]);
-        let w = (case % 2 == 1).then(|| (0..n).map(|_| 0.5 + 1.5 * rnd()).collect());
+        let w = (case % 2 == 1 || case >= 6).then(|| (0..n).map(|_| 0.5 + 1.5 * rnd()).collect());
         let c = NurbsCurve::new(p, knots, ctrl, w).unwrap();
         let l = arc_length(&c);
         let e = count_extrema_exact(&c, l);
@@ -258,8 +260,14 @@ fn spatial_and_rational_curves_agree_with_20000_samples_per_span() {
         assert!(e.exact);
         assert_eq!(e.curvature_extrema, dense, "case {case}");
         seen.push(dense);
-        // no signed curvature in space: the inflections fall back to dense sampling
-        assert!(!count_inflections_exact(&c, l).exact);
+        let i = count_inflections_exact(&c, l);
+        if case < 6 {
+            // no signed curvature in space: the inflections fall back to dense sampling
+            assert!(!i.exact);
+        } else {
+            let dense_i = count_extrema_sampled(&c, l, DENSE).inflections;
+            assert_eq!((i.inflections, i.exact), (dense_i, true), "case {case}");
+        }
     }
     eprintln!("extrema: {seen:?}");
     assert!(seen.iter().all(|&s| s >= 2), "{seen:?}");
