@@ -243,3 +243,86 @@ fn metre_files_are_read_in_millimetres() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[path = "common/python.rs"]
+mod python;
+
+/// OpenCASCADE writes curves and surfaces with known poles (`tests/python/occ_make_cad.py`) as STEP and
+/// IGES, in millimetres and in inches; fairfit reads each file and must reproduce OpenCASCADE's own
+/// evaluation at OpenCASCADE's parameters. OpenCASCADE prints 12 significant digits in STEP and 10 in
+/// IGES (0.393700787 for 10/25.4 inch), so agreement is asked to 1e-9 of the geometry's size; files in
+/// millimetres with whole-number poles agree to 1e-15.
+#[test]
+fn opencascade_files_read_as_opencascade_evaluates_them() {
+    let Some(python) = python::python_or_skip("the OpenCASCADE-written CAD files") else {
+        return;
+    };
+    let d = dir("occ");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/python/occ_make_cad.py");
+    let out = std::process::Command::new(&python)
+        .arg(&script)
+        .arg(&d)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {python}: {e}"));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "occ_make_cad.py failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let cases: Vec<serde_json::Value> = stdout
+        .lines()
+        .filter(|l| l.starts_with('{'))
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(cases.len(), 12, "{stdout}");
+    let mut worst = 0.0f64;
+    for case in &cases {
+        let file = case["file"].as_str().unwrap();
+        let g = read_cad(file, CadKind::Any, 0).unwrap_or_else(|e| panic!("{e}"));
+        let want_mm = if case["unit"] == "inch" { 25.4 } else { 1.0 };
+        assert_eq!(g.unit.mm_per_unit, want_mm, "{file}");
+        let pts: Vec<Vec3> = case["points"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                Vec3::new(
+                    p[0].as_f64().unwrap(),
+                    p[1].as_f64().unwrap(),
+                    p[2].as_f64().unwrap(),
+                )
+            })
+            .collect();
+        let size = pts.iter().map(|p| p.max_abs()).fold(0.0, f64::max);
+        let params = case["params"].as_array().unwrap();
+        assert!(params.len() >= 41, "{file}");
+        let mut err = 0.0f64;
+        for (uv, want) in params.iter().zip(&pts) {
+            let got = match (&g.geometry, case["kind"].as_str().unwrap()) {
+                (Geometry::Curve(c), "curve") => {
+                    let u = uv[0].as_f64().unwrap();
+                    c.check_parameter(u)
+                        .unwrap_or_else(|e| panic!("{file}: {e}"));
+                    c.point(u)
+                }
+                (Geometry::Surface(s), "surface") => {
+                    s.point(uv[0].as_f64().unwrap(), uv[1].as_f64().unwrap())
+                }
+                (other, kind) => panic!("{file}: expected a {kind}, read {other:?}"),
+            };
+            err = err.max((got - *want).norm() / size);
+        }
+        println!(
+            "{file}: {} points, max error {err:.2e} of size {size:.1} mm",
+            pts.len()
+        );
+        assert!(err <= 1e-9, "{file}: {err}");
+        worst = worst.max(err);
+    }
+    println!(
+        "worst relative error over {} files: {worst:.2e}",
+        cases.len()
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
