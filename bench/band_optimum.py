@@ -143,6 +143,8 @@ class Band:
                 ws.append(h * w)
         self.uq, self.wq = np.concatenate(us), np.concatenate(ws)
         self.s2 = np.ones(self.m)  # per-point band scale squared (pin_ends() shrinks the end points' band)
+        self.sign_s = None  # sign targets of dkappa/du at the sign samples (set_signs()); None: no constraint
+        self.sign_mode = "fixed"
         self.B1, self.B2, self.B3 = (basis(self.t, k, self.uq, nu) for nu in (1, 2, 3))
 
     # F and its gradient with respect to the control points (planar, signed curvature)
@@ -183,6 +185,56 @@ class Band:
             return F, G, Jr
         return F, G
 
+    @staticmethod
+    def dkdu(X, B1, B2, B3, jac=False):
+        """dkappa/du at the rows of the basis matrices B1..B3 (planar); with jac also its Jacobian
+        (rows, 2n) in the interleaved order of X.reshape(-1)."""
+        a, b, c = B1 @ X, B2 @ X, B3 @ X
+        v = np.maximum(np.hypot(a[:, 0], a[:, 1]), 1e-300)
+        num = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        dnum = a[:, 0] * c[:, 1] - a[:, 1] * c[:, 0]
+        dot = np.einsum("ij,ij->i", a, b)
+        g = dnum / v**3 - 3 * num * dot / v**5
+        if not jac:
+            return g
+        perp = np.column_stack([-a[:, 1], a[:, 0]])
+        dg_dc = perp / v[:, None] ** 3
+        dg_db = -3 * (dot[:, None] * perp + num[:, None] * a) / v[:, None] ** 5
+        dg_da = (np.column_stack([c[:, 1], -c[:, 0]]) / v[:, None] ** 3 - 3 * dnum[:, None] * a / v[:, None] ** 5
+                 - 3 * (np.column_stack([b[:, 1], -b[:, 0]]) * dot[:, None] + num[:, None] * b) / v[:, None] ** 5
+                 + 15 * (num * dot)[:, None] * a / v[:, None] ** 7)
+        J = np.empty((len(g), 2 * B1.shape[1]))
+        for d in range(2):
+            J[:, d::2] = dg_da[:, [d]] * B1 + dg_db[:, [d]] * B2 + dg_dc[:, [d]] * B3
+        return g, J
+
+    def set_signs(self, X, per_span=192, mode="fixed"):
+        """Curvature-extrema constraints: s_g dkappa/du(u_g) >= 0 at `per_span` samples strictly inside
+        every span (midpoints of equal cells: measure.py's extrema samples at 192), with the sign pattern
+        s_g of the curve X (the start). mode "fixed": that pattern for the whole run (the sign changes stay
+        between the same two samples, as fairfit's band fairing holds its node targets); "moving": the
+        pattern is taken again from the current curve at every restart round, and samples inside the
+        hysteresis floor where the sign changes are left free, so a sign change can move along the curve
+        (never more changes: a free sample sits between runs of opposite sign)."""
+        br = np.unique(self.t[self.k: self.n + 1])
+        us = np.concatenate([a + (b - a) * (np.arange(per_span) + 0.5) / per_span for a, b in zip(br[:-1], br[1:])])
+        self.SB = tuple(basis(self.t, self.k, us, nu) for nu in (1, 2, 3))
+        self.sign_mode = mode
+        self.sign_s = sign_pattern(self.dkdu(X, *self.SB), free_transitions=False)
+        return self
+
+    def sign_values(self, X, jac=False):
+        """s_g dkappa/du(u_g) / scale at the constrained samples (and the Jacobian in X's order)."""
+        on = self.sign_s != 0
+        s = self.sign_s[on] / self.sign_scale
+        if not jac:
+            return s * self.dkdu(X, *(B[on] for B in self.SB))
+        g, J = self.dkdu(X, *(B[on] for B in self.SB), jac=True)
+        return s * g, s[:, None] * J
+
+    def signs_ok(self, X):
+        return self.sign_s is None or float(np.min(self.sign_values(X), initial=0.0)) >= -1e-6
+
     # Band constraints: the foot parameters are eliminated by exact projection.  d_i(X) =
     # min_u |C(u) - P_i|^2 (local Newton from the previous foot; u_0 = 0 and u_{m-1} = 1 fixed);
     # by the envelope theorem grad_X d_i = 2 N(u_i*)^T r_i.  A local foot gives an upper bound on the
@@ -217,7 +269,11 @@ class Band:
         tt = ((1 - MARGIN) * tol) ** 2
         Xc, u_c = X0.copy(), u0.copy()
         total_it, res, F_prev = 0, None, np.inf
-        for _ in range(rounds):
+        for rnd in range(rounds):
+            if self.sign_s is not None:
+                if self.sign_mode == "moving" and rnd > 0:
+                    self.sign_s = sign_pattern(self.dkdu(Xc, *self.SB), free_transitions=True)
+                self.sign_scale = float(np.max(np.abs(self.dkdu(Xc, *self.SB))))
             F0, _, Jr = self.fairness(Xc, gn=True)
             H = 2 * (Jr.T @ Jr) * tol**2 / Fref
             A = basis(self.t, self.k, u_c, 0)
@@ -251,10 +307,13 @@ class Band:
                 J[:, 1::2] = -2 * tol * r[:, [1]] * N0 / (tt * self.s2[:, None])
                 return J @ M
 
+            constraints = [{"type": "ineq", "fun": cons, "jac": jac}]
+            if self.sign_s is not None:
+                constraints.append({"type": "ineq", "fun": lambda z: self.sign_values(xof(z)),
+                                    "jac": lambda z: tol * self.sign_values(xof(z), jac=True)[1] @ M})
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                res = minimize(f, np.zeros(2 * n), jac=True, method="SLSQP",
-                               constraints=[{"type": "ineq", "fun": cons, "jac": jac}],
+                res = minimize(f, np.zeros(2 * n), jac=True, method="SLSQP", constraints=constraints,
                                options={"maxiter": maxiter, "ftol": 1e-12})
             total_it += res.nit
             X = xof(res.x)
@@ -279,7 +338,7 @@ class Band:
 
     def feasible(self, X, u):
         _, _, r = self.project(X, u)
-        return bool(np.max(np.einsum("ij,ij->i", r, r) / self.s2) <= ((1 - MARGIN) * self.tol) ** 2 * (1 + 1e-6))
+        return self.signs_ok(X) and bool(np.max(np.einsum("ij,ij->i", r, r) / self.s2) <= ((1 - MARGIN) * self.tol) ** 2 * (1 + 1e-6))
 
     def repair(self, X1, u1):
         """Nearest control points (least change) that satisfy the band constraints."""
@@ -299,13 +358,38 @@ class Band:
             J[:, 1::2] = -2 * tol * r[:, [1]] * N0 / (tt * self.s2[:, None])
             return J
 
+        constraints = [{"type": "ineq", "fun": cons, "jac": jac}]
+        if self.sign_s is not None:
+            constraints.append({"type": "ineq", "fun": lambda y: self.sign_values(X1 + tol * y.reshape(n, 2)),
+                                "jac": lambda y: tol * self.sign_values(X1 + tol * y.reshape(n, 2), jac=True)[1]})
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             res = minimize(lambda y: (y @ y, 2 * y), np.zeros(2 * n), jac=True, method="SLSQP",
-                           constraints=[{"type": "ineq", "fun": cons, "jac": jac}],
+                           constraints=constraints,
                            options={"maxiter": 200, "ftol": 1e-14})
         X = X1 + tol * res.x.reshape(n, 2)
         return X, self.project(X, state["u"])[0]
+
+
+def sign_pattern(g, free_transitions=False):
+    """Signs (+1, -1, 0 = free) of the samples g of dkappa/du (parameter order) with measure.py's hysteresis
+    floor (1e-6 of the largest magnitude): a sample inside the floor takes the sign of the run around it;
+    where the sign changes across floor samples they take the sign of the run before (fixed pattern) or
+    are left free (free_transitions). Sign changes of the pattern = the curve's extrema count."""
+    g = np.asarray(g, float)
+    floor = measure.NOISE_REL * float(np.max(np.abs(g), initial=0.0))
+    raw = np.where(g >= floor, 1, np.where(g <= -floor, -1, 0)) if floor > 0 else np.zeros(len(g), int)
+    out = raw.copy()
+    signed = np.flatnonzero(raw)
+    if len(signed) == 0:
+        return out
+    out[: signed[0]] = raw[signed[0]]
+    out[signed[-1] + 1:] = raw[signed[-1]]
+    for a, b in zip(signed[:-1], signed[1:]):
+        if b > a + 1:
+            same = raw[a] == raw[b]
+            out[a + 1: b] = raw[a] if same or not free_transitions else 0
+    return out
 
 
 def feet(k, t, X, Q, samples=4000):
@@ -407,6 +491,8 @@ def run_curve(csv, args):
     out = {"name": name, "points": len(P)}
     t0 = time.time()
 
+    if args.own:
+        return run_own(csv, args, name, P, tol, frame, Q, tq, out, t0)
     k, t, C = splprep_curve(P, tol)
     n_sp = len(C)
     ms = measure.measure(k, t, C, None, P)
@@ -489,6 +575,80 @@ def run_curve(csv, args):
             out[key + "_profile"] = arc_profile(b["k"], np.asarray(b["knots"]), np.asarray(b["ctrl"]))
     out["seconds"] = round(time.time() - t0, 1)
     return out
+
+
+def run_own(csv, args, name, P, tol, frame, Q, tq, out, t0):
+    """--own: the band optimum at fairfit's OWN knots and count, from fairfit's default curve, for every
+    --signs mode (off: tolerance only; fixed / moving: curvature-extrema constraints from fairfit's curve,
+    Band.set_signs), end points pinned with --pin-ends. Records in out["own"]."""
+    k, t, C = splprep_curve(P, tol)
+    ms = measure.measure(k, t, C, None, P)
+    out["splprep"] = {"n": len(C), "F": ms.F, "dev": ms.max_dev / tol, "extrema": ms.extrema}
+    Fref = ms.F
+    out["pinned"] = bool(args.pin_ends)
+    out["own"] = []
+    ff = fairfit_curve(args.fairfit, csv, args.rel_tol)
+    if ff is None:
+        return out
+    kf, tf, Cf = ff
+    mf = measure.measure(kf, tf, Cf, None, P)
+    out["fairfit"] = {"n": len(Cf), "k": kf, "F": mf.F, "ratio": mf.F / Fref, "dev": mf.max_dev / tol,
+                      "extrema": mf.extrema}
+    tn, X0 = normalise_param(kf, tf, Cf), frame.to(Cf)
+    print(f"{name}: splprep n={len(C)} F={Fref:.4g} extrema {ms.extrema}; fairfit n={len(Cf)} k={kf} ratio "
+          f"{mf.F / Fref:.4f} extrema {mf.extrema}", flush=True)
+    for mode in args.signs.split(","):
+        band = Band(Q, tq, kf, tn)
+        if args.pin_ends:
+            band.pin_ends()
+        if mode != "off":
+            band.set_signs(X0, args.sign_samples, mode)
+        ts = time.time()
+        X, u, res, nit = band.solve(X0, feet(kf, tn, X0, Q), Fref, maxiter=args.maxiter)
+        m = verify(kf, tn, X, frame, P)
+        rec = {"start": f"fairfit own signs={mode}", "signs": mode, "k": kf, "n": band.n, "F": m.F,
+               "ratio": m.F / Fref, "gain": 1 - m.F / mf.F, "dev": m.max_dev / tol,
+               "ok": bool(m.max_dev <= tol * (1 + 1e-6)), "iters": int(nit), "status": res.message,
+               "seconds": round(time.time() - ts, 1), "extrema": m.extrema, "inflections": m.inflections,
+               "knots": list(tn), "ctrl": X.tolist()}
+        print(f"  [own signs={mode}] F={m.F:.4g} ratio {m.F / Fref:.4f} (fairfit {mf.F / Fref:.4f}, gain "
+              f"{100 * rec['gain']:.2f} %) dev/tol {m.max_dev / tol:.5f} extrema {m.extrema} it={nit} "
+              f"{rec['seconds']}s ({res.message})", flush=True)
+        out["own"].append(rec)
+    out["seconds"] = round(time.time() - t0, 1)
+    return out
+
+
+def own_table(jsonls):
+    """Markdown table of --own runs: per curve fairfit's ratio and extrema and each signs mode's best verified
+    ratio (extrema), from --json files."""
+    rows, modes = {}, []
+    for path in jsonls:
+        with open(path, encoding="utf-8") as fh:
+            for line in fh:
+                if not line.strip():
+                    continue
+                r = json.loads(line)
+                if "own" not in r or "fairfit" not in r:
+                    continue
+                row = rows.setdefault(r["name"], {"r": r, "runs": {}})
+                for x in r["own"]:
+                    modes += [x["signs"]] if x["signs"] not in modes else []
+                    y = row["runs"].get(x["signs"])
+                    if x["ok"] and (y is None or x["F"] < y["F"]):
+                        row["runs"][x["signs"]] = x
+    out = ["| curve | splprep extrema | fairfit n (k) | fairfit ratio (extrema) | "
+           + " | ".join(f"band optimum signs={md} (extrema, gain vs fairfit)" for md in modes) + " |",
+           "|---|---:|---:|---:|" + "---:|" * len(modes)]
+    for name, row in rows.items():
+        r, ff = row["r"], row["r"]["fairfit"]
+        cells = []
+        for md in modes:
+            x = row["runs"].get(md)
+            cells.append(f"{x['ratio']:.4f} ({x['extrema']}, {100 * x['gain']:.1f} %)" if x else "-")
+        out.append(f"| {name} | {r['splprep']['extrema']} | {ff['n']} ({ff['k']}) | {ff['ratio']:.4f} "
+                   f"({ff['extrema']}) | " + " | ".join(cells) + " |")
+    return "\n".join(out)
 
 
 def as_is_record(label, m, Fref, tol, t, X):
@@ -611,7 +771,17 @@ def main(argv=None):
                     "from the best such run of the same curve in this --json file")
     ap.add_argument("--results-csv", nargs=2, metavar=("OUT", "JSONS"), default=None,
                     help="only write the per-curve best ratios of the comma-separated --json files to OUT")
+    ap.add_argument("--own", action="store_true", help="only the band optimum at fairfit's own knots and count, "
+                    "from fairfit's default curve (one run per --signs mode)")
+    ap.add_argument("--signs", default="off,fixed", help="with --own: comma-separated modes of the curvature-extrema "
+                    "constraints: off, fixed (fairfit's sign pattern of dkappa/ds), moving (its sign changes may move)")
+    ap.add_argument("--sign-samples", type=int, default=192, help="samples per span of the sign constraints "
+                    "(measure.py counts extrema at 192)")
+    ap.add_argument("--own-table", default=None, help="only print the table of the comma-separated --own --json files")
     args = ap.parse_args(argv)
+    if args.own_table:
+        print(own_table(args.own_table.split(",")))
+        return 0
     if args.table:
         print(table(args.table.split(",")))
         return 0
@@ -630,7 +800,9 @@ def main(argv=None):
     for csv in files:
         res = run_curve(csv, args)
         summary = {k: v for k, v in res.items() if k not in ("at_n", "dense")}
-        summary["runs"] = [{kk: r[kk] for kk in r if kk not in ("knots", "ctrl")} for r in res["at_n"] + res["dense"]]
+        summary = {k: v for k, v in summary.items() if k != "own"}
+        summary["runs"] = [{kk: r[kk] for kk in r if kk not in ("knots", "ctrl")}
+                           for r in res.get("at_n", []) + res.get("dense", []) + res.get("own", [])]
         print(json.dumps({k: v for k, v in summary.items() if not k.endswith("profile")}, default=str))
         if args.json:
             with open(args.json, "a", encoding="utf-8") as fh:

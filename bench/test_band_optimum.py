@@ -90,6 +90,33 @@ def test_results_csv_keeps_the_lowest_verified_ratio_per_slot(tmp_path=None):
     assert lines[1] == "c,10,100,0.5500,0.5200,0.5800,4,0.6000"
 
 
+def test_sign_pattern_fills_the_floor_and_frees_only_transitions():
+    g = np.array([0.0, 2.0, 1e-9, 3.0, -1e-9, -2.0, -1.0, 0.0, 1.0])
+    # floor 1e-6 * 3: samples 0, 2, 4 and 7 are inside it
+    assert bo.sign_pattern(g).tolist() == [1, 1, 1, 1, 1, -1, -1, -1, 1]
+    assert bo.sign_pattern(g, free_transitions=True).tolist() == [1, 1, 1, 1, 0, -1, -1, 0, 1]
+    assert bo.sign_pattern(np.zeros(4)).tolist() == [0, 0, 0, 0]
+
+
+def test_sign_constraints_count_the_measurers_extrema_and_have_the_right_gradient():
+    # the pattern at measure.py's 192 samples per span has as many sign changes as measure.py counts
+    # curvature extrema on the same curve, and the constraint Jacobian matches finite differences
+    k, t, X = wavy_cubic()
+    band = bo.Band(np.zeros((3, 2)), 1e-3, k, t).set_signs(X)
+    s = band.sign_s
+    assert np.count_nonzero(s[1:] != s[:-1]) == measure.measure(k, t, X, None, X).extrema > 0
+    band.sign_scale = 1.0
+    v, J = band.sign_values(X, jac=True)
+    assert np.min(v) >= 0  # the start curve meets its own pattern
+    h = 1e-7
+    for i in range(2 * len(X)):
+        Xp, Xm = X.copy().reshape(-1), X.copy().reshape(-1)
+        Xp[i] += h
+        Xm[i] -= h
+        fd = (band.sign_values(Xp.reshape(X.shape)) - band.sign_values(Xm.reshape(X.shape))) / (2 * h)
+        assert np.max(np.abs(fd - J[:, i])) < 1e-5 * np.max(np.abs(J))
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):

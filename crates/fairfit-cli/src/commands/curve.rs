@@ -11,7 +11,7 @@ use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
 use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
-use fairfit::fair::{count_extrema_exact, curve_fairness};
+use fairfit::fair::{count_extrema_exact, count_inflections_exact, curve_fairness};
 use fairfit::fit::tolerance::{
     fit_to_tolerance, ClosedMode, FitOptions, FitResult, KnotRule, Tolerance,
 };
@@ -335,6 +335,8 @@ pub fn run(args: CurveArgs) -> CmdResult {
                     "curvature_extrema_exact":
                         count_extrema_exact(&out.curve, f.length).curvature_extrema,
                     "inflections": f.inflections,
+                    "inflections_exact":
+                        count_inflections_exact(&out.curve, f.length).inflections,
                     "wall_seconds": wall.elapsed().as_secs_f64(),
                 });
                 if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
@@ -397,6 +399,7 @@ fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_js
         "curvature_extrema": f.curvature_extrema,
         "curvature_extrema_exact": count_extrema_exact(&fit.curve, f.length).curvature_extrema,
         "inflections": f.inflections,
+        "inflections_exact": count_inflections_exact(&fit.curve, f.length).inflections,
         "solves": fit.solves,
         "smoothing_used": fit.smoothing_used,
         "fit_seconds": fit.fit_seconds,

@@ -2,14 +2,19 @@
 //! knots, domain, length and every fairness measure of `fairfit::fair::curve_fairness` (its
 //! `curvature_extrema` counts at the benchmark measurer's 192 samples per span;
 //! `curvature_extrema_exact` is `fairfit::fair::count_extrema_exact`, from the roots of `dκ/ds`, which
-//! also sees wiggles narrower than the samples); surfaces: net
+//! also sees wiggles narrower than the samples, for rational and spatial curves too; `inflections_exact`
+//! likewise counts the sign changes of a planar curve's signed curvature from the roots of its
+//! numerator, `fairfit::fair::count_inflections_exact`); surfaces: net
 //! size, degrees, domains and the fairness of iso-parametric curves in both directions: `along_u` holds
 //! the curves `u ↦ S(u, v_k)` (the section curves of a skinned surface), `along_v` the curves
 //! `v ↦ S(u_k, v)`, as in the `iso_fairness` of the `fairfit surface` report (same count by default).
 
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
-use fairfit::fair::{count_extrema_exact, curve_fairness, surface_fairness, DEFAULT_ISO_CURVES};
+use fairfit::fair::{
+    count_extrema_exact, count_inflections_exact, curve_fairness, surface_fairness,
+    DEFAULT_ISO_CURVES,
+};
 use fairfit::io::Geometry;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface};
 use serde_json::{json, Value};
@@ -74,6 +79,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "curvature_extrema": f.curvature_extrema,
         "curvature_extrema_exact": count_extrema_exact(c, f.length).curvature_extrema,
         "inflections": f.inflections,
+        "inflections_exact": count_inflections_exact(c, f.length).inflections,
     })
 }
 
