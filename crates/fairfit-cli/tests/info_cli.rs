@@ -74,6 +74,7 @@ fn circle_summary() {
     assert_eq!(v["curvature_extrema"], 0);
     assert_eq!(v["curvature_extrema_exact"], 0);
     assert_eq!(v["inflections"], 0);
+    assert_eq!(v["inflections_exact"], 0);
 }
 
 #[test]
@@ -87,6 +88,7 @@ fn s_curve_counts_and_span_sum() {
     assert!(ok, "{stderr}");
     let v: Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["inflections"], 1);
+    assert_eq!(v["inflections_exact"], 1);
     assert_eq!(v["curvature_extrema"], 2);
     assert_eq!(v["curvature_extrema_exact"], 2);
     assert_eq!(v["rational"], false);
@@ -321,4 +323,27 @@ fn info_and_the_surface_report_agree_on_iso_curve_fairness() {
             && summary.contains(&format!("along v (across them) {fv:.3e}")),
         "{summary}"
     );
+}
+
+#[test]
+fn an_ellipse_as_nurbs_has_its_interior_vertices_as_exact_extrema() {
+    // the 9-point circle with y scaled by 0.4: an ellipse whose vertices are the arcs' joints, at
+    // u = 0 (the start, not interior), 0.25, 0.5 and 0.75; κ is monotone between them and the
+    // signed curvature never changes sign. The same ellipse lifted out of its plane by a tilt of
+    // the y axis stays planar (the same counts).
+    for (ty, tz) in [(0.4, 0.0), (0.24, 0.32)] {
+        let mut v: Value = serde_json::from_str(&circle_json(3.0)).unwrap();
+        for p in v["control_points"].as_array_mut().unwrap() {
+            let y = p[1].as_f64().unwrap();
+            p[1] = (ty * y).into();
+            p[2] = (tz * y).into();
+        }
+        let f = file_with(v.to_string().as_bytes());
+        let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+        assert!(ok, "{stderr}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["curvature_extrema_exact"], 3, "{stdout}");
+        assert_eq!(v["inflections_exact"], 0, "{stdout}");
+        assert_eq!(v["curvature_extrema"], 3, "{stdout}");
+    }
 }

@@ -84,10 +84,16 @@ fn the_reported_extrema_are_the_measurers() {
         assert_eq!(e, extrema, "{name}");
         assert_eq!(measured(&python, &out, 32).0, sparse, "{name}");
         // the exact count (roots of dκ/ds) is the measurer's at 20 000 samples per span
-        let dense = measured(&python, &out, 20_000).0;
+        let (dense, dense_inflections) = measured(&python, &out, 20_000);
         assert_eq!(
             report["curvature_extrema_exact"].as_u64(),
             Some(dense),
+            "{name}"
+        );
+        // and so are the exact inflections (roots of the signed curvature's numerator)
+        assert_eq!(
+            report["inflections_exact"].as_u64(),
+            Some(dense_inflections),
             "{name}"
         );
         assert!(dense >= e, "{name}");

@@ -59,6 +59,10 @@ pub enum Error {
     /// An option value is out of range.
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// A STEP or IGES file cannot be read, or holds no geometry fairfit reads; the message names the
+    /// file (when read from one), where in it, and what to do.
+    #[error("{0}")]
+    Cad(String),
 }
 
 /// Shorthand for results carrying an [`Error`].

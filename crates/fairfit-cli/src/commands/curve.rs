@@ -11,13 +11,13 @@ use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
 use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
-use fairfit::fair::{count_extrema_exact, curve_fairness};
+use fairfit::fair::{count_extrema_exact, count_inflections_exact, curve_fairness};
 use fairfit::fit::tolerance::{
     fit_to_tolerance, ClosedMode, FitOptions, FitResult, KnotRule, Tolerance,
 };
 use fairfit::fit::{Parameterization, SmoothingOrder};
 use fairfit::io::atomic::write_all_atomic;
-use fairfit::io::{curve_to_json, read_points};
+use fairfit::io::curve_to_json;
 use fairfit::Vec3;
 use serde_json::json;
 use std::path::PathBuf;
@@ -128,9 +128,13 @@ fn parse_vector(s: &str) -> Result<Vec3, String> {
 /// Arguments of `fairfit curve`.
 #[derive(Args, Debug)]
 pub struct CurveArgs {
-    /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file.
+    /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file; or a
+    /// STEP/IGES file whose B-spline curve is sampled densely and re-fitted (re-faired).
     #[arg(required = true)]
     pub input: PathBuf,
+    /// Entity choice for STEP/IGES input.
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// Fitting method.
     #[arg(long, value_enum, default_value_t = Method::Integrated)]
     pub method: Method,
@@ -257,7 +261,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
             "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair",
         ));
     }
-    let set = read_points(&args.input)?;
+    let set = super::cad_input::read_curve_points(&args.input, &args.cad)?;
     if set.dropped_duplicates > 0 {
         eprintln!(
             "warning: {}: dropped {} consecutive duplicate point(s)",
@@ -331,6 +335,8 @@ pub fn run(args: CurveArgs) -> CmdResult {
                     "curvature_extrema_exact":
                         count_extrema_exact(&out.curve, f.length).curvature_extrema,
                     "inflections": f.inflections,
+                    "inflections_exact":
+                        count_inflections_exact(&out.curve, f.length).inflections,
                     "wall_seconds": wall.elapsed().as_secs_f64(),
                 });
                 if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
@@ -393,6 +399,7 @@ fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_js
         "curvature_extrema": f.curvature_extrema,
         "curvature_extrema_exact": count_extrema_exact(&fit.curve, f.length).curvature_extrema,
         "inflections": f.inflections,
+        "inflections_exact": count_inflections_exact(&fit.curve, f.length).inflections,
         "solves": fit.solves,
         "smoothing_used": fit.smoothing_used,
         "fit_seconds": fit.fit_seconds,

@@ -2,15 +2,20 @@
 //! knots, domain, length and every fairness measure of `fairfit::fair::curve_fairness` (its
 //! `curvature_extrema` counts at the benchmark measurer's 192 samples per span;
 //! `curvature_extrema_exact` is `fairfit::fair::count_extrema_exact`, from the roots of `dκ/ds`, which
-//! also sees wiggles narrower than the samples); surfaces: net
+//! also sees wiggles narrower than the samples, for rational and spatial curves too; `inflections_exact`
+//! likewise counts the sign changes of a planar curve's signed curvature from the roots of its
+//! numerator, `fairfit::fair::count_inflections_exact`); surfaces: net
 //! size, degrees, domains and the fairness of iso-parametric curves in both directions: `along_u` holds
 //! the curves `u ↦ S(u, v_k)` (the section curves of a skinned surface), `along_v` the curves
 //! `v ↦ S(u_k, v)`, as in the `iso_fairness` of the `fairfit surface` report (same count by default).
 
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
-use fairfit::fair::{count_extrema_exact, curve_fairness, surface_fairness, DEFAULT_ISO_CURVES};
-use fairfit::io::{read_geometry, Geometry};
+use fairfit::fair::{
+    count_extrema_exact, count_inflections_exact, curve_fairness, surface_fairness,
+    DEFAULT_ISO_CURVES,
+};
+use fairfit::io::Geometry;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -18,9 +23,12 @@ use std::path::PathBuf;
 /// Arguments of `fairfit info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Input file(s): one prints a JSON object, several print an array of objects.
+    /// Input file(s), JSON, STEP or IGES: one prints a JSON object, several print an array of objects.
     #[arg(required = true)]
     pub input: Vec<PathBuf>,
+    /// Entity choice for STEP/IGES input.
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// Number of iso-parametric curves per direction for surfaces (ends included; the default is the
     /// count of the `fairfit surface` report).
     #[arg(long, default_value_t = DEFAULT_ISO_CURVES as u64, value_parser = clap::value_parser!(u64).range(1..=1000))]
@@ -31,7 +39,7 @@ pub struct InfoArgs {
 pub fn run(args: InfoArgs) -> CmdResult {
     let mut out = Vec::with_capacity(args.input.len());
     for path in &args.input {
-        let mut v = match read_geometry(path)? {
+        let mut v = match super::cad_input::read_input(path, &args.cad)? {
             Geometry::Curve(c) => curve_info(&c),
             Geometry::Surface(s) => surface_info(&s, args.iso as usize)?,
         };
@@ -71,6 +79,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "curvature_extrema": f.curvature_extrema,
         "curvature_extrema_exact": count_extrema_exact(c, f.length).curvature_extrema,
         "inflections": f.inflections,
+        "inflections_exact": count_inflections_exact(c, f.length).inflections,
     })
 }
 

@@ -1,5 +1,6 @@
-//! The exact count of curvature extrema of a planar polynomial B-spline: the sign changes of
-//! `dκ/ds` located as the real roots of a polynomial per knot span, not looked for on samples.
+//! The exact count of curvature extrema of a B-spline curve (planar polynomial here, rational and
+//! spatial through [`super::exact_nurbs`]): the sign changes of `dκ/ds` located as the real roots
+//! of a polynomial per knot span, not looked for on samples.
 //!
 //! [`super::extrema::count_extrema`] (the benchmark measurer's count) samples `dκ/ds` at 192
 //! points per span; a wiggle narrower than the sample spacing, typically right next to a knot
@@ -32,14 +33,25 @@
 //!   limit of infinitely many samples: a sign change across a knot (where `dκ/ds` jumps) counts,
 //!   a dip that never leaves the floor does not.
 //!
-//! **Fallback**: rational curves (`dκ/ds` of `P(u)/w(u)` is a rational function whose numerator
-//! this module does not form) and spatial curves (the measurer's unsigned `κ` has a corner at
-//! `κ = 0`) are counted by dense sampling, [`DENSE_SAMPLES`] per span, with the same floor;
-//! [`ExactExtrema::exact`] says which count was made. The fitted curves of the benchmark are
-//! planar and polynomial.
+//! **Rational and spatial curves** ([`super::exact_nurbs`]): the same count on the numerators of
+//! [`super::curvature_numerators`] (`C = A / w` per span; `dκ/ds` of a planar piece, `d(κ²)/du`
+//! of a spatial one, whose sign is that of `dκ/ds` where `κ > 0`), with the same floor on the
+//! same dimensionless signal `dκ/ds L²`. For a spatial curve this is the unsigned `κ` of the
+//! measurer's spatial formula (`bench/measure.py`, `|C' × C''| / |C'|³`): an isolated zero of `κ`
+//! is a minimum and counts, a straight stretch (`κ ≡ 0`, numerator `≡ 0`) has no root and a
+//! signal below the floor. Planarity: this crate calls a curve planar when its control points lie
+//! in any plane ([`super::energy::plane_normal`]), the measurer only when they lie in a plane
+//! `z = const`; a planar curve in a tilted plane is counted with the signed `κ` here and the
+//! unsigned one by the measurer, which adds one extremum (the minimum `|κ| = 0`) per inflection.
+//!
+//! **Fallback**: only a numerator of degree above [`super::exact_nurbs::MAX_NUMERATOR_DEGREE`]
+//! (a spatial rational curve of degree 14 or more) or a degenerate curve is counted by dense
+//! sampling, [`DENSE_SAMPLES`] per span, with the same floor; [`ExactExtrema::exact`] says which
+//! count was made.
 
 use super::bernstein;
 use super::energy::plane_normal;
+use super::exact_nurbs::{sign_intervals_nurbs, Signal};
 use super::extrema::{count_extrema_sampled, NOISE_ABS, NOISE_FLOOR};
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -48,7 +60,7 @@ use crate::nurbs::{NurbsCurve, Vec3};
 pub const ZERO_REL: f64 = 1e-12;
 /// Chebyshev nodes per sign interval for its peak `|dκ/ds|`.
 pub const PEAK_NODES: usize = 24;
-/// Samples per span of the fallback count (rational or spatial curves).
+/// Samples per span of the fallback count (see the module documentation).
 pub const DENSE_SAMPLES: usize = 4096;
 
 /// The result of [`count_extrema_exact`].
@@ -89,7 +101,7 @@ pub struct SignInterval {
 /// ```
 pub fn count_extrema_exact(curve: &NurbsCurve, length: f64) -> ExactExtrema {
     let normal = plane_normal(curve);
-    match normal.filter(|_| !curve.is_rational()) {
+    let iv = match normal.filter(|_| !curve.is_rational()) {
         Some(n) => {
             let mut iv = Vec::new();
             sign_intervals(
@@ -99,11 +111,15 @@ pub fn count_extrema_exact(curve: &NurbsCurve, length: f64) -> ExactExtrema {
                 n,
                 &mut iv,
             );
-            ExactExtrema {
-                curvature_extrema: count_intervals(&iv, length),
-                exact: true,
-            }
+            Some(iv)
         }
+        None => sign_intervals_nurbs(curve, normal, Signal::DkappaDs),
+    };
+    match iv {
+        Some(iv) => ExactExtrema {
+            curvature_extrema: count_intervals(&iv, length),
+            exact: true,
+        },
         None => ExactExtrema {
             curvature_extrema: count_extrema_sampled(curve, length, DENSE_SAMPLES)
                 .curvature_extrema,
@@ -204,16 +220,22 @@ pub fn count_intervals(iv: &[SignInterval], length: f64) -> usize {
 /// after the sign change (the extremum lies between its start and the end of the previous
 /// counted interval, exactly at its start when the two are adjacent).
 pub fn extremum_boundaries(iv: &[SignInterval], length: f64) -> Vec<usize> {
-    let l2 = length * length;
-    if !(l2.is_finite() && l2 > 0.0) {
+    alternations(iv, length * length)
+}
+
+/// The sign alternations between consecutive intervals of `iv` whose dimensionless peak
+/// (`peak · factor`, e.g. `|dκ/ds| L²` or `|κ| L`) reaches the measurer's floor
+/// `1e-6 max + 1e-9`: for each, the index into `iv` of the first counted interval after it.
+pub fn alternations(iv: &[SignInterval], factor: f64) -> Vec<usize> {
+    if !(factor.is_finite() && factor > 0.0) {
         return Vec::new();
     }
-    let peak = iv.iter().fold(0.0f64, |m, i| m.max(i.peak * l2));
+    let peak = iv.iter().fold(0.0f64, |m, i| m.max(i.peak * factor));
     let floor = NOISE_FLOOR * peak + NOISE_ABS;
     let mut last = 0i8;
     let mut out = Vec::new();
     for (k, i) in iv.iter().enumerate() {
-        if i.peak * l2 < floor {
+        if i.peak * factor < floor {
             continue;
         }
         if last != 0 && i.sign != last {

@@ -10,6 +10,9 @@
 //!   binormal direction `c = C' × C''` between consecutive samples (`c_k · c_{k+1} < 0`), i.e. points
 //!   where `κ` passes through (or very near) 0.
 //!
+//! The exact counts (roots of polynomial numerators, the same floor, no sampling) are
+//! [`super::exact_extrema`] and [`super::exact_inflections`].
+//!
 //! The sampling and the noise floor are the benchmark measurer's (`bench/measure.py`, 4 × 48 samples
 //! per span), so the counts agree with it: with 32 samples per span (before session 8) shallow
 //! wiggles next to knots were stepped over (naca633418 faired at 12 control points: 1 extremum at 32

@@ -6,8 +6,10 @@
 //! - [`evaluator`]: [`FairnessEvaluator`], the allocation-free adaptive span-by-span integrator used by
 //!   the optimiser (`F`, `max F_j`, `F_j`);
 //! - [`extrema`]: curvature extrema and inflections by sign changes above a scale-free noise floor;
-//! - [`exact_extrema`]: the exact count of curvature extrema of planar polynomial curves (the real
-//!   roots of the `dκ/du` numerator per span, no sampling), on [`bernstein`] polynomials;
+//! - [`exact_extrema`]: the exact count of curvature extrema (the real roots of the `dκ/du`
+//!   numerator per span, no sampling), on [`bernstein`] polynomials; rational and spatial curves
+//!   through [`exact_nurbs`] on the numerators of [`curvature_numerators`] and the span
+//!   hodographs of [`span_hodograph`]; [`exact_inflections`]: the same for planar inflections;
 //! - [`metrics`]: [`curve_fairness`], the full [`CurveFairness`] summary;
 //! - [`surface`]: [`surface_fairness`], the metrics on iso-parametric curves in both directions;
 //! - [`gram`]: Gram matrices of basis derivatives (parametric energies as quadratic forms);
@@ -15,17 +17,22 @@
 //!   to a tolerance).
 
 pub mod bernstein;
+pub mod curvature_numerators;
 pub mod energy;
 pub mod evaluator;
 pub mod exact_extrema;
+pub mod exact_inflections;
+pub mod exact_nurbs;
 pub mod extrema;
 pub mod fairing;
 pub mod gram;
 pub mod metrics;
+pub mod span_hodograph;
 pub mod surface;
 
 pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
 pub use exact_extrema::{count_extrema_exact, ExactExtrema};
+pub use exact_inflections::{count_inflections_exact, ExactInflections};
 pub use extrema::{count_extrema, count_extrema_sampled, ExtremaCounts};
 pub use fairing::{fair_curve, FairingOptions, FairingResult};
 pub use metrics::{curve_fairness, CurveFairness};

@@ -171,9 +171,15 @@ fn typed<T: serde::de::DeserializeOwned>(value: serde_json::Value) -> Result<T> 
     })
 }
 
-/// Reads a curve or surface from a JSON file; errors name the file.
+/// Reads a curve or surface from a JSON file, or from a STEP / IGES file by its extension (the first
+/// B-spline surface, else the first curve, in millimetres: see [`super::cad_read`]); errors name the
+/// file.
 pub fn read_geometry(path: impl AsRef<Path>) -> Result<Geometry> {
     let path = path.as_ref();
+    if super::cad_read::CadFormat::from_path(path).is_some() {
+        let kind = super::cad_read::CadKind::Any;
+        return super::cad_read::read_cad(path, kind, 0).map(|g| g.geometry);
+    }
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
     let text = std::str::from_utf8(&bytes).map_err(|_| Error::Io {
         path: path.display().to_string(),

@@ -1,17 +1,21 @@
 //! Reading and writing: the fairfit JSON geometry format, point and section files, meshes and point
-//! clouds (read and write), CAD files (STEP, IGES), and file helpers shared by every writer.
+//! clouds (read and write), CAD files (STEP, IGES; written, and their B-splines read), and file helpers shared by every writer.
 
 pub mod atomic;
 pub mod cad_check;
 pub mod cad_common;
+pub mod cad_read;
 pub mod iges;
+pub mod iges_read;
 pub mod json;
 pub mod mesh_read;
 pub mod mesh_write;
+pub mod p21;
 pub mod points;
 pub mod samples;
 pub mod sections;
 pub mod step;
+pub mod step_read;
 pub mod tessellate;
 
 pub use atomic::write_atomic;

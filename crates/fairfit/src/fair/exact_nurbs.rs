@@ -1,0 +1,117 @@
+//! Exact sign intervals of `dκ/ds` and of the signed planar `κ` for any B-spline curve: rational
+//! or polynomial, planar or spatial, from the real roots of the span numerators of
+//! [`super::curvature_numerators`] (no sampling).
+//!
+//! Per knot span: the sign changes of the numerator in the open span by Bernstein subdivision and
+//! Descartes' rule ([`super::bernstein::sign_changes`], coefficients below
+//! [`super::exact_extrema::ZERO_REL`] times the numerator's scale are rounding noise, so an
+//! identically vanishing numerator, a line or a circular arc, has no root); between consecutive
+//! roots an interval of one sign, with its peak `|signal|` on
+//! [`super::exact_extrema::PEAK_NODES`] Chebyshev nodes (the sign is taken from the signal there,
+//! not from the reported roots). The intervals are counted by
+//! [`super::exact_extrema::alternations`] with the measurer's floor.
+//!
+//! A numerator of degree above [`MAX_NUMERATOR_DEGREE`] (a spatial rational curve of degree 14
+//! or more) is not formed: the callers fall back to dense sampling.
+
+use super::bernstein;
+use super::curvature_numerators::{span_curvature, Numerator};
+use super::exact_extrema::{SignInterval, PEAK_NODES, ZERO_REL};
+use super::span_hodograph::curve_hodographs;
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// Largest numerator degree formed exactly.
+pub const MAX_NUMERATOR_DEGREE: usize = 160;
+
+/// Which signal's sign intervals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Signal {
+    /// `dκ/ds` (curvature extrema; unsigned `κ` in space).
+    DkappaDs,
+    /// The signed curvature `κ` of a planar curve (inflections).
+    Kappa,
+}
+
+/// The sign intervals (in parameter order) of `signal` on `curve`, planar in the plane with unit
+/// normal `normal` or spatial for `None`, with peaks in the curve's units (`dκ/ds` or `κ`).
+/// `None` when the count cannot be made exactly (degenerate curve, numerator degree above
+/// [`MAX_NUMERATOR_DEGREE`], or [`Signal::Kappa`] in space).
+pub fn sign_intervals_nurbs(
+    curve: &NurbsCurve,
+    normal: Option<Vec3>,
+    signal: Signal,
+) -> Option<Vec<SignInterval>> {
+    if signal == Signal::Kappa && normal.is_none() {
+        return None;
+    }
+    let hod = curve_hodographs(curve, normal)?;
+    let unit = match signal {
+        Signal::DkappaDs => 1.0 / (hod.extent * hod.extent),
+        Signal::Kappa => 1.0 / hod.extent,
+    };
+    let mut out = Vec::new();
+    let mut roots = Vec::new();
+    for h in &hod.spans {
+        let sc = span_curvature(h);
+        let num = match signal {
+            Signal::DkappaDs => sc.dkds.clone(),
+            Signal::Kappa => sc.kappa_numerator()?,
+        };
+        if num.coeffs.len() > MAX_NUMERATOR_DEGREE + 1 {
+            return None;
+        }
+        let value = |t: f64| match signal {
+            Signal::DkappaDs => sc.dkappa_ds(t),
+            Signal::Kappa => sc.kappa(t),
+        };
+        push_intervals(&num, h.a, h.b, value, unit, &mut roots, &mut out);
+    }
+    Some(out)
+}
+
+/// Appends the sign intervals of the span `[a, b]` whose numerator is `num` and whose signal at
+/// span parameter `t` is `value(t)` (times `unit` in the curve's units).
+fn push_intervals(
+    num: &Numerator,
+    a: f64,
+    b: f64,
+    value: impl Fn(f64) -> f64,
+    unit: f64,
+    roots: &mut Vec<f64>,
+    out: &mut Vec<SignInterval>,
+) {
+    roots.clear();
+    bernstein::sign_changes(&num.coeffs, ZERO_REL * num.scale, roots);
+    let mut t0 = 0.0;
+    for k in 0..=roots.len() {
+        let t1 = roots.get(k).copied().unwrap_or(1.0);
+        if t1 > t0 {
+            if let Some((sign, peak)) = interval_peak(&value, t0, t1) {
+                out.push(SignInterval {
+                    u0: a + (b - a) * t0,
+                    u1: a + (b - a) * t1,
+                    sign,
+                    peak: peak * unit,
+                });
+            }
+        }
+        t0 = t1;
+    }
+}
+
+/// Sign and peak `|value|` on Chebyshev nodes inside `(t0, t1)`; `None` when the value is zero
+/// or undefined at every node.
+fn interval_peak(value: &impl Fn(f64) -> f64, t0: f64, t1: f64) -> Option<(i8, f64)> {
+    let mut best: Option<(i8, f64)> = None;
+    for k in 0..PEAK_NODES {
+        let c = (std::f64::consts::PI * (k as f64 + 0.5) / PEAK_NODES as f64).cos();
+        let v = value(t0 + (t1 - t0) * 0.5 * (1.0 - c));
+        if !v.is_finite() || v == 0.0 {
+            continue;
+        }
+        if best.is_none_or(|(_, m)| v.abs() > m) {
+            best = Some((if v > 0.0 { 1 } else { -1 }, v.abs()));
+        }
+    }
+    best
+}

@@ -1,0 +1,434 @@
+//! Reading B-spline / NURBS curves and surfaces from CAD files: the format by extension (`.step`,
+//! `.stp`: [`super::step_read`]; `.igs`, `.iges`: [`super::iges_read`]), the choice of one entity, the
+//! unit conversion, and dense sampling of a curve for re-fitting.
+//!
+//! Units: fairfit's geometry carries no unit; its CAD writers declare millimetres unless told otherwise
+//! (`--units`). Read coordinates are therefore converted to millimetres (as OpenCASCADE does), so that
+//! `fairfit export part.igs --step out.step` keeps the part's size. A file in millimetres, or one that
+//! declares no unit, is read bit for bit.
+//!
+//! Choice: a file usually holds several entities (a face's surface and its boundary edges, several
+//! edges). [`CadKind::Any`] takes a surface when the file holds one, else a curve; the `index`-th
+//! (0-based, in file order) of that kind is returned with the count of its kind, so the caller can say
+//! how many there were.
+
+use super::json::Geometry;
+use crate::errors::{Error, Result};
+use crate::nurbs::scale::{scaled_curve, scaled_surface};
+use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+use std::collections::BTreeSet;
+use std::path::Path;
+
+/// The CAD formats fairfit reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CadFormat {
+    /// STEP, ISO 10303-21 (`.step`, `.stp`).
+    Step,
+    /// IGES 5.x fixed format (`.igs`, `.iges`).
+    Iges,
+}
+
+impl CadFormat {
+    /// The format a file name's extension names (case-insensitive), if any.
+    pub fn from_path(path: impl AsRef<Path>) -> Option<CadFormat> {
+        let ext = path.as_ref().extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "step" | "stp" => Some(CadFormat::Step),
+            "igs" | "iges" => Some(CadFormat::Iges),
+            _ => None,
+        }
+    }
+}
+
+/// The length unit a CAD file declares.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CadUnit {
+    /// Short name: `mm`, `m`, `inch`, ... or the factor (`0.5 mm`).
+    pub name: String,
+    /// Millimetres per file unit.
+    pub mm_per_unit: f64,
+    /// False when the file declares no unit (millimetres are assumed).
+    pub declared: bool,
+}
+
+impl CadUnit {
+    /// A declared unit of `mm` millimetres, named when it is a common one.
+    pub fn from_mm_per_unit(mm: f64) -> CadUnit {
+        let known = [
+            (1.0, "mm"),
+            (1000.0, "m"),
+            (10.0, "cm"),
+            (1e6, "km"),
+            (1e-3, "micron"),
+            (25.4, "inch"),
+            (304.8, "foot"),
+            (0.0254, "mil"),
+            (1_609_344.0, "mile"),
+            (2.54e-5, "microinch"),
+        ];
+        let name = known
+            .iter()
+            .find(|(f, _)| ((f - mm) / f).abs() < 1e-12)
+            .map_or_else(|| format!("{mm} mm"), |(_, n)| n.to_string());
+        CadUnit {
+            name,
+            mm_per_unit: mm,
+            declared: true,
+        }
+    }
+
+    /// No unit in the file: millimetres assumed.
+    pub fn undeclared() -> CadUnit {
+        CadUnit {
+            name: "mm".into(),
+            mm_per_unit: 1.0,
+            declared: false,
+        }
+    }
+}
+
+impl Default for CadUnit {
+    fn default() -> Self {
+        CadUnit::undeclared()
+    }
+}
+
+/// Everything fairfit reads from a CAD file, coordinates as written in the file's unit.
+#[derive(Clone, Debug, Default)]
+pub struct CadContents {
+    /// B-spline curves in file order, each with where it is (`#12` in STEP, `DE 7` in IGES).
+    pub curves: Vec<(String, NurbsCurve)>,
+    /// B-spline surfaces in file order, with where they are.
+    pub surfaces: Vec<(String, NurbsSurface)>,
+    /// Names of the other curve entities seen (`LINE`, `CIRCLE`, `110 (line)`, ...).
+    pub other_curves: BTreeSet<String>,
+    /// Names of the other surface entities seen (`PLANE`, ...).
+    pub other_surfaces: BTreeSet<String>,
+    /// The length unit.
+    pub unit: CadUnit,
+}
+
+/// Which kind of geometry to take from a file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CadKind {
+    /// A surface if the file holds one, else a curve.
+    Any,
+    /// A curve.
+    Curve,
+    /// A surface.
+    Surface,
+}
+
+/// One curve or surface taken from a CAD file, in millimetres.
+#[derive(Clone, Debug)]
+pub struct CadGeometry {
+    /// The geometry, converted to millimetres.
+    pub geometry: Geometry,
+    /// Where it was in the file (`#12`, `DE 7`).
+    pub source: String,
+    /// Its index among the entities of its kind (0-based).
+    pub index: usize,
+    /// How many entities of its kind the file holds.
+    pub count: usize,
+    /// The file's unit.
+    pub unit: CadUnit,
+}
+
+/// Parses the text of a STEP or IGES file.
+pub fn parse_cad(text: &str, format: CadFormat) -> Result<CadContents> {
+    match format {
+        CadFormat::Step => super::step_read::contents(&super::p21::parse(text)?),
+        CadFormat::Iges => super::iges_read::contents(text),
+    }
+}
+
+fn plural(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
+}
+
+/// What the file holds, for "has no ..." errors: `LINE, CIRCLE`, `1 B-spline surface`, `nothing fairfit reads`.
+fn found(c: &CadContents) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    if !c.curves.is_empty() {
+        parts.push(plural(c.curves.len(), "B-spline curve"));
+    }
+    if !c.surfaces.is_empty() {
+        parts.push(plural(c.surfaces.len(), "B-spline surface"));
+    }
+    parts.extend(c.other_curves.iter().cloned());
+    parts.extend(c.other_surfaces.iter().cloned());
+    if parts.is_empty() {
+        "no curve or surface entity".into()
+    } else {
+        parts.join(", ")
+    }
+}
+
+/// Takes the `index`-th entity of `kind` from `contents` and converts it to millimetres; `file` names
+/// the file in errors.
+pub fn select(
+    contents: CadContents,
+    kind: CadKind,
+    index: usize,
+    file: &str,
+) -> Result<CadGeometry> {
+    let kind = match kind {
+        CadKind::Any if contents.surfaces.is_empty() => CadKind::Curve,
+        CadKind::Any if !contents.surfaces.is_empty() => CadKind::Surface,
+        k => k,
+    };
+    let what = if kind == CadKind::Curve {
+        "B-spline curve"
+    } else {
+        "B-spline surface"
+    };
+    let n = if kind == CadKind::Curve {
+        contents.curves.len()
+    } else {
+        contents.surfaces.len()
+    };
+    if n == 0 {
+        let advice = if kind == CadKind::Curve {
+            "export the edge as a B-spline (NURBS) curve"
+        } else {
+            "export the face as a B-spline (NURBS) surface"
+        };
+        return Err(Error::Cad(format!(
+            "{file} has no {what} (found: {}); {advice}",
+            found(&contents)
+        )));
+    }
+    if index >= n {
+        return Err(Error::InvalidOption(format!(
+            "{file} holds {}; index {index} is out of range (0 to {})",
+            plural(n, what),
+            n - 1
+        )));
+    }
+    let f = contents.unit.mm_per_unit;
+    let convert = |e: Error| Error::Cad(format!("{file}: converting to mm: {e}"));
+    let (source, geometry) = if kind == CadKind::Curve {
+        let (src, c) = { contents.curves }.swap_remove(index);
+        let c = if f == 1.0 {
+            c
+        } else {
+            scaled_curve(&c, f).map_err(convert)?
+        };
+        (src, Geometry::Curve(c))
+    } else {
+        let (src, s) = { contents.surfaces }.swap_remove(index);
+        let s = if f == 1.0 {
+            s
+        } else {
+            scaled_surface(&s, f).map_err(convert)?
+        };
+        (src, Geometry::Surface(s))
+    };
+    Ok(CadGeometry {
+        geometry,
+        source,
+        index,
+        count: n,
+        unit: contents.unit,
+    })
+}
+
+/// Reads the `index`-th curve or surface (see [`CadKind`]) of a STEP or IGES file, in millimetres.
+/// Errors ([`Error::Cad`], or [`Error::InvalidOption`] for an index out of range) are one line and
+/// name the file.
+pub fn read_cad(path: impl AsRef<Path>, kind: CadKind, index: usize) -> Result<CadGeometry> {
+    let path = path.as_ref();
+    let file = path.display().to_string();
+    let format = CadFormat::from_path(path).ok_or_else(|| {
+        Error::Cad(format!(
+            "{file}: not a CAD file name (expected .step, .stp, .igs or .iges)"
+        ))
+    })?;
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+    // CAD files are ASCII; stray Latin-1 bytes in names or comments must not stop the read
+    let text = String::from_utf8_lossy(&bytes);
+    let contents = parse_cad(&text, format).map_err(|e| match e {
+        Error::Cad(m) => Error::Cad(format!("{file}: {m}")),
+        other => other,
+    })?;
+    select(contents, kind, index, &file)
+}
+
+/// Samples per non-empty knot span: `max(20, 4 (p + 1))`.
+pub fn samples_per_span(degree: usize) -> usize {
+    20.max(4 * (degree + 1))
+}
+
+/// Dense points on a curve for re-fitting it: [`samples_per_span`] points per non-empty knot span,
+/// equally spaced in parameter, each interval halved (up to 4 times) while the curve's midpoint lies
+/// farther than `1e-5` of the control polygon's extent from the chord; consecutive points closer than
+/// `1e-12` of the extent (a stationary parameterisation) are merged. Both ends are included, so a closed
+/// curve gives a closed point set.
+pub fn sample_curve(c: &NurbsCurve) -> Vec<Vec3> {
+    let pts = c.control_points();
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in pts {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+    let (sag_tol, dup_tol) = (1e-5 * extent, 1e-12 * extent);
+    let m = samples_per_span(c.degree());
+    let k = c.knots();
+    let (a, b) = c.domain();
+    let mut params = Vec::new();
+    for w in k.windows(2) {
+        let (u0, u1) = (w[0].max(a), w[1].min(b));
+        if u1 > u0 {
+            params.extend((0..m).map(|j| u0 + (u1 - u0) * j as f64 / m as f64));
+        }
+    }
+    params.push(b);
+    let mut out = vec![c.point(params[0])];
+    for w in params.windows(2) {
+        refine(
+            c,
+            w[0],
+            w[1],
+            out[out.len() - 1],
+            c.point(w[1]),
+            sag_tol,
+            6,
+            &mut out,
+        );
+    }
+    let mut merged: Vec<Vec3> = Vec::with_capacity(out.len());
+    for p in out {
+        match merged.last() {
+            Some(q) if (p - *q).norm() <= dup_tol => {}
+            _ => merged.push(p),
+        }
+    }
+    // keep the exact end point (a closed curve must end where it starts)
+    if let (Some(last), Some(end)) = (merged.last_mut(), Some(c.point(b))) {
+        *last = end;
+    }
+    merged
+}
+
+/// Appends the points of `(u0, u1]`, halving while the midpoint is off the chord.
+#[allow(clippy::too_many_arguments)]
+fn refine(
+    c: &NurbsCurve,
+    u0: f64,
+    u1: f64,
+    p0: Vec3,
+    p1: Vec3,
+    tol: f64,
+    depth: u32,
+    out: &mut Vec<Vec3>,
+) {
+    let um = 0.5 * (u0 + u1);
+    let pm = c.point(um);
+    if depth > 0 && (pm - (p0 + p1) * 0.5).norm() > tol {
+        refine(c, u0, um, p0, pm, tol, depth - 1, out);
+        refine(c, um, u1, pm, p1, tol, depth - 1, out);
+    } else {
+        out.push(p1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extensions_pick_the_format() {
+        assert_eq!(CadFormat::from_path("a/b.STP"), Some(CadFormat::Step));
+        assert_eq!(CadFormat::from_path("b.step"), Some(CadFormat::Step));
+        assert_eq!(CadFormat::from_path("b.Iges"), Some(CadFormat::Iges));
+        assert_eq!(CadFormat::from_path("b.igs"), Some(CadFormat::Iges));
+        assert_eq!(CadFormat::from_path("b.json"), None);
+    }
+
+    #[test]
+    fn units_are_named() {
+        assert_eq!(CadUnit::from_mm_per_unit(25.4).name, "inch");
+        assert_eq!(CadUnit::from_mm_per_unit(1000.0).name, "m");
+        assert_eq!(CadUnit::from_mm_per_unit(2.0).name, "2 mm");
+    }
+
+    fn line_with_kink() -> NurbsCurve {
+        let pts = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(3.0, -1.0, 0.5),
+            Vec3::new(4.0, 0.0, 0.0),
+        ];
+        NurbsCurve::bspline(2, vec![0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0], pts).unwrap()
+    }
+
+    #[test]
+    fn samples_of_a_circle_lie_on_it_and_close() {
+        // a rational quadratic circle of radius 2 (4 spans): every sample is at radius 2, the set is
+        // closed, and no chord is farther from the arc than the sagitta tolerance 1e-5 * extent (4)
+        let c = NurbsCurve::circle(Vec3::ZERO, 2.0).unwrap();
+        let s = sample_curve(&c);
+        let spans = c.knots().windows(2).filter(|w| w[1] > w[0]).count();
+        assert!(s.len() > spans * samples_per_span(2), "{}", s.len());
+        assert_eq!(s[0], *s.last().unwrap());
+        let mut max_sagitta = 0.0f64;
+        for w in s.windows(2) {
+            assert!((w[0].norm() - 2.0).abs() < 1e-14);
+            let theta = (w[0].dot(w[1]) / 4.0).clamp(-1.0, 1.0).acos();
+            assert!(theta > 0.0 && theta < 0.1, "{theta}");
+            max_sagitta = max_sagitta.max(2.0 * (1.0 - (0.5 * theta).cos()));
+        }
+        assert!(max_sagitta <= 4e-5, "{max_sagitta}");
+        assert_eq!(samples_per_span(3), 20);
+        assert_eq!(samples_per_span(5), 24);
+    }
+
+    #[test]
+    fn selection_counts_and_errors() {
+        let contents = || CadContents {
+            curves: vec![
+                ("#1".into(), line_with_kink()),
+                ("#2".into(), line_with_kink()),
+            ],
+            unit: CadUnit::from_mm_per_unit(25.4),
+            ..CadContents::default()
+        };
+        let g = select(contents(), CadKind::Any, 1, "p.step").unwrap();
+        assert_eq!((g.source.as_str(), g.count, g.index), ("#2", 2, 1));
+        let Geometry::Curve(c) = g.geometry else {
+            panic!("a curve")
+        };
+        assert!((c.point(1.0) - Vec3::new(101.6, 0.0, 0.0)).norm() < 1e-12);
+        let e = select(contents(), CadKind::Any, 2, "p.step")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("holds 2 B-spline curves; index 2 is out of range"),
+            "{e}"
+        );
+        let mut other = CadContents::default();
+        other.other_curves.insert("CIRCLE".into());
+        other.other_curves.insert("LINE".into());
+        let e = select(other, CadKind::Curve, 0, "part.step")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "part.step has no B-spline curve (found: CIRCLE, LINE); export the edge as a B-spline (NURBS) curve"
+        );
+        let e = select(contents(), CadKind::Surface, 0, "p.step")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("has no B-spline surface (found: 2 B-spline curves)"),
+            "{e}"
+        );
+    }
+}

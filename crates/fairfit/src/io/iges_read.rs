@@ -1,0 +1,680 @@
+//! IGES reader for entity 126 (rational B-spline curve) and 128 (rational B-spline surface).
+//!
+//! Hand-written, like the writer ([`super::iges`]): no maintained small Rust crate parses IGES (the
+//! readers that exist live inside whole B-rep kernels). Read: the fixed 80-column ASCII form with its
+//! Start, Global, Directory Entry, Parameter Data and Terminate sections (CR LF line ends, short lines
+//! padded); the Global section's delimiters, model space scale (field 13; coordinates are divided by it,
+//! as the standard defines it as model / real-world size) and unit flag (field 14, and the unit name of
+//! field 15 for flag 3); free-format parameters with Hollerith strings (`3Habc`), empty fields
+//! (defaults), `D` exponents (`1.5D-3`) and blanks inside numbers; a transformation matrix (entity 124,
+//! DE field 7, chained) applied to the control points; the parameter range `V(0), V(1)` of a 126 that
+//! trims the knot domain (the curve is cut there exactly by knot insertion). Curves flagged as
+//! parameter-space curves (entity use 05) or referenced as such by a 142 are skipped. Errors
+//! ([`Error::Cad`]) name the section line or the DE.
+
+use super::cad_read::{CadContents, CadUnit};
+use crate::errors::{Error, Result};
+use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+use std::collections::BTreeSet;
+
+/// One field of a free-format parameter record.
+#[derive(Clone, Debug, PartialEq)]
+enum Field {
+    /// Empty: the default applies.
+    Empty,
+    /// A Hollerith string.
+    Text(String),
+    /// Anything else, blanks removed (a number or a pointer).
+    Token(String),
+}
+
+/// Splits free-format text into fields up to the record delimiter (or the end).
+fn fields(text: &str, pd: char, rd: char) -> Result<Vec<Field>> {
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    loop {
+        while i < chars.len() && chars[i] == ' ' {
+            i += 1;
+        }
+        if i >= chars.len() {
+            return Ok(out);
+        }
+        if chars[i] == pd || chars[i] == rd {
+            out.push(Field::Empty);
+            if chars[i] == rd {
+                return Ok(out);
+            }
+            i += 1;
+            continue;
+        }
+        // a Hollerith string: digits, 'H', then that many characters
+        let mut j = i;
+        while j < chars.len() && chars[j].is_ascii_digit() {
+            j += 1;
+        }
+        let field = if j > i && j < chars.len() && chars[j] == 'H' {
+            let n: usize = chars[i..j].iter().collect::<String>().parse().unwrap_or(0);
+            let start = j + 1;
+            if start + n > chars.len() {
+                return Err(Error::Cad(format!(
+                    "a Hollerith string of {n} characters runs past the end of its record"
+                )));
+            }
+            i = start + n;
+            Field::Text(chars[start..start + n].iter().collect())
+        } else {
+            let start = i;
+            while i < chars.len() && chars[i] != pd && chars[i] != rd {
+                i += 1;
+            }
+            let t: String = chars[start..i].iter().filter(|c| **c != ' ').collect();
+            if t.is_empty() {
+                Field::Empty
+            } else {
+                Field::Token(t)
+            }
+        };
+        out.push(field);
+        while i < chars.len() && chars[i] == ' ' {
+            i += 1;
+        }
+        match chars.get(i) {
+            None => return Ok(out),
+            Some(&c) if c == rd => return Ok(out),
+            Some(&c) if c == pd => i += 1,
+            Some(&c) => {
+                return Err(Error::Cad(format!(
+                    "unexpected '{c}' after a field (expected '{pd}' or '{rd}')"
+                )))
+            }
+        }
+    }
+}
+
+/// A real in IGES syntax (`1.`, `1.5D-3`, `-.5E2`, `3`).
+fn real(t: &str) -> Option<f64> {
+    let mut s = t.replace(['D', 'd'], "E");
+    if let Some(i) = s.find(".E").or_else(|| s.find(".e")) {
+        s.insert(i + 1, '0');
+    }
+    if s.ends_with('.') {
+        s.push('0');
+    }
+    s.parse().ok().filter(|x: &f64| x.is_finite())
+}
+
+/// One Directory Entry (the fields fairfit uses).
+#[derive(Clone, Debug)]
+struct Entry {
+    kind: u32,
+    pd_start: usize,
+    transform: usize,
+    use_flag: u32,
+    pd_lines: usize,
+}
+
+/// The sections of an IGES file.
+struct Iges {
+    global: Vec<Field>,
+    entries: Vec<Entry>,
+    /// Parameter data columns 1-64 by line.
+    params: Vec<String>,
+    pd: char,
+    rd: char,
+}
+
+fn de_field(line: &str, k: usize) -> &str {
+    line.get(8 * k..8 * k + 8).unwrap_or("").trim()
+}
+
+fn split(text: &str) -> Result<Iges> {
+    let (mut start, mut global, mut de, mut pd) = (0, String::new(), Vec::new(), Vec::new());
+    let mut terminate = false;
+    for (i, raw) in text.lines().enumerate() {
+        let line = raw.trim_end_matches('\r');
+        if line.trim().is_empty() {
+            continue;
+        }
+        if line.chars().count() < 73 {
+            return Err(Error::Cad(if i == 0 {
+                "not an IGES file (no section letter S in column 73 of the first line)".into()
+            } else {
+                format!(
+                    "line {} ends before column 73, where its section letter belongs: the file is \
+                     truncated or not fixed-format IGES",
+                    i + 1
+                )
+            }));
+        }
+        let padded = format!("{line:<80}");
+        let section = padded.chars().nth(72).unwrap_or(' ');
+        let body: String = padded.chars().take(72).collect();
+        match section {
+            'S' => start += 1,
+            'G' => global.push_str(&body),
+            'D' => de.push(body),
+            'P' => pd.push(padded.chars().take(64).collect::<String>()),
+            'T' => terminate = true,
+            'C' if i == 0 => {
+                return Err(Error::Cad(
+                    "compressed IGES is not supported; re-export as fixed-format ASCII IGES".into(),
+                ))
+            }
+            _ if i == 0 => {
+                return Err(Error::Cad(
+                    "not an IGES file (no section letter S in column 73 of the first line)".into(),
+                ))
+            }
+            other => {
+                return Err(Error::Cad(format!(
+                    "line {}: unknown section letter '{}' in column 73 (expected S, G, D, P or T)",
+                    i + 1,
+                    other.escape_default()
+                )))
+            }
+        }
+    }
+    if start == 0 && global.is_empty() {
+        return Err(Error::Cad(
+            "not an IGES file (no Start or Global section)".into(),
+        ));
+    }
+    if !terminate {
+        return Err(Error::Cad(
+            "no Terminate section (T in column 73 of the last line): the file is truncated".into(),
+        ));
+    }
+    if de.len() % 2 != 0 {
+        return Err(Error::Cad(format!(
+            "the Directory Entry section has {} lines, not an even number (truncated?)",
+            de.len()
+        )));
+    }
+    // delimiters: field 1 and 2 of the Global section, `1H,` / `1H;` or empty (defaults , and ;)
+    let g: Vec<char> = global.chars().collect();
+    let (mut pdelim, mut rdelim, mut at) = (',', ';', 0);
+    if g.len() >= 3 && g[0] == '1' && g[1] == 'H' {
+        pdelim = g[2];
+        at = 4;
+    } else {
+        at += 1;
+    }
+    if g.len() >= at + 3 && g[at] == '1' && g[at + 1] == 'H' {
+        rdelim = g[at + 2];
+    }
+    let global_fields =
+        fields(&global, pdelim, rdelim).map_err(|e| Error::Cad(format!("Global section: {e}")))?;
+    let mut entries = Vec::with_capacity(de.len() / 2);
+    for (k, pair) in de.chunks(2).enumerate() {
+        let seq = 2 * k + 1;
+        let int = |s: &str, what: &str| -> Result<usize> {
+            if s.is_empty() {
+                return Ok(0);
+            }
+            s.parse::<usize>()
+                .map_err(|_| Error::Cad(format!("DE {seq}: {what} '{s}' is not a whole number")))
+        };
+        let status = de_field(&pair[0], 8);
+        let status = format!("{status:0>8}");
+        entries.push(Entry {
+            kind: int(de_field(&pair[0], 0), "the entity type")? as u32,
+            pd_start: int(de_field(&pair[0], 1), "the parameter data pointer")?,
+            transform: int(de_field(&pair[0], 6), "the transformation matrix pointer")?,
+            use_flag: status.get(4..6).and_then(|s| s.parse().ok()).unwrap_or(0),
+            pd_lines: int(de_field(&pair[1], 3), "the parameter line count")?,
+        });
+    }
+    Ok(Iges {
+        global: global_fields,
+        entries,
+        params: pd,
+        pd: pdelim,
+        rd: rdelim,
+    })
+}
+
+impl Iges {
+    fn entry(&self, de: usize) -> Option<&Entry> {
+        (de % 2 == 1).then(|| self.entries.get(de / 2)).flatten()
+    }
+
+    /// The parameter fields of the entity at DE `de` (the entity type first).
+    fn params(&self, de: usize) -> Result<Vec<Field>> {
+        let e = self
+            .entry(de)
+            .ok_or_else(|| Error::Cad(format!("DE {de} does not exist")))?;
+        let (a, n) = (e.pd_start, e.pd_lines.max(1));
+        if a == 0 || a + n - 1 > self.params.len() {
+            return Err(Error::Cad(format!(
+                "DE {de}: parameter lines {a}..{} are missing (truncated?)",
+                a + n - 1
+            )));
+        }
+        let text: String = self.params[a - 1..a - 1 + n].concat();
+        let f = fields(&text, self.pd, self.rd).map_err(|m| Error::Cad(format!("DE {de}: {m}")))?;
+        match f.first() {
+            Some(Field::Token(t)) if t.parse::<u32>().ok() == Some(e.kind) => Ok(f),
+            _ => Err(Error::Cad(format!(
+                "DE {de}: its parameter data does not start with entity type {}",
+                e.kind
+            ))),
+        }
+    }
+}
+
+/// Reads numbered parameters of one entity, with errors naming the DE.
+struct Params {
+    f: Vec<Field>,
+    de: usize,
+    next: usize,
+}
+
+impl Params {
+    fn real(&mut self, what: &str) -> Result<f64> {
+        let i = self.next;
+        self.next += 1;
+        match self.f.get(i) {
+            Some(Field::Token(t)) => real(t)
+                .ok_or_else(|| Error::Cad(format!("DE {}: {what} '{t}' is not a number", self.de))),
+            Some(Field::Empty) => Ok(0.0),
+            Some(Field::Text(_)) => Err(Error::Cad(format!("DE {}: {what} is a string", self.de))),
+            None => Err(Error::Cad(format!(
+                "DE {}: the parameters end before {what} (truncated?)",
+                self.de
+            ))),
+        }
+    }
+    fn int(&mut self, what: &str) -> Result<usize> {
+        let x = self.real(what)?;
+        if x >= 0.0 && x.fract() == 0.0 && x < 1e8 {
+            Ok(x as usize)
+        } else {
+            Err(Error::Cad(format!(
+                "DE {}: {what} {x} is not a count",
+                self.de
+            )))
+        }
+    }
+    fn reals(&mut self, n: usize, what: &str) -> Result<Vec<f64>> {
+        (0..n).map(|_| self.real(what)).collect()
+    }
+    fn points(&mut self, n: usize) -> Result<Vec<Vec3>> {
+        (0..n)
+            .map(|_| {
+                Ok(Vec3::new(
+                    self.real("a control point")?,
+                    self.real("a control point")?,
+                    self.real("a control point")?,
+                ))
+            })
+            .collect()
+    }
+}
+
+/// A rotation (or any 3 x 3 matrix) and a translation: `x -> R x + t`.
+type Affine = ([[f64; 3]; 3], [f64; 3]);
+
+/// The affine map of the transformation matrix at DE `de` (entity 124), chained through its own DE
+/// field 7; `None` for pointer 0.
+fn transform(g: &Iges, de: usize, depth: usize) -> Result<Option<Affine>> {
+    if de == 0 {
+        return Ok(None);
+    }
+    if depth > 16 {
+        return Err(Error::Cad(format!(
+            "DE {de}: transformation matrices form a cycle"
+        )));
+    }
+    let e = g
+        .entry(de)
+        .ok_or_else(|| Error::Cad(format!("transformation matrix DE {de} does not exist")))?;
+    if e.kind != 124 {
+        return Err(Error::Cad(format!(
+            "DE {de} is entity {}, not a transformation matrix (124)",
+            e.kind
+        )));
+    }
+    let mut p = Params {
+        f: g.params(de)?,
+        de,
+        next: 1,
+    };
+    let mut r = [[0.0; 3]; 3];
+    let mut t = [0.0; 3];
+    for (row, tk) in r.iter_mut().zip(t.iter_mut()) {
+        for entry in row.iter_mut() {
+            *entry = p.real("a matrix entry")?;
+        }
+        *tk = p.real("a translation")?;
+    }
+    match transform(g, e.transform, depth + 1)? {
+        None => Ok(Some((r, t))),
+        Some((r2, t2)) => {
+            // outer (r2, t2) after inner (r, t)
+            let mut rr = [[0.0; 3]; 3];
+            let mut tt = t2;
+            for i in 0..3 {
+                for j in 0..3 {
+                    rr[i][j] = (0..3).map(|k| r2[i][k] * r[k][j]).sum();
+                }
+                tt[i] += (0..3).map(|k| r2[i][k] * t[k]).sum::<f64>();
+            }
+            Ok(Some((rr, tt)))
+        }
+    }
+}
+
+fn apply(m: &Option<Affine>, p: Vec3) -> Vec3 {
+    match m {
+        None => p,
+        Some((r, t)) => Vec3(std::array::from_fn(|i| {
+            r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2] + t[i]
+        })),
+    }
+}
+
+/// Weights that are all equal describe a polynomial spline: they become 1 (exactly the same curve).
+fn normalised(w: Vec<f64>) -> Option<Vec<f64>> {
+    let all_equal = w.iter().all(|&x| x == w[0]);
+    (!all_equal).then_some(w)
+}
+
+/// `c` restricted to `[a, b]` (exact, by knot insertion), when that lies strictly inside its domain.
+fn trimmed(c: NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve> {
+    let (u0, u1) = c.domain();
+    let eps = 1e-12 * (u1 - u0);
+    let cut_a = a > u0 + eps && a < u1;
+    let cut_b = b < u1 - eps && b > u0;
+    if !(cut_a || cut_b) || b <= a {
+        return Ok(c);
+    }
+    let p = c.degree();
+    let mut c = c;
+    for (u, cut) in [(a, cut_a), (b, cut_b)] {
+        let m = c.knots().iter().filter(|&&k| k == u).count();
+        if cut && m < p {
+            c = c.insert_knot(u, p - m)?;
+        }
+    }
+    let k = c.knots();
+    let pts = c.control_points();
+    let w = c.weights();
+    let (first, last) = (
+        if cut_a {
+            k.iter().position(|&x| x == a).unwrap_or(0) - 1
+        } else {
+            0
+        },
+        if cut_b {
+            k.iter().rposition(|&x| x == b).unwrap_or(k.len() - 1) - p
+        } else {
+            pts.len() - 1
+        },
+    );
+    let mut knots = Vec::new();
+    if cut_a {
+        knots.push(a);
+    }
+    knots.extend_from_slice(&k[first + usize::from(cut_a)..=last + p + usize::from(!cut_b)]);
+    if cut_b {
+        knots.push(b);
+    }
+    NurbsCurve::new(
+        p,
+        knots,
+        pts[first..=last].to_vec(),
+        Some(w[first..=last].to_vec()),
+    )
+}
+
+fn curve(g: &Iges, de: usize) -> Result<NurbsCurve> {
+    let e = &g.entries[de / 2];
+    let mut p = Params {
+        f: g.params(de)?,
+        de,
+        next: 1,
+    };
+    let k = p.int("the upper index K")?;
+    let m = p.int("the degree M")?;
+    let _props: Vec<f64> = p.reals(4, "a PROP flag")?;
+    let knots = p.reals(k + m + 2, "a knot")?;
+    let weights = p.reals(k + 1, "a weight")?;
+    let xf = transform(g, e.transform, 0)?;
+    let pts: Vec<Vec3> = p
+        .points(k + 1)?
+        .into_iter()
+        .map(|q| apply(&xf, q))
+        .collect();
+    let (v0, v1) = (p.real("V(0)")?, p.real("V(1)")?);
+    let c = NurbsCurve::new(m, knots, pts, normalised(weights))
+        .map_err(|e| Error::Cad(format!("DE {de} (entity 126): {e}")))?;
+    trimmed(c, v0, v1).map_err(|e| Error::Cad(format!("DE {de} (entity 126): V(0), V(1): {e}")))
+}
+
+fn surface(g: &Iges, de: usize) -> Result<NurbsSurface> {
+    let e = &g.entries[de / 2];
+    let mut p = Params {
+        f: g.params(de)?,
+        de,
+        next: 1,
+    };
+    let k1 = p.int("the upper index K1")?;
+    let k2 = p.int("the upper index K2")?;
+    let m1 = p.int("the degree M1")?;
+    let m2 = p.int("the degree M2")?;
+    let _props = p.reals(5, "a PROP flag")?;
+    let ku = p.reals(k1 + m1 + 2, "a u knot")?;
+    let kv = p.reals(k2 + m2 + 2, "a v knot")?;
+    let (n_u, n_v) = (k1 + 1, k2 + 1);
+    // the net is ordered with the u index varying fastest
+    let w_flat = p.reals(n_u * n_v, "a weight")?;
+    let xf = transform(g, e.transform, 0)?;
+    let pts_flat: Vec<Vec3> = p
+        .points(n_u * n_v)?
+        .into_iter()
+        .map(|q| apply(&xf, q))
+        .collect();
+    let net = (0..n_u)
+        .map(|i| (0..n_v).map(|j| pts_flat[i + j * n_u]).collect())
+        .collect();
+    let weights = normalised(w_flat.clone()).map(|w| {
+        (0..n_u)
+            .map(|i| (0..n_v).map(|j| w[i + j * n_u]).collect())
+            .collect()
+    });
+    NurbsSurface::new(m1, m2, ku, kv, net, weights)
+        .map_err(|e| Error::Cad(format!("DE {de} (entity 128): {e}")))
+}
+
+/// Millimetres per unit of IGES unit flag `flag` (field 14), or of the unit name (field 15) for flag 3.
+fn unit_mm(flag: usize, name: &str) -> Option<f64> {
+    let by_name = |n: &str| match n.trim().to_ascii_uppercase().as_str() {
+        "IN" | "INCH" => Some(25.4),
+        "MM" => Some(1.0),
+        "FT" => Some(304.8),
+        "MI" => Some(1_609_344.0),
+        "M" => Some(1000.0),
+        "KM" => Some(1e6),
+        "MIL" => Some(0.0254),
+        "UM" | "MICRON" => Some(1e-3),
+        "CM" => Some(10.0),
+        "UIN" => Some(2.54e-5),
+        _ => None,
+    };
+    match flag {
+        1 => Some(25.4),
+        2 => Some(1.0),
+        3 => by_name(name),
+        4 => Some(304.8),
+        5 => Some(1_609_344.0),
+        6 => Some(1000.0),
+        7 => Some(1e6),
+        8 => Some(0.0254),
+        9 => Some(1e-3),
+        10 => Some(10.0),
+        11 => Some(2.54e-5),
+        _ => None,
+    }
+}
+
+/// Names of the other curve and surface entity types, for "has no ..." errors.
+fn other_name(kind: u32) -> Option<(&'static str, bool)> {
+    Some(match kind {
+        100 => ("100 (circular arc)", false),
+        102 => ("102 (composite curve)", false),
+        104 => ("104 (conic arc)", false),
+        106 => ("106 (copious data)", false),
+        110 => ("110 (line)", false),
+        112 => ("112 (parametric spline curve)", false),
+        130 => ("130 (offset curve)", false),
+        108 => ("108 (plane)", true),
+        114 => ("114 (parametric spline surface)", true),
+        118 => ("118 (ruled surface)", true),
+        120 => ("120 (surface of revolution)", true),
+        122 => ("122 (tabulated cylinder)", true),
+        140 => ("140 (offset surface)", true),
+        190 | 192 | 194 | 196 | 198 => ("analytic surface (190-198)", true),
+        _ => return None,
+    })
+}
+
+/// Reads every entity 126 and 128 of an IGES text, in DE order, with the unit (coordinates as written,
+/// divided by the model space scale).
+pub fn contents(text: &str) -> Result<CadContents> {
+    let g = split(text)?;
+    let text_field = |i: usize| match g.global.get(i) {
+        Some(Field::Text(s)) => s.clone(),
+        _ => String::new(),
+    };
+    let num_field = |i: usize| match g.global.get(i) {
+        Some(Field::Token(t)) => real(t),
+        _ => None,
+    };
+    let scale = num_field(12).filter(|s| *s > 0.0).unwrap_or(1.0);
+    let unit = match num_field(13) {
+        None => CadUnit::undeclared(),
+        Some(f) => {
+            let name = text_field(14);
+            let mm = unit_mm(f as usize, &name).ok_or_else(|| {
+                Error::Cad(format!(
+                    "Global section: unit flag {f} (name '{name}') is not an IGES length unit"
+                ))
+            })?;
+            CadUnit::from_mm_per_unit(mm)
+        }
+    };
+    // parameter-space curves referenced by curves on surfaces (142: CRTN, SPTR, BPTR, ...)
+    let mut param_curves = BTreeSet::new();
+    for (k, e) in g.entries.iter().enumerate() {
+        if e.kind == 142 {
+            if let Some(Field::Token(t)) = g.params(2 * k + 1)?.get(3) {
+                if let Ok(ptr) = t.parse::<usize>() {
+                    param_curves.insert(ptr);
+                }
+            }
+        }
+    }
+    let mut out = CadContents {
+        unit,
+        ..CadContents::default()
+    };
+    for (k, e) in g.entries.iter().enumerate() {
+        let de = 2 * k + 1;
+        match e.kind {
+            126 if e.use_flag != 5 && !param_curves.contains(&de) => {
+                let c = curve(&g, de)?;
+                let c = if scale == 1.0 {
+                    c
+                } else {
+                    crate::nurbs::scale::scaled_curve(&c, 1.0 / scale)?
+                };
+                out.curves.push((format!("DE {de}"), c));
+            }
+            128 => {
+                let s = surface(&g, de)?;
+                let s = if scale == 1.0 {
+                    s
+                } else {
+                    crate::nurbs::scale::scaled_surface(&s, 1.0 / scale)?
+                };
+                out.surfaces.push((format!("DE {de}"), s));
+            }
+            kind => {
+                if let Some((name, is_surface)) = other_name(kind) {
+                    if is_surface {
+                        out.other_surfaces.insert(name.into());
+                    } else {
+                        out.other_curves.insert(name.into());
+                    }
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_with_hollerith_empties_and_d_exponents() {
+        let f = fields("126,3Ha,b,,1.5D-3, 2 .5 ,-.5E1;junk", ',', ';').unwrap();
+        assert_eq!(
+            f,
+            vec![
+                Field::Token("126".into()),
+                Field::Text("a,b".into()),
+                Field::Empty,
+                Field::Token("1.5D-3".into()),
+                Field::Token("2.5".into()),
+                Field::Token("-.5E1".into()),
+            ]
+        );
+        assert_eq!(real("1.5D-3"), Some(1.5e-3));
+        assert_eq!(real("1.E2"), Some(100.0));
+        assert_eq!(real("-.5E1"), Some(-5.0));
+        assert_eq!(real("3"), Some(3.0));
+        assert!(fields("5Hab;", ',', ';').is_err());
+    }
+
+    #[test]
+    fn units_by_flag_and_name() {
+        assert_eq!(unit_mm(1, ""), Some(25.4));
+        assert_eq!(unit_mm(2, ""), Some(1.0));
+        assert_eq!(unit_mm(6, ""), Some(1000.0));
+        assert_eq!(unit_mm(3, "IN"), Some(25.4));
+        assert_eq!(unit_mm(12, ""), None);
+    }
+
+    #[test]
+    fn trimming_by_knot_insertion_keeps_the_points() {
+        let pts = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(3.0, -1.0, 0.5),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(5.0, 1.0, 1.0),
+        ];
+        let c = NurbsCurve::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0],
+            pts,
+            Some(vec![1.0, 2.0, 0.5, 1.0, 1.5]),
+        )
+        .unwrap();
+        let t = trimmed(c.clone(), 0.2, 0.7).unwrap();
+        assert_eq!(t.domain(), (0.2, 0.7));
+        for i in 0..=50 {
+            let u = 0.2 + 0.5 * i as f64 / 50.0;
+            assert!((t.point(u) - c.point(u)).norm() < 1e-13, "{u}");
+        }
+        let t = trimmed(c.clone(), 0.0, 0.7).unwrap();
+        assert_eq!(t.domain(), (0.0, 0.7));
+        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
+        let t = trimmed(c.clone(), 0.4, 1.0).unwrap();
+        assert_eq!(t.domain(), (0.4, 1.0));
+        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
+    }
+}
