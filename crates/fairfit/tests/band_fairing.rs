@@ -170,7 +170,8 @@ fn band_fairing_lowers_the_clark_y_leading_edge_peak_without_new_extrema() {
     // splprep's 2.789e6 in docs/benchmarks.md, 13 control points against fairfit's 11). With the
     // flipped dκ/ds samples held on their side (band_fairing::SignGuard) the stage goes on:
     // measured F 2.13e6 (0.762 x splprep's), still one curvature extremum (splprep: 4); with the
-    // second pass after the polish (band_fairing::refair) 1.79e6 (0.643 x). The independent study
+    // second pass after the polish (band_fairing::refair) 1.79e6 (0.643 x), with the third pass
+    // holding the extrema pattern 1.73e6 (0.621 x). The independent study
     // (docs/f-target-study.md) reaches 0.498 x at splprep's 13 points.
     let pts = read_csv("clarky.csv");
     let opts = IntegratedOptions {
@@ -189,7 +190,7 @@ fn band_fairing_lowers_the_clark_y_leading_edge_peak_without_new_extrema() {
         dev / on.tolerance
     );
     assert!(on.curve.n_control_points() <= 13);
-    assert!(f <= 0.68 * splprep_f, "{f}");
+    assert!(f <= 0.635 * splprep_f, "{f}");
     assert!(extrema <= 1, "{extrema}");
     assert!(on.met);
     assert!(dev <= on.tolerance * (1.0 + 1e-9), "{dev}");

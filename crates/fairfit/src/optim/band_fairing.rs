@@ -45,7 +45,9 @@
 //! - **Second pass** ([`refair`]): after the polish, one more stage from the polished curve (fresh
 //!   `μ`, guard and targets), kept only if `F` drops without new extrema; the first pass often
 //!   stops by small gains with `μ` grown and guard rows piled up (whitcomb 0.629 → 0.573 ×
-//!   splprep's `F`; docs/f-target-study.md, "Band fairing against the sign-constrained optimum").
+//!   splprep's `F`; docs/f-target-study.md, "Band fairing against the sign-constrained optimum");
+//!   when it is kept, a third one holding the present extrema pattern ([`HOLD_PERSISTENCE`];
+//!   whitcomb → 0.527).
 //!
 //! Minimising `F` also removes curvature wiggles (each costs `∫(dκ/ds)²`), so curvature extrema
 //! usually fall with it.
@@ -127,6 +129,13 @@ pub struct BandFaired {
 /// Subproblem budget of [`refair`]: on the 33 benchmark curves its pass gains the same as with
 /// the full 60 (geometric mean of `F / splprep's F` 0.336 either way), 4 lose a third of the gain.
 pub const REFAIR_SOLVES: usize = 15;
+
+/// [`BandOptions::extrema_persistence`] of a pass that holds the present curvature-extrema pattern
+/// (merges no run, but keeps the sign targets on): the persistence-simplified targets (3 %) can ask
+/// for extrema the band does not let go, and their unmet penalty then stops the pass early
+/// (whitcomb: a third pass holding the pattern goes 0.573 → 0.527 × splprep's `F`, the
+/// sign-constrained band optimum of `bench/band_optimum.py --own --signs fixed` is 0.525).
+pub const HOLD_PERSISTENCE: f64 = 1e-12;
 
 /// A second band-fairing pass from a finished (band-faired and polished) curve in `ws`: a fresh
 /// start (Levenberg–Marquardt `μ`, extrema guard and sign targets taken from the polished curve)

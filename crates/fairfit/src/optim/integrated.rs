@@ -22,7 +22,7 @@
 //! stops there, or knots are inserted where they help most above the baseline; step 5 is skipped), which is how the benchmark compares
 //! methods at equal control points.
 
-use super::band_fairing::{band_fair, refair, BandOptions, REFAIR_SOLVES};
+use super::band_fairing::{band_fair, refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
 use super::count_search::{search_counts, CountFamily, CountStart};
 use super::descent::second_descent;
 use super::encoding::KnotEncoding;
@@ -682,7 +682,15 @@ pub(crate) fn finish_curve(
         let pol = polish(&prep.data, &mut ws, &start, tol, &po);
         e = pol.eval;
         if let Some(bo) = refair_from {
-            e = refair(&prep.data, &mut ws, &e, tol, &bo).unwrap_or(e);
+            if let Some(kept) = refair(&prep.data, &mut ws, &e, tol, &bo) {
+                // then once more holding the present extrema pattern (targets the band does not
+                // allow stop the pass early)
+                let hold = BandOptions {
+                    extrema_persistence: HOLD_PERSISTENCE,
+                    ..bo
+                };
+                e = refair(&prep.data, &mut ws, &kept, tol, &hold).unwrap_or(kept);
+            }
         }
         polished = Some(pol);
     }
