@@ -94,11 +94,11 @@ def splprep_curve(P, tol):
     return k, np.asarray(t), ctrl
 
 
-def fairfit_curve(exe, csv, rel_tol, count=None):
-    """fairfit's integrated curve (k, t, ctrl 2D) or None."""
+def fairfit_curve(exe, csv, rel_tol, count=None, extra=()):
+    """fairfit's integrated curve (k, t, ctrl 2D) or None (extra: more CLI arguments)."""
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "c.json")
-        cmd = [exe, "curve", csv, "--rel-tol", repr(rel_tol), "--threads", "1", "-o", out]
+        cmd = [exe, "curve", csv, "--rel-tol", repr(rel_tol), "--threads", "1", "-o", out, *extra]
         if count is not None:
             cmd += ["--control-points", str(count)]
         p = subprocess.run(cmd, capture_output=True, text=True)
@@ -587,7 +587,7 @@ def run_own(csv, args, name, P, tol, frame, Q, tq, out, t0):
     Fref = ms.F
     out["pinned"] = bool(args.pin_ends)
     out["own"] = []
-    ff = fairfit_curve(args.fairfit, csv, args.rel_tol)
+    ff = fairfit_curve(args.fairfit, csv, args.rel_tol, extra=args.fairfit_args.split())
     if ff is None:
         return out
     kf, tf, Cf = ff
@@ -777,6 +777,8 @@ def main(argv=None):
                     "constraints: off, fixed (fairfit's sign pattern of dkappa/ds), moving (its sign changes may move)")
     ap.add_argument("--sign-samples", type=int, default=192, help="samples per span of the sign constraints "
                     "(measure.py counts extrema at 192)")
+    ap.add_argument("--fairfit-args", default="", help="with --own: more arguments of fairfit's curve command "
+                    "(e.g. '--degree auto', the benchmark's setting)")
     ap.add_argument("--own-table", default=None, help="only print the table of the comma-separated --own --json files")
     args = ap.parse_args(argv)
     if args.own_table:

@@ -22,7 +22,7 @@
 //! stops there, or knots are inserted where they help most above the baseline; step 5 is skipped), which is how the benchmark compares
 //! methods at equal control points.
 
-use super::band_fairing::{band_fair, BandOptions};
+use super::band_fairing::{band_fair, refair, BandOptions, REFAIR_SOLVES};
 use super::count_search::{search_counts, CountFamily, CountStart};
 use super::descent::second_descent;
 use super::encoding::KnotEncoding;
@@ -657,6 +657,7 @@ pub(crate) fn finish_curve(
         polish_evaluations,
     }) = polish_within
     {
+        let mut refair_from = None;
         if band > 0 {
             let start = ws.foot_params.clone();
             let bo = BandOptions {
@@ -664,7 +665,13 @@ pub(crate) fn finish_curve(
                 max_solves: band,
                 ..BandOptions::default()
             };
-            band_fair(&prep.data, &mut ws, &start, tol, &bo);
+            // a stalled first pass: a second one would stall too (3 wasted solves)
+            if !band_fair(&prep.data, &mut ws, &start, tol, &bo).stalled {
+                refair_from = Some(BandOptions {
+                    max_solves: band.min(REFAIR_SOLVES),
+                    ..bo
+                });
+            }
         }
         let start = ws.foot_params.clone();
         let po = PolishOptions {
@@ -674,6 +681,9 @@ pub(crate) fn finish_curve(
         };
         let pol = polish(&prep.data, &mut ws, &start, tol, &po);
         e = pol.eval;
+        if let Some(bo) = refair_from {
+            e = refair(&prep.data, &mut ws, &e, tol, &bo).unwrap_or(e);
+        }
         polished = Some(pol);
     }
     let ctrl: Vec<Vec3> = ws.ctrl.iter().map(|&c| prep.denormalise(c)).collect();
