@@ -326,3 +326,86 @@ fn opencascade_files_read_as_opencascade_evaluates_them() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// The handwritten fixture (`tests/data/handwritten_inch.step`, complex-instance form, inches) against
+/// analytic truths: the quarter circle and the quarter cylinder have radius exactly 25.4 mm everywhere,
+/// the circle's parameter midpoint is at 45 degrees, the Bezier's midpoint is (P0 + 3 P1 + 3 P2 + P3) / 8.
+#[test]
+fn handwritten_complex_form_fixture_reads_to_analytic_values() {
+    let path = fixture("handwritten_inch.step");
+    let g = read_cad(&path, CadKind::Curve, 0).unwrap();
+    assert_eq!((g.count, g.source.as_str()), (2, "#13"));
+    assert_eq!((g.unit.name.as_str(), g.unit.mm_per_unit), ("inch", 25.4));
+    let Geometry::Curve(circle) = g.geometry else {
+        panic!("a curve")
+    };
+    assert!(circle.is_rational());
+    for i in 0..=100 {
+        let p = circle.point(i as f64 / 100.0);
+        assert!((p.norm() - 25.4).abs() <= 1e-13 * 25.4, "{p:?}");
+        assert_eq!(p.z(), 0.0);
+    }
+    let h = 25.4 * std::f64::consts::FRAC_1_SQRT_2;
+    assert!((circle.point(0.5) - Vec3::new(h, h, 0.0)).norm() <= 1e-13 * 25.4);
+    let Geometry::Curve(bezier) = read_cad(&path, CadKind::Curve, 1).unwrap().geometry else {
+        panic!("a curve")
+    };
+    assert_eq!(bezier.degree(), 3);
+    assert!((bezier.point(0.5) - Vec3::new(2.0, 1.5, 0.0) * 25.4).norm() <= 1e-13 * 100.0);
+    // the surface is taken first when any geometry is asked for
+    let Geometry::Surface(cyl) = read_geometry(&path).unwrap() else {
+        panic!("a surface")
+    };
+    for i in 0..=20 {
+        for j in 0..=4 {
+            let p = cyl.point(i as f64 / 20.0, j as f64 / 4.0);
+            let r = (p.x() * p.x() + p.y() * p.y()).sqrt();
+            assert!((r - 25.4).abs() <= 1e-13 * 25.4, "{p:?}");
+            assert!((p.z() - 50.8 * j as f64 / 4.0).abs() <= 1e-13 * 50.8);
+        }
+    }
+}
+
+/// Broken and unsupported files: one-line errors naming the file and what to do, never a panic.
+#[test]
+fn broken_and_unsupported_files_give_one_line_errors() {
+    let d = dir("broken");
+    let text = std::fs::read_to_string(fixture("handwritten_inch.step")).unwrap();
+    let cases: Vec<(&str, String, &str)> = vec![
+        ("truncated.step", text[..text.len() / 2].to_string(), "truncated"),
+        ("notstep.step", "{\"kind\": \"curve\"}".into(), "not a STEP file"),
+        ("notiges.igs", "hello\n".into(), "not an IGES file"),
+        (
+            "lines.step",
+            {
+                let (a, b) = (text.find("#13 = (").unwrap(), text.find("#20 =").unwrap());
+                format!("{}{}", &text[..a], &text[b..])
+                    .replace("#24 = B_SPLINE_CURVE_WITH_KNOTS", "#24 = CIRCLE")
+                    .replace("(#13,#24,#32)", "(#24,#32)")
+            },
+            "has no B-spline curve (found: 1 B-spline surface, CIRCLE, LINE); export the edge as a B-spline",
+        ),
+    ];
+    for (name, body, want) in cases {
+        let p = d.join(name);
+        std::fs::write(&p, body).unwrap();
+        let e = read_cad(&p, CadKind::Curve, 0).unwrap_err().to_string();
+        assert!(e.contains(want), "{name}: {e}");
+        assert!(e.contains(name), "{name}: {e}");
+        assert!(!e.contains('\n'), "{name}: {e}");
+    }
+    let e = read_cad(fixture("handwritten_inch.step"), CadKind::Curve, 5)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("holds 2 B-spline curves; index 5 is out of range (0 to 1)"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

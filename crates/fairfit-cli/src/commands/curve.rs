@@ -17,7 +17,7 @@ use fairfit::fit::tolerance::{
 };
 use fairfit::fit::{Parameterization, SmoothingOrder};
 use fairfit::io::atomic::write_all_atomic;
-use fairfit::io::{curve_to_json, read_points};
+use fairfit::io::curve_to_json;
 use fairfit::Vec3;
 use serde_json::json;
 use std::path::PathBuf;
@@ -128,9 +128,13 @@ fn parse_vector(s: &str) -> Result<Vec3, String> {
 /// Arguments of `fairfit curve`.
 #[derive(Args, Debug)]
 pub struct CurveArgs {
-    /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file.
+    /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file; or a
+    /// STEP/IGES file whose B-spline curve is sampled densely and re-fitted (re-faired).
     #[arg(required = true)]
     pub input: PathBuf,
+    /// Entity choice for STEP/IGES input.
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// Fitting method.
     #[arg(long, value_enum, default_value_t = Method::Integrated)]
     pub method: Method,
@@ -257,7 +261,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
             "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair",
         ));
     }
-    let set = read_points(&args.input)?;
+    let set = super::cad_input::read_curve_points(&args.input, &args.cad)?;
     if set.dropped_duplicates > 0 {
         eprintln!(
             "warning: {}: dropped {} consecutive duplicate point(s)",

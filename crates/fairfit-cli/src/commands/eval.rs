@@ -5,7 +5,7 @@
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
 use fairfit::diffgeo::{differentials, surface_curvature_from};
-use fairfit::io::{read_geometry, Geometry};
+use fairfit::io::Geometry;
 use fairfit::nurbs::scale::{normalising_factor, scaled_surface};
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, SurfaceWorkspace, Vec3};
 use serde_json::{json, Value};
@@ -14,8 +14,11 @@ use std::path::PathBuf;
 /// Arguments of `fairfit eval`.
 #[derive(Args, Debug)]
 pub struct EvalArgs {
-    /// The curve or surface JSON file.
+    /// The curve or surface file (JSON, STEP or IGES).
     pub input: PathBuf,
+    /// Entity choice for STEP/IGES input.
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// Parameters: `U1,U2,...` for a curve, `U1:V1,U2:V2,...` for a surface.
     #[arg(long, allow_hyphen_values = true)]
     pub at: String,
@@ -23,7 +26,7 @@ pub struct EvalArgs {
 
 /// Runs `fairfit eval`.
 pub fn run(args: EvalArgs) -> CmdResult {
-    let geometry = read_geometry(&args.input)?;
+    let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
     let out = match geometry {
         Geometry::Curve(c) => eval_curve(&c, &parse_curve_params(&args.at)?)?,
         Geometry::Surface(s) => eval_surface(&s, &parse_surface_params(&args.at)?)?,

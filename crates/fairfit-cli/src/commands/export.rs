@@ -6,14 +6,17 @@ use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeomet
 use super::{CliError, CmdResult};
 use clap::Args;
 use fairfit::io::samples::{curve_samples_json, surface_samples_json};
-use fairfit::io::{read_geometry, read_points, Geometry};
+use fairfit::io::{read_points, Geometry};
 use std::path::PathBuf;
 
 /// Arguments of `fairfit export`.
 #[derive(Args, Debug)]
 pub struct ExportArgs {
-    /// Curve or surface JSON file.
+    /// Curve or surface file (JSON, STEP or IGES).
     pub input: PathBuf,
+    /// Entity choice for STEP/IGES input.
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// Data points (CSV/text) for the plot and the report.
     #[arg(long, value_name = "FILE")]
     pub points: Option<PathBuf>,
@@ -39,7 +42,7 @@ pub fn run(args: ExportArgs) -> CmdResult {
     let mut inputs = vec![args.input.as_path()];
     inputs.extend(args.points.as_deref());
     check_output_paths(&outputs, &inputs)?;
-    let geometry = read_geometry(&args.input)?;
+    let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),
         None => None,

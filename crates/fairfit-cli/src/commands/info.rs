@@ -15,7 +15,7 @@ use fairfit::fair::{
     count_extrema_exact, count_inflections_exact, curve_fairness, surface_fairness,
     DEFAULT_ISO_CURVES,
 };
-use fairfit::io::{read_geometry, Geometry};
+use fairfit::io::Geometry;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -23,9 +23,12 @@ use std::path::PathBuf;
 /// Arguments of `fairfit info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// Input file(s): one prints a JSON object, several print an array of objects.
+    /// Input file(s), JSON, STEP or IGES: one prints a JSON object, several print an array of objects.
     #[arg(required = true)]
     pub input: Vec<PathBuf>,
+    /// Entity choice for STEP/IGES input.
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// Number of iso-parametric curves per direction for surfaces (ends included; the default is the
     /// count of the `fairfit surface` report).
     #[arg(long, default_value_t = DEFAULT_ISO_CURVES as u64, value_parser = clap::value_parser!(u64).range(1..=1000))]
@@ -36,7 +39,7 @@ pub struct InfoArgs {
 pub fn run(args: InfoArgs) -> CmdResult {
     let mut out = Vec::with_capacity(args.input.len());
     for path in &args.input {
-        let mut v = match read_geometry(path)? {
+        let mut v = match super::cad_input::read_input(path, &args.cad)? {
             Geometry::Curve(c) => curve_info(&c),
             Geometry::Surface(s) => surface_info(&s, args.iso as usize)?,
         };

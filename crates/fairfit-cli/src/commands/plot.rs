@@ -4,7 +4,7 @@
 use super::outputs::{check_output_paths, main_plot, plot_bytes, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
-use fairfit::io::{read_geometry, read_points, Geometry};
+use fairfit::io::{read_points, Geometry};
 use fairfit::plot::curve_plots::{curvature_svg, deviation_svg};
 use fairfit::plot::surface_plots::{deviation_map_svg, iso_curvature_svg, IsoDirection};
 use fairfit::plot::PlotSize;
@@ -28,8 +28,11 @@ pub enum PlotKind {
 /// Arguments of `fairfit plot`.
 #[derive(Args, Debug)]
 pub struct PlotArgs {
-    /// Curve or surface JSON file.
+    /// Curve or surface file (JSON, STEP or IGES).
     pub input: PathBuf,
+    /// Entity choice for STEP/IGES input.
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// Data points (CSV/text, 2 or 3 columns).
     #[arg(long, value_name = "FILE")]
     pub points: Option<PathBuf>,
@@ -56,7 +59,7 @@ pub fn run(args: PlotArgs) -> CmdResult {
     let mut inputs = vec![args.input.as_path()];
     inputs.extend(args.points.as_deref());
     check_output_paths(&[("-o", &args.output)], &inputs)?;
-    let geometry = read_geometry(&args.input)?;
+    let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),
         None => None,

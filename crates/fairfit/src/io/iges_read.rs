@@ -136,6 +136,17 @@ fn split(text: &str) -> Result<Iges> {
         if line.trim().is_empty() {
             continue;
         }
+        if line.chars().count() < 73 {
+            return Err(Error::Cad(if i == 0 {
+                "not an IGES file (no section letter S in column 73 of the first line)".into()
+            } else {
+                format!(
+                    "line {} ends before column 73, where its section letter belongs: the file is \
+                     truncated or not fixed-format IGES",
+                    i + 1
+                )
+            }));
+        }
         let padded = format!("{line:<80}");
         let section = padded.chars().nth(72).unwrap_or(' ');
         let body: String = padded.chars().take(72).collect();

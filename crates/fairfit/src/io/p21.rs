@@ -449,7 +449,7 @@ pub fn parse(text: &str) -> Result<Exchange> {
         peeked: None,
         last_line: 1,
     };
-    match p.peek()? {
+    match p.peek().ok().flatten() {
         Some(Tok::Keyword(k)) if k == "ISO-10303-21" => {
             p.bump("the file start")?;
             p.expect(Tok::Semi, "the file start")?;

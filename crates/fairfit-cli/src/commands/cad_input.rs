@@ -1,0 +1,137 @@
+//! STEP and IGES files as input: `--index` / `--entity` (flattened into `info`, `eval`, `plot`, `export`
+//! and `curve`), the notes on what was read, and the points a CAD curve gives `fairfit curve`.
+//!
+//! A CAD file is recognised by its extension (`.step`, `.stp`, `.igs`, `.iges`); its coordinates are
+//! read in millimetres (see `fairfit::io::cad_read`). When the file holds more than one entity of the
+//! kind taken, or declares a unit other than mm, one `note:` line on stderr says which entity was taken
+//! and how to choose another.
+
+use super::CliError;
+use clap::{Args, ValueEnum};
+use fairfit::io::cad_read::{
+    read_cad, sample_curve, samples_per_span, CadFormat, CadGeometry, CadKind,
+};
+use fairfit::io::{read_geometry, read_points, Geometry, PointSet};
+use std::path::Path;
+
+/// Which kind of entity to take from a CAD file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Default)]
+pub enum EntityArg {
+    /// A B-spline surface if the file holds one, else a B-spline curve.
+    #[default]
+    Auto,
+    /// A B-spline curve (an edge).
+    Curve,
+    /// A B-spline surface (a face).
+    Surface,
+}
+
+/// Choice of the entity read from a STEP or IGES input.
+#[derive(Args, Debug, Clone, Default)]
+pub struct CadInputArgs {
+    /// STEP/IGES input: which B-spline entity of the chosen kind to read (0 = the first in the file).
+    #[arg(long, value_name = "N")]
+    pub index: Option<usize>,
+    /// STEP/IGES input: the kind of entity to read.
+    #[arg(long, value_enum, value_name = "KIND")]
+    pub entity: Option<EntityArg>,
+}
+
+impl CadInputArgs {
+    fn kind(&self, default: CadKind) -> CadKind {
+        match self.entity {
+            None => default,
+            Some(EntityArg::Auto) => CadKind::Any,
+            Some(EntityArg::Curve) => CadKind::Curve,
+            Some(EntityArg::Surface) => CadKind::Surface,
+        }
+    }
+
+    /// Refuses `--index` / `--entity` for an input that is no CAD file.
+    fn check_not_cad(&self, path: &Path) -> Result<(), CliError> {
+        if self.index.is_some() || self.entity.is_some() {
+            return Err(CliError::usage(format!(
+                "--index and --entity choose an entity of a STEP or IGES file, and {} is neither \
+                 (.step, .stp, .igs, .iges)",
+                path.display()
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Reads the CAD file and prints a note when there was a choice or a unit conversion.
+fn read_noted(path: &Path, kind: CadKind, args: &CadInputArgs) -> Result<CadGeometry, CliError> {
+    let g = read_cad(path, kind, args.index.unwrap_or(0))?;
+    let what = match g.geometry {
+        Geometry::Curve(_) => "B-spline curve",
+        Geometry::Surface(_) => "B-spline surface",
+    };
+    let unit = if g.unit.name != "mm" {
+        format!("; coordinates converted from {} to mm", g.unit.name)
+    } else {
+        String::new()
+    };
+    if g.count > 1 || !unit.is_empty() {
+        let choice = if g.count > 1 {
+            format!(
+                " ({} of {}; choose with --index 0..{})",
+                g.index + 1,
+                g.count,
+                g.count - 1
+            )
+        } else {
+            String::new()
+        };
+        eprintln!(
+            "note: {}: read {what} {}{choice}{unit}",
+            path.display(),
+            g.source
+        );
+    }
+    Ok(g)
+}
+
+/// The geometry of a JSON, STEP or IGES file (for `info`, `eval`, `plot`, `export`).
+pub fn read_input(path: &Path, args: &CadInputArgs) -> Result<Geometry, CliError> {
+    if CadFormat::from_path(path).is_none() {
+        args.check_not_cad(path)?;
+        return Ok(read_geometry(path)?);
+    }
+    Ok(read_noted(path, args.kind(CadKind::Any), args)?.geometry)
+}
+
+/// The points `fairfit curve` fits: a point file as it is, or a B-spline curve of a STEP or IGES file
+/// sampled densely (`fairfit::io::cad_read::sample_curve`), so that re-fitting it fairs it.
+pub fn read_curve_points(path: &Path, args: &CadInputArgs) -> Result<PointSet, CliError> {
+    if CadFormat::from_path(path).is_none() {
+        args.check_not_cad(path)?;
+        return Ok(read_points(path)?);
+    }
+    if args.entity == Some(EntityArg::Surface) {
+        return Err(CliError::usage(
+            "fairfit curve re-fits a curve: --entity surface is not possible here",
+        ));
+    }
+    let g = read_noted(path, CadKind::Curve, args)?;
+    let Geometry::Curve(c) = &g.geometry else {
+        return Err(CliError::new("internal: a curve was asked for"));
+    };
+    let points = sample_curve(c);
+    eprintln!(
+        "note: {}: fitting {} points sampled on {} (degree {}, {} control points; {} per knot span)",
+        path.display(),
+        points.len(),
+        g.source,
+        c.degree(),
+        c.n_control_points(),
+        samples_per_span(c.degree())
+    );
+    Ok(PointSet {
+        points,
+        dropped_duplicates: 0,
+        columns: 3,
+        name: Some(g.source),
+        lednicer: false,
+    })
+}
