@@ -185,7 +185,8 @@ pub fn read_geometry(path: impl AsRef<Path>) -> Result<Geometry> {
         path: path.display().to_string(),
         message: "not a UTF-8 text file (expected fairfit JSON)".into(),
     })?;
-    if !text.trim_start().starts_with('{') {
+    let start = text.trim_start();
+    if !start.is_empty() && !start.starts_with('{') {
         return Err(Error::Json(format!(
             "{}: not a fairfit curve or surface (expected fairfit JSON, STEP .step/.stp or IGES \
              .igs/.iges; a point list is fitted first, e.g. by `fairfit curve`)",
