@@ -248,7 +248,8 @@ fn metre_files_are_read_in_millimetres() {
 mod python;
 
 /// OpenCASCADE writes curves and surfaces with known poles (`tests/python/occ_make_cad.py`) as STEP and
-/// IGES, in millimetres and in inches; fairfit reads each file and must reproduce OpenCASCADE's own
+/// IGES, in millimetres and in inches, and an edge on a sub-range of a curve (STEP `TRIMMED_CURVE`, IGES
+/// `V(0), V(1)`); fairfit reads each file and must reproduce OpenCASCADE's own
 /// evaluation at OpenCASCADE's parameters. OpenCASCADE prints 12 significant digits in STEP and 10 in
 /// IGES (0.393700787 for 10/25.4 inch), so agreement is asked to 1e-9 of the geometry's size; files in
 /// millimetres with whole-number poles agree to 1e-15.
@@ -275,7 +276,7 @@ fn opencascade_files_read_as_opencascade_evaluates_them() {
         .filter(|l| l.starts_with('{'))
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
-    assert_eq!(cases.len(), 12, "{stdout}");
+    assert_eq!(cases.len(), 14, "{stdout}");
     let mut worst = 0.0f64;
     for case in &cases {
         let file = case["file"].as_str().unwrap();
@@ -295,6 +296,13 @@ fn opencascade_files_read_as_opencascade_evaluates_them() {
             })
             .collect();
         let size = pts.iter().map(|p| p.max_abs()).fold(0.0, f64::max);
+        if file.contains("trimmed") {
+            // the edge's sub-range [0.2, 0.7] of the cubic is cut out exactly
+            let Geometry::Curve(c) = &g.geometry else {
+                panic!("{file}: a curve")
+            };
+            assert_eq!(c.domain(), (0.2, 0.7), "{file}");
+        }
         let params = case["params"].as_array().unwrap();
         assert!(params.len() >= 41, "{file}");
         let mut err = 0.0f64;

@@ -380,54 +380,6 @@ fn normalised(w: Vec<f64>) -> Option<Vec<f64>> {
     (!all_equal).then_some(w)
 }
 
-/// `c` restricted to `[a, b]` (exact, by knot insertion), when that lies strictly inside its domain.
-fn trimmed(c: NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve> {
-    let (u0, u1) = c.domain();
-    let eps = 1e-12 * (u1 - u0);
-    let cut_a = a > u0 + eps && a < u1;
-    let cut_b = b < u1 - eps && b > u0;
-    if !(cut_a || cut_b) || b <= a {
-        return Ok(c);
-    }
-    let p = c.degree();
-    let mut c = c;
-    for (u, cut) in [(a, cut_a), (b, cut_b)] {
-        let m = c.knots().iter().filter(|&&k| k == u).count();
-        if cut && m < p {
-            c = c.insert_knot(u, p - m)?;
-        }
-    }
-    let k = c.knots();
-    let pts = c.control_points();
-    let w = c.weights();
-    let (first, last) = (
-        if cut_a {
-            k.iter().position(|&x| x == a).unwrap_or(0) - 1
-        } else {
-            0
-        },
-        if cut_b {
-            k.iter().rposition(|&x| x == b).unwrap_or(k.len() - 1) - p
-        } else {
-            pts.len() - 1
-        },
-    );
-    let mut knots = Vec::new();
-    if cut_a {
-        knots.push(a);
-    }
-    knots.extend_from_slice(&k[first + usize::from(cut_a)..=last + p + usize::from(!cut_b)]);
-    if cut_b {
-        knots.push(b);
-    }
-    NurbsCurve::new(
-        p,
-        knots,
-        pts[first..=last].to_vec(),
-        Some(w[first..=last].to_vec()),
-    )
-}
-
 fn curve(g: &Iges, de: usize) -> Result<NurbsCurve> {
     let e = &g.entries[de / 2];
     let mut p = Params {
@@ -449,7 +401,8 @@ fn curve(g: &Iges, de: usize) -> Result<NurbsCurve> {
     let (v0, v1) = (p.real("V(0)")?, p.real("V(1)")?);
     let c = NurbsCurve::new(m, knots, pts, normalised(weights))
         .map_err(|e| Error::Cad(format!("DE {de} (entity 126): {e}")))?;
-    trimmed(c, v0, v1).map_err(|e| Error::Cad(format!("DE {de} (entity 126): V(0), V(1): {e}")))
+    super::cad_read::trimmed(c, v0, v1)
+        .map_err(|e| Error::Cad(format!("DE {de} (entity 126): V(0), V(1): {e}")))
 }
 
 fn surface(g: &Iges, de: usize) -> Result<NurbsSurface> {
@@ -646,35 +599,5 @@ mod tests {
         assert_eq!(unit_mm(6, ""), Some(1000.0));
         assert_eq!(unit_mm(3, "IN"), Some(25.4));
         assert_eq!(unit_mm(12, ""), None);
-    }
-
-    #[test]
-    fn trimming_by_knot_insertion_keeps_the_points() {
-        let pts = vec![
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 2.0, 0.0),
-            Vec3::new(3.0, -1.0, 0.5),
-            Vec3::new(4.0, 0.0, 0.0),
-            Vec3::new(5.0, 1.0, 1.0),
-        ];
-        let c = NurbsCurve::new(
-            3,
-            vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0],
-            pts,
-            Some(vec![1.0, 2.0, 0.5, 1.0, 1.5]),
-        )
-        .unwrap();
-        let t = trimmed(c.clone(), 0.2, 0.7).unwrap();
-        assert_eq!(t.domain(), (0.2, 0.7));
-        for i in 0..=50 {
-            let u = 0.2 + 0.5 * i as f64 / 50.0;
-            assert!((t.point(u) - c.point(u)).norm() < 1e-13, "{u}");
-        }
-        let t = trimmed(c.clone(), 0.0, 0.7).unwrap();
-        assert_eq!(t.domain(), (0.0, 0.7));
-        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
-        let t = trimmed(c.clone(), 0.4, 1.0).unwrap();
-        assert_eq!(t.domain(), (0.4, 1.0));
-        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
     }
 }
