@@ -417,3 +417,40 @@ fn broken_and_unsupported_files_give_one_line_errors() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The handwritten IGES fixture (`tests/data/handwritten_transform.igs`: inches, custom delimiters, a 124
+/// transform, a `V(0)` trim, a parameter-space curve and a line to skip) against analytic values: the
+/// quarter circle of radius 1 inch turned 90 degrees about z and moved by 10 inches along x lies at
+/// 25.4 mm from (254, 0, 0), starts (trimmed at u = 0.25) on the circle and ends at (228.6, 0, 0) mm; the
+/// Bezier with equal weights 2 is polynomial with midpoint (P0 + 3 P1 + 3 P2 + P3) / 8 = (2, 1.5) inch.
+#[test]
+fn handwritten_iges_fixture_with_transform_and_trim() {
+    let path = fixture("handwritten_transform.igs");
+    let g = read_cad(&path, CadKind::Any, 0).unwrap();
+    assert_eq!(
+        (g.count, g.source.as_str(), g.unit.name.as_str()),
+        (2, "DE 3", "inch")
+    );
+    let Geometry::Curve(arc) = g.geometry else {
+        panic!("a curve")
+    };
+    assert_eq!(arc.domain(), (0.25, 1.0));
+    let centre = Vec3::new(254.0, 0.0, 0.0);
+    for i in 0..=60 {
+        let p = arc.point(0.25 + 0.75 * i as f64 / 60.0);
+        assert!(((p - centre).norm() - 25.4).abs() <= 1e-13 * 254.0, "{p:?}");
+        assert_eq!(p.z(), 0.0);
+    }
+    assert!((arc.point(1.0) - Vec3::new(228.6, 0.0, 0.0)).norm() <= 1e-13 * 254.0);
+    // the start, by the rational Bernstein form at u = 1/4 (weights 1, h, 1), rotated and moved
+    let (u, h) = (0.25, std::f64::consts::FRAC_1_SQRT_2);
+    let (b0, b1, b2) = ((1.0 - u) * (1.0 - u), 2.0 * u * (1.0 - u) * h, u * u);
+    let (x, y) = ((b0 + b1) / (b0 + b1 + b2), (b1 + b2) / (b0 + b1 + b2));
+    let want = Vec3::new(10.0 - y, x, 0.0) * 25.4;
+    assert!((arc.point(0.25) - want).norm() <= 1e-13 * 254.0, "{want:?}");
+    let Geometry::Curve(bezier) = read_cad(&path, CadKind::Curve, 1).unwrap().geometry else {
+        panic!("a curve")
+    };
+    assert!(!bezier.is_rational());
+    assert!((bezier.point(0.5) - Vec3::new(50.8, 38.1, 0.0)).norm() <= 1e-13 * 100.0);
+}

@@ -3,8 +3,9 @@
 //! Hand-written, like the writer ([`super::iges`]): no maintained small Rust crate parses IGES (the
 //! readers that exist live inside whole B-rep kernels). Read: the fixed 80-column ASCII form with its
 //! Start, Global, Directory Entry, Parameter Data and Terminate sections (CR LF line ends, short lines
-//! padded); the Global section's delimiters, model space scale (field 13; coordinates are divided by it,
-//! as the standard defines it as model / real-world size) and unit flag (field 14, and the unit name of
+//! padded); the Global section's delimiters, model space scale (field 13; the standard defines it as
+//! model / real-world size, so coordinates are divided by it: folded into the unit factor. OpenCASCADE
+//! ignores this field; nearly every writer puts 1.0) and unit flag (field 14, and the unit name of
 //! field 15 for flag 3); free-format parameters with Hollerith strings (`3Habc`), empty fields
 //! (defaults), `D` exponents (`1.5D-3`) and blanks inside numbers; a transformation matrix (entity 124,
 //! DE field 7, chained) applied to the control points; the parameter range `V(0), V(1)` of a 126 that
@@ -492,8 +493,8 @@ fn other_name(kind: u32) -> Option<(&'static str, bool)> {
     })
 }
 
-/// Reads every entity 126 and 128 of an IGES text, in DE order, with the unit (coordinates as written,
-/// divided by the model space scale).
+/// Reads every entity 126 and 128 of an IGES text, in DE order, with the unit (coordinates as written;
+/// the unit factor includes the division by the model space scale).
 pub fn contents(text: &str) -> Result<CadContents> {
     let g = split(text)?;
     let text_field = |i: usize| match g.global.get(i) {
@@ -506,7 +507,8 @@ pub fn contents(text: &str) -> Result<CadContents> {
     };
     let scale = num_field(12).filter(|s| *s > 0.0).unwrap_or(1.0);
     let unit = match num_field(13) {
-        None => CadUnit::undeclared(),
+        None if scale == 1.0 => CadUnit::undeclared(),
+        None => CadUnit::from_mm_per_unit(1.0 / scale),
         Some(f) => {
             let name = text_field(14);
             let mm = unit_mm(f as usize, &name).ok_or_else(|| {
@@ -514,7 +516,7 @@ pub fn contents(text: &str) -> Result<CadContents> {
                     "Global section: unit flag {f} (name '{name}') is not an IGES length unit"
                 ))
             })?;
-            CadUnit::from_mm_per_unit(mm)
+            CadUnit::from_mm_per_unit(if scale == 1.0 { mm } else { mm / scale })
         }
     };
     // parameter-space curves referenced by curves on surfaces (142: CRTN, SPTR, BPTR, ...)
@@ -536,22 +538,10 @@ pub fn contents(text: &str) -> Result<CadContents> {
         let de = 2 * k + 1;
         match e.kind {
             126 if e.use_flag != 5 && !param_curves.contains(&de) => {
-                let c = curve(&g, de)?;
-                let c = if scale == 1.0 {
-                    c
-                } else {
-                    crate::nurbs::scale::scaled_curve(&c, 1.0 / scale)?
-                };
-                out.curves.push((format!("DE {de}"), c));
+                out.curves.push((format!("DE {de}"), curve(&g, de)?));
             }
             128 => {
-                let s = surface(&g, de)?;
-                let s = if scale == 1.0 {
-                    s
-                } else {
-                    crate::nurbs::scale::scaled_surface(&s, 1.0 / scale)?
-                };
-                out.surfaces.push((format!("DE {de}"), s));
+                out.surfaces.push((format!("DE {de}"), surface(&g, de)?));
             }
             kind => {
                 if let Some((name, is_surface)) = other_name(kind) {
