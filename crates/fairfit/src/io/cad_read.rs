@@ -279,18 +279,22 @@ pub(crate) fn trimmed(c: NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve> {
     let k = c.knots();
     let pts = c.control_points();
     let w = c.weights();
-    let (first, last) = (
-        if cut_a {
-            k.iter().position(|&x| x == a).unwrap_or(0) - 1
-        } else {
-            0
-        },
-        if cut_b {
-            k.iter().rposition(|&x| x == b).unwrap_or(k.len() - 1) - p
-        } else {
-            pts.len() - 1
-        },
-    );
+    let lost = || Error::KnotOperation(format!("cannot cut the curve at [{a}, {b}]"));
+    let first = if cut_a {
+        let i = k.iter().position(|&x| x == a).ok_or_else(lost)?;
+        i.checked_sub(1).ok_or_else(lost)?
+    } else {
+        0
+    };
+    let last = if cut_b {
+        let i = k.iter().rposition(|&x| x == b).ok_or_else(lost)?;
+        i.checked_sub(p).ok_or_else(lost)?
+    } else {
+        pts.len() - 1
+    };
+    if last < first {
+        return Err(lost());
+    }
     let mut knots = Vec::new();
     if cut_a {
         knots.push(a);
