@@ -10,7 +10,8 @@
 //! (defaults), `D` exponents (`1.5D-3`) and blanks inside numbers; a transformation matrix (entity 124,
 //! DE field 7, chained) applied to the control points; the parameter range `V(0), V(1)` of a 126 that
 //! trims the knot domain (the curve is cut there exactly by knot insertion). Curves flagged as
-//! parameter-space curves (entity use 05) or referenced as such by a 142 are skipped. Errors
+//! parameter-space curves (entity use 05) or referenced as such by a 142 (directly or as members of a
+//! 102 composite curve) are skipped. Errors
 //! ([`Error::Cad`]) name the section line or the DE.
 
 use super::cad_read::{CadContents, CadUnit};
@@ -519,13 +520,21 @@ pub fn contents(text: &str) -> Result<CadContents> {
             CadUnit::from_mm_per_unit(if scale == 1.0 { mm } else { mm / scale })
         }
     };
-    // parameter-space curves referenced by curves on surfaces (142: CRTN, SPTR, BPTR, ...)
+    // parameter-space curves referenced by curves on surfaces (142: CRTN, SPTR, BPTR, ...), and the
+    // members of a composite curve (102: N, DE1, ..., DEN) that BPTR points at
     let mut param_curves = BTreeSet::new();
     for (k, e) in g.entries.iter().enumerate() {
         if e.kind == 142 {
             if let Some(Field::Token(t)) = g.params(2 * k + 1)?.get(3) {
                 if let Ok(ptr) = t.parse::<usize>() {
                     param_curves.insert(ptr);
+                    if g.entry(ptr).is_some_and(|c| c.kind == 102) {
+                        for f in g.params(ptr)?.iter().skip(2) {
+                            if let Field::Token(t) = f {
+                                param_curves.extend(t.parse::<usize>().ok());
+                            }
+                        }
+                    }
                 }
             }
         }

@@ -2,7 +2,7 @@
 h = "0.70710678118654757"
 start = ["Written by hand for fairfit's IGES reader tests (tests/data/README.md):",
          "inch units, custom delimiters / and #, a 124 transform, a 126 trimmed by",
-         "V(0), V(1), D exponents, a parameter-space curve and a line to skip."]
+         "V(0), V(1), D exponents, parameter-space curves and a line to skip."]
 def H(t):
     return f"{len(t)}H{t}"
 name = H("handwritten, a.igs")
@@ -21,6 +21,11 @@ ents.append((110, "110/0./0./0./1./1./0.#", 0, "00000000"))
 # DE 9: a cubic Bezier, polynomial, weights all 2 (the same curve as weights 1), D exponents
 ents.append((126, "126/3/3/1/0/1/0/0./0./0./0./1./1./1./1./2.D0/2.D0/2.D0/2.D0/"
                   "0./0./0./1.D0/2.D0/0./3.D0/2.D0/0./4.D0/0./0./0./1./0./0./1.#", 0, "00000000"))
+# DE 11: a parameter-space line as a 126 without the entity use flag, DE 13: the 102 composite holding
+# it, DE 15: a 142 curve on a surface whose BPTR is that composite: the reader must skip DE 11
+ents.append((126, "126/1/1/1/0/1/0/0./0./1./1./1./1./0./0./0./1./1./0./0./1./0./0./1.#", 0, "00000000"))
+ents.append((102, "102/1/11#", 0, "00000000"))
+ents.append((142, "142/0/0/13/0/1#", 0, "00000000"))
 def line(text, letter, seq):
     assert len(text) <= 72, text
     return f"{text:<72}{letter}{seq:>7}"
