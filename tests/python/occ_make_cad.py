@@ -6,6 +6,8 @@ Builds, with known poles, knots and weights:
   bspline   a non-rational cubic Geom_BSplineCurve (interior knot of multiplicity 2, unequal spans);
   rational  a rational quadratic Geom_BSplineCurve (a half circle of radius 25 lifted in z, plus a tail);
   periodic  a periodic cubic Geom_BSplineCurve (7 poles, closed C2);
+  trimmed   the edge of `bspline` between parameters 0.2 and 0.7 (STEP: a TRIMMED_CURVE with parameter
+            values; IGES: entity 126 with V(0) = 0.2, V(1) = 0.7);
   surface   a rational bicubic x biquadratic Geom_BSplineSurface;
 and writes each as an edge (curves) or a face (surface) with STEPControl_Writer and IGESControl_Writer,
 in millimetres (OpenCASCADE's default) and, for `bspline` and `surface`, once more in inches. For every
@@ -95,8 +97,9 @@ def surface():
     return Geom_BSplineSurface(poles, weights, arr_real(uk), arr_real(vk), arr_int(um), arr_int(vm), 3, 2)
 
 
-def curve_samples(c):
-    a, b = c.FirstParameter(), c.LastParameter()
+def curve_samples(c, a=None, b=None):
+    a = c.FirstParameter() if a is None else a
+    b = c.LastParameter() if b is None else b
     params = [a + (b - a) * k / 40.0 for k in range(41)]
     pts = []
     for u in params:
@@ -140,10 +143,14 @@ def main():
         ("bspline", "curve", bspline(), ["MM", "INCH"]),
         ("rational", "curve", rational(), ["MM"]),
         ("periodic", "curve", periodic(), ["MM"]),
+        ("trimmed", "curve", bspline(), ["MM"]),
         ("surface", "surface", surface(), ["MM", "INCH"]),
     ]
     for name, kind, geom, units in items:
-        if kind == "curve":
+        if name == "trimmed":
+            shape = BRepBuilderAPI_MakeEdge(geom, 0.2, 0.7).Edge()
+            params, pts = curve_samples(geom, 0.2, 0.7)
+        elif kind == "curve":
             shape = BRepBuilderAPI_MakeEdge(geom).Edge()
             params, pts = curve_samples(geom)
         else:

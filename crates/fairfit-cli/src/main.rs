@@ -25,17 +25,17 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Evaluate a curve or surface JSON file at given parameters (points, derivatives, curvature).
+    /// Evaluate a curve or surface (JSON, STEP or IGES) at given parameters (points, derivatives, curvature).
     Eval(commands::eval::EvalArgs),
-    /// Summarise a curve or surface JSON file (size, domain, length, fairness).
+    /// Summarise a curve or surface (JSON, STEP or IGES): size, domain, length, fairness.
     Info(commands::info::InfoArgs),
-    /// Fit a fair curve to ordered points.
+    /// Fit a fair curve to ordered points, or re-fair a STEP/IGES curve.
     Curve(commands::curve::CurveArgs),
     /// Fit a fair surface to sections or a point cloud.
     Surface(commands::surface::SurfaceArgs),
-    /// Plot a curve or surface JSON file.
+    /// Plot a curve or surface (JSON, STEP or IGES).
     Plot(commands::plot::PlotArgs),
-    /// Export a curve or surface JSON file to STEP, IGES or a mesh.
+    /// Export a curve or surface (JSON, STEP or IGES) to STEP, IGES or a mesh.
     Export(commands::export::ExportArgs),
 }
 

@@ -22,8 +22,9 @@
 //! `d(κ²)/du = [2 (C'×C'')·(C'×C''') |C'|² − 6 |C'×C''|² (C'·C'')] / |C'|⁸` (spatial).
 //!
 //! Every numerator comes with its **scale**, the largest coefficient magnitude of the products it
-//! is the sum of: coefficients far below it are rounding noise of a polynomial that vanishes
-//! identically (a line, a circular arc, whose `dκ/ds ≡ 0`).
+//! is the sum of (a polynomial that vanishes identically, a line or a circular arc, whose
+//! `dκ/ds ≡ 0`, has coefficients of rounding size relative to it; see [`super::exact_nurbs`] for
+//! why the count does not prune by it).
 
 use super::bernstein::{combine, eval, mul};
 use super::span_hodograph::SpanHodograph;

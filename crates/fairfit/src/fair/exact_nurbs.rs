@@ -3,20 +3,27 @@
 //! [`super::curvature_numerators`] (no sampling).
 //!
 //! Per knot span: the sign changes of the numerator in the open span by Bernstein subdivision and
-//! Descartes' rule ([`super::bernstein::sign_changes`], coefficients below
-//! [`super::exact_extrema::ZERO_REL`] times the numerator's scale are rounding noise, so an
-//! identically vanishing numerator, a line or a circular arc, has no root); between consecutive
-//! roots an interval of one sign, with its peak `|signal|` on
-//! [`super::exact_extrema::PEAK_NODES`] Chebyshev nodes (the sign is taken from the signal there,
-//! not from the reported roots). The intervals are counted by
+//! Descartes' rule ([`super::bernstein::sign_changes`]); between consecutive roots an interval of
+//! one sign, with its peak `|signal|` on [`super::exact_extrema::PEAK_NODES`] Chebyshev nodes (the
+//! sign is taken from the signal there, not from the reported roots). The intervals are counted by
 //! [`super::exact_extrema::alternations`] with the measurer's floor.
+//!
+//! **No coefficient threshold**: unlike the planar polynomial count, only an exactly zero piece is
+//! skipped as noise. A rational or spatial numerator can be legitimately tiny in part of a span
+//! (`dκ/ds = w³ H / (|G| |D|⁶)`: where the weight or the speed is small, `H` is small by many
+//! orders of magnitude while `dκ/ds` is not): on random spatial rational cubics and quartics with
+//! weights between 0.1 and 10, `H` had real, accurately computed roots where it was `1e-17` of its
+//! largest product coefficient, which the planar count's `1e-12` threshold dropped (2 of 300
+//! curves). The floor decides instead, on the signal: a numerator that vanishes identically (a
+//! line, a circular arc) has roots of rounding noise, and the intervals between them a peak of
+//! rounding size, far below the floor.
 //!
 //! A numerator of degree above [`MAX_NUMERATOR_DEGREE`] (a spatial rational curve of degree 14
 //! or more) is not formed: the callers fall back to dense sampling.
 
 use super::bernstein;
 use super::curvature_numerators::{span_curvature, Numerator};
-use super::exact_extrema::{SignInterval, PEAK_NODES, ZERO_REL};
+use super::exact_extrema::{SignInterval, PEAK_NODES};
 use super::span_hodograph::curve_hodographs;
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -81,7 +88,7 @@ fn push_intervals(
     out: &mut Vec<SignInterval>,
 ) {
     roots.clear();
-    bernstein::sign_changes(&num.coeffs, ZERO_REL * num.scale, roots);
+    bernstein::sign_changes(&num.coeffs, 0.0, roots);
     let mut t0 = 0.0;
     for k in 0..=roots.len() {
         let t1 = roots.get(k).copied().unwrap_or(1.0);

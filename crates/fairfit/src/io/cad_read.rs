@@ -258,6 +258,59 @@ pub fn read_cad(path: impl AsRef<Path>, kind: CadKind, index: usize) -> Result<C
     select(contents, kind, index, &file)
 }
 
+/// `c` restricted to `[a, b]` (exact, by knot insertion), when that lies strictly inside its domain
+/// (IGES 126 `V(0), V(1)`, STEP `TRIMMED_CURVE` parameters); otherwise `c` as it is.
+pub(crate) fn trimmed(c: NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve> {
+    let (u0, u1) = c.domain();
+    let eps = 1e-12 * (u1 - u0);
+    let cut_a = a > u0 + eps && a < u1;
+    let cut_b = b < u1 - eps && b > u0;
+    if !(cut_a || cut_b) || b <= a {
+        return Ok(c);
+    }
+    let p = c.degree();
+    let mut c = c;
+    for (u, cut) in [(a, cut_a), (b, cut_b)] {
+        let m = c.knots().iter().filter(|&&k| k == u).count();
+        if cut && m < p {
+            c = c.insert_knot(u, p - m)?;
+        }
+    }
+    let k = c.knots();
+    let pts = c.control_points();
+    let w = c.weights();
+    let lost = || Error::KnotOperation(format!("cannot cut the curve at [{a}, {b}]"));
+    let first = if cut_a {
+        let i = k.iter().position(|&x| x == a).ok_or_else(lost)?;
+        i.checked_sub(1).ok_or_else(lost)?
+    } else {
+        0
+    };
+    let last = if cut_b {
+        let i = k.iter().rposition(|&x| x == b).ok_or_else(lost)?;
+        i.checked_sub(p).ok_or_else(lost)?
+    } else {
+        pts.len() - 1
+    };
+    if last < first {
+        return Err(lost());
+    }
+    let mut knots = Vec::new();
+    if cut_a {
+        knots.push(a);
+    }
+    knots.extend_from_slice(&k[first + usize::from(cut_a)..=last + p + usize::from(!cut_b)]);
+    if cut_b {
+        knots.push(b);
+    }
+    NurbsCurve::new(
+        p,
+        knots,
+        pts[first..=last].to_vec(),
+        Some(w[first..=last].to_vec()),
+    )
+}
+
 /// Samples per non-empty knot span: `max(20, 4 (p + 1))`.
 pub fn samples_per_span(degree: usize) -> usize {
     20.max(4 * (degree + 1))
@@ -430,5 +483,35 @@ mod tests {
             e.contains("has no B-spline surface (found: 2 B-spline curves)"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn trimming_by_knot_insertion_keeps_the_points() {
+        let pts = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(3.0, -1.0, 0.5),
+            Vec3::new(4.0, 0.0, 0.0),
+            Vec3::new(5.0, 1.0, 1.0),
+        ];
+        let c = NurbsCurve::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0],
+            pts,
+            Some(vec![1.0, 2.0, 0.5, 1.0, 1.5]),
+        )
+        .unwrap();
+        let t = trimmed(c.clone(), 0.2, 0.7).unwrap();
+        assert_eq!(t.domain(), (0.2, 0.7));
+        for i in 0..=50 {
+            let u = 0.2 + 0.5 * i as f64 / 50.0;
+            assert!((t.point(u) - c.point(u)).norm() < 1e-13, "{u}");
+        }
+        let t = trimmed(c.clone(), 0.0, 0.7).unwrap();
+        assert_eq!(t.domain(), (0.0, 0.7));
+        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
+        let t = trimmed(c.clone(), 0.4, 1.0).unwrap();
+        assert_eq!(t.domain(), (0.4, 1.0));
+        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
     }
 }

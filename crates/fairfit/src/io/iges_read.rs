@@ -3,13 +3,15 @@
 //! Hand-written, like the writer ([`super::iges`]): no maintained small Rust crate parses IGES (the
 //! readers that exist live inside whole B-rep kernels). Read: the fixed 80-column ASCII form with its
 //! Start, Global, Directory Entry, Parameter Data and Terminate sections (CR LF line ends, short lines
-//! padded); the Global section's delimiters, model space scale (field 13; coordinates are divided by it,
-//! as the standard defines it as model / real-world size) and unit flag (field 14, and the unit name of
+//! padded); the Global section's delimiters, model space scale (field 13; the standard defines it as
+//! model / real-world size, so coordinates are divided by it: folded into the unit factor. OpenCASCADE
+//! ignores this field; nearly every writer puts 1.0) and unit flag (field 14, and the unit name of
 //! field 15 for flag 3); free-format parameters with Hollerith strings (`3Habc`), empty fields
 //! (defaults), `D` exponents (`1.5D-3`) and blanks inside numbers; a transformation matrix (entity 124,
 //! DE field 7, chained) applied to the control points; the parameter range `V(0), V(1)` of a 126 that
 //! trims the knot domain (the curve is cut there exactly by knot insertion). Curves flagged as
-//! parameter-space curves (entity use 05) or referenced as such by a 142 are skipped. Errors
+//! parameter-space curves (entity use 05) or referenced as such by a 142 (directly or as members of a
+//! 102 composite curve) are skipped. Errors
 //! ([`Error::Cad`]) name the section line or the DE.
 
 use super::cad_read::{CadContents, CadUnit};
@@ -380,54 +382,6 @@ fn normalised(w: Vec<f64>) -> Option<Vec<f64>> {
     (!all_equal).then_some(w)
 }
 
-/// `c` restricted to `[a, b]` (exact, by knot insertion), when that lies strictly inside its domain.
-fn trimmed(c: NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve> {
-    let (u0, u1) = c.domain();
-    let eps = 1e-12 * (u1 - u0);
-    let cut_a = a > u0 + eps && a < u1;
-    let cut_b = b < u1 - eps && b > u0;
-    if !(cut_a || cut_b) || b <= a {
-        return Ok(c);
-    }
-    let p = c.degree();
-    let mut c = c;
-    for (u, cut) in [(a, cut_a), (b, cut_b)] {
-        let m = c.knots().iter().filter(|&&k| k == u).count();
-        if cut && m < p {
-            c = c.insert_knot(u, p - m)?;
-        }
-    }
-    let k = c.knots();
-    let pts = c.control_points();
-    let w = c.weights();
-    let (first, last) = (
-        if cut_a {
-            k.iter().position(|&x| x == a).unwrap_or(0) - 1
-        } else {
-            0
-        },
-        if cut_b {
-            k.iter().rposition(|&x| x == b).unwrap_or(k.len() - 1) - p
-        } else {
-            pts.len() - 1
-        },
-    );
-    let mut knots = Vec::new();
-    if cut_a {
-        knots.push(a);
-    }
-    knots.extend_from_slice(&k[first + usize::from(cut_a)..=last + p + usize::from(!cut_b)]);
-    if cut_b {
-        knots.push(b);
-    }
-    NurbsCurve::new(
-        p,
-        knots,
-        pts[first..=last].to_vec(),
-        Some(w[first..=last].to_vec()),
-    )
-}
-
 fn curve(g: &Iges, de: usize) -> Result<NurbsCurve> {
     let e = &g.entries[de / 2];
     let mut p = Params {
@@ -449,7 +403,8 @@ fn curve(g: &Iges, de: usize) -> Result<NurbsCurve> {
     let (v0, v1) = (p.real("V(0)")?, p.real("V(1)")?);
     let c = NurbsCurve::new(m, knots, pts, normalised(weights))
         .map_err(|e| Error::Cad(format!("DE {de} (entity 126): {e}")))?;
-    trimmed(c, v0, v1).map_err(|e| Error::Cad(format!("DE {de} (entity 126): V(0), V(1): {e}")))
+    super::cad_read::trimmed(c, v0, v1)
+        .map_err(|e| Error::Cad(format!("DE {de} (entity 126): V(0), V(1): {e}")))
 }
 
 fn surface(g: &Iges, de: usize) -> Result<NurbsSurface> {
@@ -539,8 +494,8 @@ fn other_name(kind: u32) -> Option<(&'static str, bool)> {
     })
 }
 
-/// Reads every entity 126 and 128 of an IGES text, in DE order, with the unit (coordinates as written,
-/// divided by the model space scale).
+/// Reads every entity 126 and 128 of an IGES text, in DE order, with the unit (coordinates as written;
+/// the unit factor includes the division by the model space scale).
 pub fn contents(text: &str) -> Result<CadContents> {
     let g = split(text)?;
     let text_field = |i: usize| match g.global.get(i) {
@@ -553,7 +508,8 @@ pub fn contents(text: &str) -> Result<CadContents> {
     };
     let scale = num_field(12).filter(|s| *s > 0.0).unwrap_or(1.0);
     let unit = match num_field(13) {
-        None => CadUnit::undeclared(),
+        None if scale == 1.0 => CadUnit::undeclared(),
+        None => CadUnit::from_mm_per_unit(1.0 / scale),
         Some(f) => {
             let name = text_field(14);
             let mm = unit_mm(f as usize, &name).ok_or_else(|| {
@@ -561,16 +517,24 @@ pub fn contents(text: &str) -> Result<CadContents> {
                     "Global section: unit flag {f} (name '{name}') is not an IGES length unit"
                 ))
             })?;
-            CadUnit::from_mm_per_unit(mm)
+            CadUnit::from_mm_per_unit(if scale == 1.0 { mm } else { mm / scale })
         }
     };
-    // parameter-space curves referenced by curves on surfaces (142: CRTN, SPTR, BPTR, ...)
+    // parameter-space curves referenced by curves on surfaces (142: CRTN, SPTR, BPTR, ...), and the
+    // members of a composite curve (102: N, DE1, ..., DEN) that BPTR points at
     let mut param_curves = BTreeSet::new();
     for (k, e) in g.entries.iter().enumerate() {
         if e.kind == 142 {
             if let Some(Field::Token(t)) = g.params(2 * k + 1)?.get(3) {
                 if let Ok(ptr) = t.parse::<usize>() {
                     param_curves.insert(ptr);
+                    if g.entry(ptr).is_some_and(|c| c.kind == 102) {
+                        for f in g.params(ptr)?.iter().skip(2) {
+                            if let Field::Token(t) = f {
+                                param_curves.extend(t.parse::<usize>().ok());
+                            }
+                        }
+                    }
                 }
             }
         }
@@ -583,22 +547,10 @@ pub fn contents(text: &str) -> Result<CadContents> {
         let de = 2 * k + 1;
         match e.kind {
             126 if e.use_flag != 5 && !param_curves.contains(&de) => {
-                let c = curve(&g, de)?;
-                let c = if scale == 1.0 {
-                    c
-                } else {
-                    crate::nurbs::scale::scaled_curve(&c, 1.0 / scale)?
-                };
-                out.curves.push((format!("DE {de}"), c));
+                out.curves.push((format!("DE {de}"), curve(&g, de)?));
             }
             128 => {
-                let s = surface(&g, de)?;
-                let s = if scale == 1.0 {
-                    s
-                } else {
-                    crate::nurbs::scale::scaled_surface(&s, 1.0 / scale)?
-                };
-                out.surfaces.push((format!("DE {de}"), s));
+                out.surfaces.push((format!("DE {de}"), surface(&g, de)?));
             }
             kind => {
                 if let Some((name, is_surface)) = other_name(kind) {
@@ -646,35 +598,5 @@ mod tests {
         assert_eq!(unit_mm(6, ""), Some(1000.0));
         assert_eq!(unit_mm(3, "IN"), Some(25.4));
         assert_eq!(unit_mm(12, ""), None);
-    }
-
-    #[test]
-    fn trimming_by_knot_insertion_keeps_the_points() {
-        let pts = vec![
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 2.0, 0.0),
-            Vec3::new(3.0, -1.0, 0.5),
-            Vec3::new(4.0, 0.0, 0.0),
-            Vec3::new(5.0, 1.0, 1.0),
-        ];
-        let c = NurbsCurve::new(
-            3,
-            vec![0.0, 0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0, 1.0],
-            pts,
-            Some(vec![1.0, 2.0, 0.5, 1.0, 1.5]),
-        )
-        .unwrap();
-        let t = trimmed(c.clone(), 0.2, 0.7).unwrap();
-        assert_eq!(t.domain(), (0.2, 0.7));
-        for i in 0..=50 {
-            let u = 0.2 + 0.5 * i as f64 / 50.0;
-            assert!((t.point(u) - c.point(u)).norm() < 1e-13, "{u}");
-        }
-        let t = trimmed(c.clone(), 0.0, 0.7).unwrap();
-        assert_eq!(t.domain(), (0.0, 0.7));
-        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
-        let t = trimmed(c.clone(), 0.4, 1.0).unwrap();
-        assert_eq!(t.domain(), (0.4, 1.0));
-        assert!((t.point(0.55) - c.point(0.55)).norm() < 1e-13);
     }
 }

@@ -185,6 +185,14 @@ pub fn read_geometry(path: impl AsRef<Path>) -> Result<Geometry> {
         path: path.display().to_string(),
         message: "not a UTF-8 text file (expected fairfit JSON)".into(),
     })?;
+    let start = text.trim_start();
+    if !start.is_empty() && !start.starts_with('{') {
+        return Err(Error::Json(format!(
+            "{}: not a fairfit curve or surface (expected fairfit JSON, STEP .step/.stp or IGES \
+             .igs/.iges; a point list is fitted first, e.g. by `fairfit curve`)",
+            path.display()
+        )));
+    }
     geometry_from_str(text).map_err(|e| match e {
         Error::Json(m) => Error::Json(format!("{}: {m}", path.display())),
         other => other,
@@ -247,5 +255,16 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("unknown kind"), "{e}");
+    }
+
+    #[test]
+    fn a_point_list_is_named_as_such() {
+        let path = std::env::temp_dir().join(format!("fairfit-json-{}.csv", std::process::id()));
+        std::fs::write(&path, "x,y\n0,0\n1,1\n").unwrap();
+        let e = read_geometry(&path).unwrap_err().to_string();
+        std::fs::remove_file(&path).ok();
+        assert!(e.contains("not a fairfit curve or surface"), "{e}");
+        assert!(e.contains("STEP") && e.contains("IGES"), "{e}");
+        assert_eq!(e.lines().count(), 1, "{e}");
     }
 }

@@ -316,7 +316,12 @@ struct Parser<'a> {
     lex: Lexer<'a>,
     peeked: Option<(Tok, usize)>,
     last_line: usize,
+    /// Nesting depth of the value being read (lists, typed parameters).
+    depth: usize,
 }
+
+/// Deepest nesting of lists accepted (B-spline surfaces need 3; a hostile file must not exhaust the stack).
+const MAX_DEPTH: usize = 64;
 
 impl<'a> Parser<'a> {
     fn peek(&mut self) -> Result<Option<&Tok>> {
@@ -382,6 +387,19 @@ impl<'a> Parser<'a> {
     }
 
     fn value(&mut self, context: &str) -> Result<Value> {
+        if self.depth >= MAX_DEPTH {
+            return Err(syntax(
+                self.lex.line,
+                format!("lists nested deeper than {MAX_DEPTH} in {context}"),
+            ));
+        }
+        self.depth += 1;
+        let v = self.value_inner(context);
+        self.depth -= 1;
+        v
+    }
+
+    fn value_inner(&mut self, context: &str) -> Result<Value> {
         Ok(match self.bump(context)? {
             Tok::Number(x) => Value::Number(x),
             Tok::Str(s) => Value::Str(s),
@@ -448,6 +466,7 @@ pub fn parse(text: &str) -> Result<Exchange> {
         },
         peeked: None,
         last_line: 1,
+        depth: 0,
     };
     match p.peek().ok().flatten() {
         Some(Tok::Keyword(k)) if k == "ISO-10303-21" => {
@@ -652,6 +671,9 @@ mod tests {
             e.contains("line 6") && e.contains("expected a value"),
             "{e}"
         );
+        let deep = format!("#1=FOO({}1{});", "(".repeat(100_000), ")".repeat(100_000));
+        let e = parse(&wrap(&deep)).unwrap_err().to_string();
+        assert!(e.contains("nested deeper than 64"), "{e}");
         let e = parse(&wrap("#1=FOO(1);\n#1=FOO(2);"))
             .unwrap_err()
             .to_string();

@@ -8,7 +8,8 @@
 //! knots ISO 10303-42 implies, and `CARTESIAN_POINT` with 2 or 3 coordinates (z = 0 for 2). Knots come
 //! as distinct values plus multiplicities and are expanded. Curves that only describe a trim in a
 //! surface's parameter space (items of a `DEFINITIONAL_REPRESENTATION`, the `PCURVE`s CAD systems write
-//! beside every face) are skipped. The length unit is the one of the file's
+//! beside every face) are skipped. A `TRIMMED_CURVE` of a B-spline with `PARAMETER_VALUE` trims gives the
+//! B-spline cut there exactly (an edge's sub-range given only by its vertices is not cut). The length unit is the one of the file's
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: an `SI_UNIT` metre with any prefix, or a `CONVERSION_BASED_UNIT`
 //! (inch, foot, ...) followed through its `LENGTH_MEASURE_WITH_UNIT` to the SI unit. Coordinates are
 //! returned as written; [`super::cad_read`] converts them.
@@ -418,19 +419,72 @@ fn parameter_space_items(x: &Exchange) -> BTreeSet<u64> {
     out
 }
 
+/// The parameter of a trimming select list (`(#5, PARAMETER_VALUE(0.2))`), if it has one.
+fn trim_parameter(v: Option<&Value>) -> Option<f64> {
+    v?.as_list()?.iter().find_map(|t| match t {
+        Value::Typed(name, inner) if name == "PARAMETER_VALUE" => inner.as_f64(),
+        _ => None,
+    })
+}
+
+/// A `TRIMMED_CURVE` of a B-spline curve trimmed by parameters: the basis curve cut exactly at them
+/// (reversed for sense `.F.`), or `None` for other trimmed curves (the basis is then read uncut).
+fn trimmed_curve(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<(u64, NurbsCurve)>> {
+    let Some(t) = inst.part("TRIMMED_CURVE") else {
+        return Ok(None);
+    };
+    let Some(basis) = t.params.get(1).and_then(Value::as_ref_id) else {
+        return Ok(None);
+    };
+    let Some(b) = x.data.get(&basis) else {
+        return Ok(None);
+    };
+    let (Some(t1), Some(t2)) = (
+        trim_parameter(t.params.get(2)),
+        trim_parameter(t.params.get(3)),
+    ) else {
+        return Ok(None);
+    };
+    let Some(c) = curve(x, basis, b)? else {
+        return Ok(None);
+    };
+    let sense = !matches!(t.params.get(4), Some(Value::Enum(e)) if e == "F");
+    let (lo, hi) = if sense { (t1, t2) } else { (t2, t1) };
+    if lo >= hi {
+        // a trim across the seam of a periodic curve: read the whole basis curve
+        return Ok(None);
+    }
+    let c = super::cad_read::trimmed(c, lo, hi).map_err(|e| err(id, inst, e))?;
+    Ok(Some((basis, if sense { c } else { c.reversed() })))
+}
+
 /// Reads every B-spline curve and surface of a parsed STEP file, in instance order, with the unit.
+/// A `TRIMMED_CURVE` of a B-spline by parameter values stands for its basis curve, cut to the trim.
 pub fn contents(x: &Exchange) -> Result<CadContents> {
     let mut out = CadContents {
         unit: length_unit(x)?,
         ..CadContents::default()
     };
     let skip = parameter_space_items(x);
+    let mut trims = std::collections::BTreeMap::new();
+    for (&id, inst) in &x.data {
+        if !skip.contains(&id) {
+            if let Some((basis, c)) = trimmed_curve(x, id, inst)? {
+                trims.insert(id, (basis, c));
+            }
+        }
+    }
+    let cut: BTreeSet<u64> = trims.values().map(|(basis, _)| *basis).collect();
     for (&id, inst) in &x.data {
         if let Some(s) = surface(x, id, inst)? {
             out.surfaces.push((format!("#{id}"), s));
             continue;
         }
-        if skip.contains(&id) {
+        if skip.contains(&id) || cut.contains(&id) {
+            continue;
+        }
+        if let Some((basis, c)) = trims.remove(&id) {
+            out.curves.push((format!("#{id} (trimmed #{basis})"), c));
             continue;
         }
         if let Some(c) = curve(x, id, inst)? {
