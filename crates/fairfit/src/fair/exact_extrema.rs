@@ -247,31 +247,14 @@ pub fn alternations(iv: &[SignInterval], factor: f64) -> Vec<usize> {
 }
 
 /// The Bernstein coefficients `(x, y)` of knot span `s` of the degree-`p` B-spline with the
-/// local de Boor points `pts` (`P_{s−p} … P_s`): the blossoms `b_k = f(a^{p−k}, b^k)`.
+/// local de Boor points `pts` (`P_{s−p} … P_s`), one coordinate at a time by
+/// [`span_hodograph::bezier_piece`](super::span_hodograph::bezier_piece).
 fn bezier_piece(knots: &[f64], p: usize, s: usize, pts: &[[f64; 2]]) -> (Vec<f64>, Vec<f64>) {
-    let (a, b) = (knots[s], knots[s + 1]);
-    let mut x = Vec::with_capacity(p + 1);
-    let mut y = Vec::with_capacity(p + 1);
-    let mut d = pts.to_vec();
-    for k in 0..=p {
-        d.copy_from_slice(pts);
-        // de Boor's recurrence with the argument of level r: a for r ≤ p − k, else b
-        for r in 1..=p {
-            let u = if r <= p - k { a } else { b };
-            for j in (r..=p).rev() {
-                let i = s - p + j;
-                let den = knots[i + p + 1 - r] - knots[i];
-                let al = if den > 0.0 { (u - knots[i]) / den } else { 0.0 };
-                d[j] = [
-                    (1.0 - al) * d[j - 1][0] + al * d[j][0],
-                    (1.0 - al) * d[j - 1][1] + al * d[j][1],
-                ];
-            }
-        }
-        x.push(d[p][0]);
-        y.push(d[p][1]);
-    }
-    (x, y)
+    let coordinate = |c: usize| -> Vec<f64> {
+        let vals: Vec<f64> = pts.iter().map(|q| q[c]).collect();
+        super::span_hodograph::bezier_piece(knots, p, s, &vals)
+    };
+    (coordinate(0), coordinate(1))
 }
 
 /// `N = (x'y''' − y'x''')(x'² + y'²) − 3 (x'y'' − y'x'')(x'x'' + y'y'')` of the Bézier piece
