@@ -347,3 +347,22 @@ fn an_ellipse_as_nurbs_has_its_interior_vertices_as_exact_extrema() {
         assert_eq!(v["curvature_extrema"], 3, "{stdout}");
     }
 }
+
+#[test]
+fn a_space_curve_has_exact_extrema_and_no_exact_inflection_count() {
+    // (t, t², 3t³) on [−1, 1] as a cubic Bézier: not planar. Its curvature extrema are the roots of
+    // f'g − 3fg' (f = |C'×C''|², g = |C'|²): t = 0 and t = ±0.1816 (tests/exact_nurbs.rs), so 3.
+    // A space curve has no signed curvature: its inflections are only sampled, so the exact field
+    // is null rather than a sampled number under an exact name.
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [-1,-1,-1,-1,1,1,1,1],
+            "control_points": [[-1,1,-3],[-0.3333333333333333,-0.3333333333333333,3],
+                               [0.3333333333333333,-0.3333333333333333,-3],[1,1,3]]}"#,
+    );
+    let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["curvature_extrema_exact"], 3, "{stdout}");
+    assert!(v["inflections_exact"].is_null(), "{stdout}");
+    assert!(v["inflections"].is_u64(), "{stdout}");
+}

@@ -8,10 +8,11 @@
 //! deviation, fairness and timing.
 
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
+use super::info::{exact_extrema_json, exact_inflections_json};
 use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
-use fairfit::fair::{count_extrema_exact, count_inflections_exact, curve_fairness};
+use fairfit::fair::curve_fairness;
 use fairfit::fit::tolerance::{
     fit_to_tolerance, ClosedMode, FitOptions, FitResult, KnotRule, Tolerance,
 };
@@ -332,11 +333,9 @@ pub fn run(args: CurveArgs) -> CmdResult {
                     "fairness": f.fairness,
                     "max_span_fairness": f.max_span_fairness,
                     "curvature_extrema": f.curvature_extrema,
-                    "curvature_extrema_exact":
-                        count_extrema_exact(&out.curve, f.length).curvature_extrema,
+                    "curvature_extrema_exact": exact_extrema_json(&out.curve, f.length),
                     "inflections": f.inflections,
-                    "inflections_exact":
-                        count_inflections_exact(&out.curve, f.length).inflections,
+                    "inflections_exact": exact_inflections_json(&out.curve, f.length),
                     "wall_seconds": wall.elapsed().as_secs_f64(),
                 });
                 if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
@@ -397,9 +396,9 @@ fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_js
         "fairness": f.fairness,
         "max_span_fairness": f.max_span_fairness,
         "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": count_extrema_exact(&fit.curve, f.length).curvature_extrema,
+        "curvature_extrema_exact": exact_extrema_json(&fit.curve, f.length),
         "inflections": f.inflections,
-        "inflections_exact": count_inflections_exact(&fit.curve, f.length).inflections,
+        "inflections_exact": exact_inflections_json(&fit.curve, f.length),
         "solves": fit.solves,
         "smoothing_used": fit.smoothing_used,
         "fit_seconds": fit.fit_seconds,

@@ -77,10 +77,31 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "span_fairness": f.span_fairness,
         "bending_energy": f.bending_energy,
         "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": count_extrema_exact(c, f.length).curvature_extrema,
+        "curvature_extrema_exact": exact_extrema_json(c, f.length),
         "inflections": f.inflections,
-        "inflections_exact": count_inflections_exact(c, f.length).inflections,
+        "inflections_exact": exact_inflections_json(c, f.length),
     })
+}
+
+/// The exact curvature-extrema count, or `null` where only the sampled fallback exists.
+pub(crate) fn exact_extrema_json(c: &NurbsCurve, length: f64) -> Value {
+    let e = count_extrema_exact(c, length);
+    if e.exact {
+        json!(e.curvature_extrema)
+    } else {
+        Value::Null
+    }
+}
+
+/// The exact inflection count, or `null` where only the sampled fallback exists (spatial curves:
+/// inflections are binormal reversals, counted only by sampling).
+pub(crate) fn exact_inflections_json(c: &NurbsCurve, length: f64) -> Value {
+    let e = count_inflections_exact(c, length);
+    if e.exact {
+        json!(e.inflections)
+    } else {
+        Value::Null
+    }
 }
 
 fn surface_info(s: &NurbsSurface, n_iso: usize) -> Result<Value, CliError> {
