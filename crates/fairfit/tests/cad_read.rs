@@ -6,6 +6,10 @@
 //! 200 parameters (curves) or a 15 x 15 grid (surfaces) agrees to 1e-12 relative to the geometry's size,
 //! and the knots, weights and control points come back bit for bit.
 
+#[path = "common/cad_fixtures.rs"]
+mod cad_fixtures;
+
+use cad_fixtures::{rational_curve, rational_surface};
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::cad_read::{read_cad, CadKind};
 use fairfit::io::iges::{curve_to_iges, surface_to_iges, IgesOptions};
@@ -48,38 +52,6 @@ fn fitted_closed() -> NurbsCurve {
     let fit = fit_to_tolerance(&closed, &FitOptions::default()).unwrap();
     assert!(fit.closed);
     fit.curve
-}
-
-fn rational_curve() -> NurbsCurve {
-    let pts = vec![
-        Vec3::new(0.0, 0.0, 0.0),
-        Vec3::new(12.5, 30.0, 1.0),
-        Vec3::new(40.0, 35.0, -2.0),
-        Vec3::new(70.0, 5.0, 3.0),
-        Vec3::new(95.0, 20.0, 0.5),
-        Vec3::new(120.0, 60.0, 8.0),
-    ];
-    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.55, 1.0, 1.0, 1.0, 1.0];
-    NurbsCurve::new(3, knots, pts, Some(vec![1.0, 0.8, 1.3, 1.0, 0.6, 1.0])).unwrap()
-}
-
-fn rational_surface() -> NurbsSurface {
-    let ku = vec![0.0, 0.0, 0.0, 0.0, 0.35, 0.7, 1.0, 1.0, 1.0, 1.0];
-    let kv = vec![0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0];
-    let net = (0..6)
-        .map(|i| {
-            (0..4)
-                .map(|j| {
-                    let (x, y) = (i as f64 * 20.0, j as f64 * 15.0);
-                    Vec3::new(x + 0.1 * y, y, 8.0 * (x / 50.0).sin() * (y / 40.0).cos())
-                })
-                .collect()
-        })
-        .collect();
-    let w = (0..6)
-        .map(|i| (0..4).map(|j| 1.0 + 0.2 * ((i + j) % 3) as f64).collect())
-        .collect();
-    NurbsSurface::new(3, 2, ku, kv, net, Some(w)).unwrap()
 }
 
 fn periodic_surface() -> NurbsSurface {
@@ -179,7 +151,7 @@ fn curves_round_trip_through_step_and_iges() {
 fn surfaces_round_trip_through_step_and_iges() {
     let d = dir("surfaces");
     for (name, s) in [
-        ("rational", rational_surface()),
+        ("rational", rational_surface(2)),
         ("periodic", periodic_surface()),
     ] {
         let step = d.join(format!("{name}.step"));
@@ -471,7 +443,7 @@ fn truncated_and_corrupted_files_never_panic() {
         ),
         (
             CadFormat::Step,
-            surface_to_step(&rational_surface(), &StepOptions::default()).unwrap(),
+            surface_to_step(&rational_surface(2), &StepOptions::default()).unwrap(),
         ),
         (
             CadFormat::Iges,

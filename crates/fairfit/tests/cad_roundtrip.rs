@@ -8,46 +8,18 @@
 //! (except under `CI=true`, where it fails); set but empty, pointing at no Python, or at one without
 //! OCP: the test fails.
 
+#[path = "common/cad_fixtures.rs"]
+mod cad_fixtures;
 #[path = "common/python.rs"]
 mod python;
+
+use cad_fixtures::{rational_curve, rational_surface};
 
 use fairfit::io::iges::{write_curve_iges, write_surface_iges, IgesOptions};
 use fairfit::io::samples::{curve_samples_json, surface_samples_json};
 use fairfit::io::step::{write_curve_step, write_surface_step, StepOptions};
-use fairfit::{NurbsCurve, NurbsSurface, Vec3};
+use fairfit::{NurbsSurface, Vec3};
 use std::path::{Path, PathBuf};
-
-fn curve() -> NurbsCurve {
-    let pts = vec![
-        Vec3::new(0.0, 0.0, 0.0),
-        Vec3::new(12.5, 30.0, 1.0),
-        Vec3::new(40.0, 35.0, -2.0),
-        Vec3::new(70.0, 5.0, 3.0),
-        Vec3::new(95.0, 20.0, 0.5),
-        Vec3::new(120.0, 60.0, 8.0),
-    ];
-    let knots = vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.55, 1.0, 1.0, 1.0, 1.0];
-    NurbsCurve::new(3, knots, pts, Some(vec![1.0, 0.8, 1.3, 1.0, 0.6, 1.0])).unwrap()
-}
-
-fn surface() -> NurbsSurface {
-    let ku = vec![0.0, 0.0, 0.0, 0.0, 0.35, 0.7, 1.0, 1.0, 1.0, 1.0];
-    let kv = vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0];
-    let net = (0..6)
-        .map(|i| {
-            (0..5)
-                .map(|j| {
-                    let (x, y) = (i as f64 * 20.0, j as f64 * 15.0);
-                    Vec3::new(x + 0.1 * y, y, 8.0 * (x / 50.0).sin() * (y / 40.0).cos())
-                })
-                .collect()
-        })
-        .collect();
-    let w = (0..6)
-        .map(|i| (0..5).map(|j| 1.0 + 0.2 * ((i + j) % 3) as f64).collect())
-        .collect();
-    NurbsSurface::new(3, 3, ku, kv, net, Some(w)).unwrap()
-}
 
 /// A rational quadratic full circle (9 points) swept along z and flared: closed in u (seam edge).
 fn tube() -> NurbsSurface {
@@ -147,7 +119,7 @@ fn blade() -> NurbsSurface {
 }
 
 fn write_files(dir: &Path) -> Vec<PathBuf> {
-    let (c, s) = (curve(), surface());
+    let (c, s) = (rational_curve(), rational_surface(3));
     let curve_samples = dir.join("curve.samples.json");
     std::fs::write(&curve_samples, curve_samples_json(&c, 120)).unwrap();
     let surface_samples = dir.join("surface.samples.json");
