@@ -51,8 +51,9 @@
 
 use super::bernstein;
 use super::energy::plane_normal;
-use super::exact_nurbs::{sign_intervals_nurbs, Signal};
+use super::exact_nurbs::{push_intervals, sign_intervals_nurbs, Signal};
 use super::extrema::{count_extrema_sampled, NOISE_ABS, NOISE_FLOOR};
+use super::span_hodograph::{origin_and_extent, plane_frame};
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Coefficients of `N` below this times the span's scale are rounding noise (see the module
@@ -144,23 +145,10 @@ pub fn sign_intervals(
         return;
     }
     // an in-plane frame (e1 × e2 = normal) and the control polygon's origin and extent
-    let t = if normal.x().abs() < 0.9 {
-        Vec3::new(1.0, 0.0, 0.0)
-    } else {
-        Vec3::new(0.0, 1.0, 0.0)
-    };
-    let e1 = {
-        let v = t - normal * t.dot(normal);
-        v / v.norm()
-    };
-    let e2 = normal.cross(e1);
-    let origin = ctrl[0];
-    let extent = ctrl
-        .iter()
-        .fold(0.0f64, |m, &q| m.max((q - origin).max_abs()));
-    if !(extent > 0.0 && extent.is_finite()) {
+    let (e1, e2) = plane_frame(normal);
+    let Some((origin, extent)) = origin_and_extent(ctrl) else {
         return;
-    }
+    };
     let local: Vec<[f64; 2]> = ctrl
         .iter()
         .map(|&q| {
@@ -185,27 +173,21 @@ pub fn sign_intervals(
                 &bernstein::mul(&y1, &y1),
             )
         };
-        roots.clear();
-        bernstein::sign_changes(&num, ZERO_REL * scale, &mut roots);
         // dκ/ds in the original units: the local coordinates are divided by `extent` (κ and
         // 1/s scale by `extent`, dκ/ds by its square); dκ/ds does not depend on the parameter,
         // so the span parameter t = (u − a)/(b − a) gives it as well as u
         let unit = 1.0 / (extent * extent);
-        let mut t0 = 0.0;
-        for k in 0..=roots.len() {
-            let t1 = roots.get(k).copied().unwrap_or(1.0);
-            if t1 > t0 {
-                if let Some((sign, peak)) = interval_peak(&num, &speed2, t0, t1) {
-                    out.push(SignInterval {
-                        u0: a + (b - a) * t0,
-                        u1: a + (b - a) * t1,
-                        sign,
-                        peak: peak * unit,
-                    });
-                }
+        // dκ/ds = N / |C'|³ on the span; undefined (skipped) where the speed vanishes
+        let dkappa_ds = |t: f64| {
+            let bv = bernstein::eval(&speed2, t);
+            if bv <= 0.0 {
+                f64::NAN
+            } else {
+                bernstein::eval(&num, t) / (bv * bv * bv)
             }
-            t0 = t1;
-        }
+        };
+        let zero = ZERO_REL * scale;
+        push_intervals(&num, zero, a, b, dkappa_ds, unit, &mut roots, out);
     }
 }
 
@@ -274,25 +256,6 @@ fn numerator(x: &[f64], y: &[f64]) -> (Vec<f64>, f64) {
         .chain(&ce)
         .fold(0.0f64, |m, v| m.max(v.abs() * 3.0));
     (combine(1.0, &ab, -3.0, &ce), scale)
-}
-
-/// Sign and peak `|N / B³|` (`B` = `speed2`) on Chebyshev nodes inside `(t0, t1)`; `None` when
-/// `N` is zero (or the speed vanishes) at every node.
-fn interval_peak(num: &[f64], speed2: &[f64], t0: f64, t1: f64) -> Option<(i8, f64)> {
-    let mut best: Option<(i8, f64)> = None;
-    for k in 0..PEAK_NODES {
-        let c = (std::f64::consts::PI * (k as f64 + 0.5) / PEAK_NODES as f64).cos();
-        let t = t0 + (t1 - t0) * 0.5 * (1.0 - c);
-        let (nv, bv) = (bernstein::eval(num, t), bernstein::eval(speed2, t));
-        let v = nv / (bv * bv * bv);
-        if !v.is_finite() || v == 0.0 || bv <= 0.0 {
-            continue;
-        }
-        if best.is_none_or(|(_, m)| v.abs() > m) {
-            best = Some((if v > 0.0 { 1 } else { -1 }, v.abs()));
-        }
-    }
-    best
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@
 //! or more) is not formed: the callers fall back to dense sampling.
 
 use super::bernstein;
-use super::curvature_numerators::{span_curvature, Numerator};
+use super::curvature_numerators::span_curvature;
 use super::exact_extrema::{SignInterval, PEAK_NODES};
 use super::span_hodograph::curve_hodographs;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -71,15 +71,27 @@ pub fn sign_intervals_nurbs(
             Signal::DkappaDs => sc.dkappa_ds(t),
             Signal::Kappa => sc.kappa(t),
         };
-        push_intervals(&num, h.a, h.b, value, unit, &mut roots, &mut out);
+        push_intervals(
+            &num.coeffs,
+            0.0,
+            h.a,
+            h.b,
+            value,
+            unit,
+            &mut roots,
+            &mut out,
+        );
     }
     Some(out)
 }
 
-/// Appends the sign intervals of the span `[a, b]` whose numerator is `num` and whose signal at
-/// span parameter `t` is `value(t)` (times `unit` in the curve's units).
-fn push_intervals(
-    num: &Numerator,
+/// Appends the sign intervals of the span `[a, b]` whose numerator has the Bernstein coefficients
+/// `num` (coefficients within `zero` of 0 count as 0) and whose signal at span parameter `t` is
+/// `value(t)` (times `unit` in the curve's units; NaN where undefined).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn push_intervals(
+    num: &[f64],
+    zero: f64,
     a: f64,
     b: f64,
     value: impl Fn(f64) -> f64,
@@ -88,7 +100,7 @@ fn push_intervals(
     out: &mut Vec<SignInterval>,
 ) {
     roots.clear();
-    bernstein::sign_changes(&num.coeffs, 0.0, roots);
+    bernstein::sign_changes(num, zero, roots);
     let mut t0 = 0.0;
     for k in 0..=roots.len() {
         let t1 = roots.get(k).copied().unwrap_or(1.0);

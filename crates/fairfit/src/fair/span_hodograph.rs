@@ -60,25 +60,11 @@ pub fn curve_hodographs(curve: &NurbsCurve, normal: Option<Vec3>) -> Option<Curv
     if p == 0 || n <= p || knots.len() != n + p + 1 {
         return None;
     }
-    let origin = ctrl[0];
-    let extent = ctrl
-        .iter()
-        .fold(0.0f64, |m, &q| m.max((q - origin).max_abs()));
-    if !(extent > 0.0 && extent.is_finite()) {
-        return None;
-    }
+    let (origin, extent) = origin_and_extent(ctrl)?;
     let axes: Vec<Vec3> = match normal {
         Some(nv) => {
-            let t = if nv.x().abs() < 0.9 {
-                Vec3::new(1.0, 0.0, 0.0)
-            } else {
-                Vec3::new(0.0, 1.0, 0.0)
-            };
-            let e1 = {
-                let v = t - nv * t.dot(nv);
-                v / v.norm()
-            };
-            vec![e1, nv.cross(e1)]
+            let (e1, e2) = plane_frame(nv);
+            vec![e1, e2]
         }
         None => vec![
             Vec3::new(1.0, 0.0, 0.0),
@@ -152,6 +138,30 @@ pub fn span_hodograph(
         e1,
         weight,
     }
+}
+
+/// The control polygon's origin (its first point) and extent (largest coordinate distance from it),
+/// the local coordinates' origin and unit; `None` when the extent is zero or not finite.
+pub(crate) fn origin_and_extent(ctrl: &[Vec3]) -> Option<(Vec3, f64)> {
+    let origin = ctrl[0];
+    let extent = ctrl
+        .iter()
+        .fold(0.0f64, |m, &q| m.max((q - origin).max_abs()));
+    (extent > 0.0 && extent.is_finite()).then_some((origin, extent))
+}
+
+/// An in-plane frame `(e1, e2)` with `e1 × e2 = normal` for the unit `normal`.
+pub(crate) fn plane_frame(normal: Vec3) -> (Vec3, Vec3) {
+    let t = if normal.x().abs() < 0.9 {
+        Vec3::new(1.0, 0.0, 0.0)
+    } else {
+        Vec3::new(0.0, 1.0, 0.0)
+    };
+    let e1 = {
+        let v = t - normal * t.dot(normal);
+        v / v.norm()
+    };
+    (e1, normal.cross(e1))
 }
 
 /// The Bernstein coefficients of knot span `s` of the degree-`p` scalar B-spline with the local
