@@ -11,8 +11,10 @@ use clap::{Args, ValueEnum};
 use fairfit::io::cad_read::{
     read_cad, sample_curve, samples_per_span, CadFormat, CadGeometry, CadKind,
 };
+use fairfit::io::cad_sections::read_cad_sections as read_sections;
 use fairfit::io::{read_geometry, read_points, Geometry, PointSet};
-use std::path::Path;
+use fairfit::surface::Section;
+use std::path::{Path, PathBuf};
 
 /// Which kind of entity to take from a CAD file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Default)]
@@ -48,7 +50,7 @@ impl CadInputArgs {
     }
 
     /// Refuses `--index` / `--entity` for an input that is no CAD file.
-    fn check_not_cad(&self, path: &Path) -> Result<(), CliError> {
+    pub(crate) fn check_not_cad(&self, path: &Path) -> Result<(), CliError> {
         if self.index.is_some() || self.entity.is_some() {
             return Err(CliError::usage(format!(
                 "--index and --entity choose an entity of a STEP or IGES file, and {} is neither \
@@ -134,4 +136,64 @@ pub fn read_curve_points(path: &Path, args: &CadInputArgs) -> Result<PointSet, C
         name: Some(g.source),
         lednicer: false,
     })
+}
+
+/// Sections with their names (`#12`, `DE 7`, `#30 at v = 0.25`).
+pub type NamedSections = (Vec<Section>, Vec<String>);
+
+/// The sections `fairfit surface` skins from one STEP or IGES file (`fairfit::io::cad_sections`), with
+/// their names, or `None` when the input is no CAD file. One `note:` line says what was taken.
+pub fn read_cad_sections(
+    input: &[PathBuf],
+    args: &CadInputArgs,
+) -> Result<Option<NamedSections>, CliError> {
+    let Some(path) = input.iter().find(|p| CadFormat::from_path(p).is_some()) else {
+        if let Some(first) = input.first() {
+            args.check_not_cad(first)?;
+        }
+        return Ok(None);
+    };
+    if input.len() != 1 {
+        return Err(CliError::usage(format!(
+            "{} is a STEP/IGES file: its curves are all the sections, so give it as the only input",
+            path.display()
+        )));
+    }
+    let s = read_sections(path, args.kind(CadKind::Any), args.index)?;
+    let unit = if s.unit.name != "mm" {
+        format!("; coordinates converted from {} to mm", s.unit.name)
+    } else {
+        String::new()
+    };
+    let what = match &s.surface {
+        Some((src, i, n)) => {
+            let choice = if *n > 1 {
+                format!(" ({} of {n}; choose with --index 0..{})", i + 1, n - 1)
+            } else {
+                String::new()
+            };
+            format!(
+                "re-fairing B-spline surface {src}{choice} through {} of its v-iso-curves (--entity curve takes the file's curves instead)",
+                s.sections.len()
+            )
+        }
+        None => format!(
+            "{} sections from its B-spline curves in file order",
+            s.sections.len()
+        ),
+    };
+    eprintln!("note: {}: {what}{unit}", path.display());
+    let mut sections = Vec::with_capacity(s.sections.len());
+    let mut names = Vec::with_capacity(s.sections.len());
+    for (name, pts) in s.sections {
+        if pts.len() < 3 {
+            return Err(CliError::new(format!(
+                "{}: the curve {name} is a single point, not a section",
+                path.display()
+            )));
+        }
+        sections.push(Section::from_points(pts));
+        names.push(name);
+    }
+    Ok(Some((sections, names)))
 }

@@ -49,7 +49,8 @@ pub enum Order {
 /// Arguments of `fairfit surface`.
 #[derive(Args, Debug)]
 pub struct SurfaceArgs {
-    /// Section files or folders (all .csv/.txt/.dat/.xyz files, sorted by name); with --slices, one mesh
+    /// Section files or folders (all .csv/.txt/.dat/.xyz files, sorted by name); or one STEP/IGES file
+    /// (its B-spline curves in file order, or one B-spline surface to re-fair); with --slices, one mesh
     /// or point cloud (.ply, .stl, .obj, .xyz, .csv).
     #[arg(required = true)]
     pub input: Vec<PathBuf>,
@@ -68,7 +69,8 @@ pub struct SurfaceArgs {
     /// Axis perpendicular to the slicing planes (and the stacking axis for --order axis).
     #[arg(long, value_enum, default_value = "z")]
     pub axis: Axis,
-    /// Order of section files: by name, or by position along --axis / --normal.
+    /// Order of section files: by name (a CAD file's curves: file order), or by position along --axis
+    /// / --normal.
     #[arg(long, value_enum, default_value = "name")]
     pub order: Order,
     /// Slicing (or stacking) plane normal "nx,ny,nz" (overrides --axis).
@@ -104,6 +106,10 @@ pub struct SurfaceArgs {
     /// Write a JSON report of the measures here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// A STEP/IGES input: its B-spline curves are the sections (--entity curve), or the v-iso-curves of
+    /// its B-spline surface are (--entity surface, --index; the default when it holds one).
+    #[command(flatten)]
+    pub cad: super::cad_input::CadInputArgs,
     /// CAD, mesh, plot and HTML outputs.
     #[command(flatten)]
     pub outputs: OutputArgs,
@@ -194,20 +200,11 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
             args.input[0].display()
         )));
     }
-    let files = expand_section_inputs(&args.input)?;
-    let mut sections = Vec::with_capacity(files.len());
-    for f in &files {
-        let pts = read_section_file(f)?;
-        if pts.len() < 3 {
-            return Err(CliError::new(format!(
-                "{}: a section needs at least 3 points, got {}",
-                f.display(),
-                pts.len()
-            )));
-        }
-        sections.push(Section::from_points(pts));
-    }
-    let mut names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    let (mut sections, mut names) =
+        match super::cad_input::read_cad_sections(&args.input, &args.cad)? {
+            Some(cad) => cad,
+            None => read_section_files(&args.input)?,
+        };
     if args.order == Order::Axis {
         let n = stacking_normal(args)?;
         if n.norm() <= 0.0 {
@@ -235,6 +232,27 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         gaps: Vec::new(),
         empty_planes: Vec::new(),
     })
+}
+
+/// The sections of section files and folders, with the file names.
+fn read_section_files(input: &[PathBuf]) -> Result<(Vec<Section>, Vec<String>), CliError> {
+    let files = expand_section_inputs(input)?;
+    let mut sections = Vec::with_capacity(files.len());
+    for f in &files {
+        let pts = read_section_file(f)?;
+        if pts.len() < 3 {
+            return Err(CliError::new(format!(
+                "{}: a section needs at least 3 points, got {}",
+                f.display(),
+                pts.len()
+            )));
+        }
+        sections.push(Section::from_points(pts));
+    }
+    Ok((
+        sections,
+        files.iter().map(|f| f.display().to_string()).collect(),
+    ))
 }
 
 /// Runs `fairfit surface`.

@@ -242,6 +242,14 @@ pub fn select(
 /// name the file.
 pub fn read_cad(path: impl AsRef<Path>, kind: CadKind, index: usize) -> Result<CadGeometry> {
     let path = path.as_ref();
+    let contents = read_contents(path)?;
+    select(contents, kind, index, &path.display().to_string())
+}
+
+/// Reads and parses a STEP or IGES file: everything [`parse_cad`] finds, coordinates as written (the
+/// unit not applied). Errors are one line and name the file.
+pub fn read_contents(path: impl AsRef<Path>) -> Result<CadContents> {
+    let path = path.as_ref();
     let file = path.display().to_string();
     let format = CadFormat::from_path(path).ok_or_else(|| {
         Error::Cad(format!(
@@ -251,11 +259,10 @@ pub fn read_cad(path: impl AsRef<Path>, kind: CadKind, index: usize) -> Result<C
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
     // CAD files are ASCII; stray Latin-1 bytes in names or comments must not stop the read
     let text = String::from_utf8_lossy(&bytes);
-    let contents = parse_cad(&text, format).map_err(|e| match e {
+    parse_cad(&text, format).map_err(|e| match e {
         Error::Cad(m) => Error::Cad(format!("{file}: {m}")),
         other => other,
-    })?;
-    select(contents, kind, index, &file)
+    })
 }
 
 /// `c` restricted to `[a, b]` (exact, by knot insertion), when that lies strictly inside its domain

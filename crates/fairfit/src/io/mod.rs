@@ -5,6 +5,7 @@ pub mod atomic;
 pub mod cad_check;
 pub mod cad_common;
 pub mod cad_read;
+pub mod cad_sections;
 pub mod iges;
 pub mod iges_read;
 pub mod json;

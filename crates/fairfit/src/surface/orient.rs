@@ -1,6 +1,7 @@
 //! Consistent orientation and aligned seams of section polylines before they are made compatible, so a
 //! skinned surface does not twist: every section runs the same way round (sign of its Newell normal
-//! along the stacking direction) and every closed section starts where the others do (the point farthest
+//! along the stacking direction; an open section whose chord is at least a quarter of its extent runs
+//! along the first such section's chord instead) and every closed section starts where the others do (the point farthest
 //! from its centroid in a common reference direction, unless its own start already lies within 45° of it).
 
 use crate::nurbs::Vec3;
@@ -60,6 +61,12 @@ impl Section {
         n
     }
 
+    /// End minus start of an open section whose chord is at least a quarter of its extent.
+    fn long_chord(&self) -> Option<Vec3> {
+        let (&a, &b) = (self.points.first()?, self.points.last()?);
+        (!self.closed && (b - a).norm() >= 0.25 * extent(&self.points)).then_some(b - a)
+    }
+
     fn distinct(&self) -> &[Vec3] {
         if self.closed && self.points.len() > 1 {
             &self.points[..self.points.len() - 1]
@@ -111,7 +118,17 @@ pub fn align_sections(sections: &mut [Section]) -> Vec<(bool, usize)> {
         sections[0].newell_normal()
     };
     let sign0 = sections[0].newell_normal().dot(axis).signum();
+    // open sections with a clear chord follow the first such one's chord: the area normal of a flat
+    // open section flips with a small wiggle across its chord (CAD iso-curves of a wavy surface)
+    let ref_chord = sections.iter().find_map(Section::long_chord);
     for (s, ch) in sections.iter_mut().zip(changes.iter_mut()) {
+        if let (Some(c), Some(r)) = (s.long_chord(), ref_chord) {
+            if c.dot(r) < 0.0 {
+                s.reverse();
+                ch.0 = true;
+            }
+            continue;
+        }
         let sg = s.newell_normal().dot(axis).signum();
         if sg != 0.0 && sign0 != 0.0 && sg != sign0 {
             s.reverse();
@@ -181,5 +198,34 @@ mod tests {
             assert!(sec.points[1].y() > 0.0);
             assert!(sec.newell_normal().z() > 0.0);
         }
+    }
+
+    #[test]
+    fn flat_open_sections_follow_their_chords() {
+        // open sections in the planes y = k, bulging by a_k sin(pi x) in z: the area normal (along y)
+        // flips with the sign of a_k, the chord does not; the third runs backwards
+        let open = |y: f64, a: f64, backwards: bool| {
+            let mut p: Vec<Vec3> = (0..=30)
+                .map(|i| {
+                    let x = i as f64 / 30.0;
+                    Vec3::new(x, y, a * (std::f64::consts::PI * x).sin())
+                })
+                .collect();
+            if backwards {
+                p.reverse();
+            }
+            Section::from_points(p)
+        };
+        let mut s = vec![
+            open(0.0, 0.1, false),
+            open(1.0, -0.1, false),
+            open(2.0, 0.05, true),
+            open(3.0, -0.02, false),
+        ];
+        assert!(s[0].newell_normal().y() * s[1].newell_normal().y() < 0.0);
+        let ch = align_sections(&mut s);
+        let reversed: Vec<bool> = ch.iter().map(|c| c.0).collect();
+        assert_eq!(reversed, vec![false, false, true, false]);
+        assert!(s.iter().all(|sec| sec.points[0].x() == 0.0));
     }
 }
