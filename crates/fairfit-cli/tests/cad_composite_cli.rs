@@ -95,6 +95,38 @@ fn the_chain_is_refitted_within_tolerance_and_the_corner_kept() {
     }
 }
 
+/// `info` names what it read: the composite and its segments, and the unit of a file in inches.
+#[test]
+fn info_names_the_source() {
+    let info = |p: &Path| -> serde_json::Value {
+        let out = fairfit().arg("info").arg(p).output().unwrap();
+        assert!(out.status.success());
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let v = info(&fixture());
+    assert_eq!(
+        v["source"],
+        serde_json::json!({"format": "STEP", "entity": "#49 (composite of 3 segments)",
+            "kind": "composite curve", "segments": 3, "index": 0, "count": 1, "unit": "mm",
+            "unit_declared": true, "mm_per_unit": 1.0})
+    );
+    assert_eq!(v["domain"], serde_json::json!([0.2, 3.0]));
+    let inch = fixture().with_file_name("handwritten_inch.step");
+    let v = info(&inch);
+    assert_eq!(
+        (
+            &v["source"]["kind"],
+            &v["source"]["unit"],
+            &v["source"]["mm_per_unit"]
+        ),
+        (
+            &serde_json::json!("B-spline surface"),
+            &serde_json::json!("inch"),
+            &serde_json::json!(25.4)
+        )
+    );
+}
+
 #[test]
 fn a_composite_with_a_gap_is_no_curve_but_a_chain() {
     let dir = tempfile::tempdir().unwrap();

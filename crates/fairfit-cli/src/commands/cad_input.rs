@@ -98,11 +98,41 @@ fn read_noted(path: &Path, kind: CadKind, args: &CadInputArgs) -> Result<CadGeom
 
 /// The geometry of a JSON, STEP or IGES file (for `info`, `eval`, `plot`, `export`).
 pub fn read_input(path: &Path, args: &CadInputArgs) -> Result<Geometry, CliError> {
-    if CadFormat::from_path(path).is_none() {
+    Ok(read_input_with_source(path, args)?.0)
+}
+
+/// The geometry of a JSON, STEP or IGES file, and for a CAD file what was read (`info`'s `source`):
+/// `{"format", "entity", "kind", "segments", "index", "count", "unit", "unit_declared", "mm_per_unit"}`,
+/// where `mm_per_unit` is the factor the coordinates were multiplied by (1 for millimetres).
+pub fn read_input_with_source(
+    path: &Path,
+    args: &CadInputArgs,
+) -> Result<(Geometry, Option<serde_json::Value>), CliError> {
+    let Some(format) = CadFormat::from_path(path) else {
         args.check_not_cad(path)?;
-        return Ok(read_geometry(path)?);
-    }
-    Ok(read_noted(path, args.kind(CadKind::Any), args)?.geometry)
+        return Ok((read_geometry(path)?, None));
+    };
+    let g = read_noted(path, args.kind(CadKind::Any), args)?;
+    let kind = match g.geometry {
+        Geometry::Curve(_) if g.segments > 1 => "composite curve",
+        Geometry::Curve(_) => "B-spline curve",
+        Geometry::Surface(_) => "B-spline surface",
+    };
+    let source = serde_json::json!({
+        "format": match format {
+            CadFormat::Step => "STEP",
+            CadFormat::Iges => "IGES",
+        },
+        "entity": g.source,
+        "kind": kind,
+        "segments": g.segments,
+        "index": g.index,
+        "count": g.count,
+        "unit": g.unit.name,
+        "unit_declared": g.unit.declared,
+        "mm_per_unit": g.unit.mm_per_unit,
+    });
+    Ok((g.geometry, Some(source)))
 }
 
 /// The points `fairfit curve` fits: a point file as it is, or a B-spline curve of a STEP or IGES file
