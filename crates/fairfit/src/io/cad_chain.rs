@@ -226,6 +226,30 @@ mod tests {
     }
 
     #[test]
+    fn odd_segments_join_or_fail_without_panic() {
+        let line = |a: Vec3, b: Vec3| NurbsCurve::bspline(1, vec![0.0, 0.0, 1.0, 1.0], vec![a, b]);
+        let (a, b, c) = (
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+        );
+        // two lines: a degree-1 polyline with a C0 knot at 1
+        let j = join_segments(&[line(a, b).unwrap(), line(b, c).unwrap()]).unwrap();
+        assert_eq!(j.knots(), &[0.0, 0.0, 1.0, 2.0, 2.0]);
+        assert!((j.point(1.5) - Vec3::new(1.0, 0.5, 0.0)).norm() < 1e-15);
+        // a degree-0 piece (if the curve type admits one) must not panic
+        if let Ok(step) = NurbsCurve::bspline(0, vec![0.0, 1.0], vec![b]) {
+            let _ = join_segments(&[line(a, b).unwrap(), step.clone()]);
+            let _ = clamped(&step);
+            let _ = sample_chain(&[step]);
+        }
+        // a point-like segment between two lines
+        let dot = line(b, b).unwrap();
+        let j = join_segments(&[line(a, b).unwrap(), dot, line(b, c).unwrap()]).unwrap();
+        assert!((j.point(j.domain().1) - c).norm() < 1e-15);
+    }
+
+    #[test]
     fn unclamped_segments_are_clamped_first() {
         let pts: Vec<Vec3> = (0..5)
             .map(|i| Vec3::new(i as f64, (i * i) as f64 * 0.1, 0.0))
