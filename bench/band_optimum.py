@@ -578,16 +578,21 @@ def run_curve(csv, args):
 
 
 def run_own(csv, args, name, P, tol, frame, Q, tq, out, t0):
-    """--own: the band optimum at fairfit's OWN knots and count, from fairfit's default curve, for every
-    --signs mode (off: tolerance only; fixed / moving: curvature-extrema constraints from fairfit's curve,
-    Band.set_signs), end points pinned with --pin-ends. Records in out["own"]."""
+    """--own: the band optimum at the start curve's OWN knots and count, from that curve, for every --signs
+    mode (off: tolerance only; fixed / moving: curvature-extrema constraints from the start curve's sign
+    pattern, Band.set_signs), end points pinned with --pin-ends. The start curve is fairfit's default curve
+    (--own-start fairfit) or splprep's own curve (--own-start splprep: splprep's count and knots, and with
+    --signs fixed splprep's sign pattern, so the optimum has no more curvature extrema than splprep's curve).
+    Records in out["own"]; out["fairfit"] describes the start curve (key kept for --own-table)."""
     k, t, C = splprep_curve(P, tol)
     ms = measure.measure(k, t, C, None, P)
     out["splprep"] = {"n": len(C), "F": ms.F, "dev": ms.max_dev / tol, "extrema": ms.extrema}
     Fref = ms.F
     out["pinned"] = bool(args.pin_ends)
+    out["own_start"] = args.own_start
     out["own"] = []
-    ff = fairfit_curve(args.fairfit, csv, args.rel_tol, extra=args.fairfit_args.split())
+    ff = (k, t, C) if args.own_start == "splprep" else \
+        fairfit_curve(args.fairfit, csv, args.rel_tol, extra=args.fairfit_args.split())
     if ff is None:
         return out
     kf, tf, Cf = ff
@@ -595,8 +600,8 @@ def run_own(csv, args, name, P, tol, frame, Q, tq, out, t0):
     out["fairfit"] = {"n": len(Cf), "k": kf, "F": mf.F, "ratio": mf.F / Fref, "dev": mf.max_dev / tol,
                       "extrema": mf.extrema}
     tn, X0 = normalise_param(kf, tf, Cf), frame.to(Cf)
-    print(f"{name}: splprep n={len(C)} F={Fref:.4g} extrema {ms.extrema}; fairfit n={len(Cf)} k={kf} ratio "
-          f"{mf.F / Fref:.4f} extrema {mf.extrema}", flush=True)
+    print(f"{name}: splprep n={len(C)} F={Fref:.4g} extrema {ms.extrema}; start ({args.own_start}) n={len(Cf)} "
+          f"k={kf} ratio {mf.F / Fref:.4f} extrema {mf.extrema}", flush=True)
     for mode in args.signs.split(","):
         band = Band(Q, tq, kf, tn)
         if args.pin_ends:
@@ -606,12 +611,12 @@ def run_own(csv, args, name, P, tol, frame, Q, tq, out, t0):
         ts = time.time()
         X, u, res, nit = band.solve(X0, feet(kf, tn, X0, Q), Fref, maxiter=args.maxiter)
         m = verify(kf, tn, X, frame, P)
-        rec = {"start": f"fairfit own signs={mode}", "signs": mode, "k": kf, "n": band.n, "F": m.F,
+        rec = {"start": f"{args.own_start} own signs={mode}", "signs": mode, "k": kf, "n": band.n, "F": m.F,
                "ratio": m.F / Fref, "gain": 1 - m.F / mf.F, "dev": m.max_dev / tol,
                "ok": bool(m.max_dev <= tol * (1 + 1e-6)), "iters": int(nit), "status": res.message,
                "seconds": round(time.time() - ts, 1), "extrema": m.extrema, "inflections": m.inflections,
                "knots": list(tn), "ctrl": X.tolist()}
-        print(f"  [own signs={mode}] F={m.F:.4g} ratio {m.F / Fref:.4f} (fairfit {mf.F / Fref:.4f}, gain "
+        print(f"  [own signs={mode}] F={m.F:.4g} ratio {m.F / Fref:.4f} (start {mf.F / Fref:.4f}, gain "
               f"{100 * rec['gain']:.2f} %) dev/tol {m.max_dev / tol:.5f} extrema {m.extrema} it={nit} "
               f"{rec['seconds']}s ({res.message})", flush=True)
         out["own"].append(rec)
@@ -620,8 +625,9 @@ def run_own(csv, args, name, P, tol, frame, Q, tq, out, t0):
 
 
 def own_table(jsonls):
-    """Markdown table of --own runs: per curve fairfit's ratio and extrema and each signs mode's best verified
-    ratio (extrema), from --json files."""
+    """Markdown table of --own runs: per curve (and start curve, --own-start) the start's ratio and extrema
+    (fairfit's default curve, or splprep's: "(from splprep)") and each signs mode's best verified ratio
+    (extrema), from --json files."""
     rows, modes = {}, []
     for path in jsonls:
         with open(path, encoding="utf-8") as fh:
@@ -631,7 +637,9 @@ def own_table(jsonls):
                 r = json.loads(line)
                 if "own" not in r or "fairfit" not in r:
                     continue
-                row = rows.setdefault(r["name"], {"r": r, "runs": {}})
+                start = r.get("own_start", "fairfit")
+                label = r["name"] + ("" if start == "fairfit" else f" (from {start})")
+                row = rows.setdefault(label, {"r": r, "runs": {}})
                 for x in r["own"]:
                     modes += [x["signs"]] if x["signs"] not in modes else []
                     y = row["runs"].get(x["signs"])
@@ -773,6 +781,8 @@ def main(argv=None):
                     help="only write the per-curve best ratios of the comma-separated --json files to OUT")
     ap.add_argument("--own", action="store_true", help="only the band optimum at fairfit's own knots and count, "
                     "from fairfit's default curve (one run per --signs mode)")
+    ap.add_argument("--own-start", choices=["fairfit", "splprep"], default="fairfit", help="with --own: the start "
+                    "curve (its knots, count and sign pattern): fairfit's default curve or splprep's own curve")
     ap.add_argument("--signs", default="off,fixed", help="with --own: comma-separated modes of the curvature-extrema "
                     "constraints: off, fixed (fairfit's sign pattern of dkappa/ds), moving (its sign changes may move)")
     ap.add_argument("--sign-samples", type=int, default=192, help="samples per span of the sign constraints "

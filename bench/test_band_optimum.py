@@ -117,6 +117,32 @@ def test_sign_constraints_count_the_measurers_extrema_and_have_the_right_gradien
         assert np.max(np.abs(fd - J[:, i])) < 1e-5 * np.max(np.abs(J))
 
 
+def test_own_start_splprep_holds_splprep_count_and_sign_pattern(tmp_path=None):
+    # --own --own-start splprep --signs fixed: the run starts from splprep's own curve (its count, F ratio 1 by
+    # definition) and the optimum, verified by measure.py, meets the tolerance, keeps splprep's count, has no
+    # more curvature extrema than splprep's curve and is fairer than the start
+    import json
+    import tempfile
+
+    d = str(tmp_path or tempfile.mkdtemp())
+    os.makedirs(os.path.join(d, "synthetic"), exist_ok=True)
+    s = np.linspace(0, 1, 40)
+    # a curve with a curvature peak that is not symmetric (skewed ellipse arc)
+    P = np.c_[np.cos(2.6 * s) + 0.15 * s**2, 0.35 * np.sin(2.6 * s) + 0.05 * s]
+    np.savetxt(os.path.join(d, "synthetic", "skew.csv"), P, delimiter=",", header="x,y", comments="")
+    out = os.path.join(d, "r.jsonl")
+    assert bo.main(["--own", "--own-start", "splprep", "--signs", "fixed", "--data", d, "--only", "skew",
+                    "--maxiter", "30", "--json", out]) == 0
+    r = json.loads(open(out).read().splitlines()[0])
+    assert r["own_start"] == "splprep"
+    assert r["fairfit"]["n"] == r["splprep"]["n"] and abs(r["fairfit"]["ratio"] - 1) < 1e-12
+    (x,) = r["own"]
+    assert x["signs"] == "fixed" and x["n"] == r["splprep"]["n"]
+    assert x["ok"] and x["dev"] <= 1.0
+    assert x["extrema"] <= r["splprep"]["extrema"]
+    assert x["ratio"] < 0.99
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):

@@ -77,6 +77,25 @@ impl From<KnotArg> for KnotRule {
     }
 }
 
+/// `--ends`: the end condition of an open curve (integrated method).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EndsArg {
+    /// The curve starts and ends exactly at the first and last points.
+    Pinned,
+    /// The curve's end points may move within the tolerance of the first and last points, like
+    /// every other point (fairer curves where the data end at high curvature).
+    Free,
+}
+
+impl From<EndsArg> for fairfit::optim::integrated::EndCondition {
+    fn from(e: EndsArg) -> Self {
+        match e {
+            EndsArg::Pinned => Self::Pinned,
+            EndsArg::Free => Self::Free,
+        }
+    }
+}
+
 /// `--degree`: a fixed degree, or `auto` (the integrated method's degree search).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DegreeArg {
@@ -166,6 +185,11 @@ pub struct CurveArgs {
     /// programming inside the tolerance band).
     #[arg(long)]
     pub no_band_fairing: bool,
+    /// Integrated method, open curves: whether the curve's end points stay on the first and last
+    /// points (`pinned`) or may move within the tolerance of them (`free`); closed curves have no
+    /// ends, and the pieces between corners stay joined at their corner points.
+    #[arg(long, value_enum, default_value_t = EndsArg::Pinned)]
+    pub ends: EndsArg,
     /// Parameter-correction rounds per least-squares fit.
     #[arg(long, default_value_t = 0)]
     pub correction_rounds: usize,
@@ -261,6 +285,9 @@ pub fn run(args: CurveArgs) -> CmdResult {
         return Err(CliError::usage(
             "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair",
         ));
+    }
+    if args.ends == EndsArg::Free && args.method != Method::Integrated {
+        return Err(CliError::usage("--ends free needs --method integrated"));
     }
     let set = super::cad_input::read_curve_points(&args.input, &args.cad)?;
     if set.dropped_duplicates > 0 {

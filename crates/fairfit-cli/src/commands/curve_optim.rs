@@ -70,6 +70,7 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
             fairfit::fit::tolerance::ClosedMode::Auto
         },
         band_fairing: !args.no_band_fairing,
+        ends: args.ends.into(),
         ..IntegratedOptions::default()
     }
 }
@@ -87,6 +88,8 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     let mut report = json!({
         "method": "integrated",
         "closed": closed,
+        // a closed curve has no ends
+        "ends": (!closed).then(|| format!("{:?}", args.ends).to_lowercase()),
         "control_points": fairfit::optim::closed::distinct_control_points(&r.curve),
         "tolerance": r.tolerance,
         "tolerance_met": r.met,

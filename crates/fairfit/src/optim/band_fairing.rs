@@ -7,7 +7,9 @@
 //!
 //! - **Variables**: the interior control points `P_1 … P_{n−2}` (x, y for planar data, else x, y, z).
 //!   The end points stay fixed: the least-squares fit interpolates the data's end points, and the
-//!   measurers count the ends as exact.
+//!   measurers count the ends as exact. With [`BandOptions::ends`] = [`EndCondition::Free`] they
+//!   move too, and the data's end points get the cones `‖P_0 − Q_0‖ ≤ ρ`, `‖P_{n−1} − Q_{m−1}‖ ≤ ρ`
+//!   (feet held at the curve's ends, whole distance: [`ControlMap::end_point`]).
 //! - **Constraints**: for every interior data point `Q_i` with its current foot parameter `u_i`,
 //!   `‖C(u_i) − Q_i‖₂ ≤ ρ_i` with `ρ_i = max(tol (1 − margin), ‖C₀(u_i) − Q_i‖)` (a point outside
 //!   the band, possible only at a fixed control-point count, may not get worse). `C(u_i)` is linear
@@ -53,7 +55,7 @@
 //! usually fall with it.
 
 use super::band_qp::BandQp;
-use super::control_map::ControlMap;
+use super::control_map::{ControlMap, EndCondition};
 use super::curvature_signs::target_signs;
 use super::objective::{
     speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X, MAX_DEGREE,
@@ -95,6 +97,9 @@ pub struct BandOptions {
     /// Gauss node (0.5 % of the span in) is a pair of real curvature extrema that neither the nodes
     /// nor the measurer's 192 samples per span see ([`crate::fair::exact_extrema`]).
     pub edge_signs: bool,
+    /// Whether an open curve's end points stay on the data's end points or move within the band
+    /// ([`EndCondition`]; [`band_fair`] only, a mapped call takes its map's).
+    pub ends: EndCondition,
 }
 
 impl Default for BandOptions {
@@ -108,6 +113,7 @@ impl Default for BandOptions {
             keep_extrema: true,
             extrema_persistence: 0.03,
             edge_signs: true,
+            ends: EndCondition::Pinned,
         }
     }
 }
@@ -580,9 +586,9 @@ fn residual(d: &[Vec3; 4], c_w: f64, planar: bool) -> f64 {
     }
 }
 
-/// Fairs the control points in `ws.ctrl` (knots `ws.knots` and end points fixed) so that `F`
-/// decreases while every data point stays within `tol` (or within its starting distance, if
-/// larger). `start` holds the data's parameters on the current curve (projection seeds). On return
+/// Fairs the control points in `ws.ctrl` (knots `ws.knots` fixed, and the end points unless
+/// [`BandOptions::ends`] frees them) so that `F` decreases while every data point stays within
+/// `tol` (or within its starting distance, if larger). `start` holds the data's parameters on the current curve (projection seeds). On return
 /// `ws` holds the faired curve, its power form and foot parameters.
 pub fn band_fair(
     data: &FitData,
@@ -591,7 +597,7 @@ pub fn band_fair(
     tol: f64,
     opts: &BandOptions,
 ) -> BandFaired {
-    let map = ControlMap::open(ws.ctrl.len(), data.points.len());
+    let map = ControlMap::open_ends(ws.ctrl.len(), data.points.len(), opts.ends);
     band_fair_mapped(data, ws, start, tol, opts, &map)
 }
 
@@ -741,7 +747,12 @@ pub fn band_fair_mapped(
                 ci += ctrl[s - p + j] * basis[j];
                 tan += ctrl[s - p + j] * basis[p + 1 + j];
             }
-            let frame = local_frame(tan, data.planar, opts.tangent_weight);
+            let weight = if map.end_point(i) {
+                1.0
+            } else {
+                opts.tangent_weight
+            };
+            let frame = local_frame(tan, data.planar, weight);
             now_dev[i] = frame.iter().map(|f| f.dot(ci).powi(2)).sum::<f64>().sqrt();
             cone_of[i] = qp.cones();
             let mut h = [0.0; 4];

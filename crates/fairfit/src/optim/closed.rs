@@ -86,6 +86,8 @@ pub fn fit_if_closed(
     let prep = prepare(&pts, opts.degree)?;
     let open = IntegratedOptions {
         closed: ClosedMode::Open,
+        // the open curve from a corner back to it closes there
+        ends: super::integrated::EndCondition::Pinned,
         ..opts.clone()
     };
     if let Some(angle) = opts.corner_angle_deg {

@@ -8,6 +8,12 @@
 //! - **open curves** ([`ControlMap::open`]): the interior control points themselves (`M` the
 //!   identity on `P_1 … P_{n−2}`); the end points stay where the least-squares fit put them (on the
 //!   data's end points), and the data's end points are not measured.
+//! - **open curves with free ends** ([`ControlMap::open_ends`] with [`EndCondition::Free`]): every
+//!   control point, the end points `P_0`, `P_{n−1}` included. The data's end points are measured
+//!   at the curve's end points (`‖P_0 − Q_0‖`, `‖P_{n−1} − Q_{m−1}‖`, the feet held at 0 and 1;
+//!   [`ControlMap::end_point`]): that distance bounds their orthogonal distance, so the tolerance
+//!   holds, and the curve's ends stay within the tolerance of the data's ends (the curve still
+//!   spans the data, as the band optimum of `bench/band_optimum.py` requires).
 //! - **periodic curves** ([`ControlMap::periodic`]): the `n_u` distinct control points of the
 //!   periodic curve. Its clamped form (same geometry, knots inserted at the seam, as the periodic
 //!   measure uses) has `n_u + p` control points, the first and last `p` of which are combinations of
@@ -23,6 +29,22 @@ use crate::nurbs::knots::find_span;
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::ops::Range;
 
+/// Whether the end points of an open curve move in the final fairing stages (module doc).
+///
+/// Only open curves have end points; a closed (periodic) curve has none, and the option does not
+/// apply to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EndCondition {
+    /// The curve's end points stay on the data's first and last points (the least-squares fit
+    /// interpolates them).
+    #[default]
+    Pinned,
+    /// The curve's end points move with the other control points, each within the tolerance of
+    /// its data end point, like every other data point (the least-squares start still interpolates
+    /// them).
+    Free,
+}
+
 /// The movable points of a clamped B-spline and how it is measured (module doc).
 #[derive(Clone, Debug)]
 pub struct ControlMap {
@@ -35,12 +57,33 @@ pub struct ControlMap {
     /// For a periodic curve, the number of distinct data points `m` (the measure data repeat the
     /// first point at index `m`).
     seam: Option<usize>,
+    /// For an open curve with free ends, the number of data points `m`: the data's end points are
+    /// measured at the curve's end points.
+    ends: Option<usize>,
 }
 
 impl ControlMap {
     /// The interior control points of an open clamped curve with `n_ctrl` control points fitted to
     /// `m_points` data points with interpolated ends.
     pub fn open(n_ctrl: usize, m_points: usize) -> ControlMap {
+        ControlMap::open_ends(n_ctrl, m_points, EndCondition::Pinned)
+    }
+
+    /// The control points of an open clamped curve with `n_ctrl` control points fitted to
+    /// `m_points` data points: with [`EndCondition::Pinned`] the interior ones ([`ControlMap::open`]),
+    /// with [`EndCondition::Free`] all of them, every data point constrained (module doc).
+    pub fn open_ends(n_ctrl: usize, m_points: usize, ends: EndCondition) -> ControlMap {
+        if ends == EndCondition::Free && n_ctrl >= 2 && m_points >= 2 {
+            let cols = (0..n_ctrl).map(|j| vec![(j, 1.0)]).collect();
+            let rows = (0..n_ctrl).map(|j| vec![(j, 1.0)]).collect();
+            return ControlMap {
+                cols,
+                rows,
+                free: 0..m_points,
+                seam: None,
+                ends: Some(m_points),
+            };
+        }
         let inner = 1..n_ctrl.saturating_sub(1).max(1);
         let cols: Vec<Vec<(usize, f64)>> = inner.clone().map(|j| vec![(j, 1.0)]).collect();
         let rows = (0..n_ctrl)
@@ -57,6 +100,7 @@ impl ControlMap {
             rows,
             free: 1..m_points.saturating_sub(1).max(1),
             seam: None,
+            ends: None,
         }
     }
 
@@ -99,6 +143,7 @@ impl ControlMap {
             rows,
             free: 0..m,
             seam: Some(m),
+            ends: None,
         })
     }
 
@@ -122,8 +167,15 @@ impl ControlMap {
         self.free.clone()
     }
 
+    /// Whether data point `i` is an end point measured at the curve's end ([`EndCondition::Free`]):
+    /// its foot stays at 0 or 1 and its whole distance counts (no sliding along the curve).
+    pub fn end_point(&self, i: usize) -> bool {
+        self.ends.is_some_and(|m| i == 0 || i + 1 == m)
+    }
+
     /// Measures the curve in `ws` ([`measure_current`], projections from `start`), for a periodic
-    /// curve with the first data point measured at the seam ([`ControlMap::with_seam`]).
+    /// curve with the first data point measured at the seam, for free ends with the end points
+    /// measured ([`ControlMap::with_seam`]).
     pub fn measure(&self, data: &FitData, start: &[f64], ws: &mut EvalWorkspace) -> CandidateEval {
         let e = measure_current(data, start, ws);
         self.with_seam(e, data, ws)
@@ -131,14 +183,18 @@ impl ControlMap {
 
     /// For a periodic curve, `e` (an open measure of the curve in `ws`, which takes the first data
     /// point and its repeat as interpolated) with the first point's distance from the curve near the
-    /// seam included; its foot goes to both ends of `ws.foot_params`. Unchanged for an open curve or
-    /// when `e` has no deviations.
+    /// seam included; its foot goes to both ends of `ws.foot_params`. For an open curve with free
+    /// ends, `e` with the end points' distances from the curve's ends included ([`with_ends`]).
+    /// Unchanged for an open curve with pinned ends or when `e` has no deviations.
     pub fn with_seam(
         &self,
         e: CandidateEval,
         data: &FitData,
         ws: &mut EvalWorkspace,
     ) -> CandidateEval {
+        if let Some(m) = self.ends {
+            return with_ends(e, data, ws, m);
+        }
         let Some(m) = self.seam else {
             return e;
         };
@@ -208,6 +264,32 @@ impl ControlMap {
             z[r] = if d == 0.0 { Vec3::ZERO } else { s * (1.0 / d) };
         }
         z
+    }
+}
+
+/// `e` (an open measure of the curve in `ws`, which takes the `m` data points' ends as
+/// interpolated) with the distances `‖P_0 − Q_0‖` and `‖P_{n−1} − Q_{m−1}‖` of the end points from
+/// the curve's end points included; their feet are set to 0 and 1. Unchanged when `e` has no
+/// deviations.
+fn with_ends(e: CandidateEval, data: &FitData, ws: &mut EvalWorkspace, m: usize) -> CandidateEval {
+    if !e.solved
+        || !e.max_deviation.is_finite()
+        || ws.foot_params.len() != m
+        || data.points.len() != m
+        || ws.ctrl.is_empty()
+    {
+        return e;
+    }
+    let d0 = (ws.ctrl[0] - data.points[0]).norm();
+    let d1 = (ws.ctrl[ws.ctrl.len() - 1] - data.points[m - 1]).norm();
+    ws.foot_params[0] = 0.0;
+    ws.foot_params[m - 1] = 1.0;
+    // the open measure averages over the m points with zeros at both ends
+    let sum2 = e.rms_deviation * e.rms_deviation * m as f64 + d0 * d0 + d1 * d1;
+    CandidateEval {
+        max_deviation: e.max_deviation.max(d0).max(d1),
+        rms_deviation: (sum2 / m as f64).sqrt(),
+        ..e
     }
 }
 
@@ -283,5 +365,53 @@ mod tests {
         let q = clamped.point(0.97) + Vec3::new(0.0, 1e-3, 0.0);
         let (d, u) = seam_foot(p, clamped.knots(), clamped.control_points(), q);
         assert!(d <= 1e-3 + 1e-12 && u > 0.9, "{d} {u}");
+    }
+
+    #[test]
+    fn free_ends_move_every_control_point_and_measure_the_data_ends_at_the_curve_ends() {
+        // a cubic on 12 points of y = x², its end control points moved off the data's ends by
+        // (0, 3e-4) and (−4e-4, 0): the free map must report those distances as the ends'
+        // deviations (the interior points' projections are unchanged), the pinned map not
+        use crate::optim::objective::{evaluate_candidate, set_knots};
+        let m = 12;
+        let points: Vec<Vec3> = (0..m)
+            .map(|i| {
+                let x = i as f64 / (m - 1) as f64;
+                Vec3::new(x, x * x, 0.0)
+            })
+            .collect();
+        let data = FitData {
+            points,
+            params: (0..m).map(|i| i as f64 / (m - 1) as f64).collect(),
+            degree: 3,
+            planar: true,
+            corrections: 0,
+        };
+        let mut ws = EvalWorkspace::default();
+        set_knots(3, &[0.5], &mut ws);
+        let e = evaluate_candidate(&data, f64::NEG_INFINITY, &mut ws);
+        assert!(e.solved && e.max_deviation < 1e-12, "{}", e.max_deviation);
+        let n = ws.ctrl.len();
+        ws.ctrl[0] += Vec3::new(0.0, 3e-4, 0.0);
+        ws.ctrl[n - 1] += Vec3::new(-4e-4, 0.0, 0.0);
+        let start = ws.foot_params.clone();
+        let pinned = ControlMap::open_ends(n, m, EndCondition::Pinned);
+        let free = ControlMap::open_ends(n, m, EndCondition::Free);
+        assert_eq!((pinned.vars(), free.vars()), (n - 2, n));
+        assert_eq!(free.free_points(), 0..m);
+        assert!(free.end_point(0) && free.end_point(m - 1) && !free.end_point(1));
+        assert!(!pinned.end_point(0));
+        let ep = pinned.measure(&data, &start, &mut ws);
+        let ef = free.measure(&data, &start, &mut ws);
+        // moving P_0 up by 3e-4 moves the first interior points by less than that
+        assert!(ep.max_deviation < 3e-4, "{}", ep.max_deviation);
+        assert!(
+            (ef.max_deviation - 4e-4).abs() < 1e-15,
+            "{}",
+            ef.max_deviation
+        );
+        let rms2 = (ep.rms_deviation.powi(2) * m as f64 + 9e-8 + 16e-8) / m as f64;
+        assert!((ef.rms_deviation - rms2.sqrt()).abs() < 1e-15);
+        assert_eq!((ws.foot_params[0], ws.foot_params[m - 1]), (0.0, 1.0));
     }
 }

@@ -232,6 +232,8 @@ fn piece_options(
         closed: ClosedMode::Open,
         control_points: count,
         seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
+        // the pieces are joined at their ends
+        ends: super::integrated::EndCondition::Pinned,
         ..opts.clone()
     }
 }

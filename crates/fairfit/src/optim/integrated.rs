@@ -23,6 +23,7 @@
 //! methods at equal control points.
 
 use super::band_fairing::{band_fair, refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
+pub use super::control_map::EndCondition;
 use super::count_search::{search_counts, CountFamily, CountStart};
 use super::descent::second_descent;
 use super::encoding::KnotEncoding;
@@ -99,6 +100,11 @@ pub struct IntegratedOptions {
     pub band_solves: usize,
     /// Most curve measurements of the polish.
     pub polish_evaluations: usize,
+    /// Whether the band fairing and the polish keep an open curve's end points on the data's first
+    /// and last points or move them within the tolerance ([`EndCondition`]). Not applicable to
+    /// closed curves (no end points); the pieces between corners keep theirs pinned (they are
+    /// joined there).
+    pub ends: EndCondition,
 }
 
 impl Default for IntegratedOptions {
@@ -123,6 +129,7 @@ impl Default for IntegratedOptions {
             polish_evaluations: PolishOptions::default().max_evaluations,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
             closed: crate::fit::tolerance::ClosedMode::Auto,
+            ends: EndCondition::Pinned,
         }
     }
 }
@@ -611,6 +618,8 @@ pub(crate) struct Finishing {
     pub band_solves: usize,
     /// Most polish measurements.
     pub polish_evaluations: usize,
+    /// The end condition of the band fairing and the polish.
+    pub ends: EndCondition,
 }
 
 /// The band fairing's subproblem budget under `opts` (0: no band fairing).
@@ -655,6 +664,7 @@ pub(crate) fn finish_curve(
         span_cap,
         band_solves: band,
         polish_evaluations,
+        ends,
     }) = polish_within
     {
         let mut refair_from = None;
@@ -663,6 +673,7 @@ pub(crate) fn finish_curve(
             let bo = BandOptions {
                 span_cap,
                 max_solves: band,
+                ends,
                 ..BandOptions::default()
             };
             // a stalled first pass: a second one would stall too (3 wasted solves)
@@ -677,6 +688,7 @@ pub(crate) fn finish_curve(
         let po = PolishOptions {
             span_cap,
             max_evaluations: polish_evaluations,
+            ends,
             ..PolishOptions::default()
         };
         let pol = polish(&prep.data, &mut ws, &start, tol, &po);
@@ -727,6 +739,7 @@ pub(crate) fn finish(
             span_cap: opts.span_fairness,
             band_solves: band_solves(opts),
             polish_evaluations: opts.polish_evaluations,
+            ends: opts.ends,
         }),
     )?;
     let met = quality.max_deviation <= tol * prep.scale

@@ -17,7 +17,7 @@
 //! Everything is sequential and deterministic (ties broken by index).
 
 use super::band_fairing::ExtremaCount;
-use super::control_map::ControlMap;
+use super::control_map::{ControlMap, EndCondition};
 use super::objective::{
     measure_move, measure_move_deviations, CandidateEval, EvalWorkspace, FitData, MeasureState,
     MAX_DEGREE,
@@ -43,6 +43,9 @@ pub struct PolishOptions {
     /// [`ExtremaCount`]): without it, moves that lower `F` put back the small curvature wiggles
     /// band fairing removed.
     pub keep_extrema: bool,
+    /// Whether an open curve's end points stay on the data's end points or move within the
+    /// tolerance ([`EndCondition`]; [`polish`] only, a mapped call takes its map's).
+    pub ends: EndCondition,
 }
 
 impl Default for PolishOptions {
@@ -54,6 +57,7 @@ impl Default for PolishOptions {
             max_evaluations: 2000,
             span_cap: None,
             keep_extrema: true,
+            ends: EndCondition::Pinned,
         }
     }
 }
@@ -97,9 +101,9 @@ pub struct Polished {
     pub evaluations: usize,
 }
 
-/// Polishes the control points in `ws.ctrl` (knots `ws.knots` fixed, end points fixed) so that `F`
-/// decreases while the maximum orthogonal deviation stays at most `allowed` (or the starting curve's,
-/// if larger). `start` holds the data's parameters on the current curve (projection seeds).
+/// Polishes the control points in `ws.ctrl` (knots `ws.knots` fixed, end points fixed unless
+/// [`PolishOptions::ends`] frees them) so that `F` decreases while the maximum orthogonal deviation
+/// stays at most `allowed` (or the starting curve's, if larger). `start` holds the data's parameters on the current curve (projection seeds).
 /// On return `ws` holds the polished curve, its power form and foot parameters.
 pub fn polish(
     data: &FitData,
@@ -108,7 +112,7 @@ pub fn polish(
     allowed: f64,
     opts: &PolishOptions,
 ) -> Polished {
-    let map = ControlMap::open(ws.ctrl.len(), data.points.len());
+    let map = ControlMap::open_ends(ws.ctrl.len(), data.points.len(), opts.ends);
     polish_mapped(data, ws, start, allowed, opts, &map)
 }
 
