@@ -172,6 +172,18 @@ fn sections_written_by_opencascade_are_skinned_within_the_tolerance() {
     let dev = max_distance(&s, &points(&c["curves"][0]));
     println!("face re-faired: OCC grid {dev:.3e} from it (tolerance {tol:.3e})");
     assert!(dev <= 1.02 * tol, "{dev} > {tol}");
+    // a wire of three edges is one composite curve (IGES 102): one section, too few
+    let o = d.join("o.json");
+    fails(
+        &[
+            "surface",
+            case("wire_mm.igs")["file"].as_str().unwrap(),
+            "-o",
+            o.to_str().unwrap(),
+        ],
+        1,
+        "holds 1 composite curve: a surface needs at least 2 sections",
+    );
 }
 
 fn fails(args: &[&str], code: i32, needle: &str) {

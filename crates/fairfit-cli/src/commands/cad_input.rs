@@ -8,8 +8,9 @@
 
 use super::CliError;
 use clap::{Args, ValueEnum};
+use fairfit::io::cad_chain::{open_gaps, sample_chain};
 use fairfit::io::cad_read::{
-    read_cad, sample_curve, samples_per_span, CadFormat, CadGeometry, CadKind,
+    read_cad, read_cad_chain, sample_curve, samples_per_span, CadFormat, CadGeometry, CadKind,
 };
 use fairfit::io::cad_sections::read_cad_sections as read_sections;
 use fairfit::io::{read_geometry, read_points, Geometry, PointSet};
@@ -66,6 +67,7 @@ impl CadInputArgs {
 fn read_noted(path: &Path, kind: CadKind, args: &CadInputArgs) -> Result<CadGeometry, CliError> {
     let g = read_cad(path, kind, args.index.unwrap_or(0))?;
     let what = match g.geometry {
+        Geometry::Curve(_) if g.segments > 1 => "composite curve (joined into one B-spline)",
         Geometry::Curve(_) => "B-spline curve",
         Geometry::Surface(_) => "B-spline surface",
     };
@@ -96,11 +98,41 @@ fn read_noted(path: &Path, kind: CadKind, args: &CadInputArgs) -> Result<CadGeom
 
 /// The geometry of a JSON, STEP or IGES file (for `info`, `eval`, `plot`, `export`).
 pub fn read_input(path: &Path, args: &CadInputArgs) -> Result<Geometry, CliError> {
-    if CadFormat::from_path(path).is_none() {
+    Ok(read_input_with_source(path, args)?.0)
+}
+
+/// The geometry of a JSON, STEP or IGES file, and for a CAD file what was read (`info`'s `source`):
+/// `{"format", "entity", "kind", "segments", "index", "count", "unit", "unit_declared", "mm_per_unit"}`,
+/// where `mm_per_unit` is the factor the coordinates were multiplied by (1 for millimetres).
+pub fn read_input_with_source(
+    path: &Path,
+    args: &CadInputArgs,
+) -> Result<(Geometry, Option<serde_json::Value>), CliError> {
+    let Some(format) = CadFormat::from_path(path) else {
         args.check_not_cad(path)?;
-        return Ok(read_geometry(path)?);
-    }
-    Ok(read_noted(path, args.kind(CadKind::Any), args)?.geometry)
+        return Ok((read_geometry(path)?, None));
+    };
+    let g = read_noted(path, args.kind(CadKind::Any), args)?;
+    let kind = match g.geometry {
+        Geometry::Curve(_) if g.segments > 1 => "composite curve",
+        Geometry::Curve(_) => "B-spline curve",
+        Geometry::Surface(_) => "B-spline surface",
+    };
+    let source = serde_json::json!({
+        "format": match format {
+            CadFormat::Step => "STEP",
+            CadFormat::Iges => "IGES",
+        },
+        "entity": g.source,
+        "kind": kind,
+        "segments": g.segments,
+        "index": g.index,
+        "count": g.count,
+        "unit": g.unit.name,
+        "unit_declared": g.unit.declared,
+        "mm_per_unit": g.unit.mm_per_unit,
+    });
+    Ok((g.geometry, Some(source)))
 }
 
 /// The points `fairfit curve` fits: a point file as it is, or a B-spline curve of a STEP or IGES file
@@ -115,27 +147,72 @@ pub fn read_curve_points(path: &Path, args: &CadInputArgs) -> Result<PointSet, C
             "fairfit curve re-fits a curve: --entity surface is not possible here",
         ));
     }
-    let g = read_noted(path, CadKind::Curve, args)?;
-    let Geometry::Curve(c) = &g.geometry else {
-        return Err(CliError::new("internal: a curve was asked for"));
+    let chain = read_cad_chain(path, args.index.unwrap_or(0))?;
+    if chain.segments.len() == 1 {
+        let g = read_noted(path, CadKind::Curve, args)?;
+        let Geometry::Curve(c) = &g.geometry else {
+            return Err(CliError::new("internal: a curve was asked for"));
+        };
+        let points = sample_curve(c);
+        eprintln!(
+            "note: {}: fitting {} points sampled on {} (degree {}, {} control points; {} per knot span)",
+            path.display(),
+            points.len(),
+            g.source,
+            c.degree(),
+            c.n_control_points(),
+            samples_per_span(c.degree())
+        );
+        return Ok(cad_points(points, g.source));
+    }
+    let points = sample_chain(&chain.segments);
+    let degrees: Vec<String> = chain
+        .segments
+        .iter()
+        .map(|c| c.degree().to_string())
+        .collect();
+    let choice = if chain.count > 1 {
+        format!(
+            " ({} of {} curves; choose with --index 0..{})",
+            chain.index + 1,
+            chain.count,
+            chain.count - 1
+        )
+    } else {
+        String::new()
     };
-    let points = sample_curve(c);
+    let unit = if chain.unit.name != "mm" {
+        format!("; coordinates converted from {} to mm", chain.unit.name)
+    } else {
+        String::new()
+    };
+    let gaps: Vec<String> = open_gaps(&chain.segments)
+        .into_iter()
+        .map(|(k, g)| format!("{g:.3e} mm between segments {} and {}", k + 1, k + 2))
+        .collect();
+    let gaps = if gaps.is_empty() {
+        String::new()
+    } else {
+        format!("; not joined where they are apart: {}", gaps.join(", "))
+    };
     eprintln!(
-        "note: {}: fitting {} points sampled on {} (degree {}, {} control points; {} per knot span)",
+        "note: {}: fitting {} points sampled on the composite curve {}{choice}, segments of degree {} joined in order{unit}{gaps}",
         path.display(),
         points.len(),
-        g.source,
-        c.degree(),
-        c.n_control_points(),
-        samples_per_span(c.degree())
+        chain.source,
+        degrees.join(", "),
     );
-    Ok(PointSet {
+    Ok(cad_points(points, chain.source))
+}
+
+fn cad_points(points: Vec<fairfit::Vec3>, source: String) -> PointSet {
+    PointSet {
         points,
         dropped_duplicates: 0,
         columns: 3,
-        name: Some(g.source),
+        name: Some(source),
         lednicer: false,
-    })
+    }
 }
 
 /// Sections with their names (`#12`, `DE 7`, `#30 at v = 0.25`).

@@ -8,6 +8,8 @@
 //! size, degrees, domains and the fairness of iso-parametric curves in both directions: `along_u` holds
 //! the curves `u ↦ S(u, v_k)` (the section curves of a skinned surface), `along_v` the curves
 //! `v ↦ S(u_k, v)`, as in the `iso_fairness` of the `fairfit surface` report (same count by default).
+//! For a STEP or IGES input, `source` says what was read: format, entity, kind, index among the
+//! entities of its kind and their count, and the unit (`mm_per_unit`: the factor applied to reach mm).
 
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
@@ -39,10 +41,14 @@ pub struct InfoArgs {
 pub fn run(args: InfoArgs) -> CmdResult {
     let mut out = Vec::with_capacity(args.input.len());
     for path in &args.input {
-        let mut v = match super::cad_input::read_input(path, &args.cad)? {
+        let (geometry, source) = super::cad_input::read_input_with_source(path, &args.cad)?;
+        let mut v = match geometry {
             Geometry::Curve(c) => curve_info(&c),
             Geometry::Surface(s) => surface_info(&s, args.iso as usize)?,
         };
+        if let (Some(src), Value::Object(m)) = (source, &mut v) {
+            m.insert("source".into(), src);
+        }
         if args.input.len() > 1 {
             if let Value::Object(m) = &mut v {
                 m.insert("file".into(), json!(path.display().to_string()));

@@ -166,6 +166,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
                 "--slices takes exactly one mesh or point-cloud file",
             ));
         }
+        args.cad.check_not_cad(&args.input[0])?;
         let normal = stacking_normal(args)?;
         let mesh = read_mesh(&args.input[0])?;
         let opts = SliceOptions {

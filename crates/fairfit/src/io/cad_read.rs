@@ -12,6 +12,7 @@
 //! (0-based, in file order) of that kind is returned with the count of its kind, so the caller can say
 //! how many there were.
 
+use super::cad_chain::{join_segments, CadComposite};
 use super::json::Geometry;
 use crate::errors::{Error, Result};
 use crate::nurbs::scale::{scaled_curve, scaled_surface};
@@ -96,8 +97,11 @@ impl Default for CadUnit {
 /// Everything fairfit reads from a CAD file, coordinates as written in the file's unit.
 #[derive(Clone, Debug, Default)]
 pub struct CadContents {
-    /// B-spline curves in file order, each with where it is (`#12` in STEP, `DE 7` in IGES).
+    /// B-spline curves in file order, each with where it is (`#12` in STEP, `DE 7` in IGES), without
+    /// the segments of the composites.
     pub curves: Vec<(String, NurbsCurve)>,
+    /// Composite curves of B-spline segments, in file order.
+    pub composites: Vec<CadComposite>,
     /// B-spline surfaces in file order, with where they are.
     pub surfaces: Vec<(String, NurbsSurface)>,
     /// Names of the other curve entities seen (`LINE`, `CIRCLE`, `110 (line)`, ...).
@@ -132,6 +136,42 @@ pub struct CadGeometry {
     pub count: usize,
     /// The file's unit.
     pub unit: CadUnit,
+    /// How many segments were joined into the curve (a composite curve), else 1.
+    pub segments: usize,
+}
+
+/// One curve entity taken from a CAD file, in millimetres: a B-spline curve, or a composite curve's
+/// segments in order.
+#[derive(Clone, Debug)]
+pub struct CadChain {
+    /// The segments (one for a single B-spline curve), oriented along the curve, in millimetres.
+    pub segments: Vec<NurbsCurve>,
+    /// Where it was in the file (`#12`, `DE 7 (composite of 3 segments)`).
+    pub source: String,
+    /// Its index among the curve entities (0-based).
+    pub index: usize,
+    /// How many curve entities the file holds.
+    pub count: usize,
+    /// The file's unit.
+    pub unit: CadUnit,
+}
+
+/// The curve entities of a file in file order: single B-splines as chains of one segment, composites
+/// as their segments (coordinates as written).
+pub fn curve_chains(
+    curves: Vec<(String, NurbsCurve)>,
+    composites: Vec<CadComposite>,
+) -> Vec<(String, Vec<NurbsCurve>)> {
+    let mut out = Vec::with_capacity(curves.len() + composites.len());
+    let mut comps = composites.into_iter().peekable();
+    for (i, (src, c)) in curves.into_iter().enumerate() {
+        while let Some(k) = comps.next_if(|k| k.after <= i) {
+            out.push((k.source, k.segments));
+        }
+        out.push((src, vec![c]));
+    }
+    out.extend(comps.map(|k| (k.source, k.segments)));
+    out
 }
 
 /// Parses the text of a STEP or IGES file.
@@ -156,6 +196,9 @@ fn found(c: &CadContents) -> String {
     if !c.curves.is_empty() {
         parts.push(plural(c.curves.len(), "B-spline curve"));
     }
+    if !c.composites.is_empty() {
+        parts.push(plural(c.composites.len(), "composite curve"));
+    }
     if !c.surfaces.is_empty() {
         parts.push(plural(c.surfaces.len(), "B-spline surface"));
     }
@@ -168,72 +211,127 @@ fn found(c: &CadContents) -> String {
     }
 }
 
+fn no_entity(contents: &CadContents, kind: CadKind, file: &str) -> Error {
+    let (what, advice) = if kind == CadKind::Curve {
+        (
+            "B-spline curve",
+            "export the edge as a B-spline (NURBS) curve",
+        )
+    } else {
+        (
+            "B-spline surface",
+            "export the face as a B-spline (NURBS) surface",
+        )
+    };
+    Error::Cad(format!(
+        "{file} has no {what} (found: {}); {advice}",
+        found(contents)
+    ))
+}
+
+fn out_of_range(n: usize, what: &str, index: usize, file: &str) -> Error {
+    Error::InvalidOption(format!(
+        "{file} holds {}; index {index} is out of range (0 to {})",
+        plural(n, what),
+        n - 1
+    ))
+}
+
+/// Takes the `index`-th curve entity (B-spline or composite curve, in file order) of `contents` and
+/// converts it to millimetres; `file` names the file in errors.
+pub fn select_chain(contents: CadContents, index: usize, file: &str) -> Result<CadChain> {
+    let n = contents.curves.len() + contents.composites.len();
+    if n == 0 {
+        return Err(no_entity(&contents, CadKind::Curve, file));
+    }
+    if index >= n {
+        let what = if contents.composites.is_empty() {
+            "B-spline curve"
+        } else {
+            "curve (B-spline or composite)"
+        };
+        return Err(out_of_range(n, what, index, file));
+    }
+    let f = contents.unit.mm_per_unit;
+    let (source, segments) = curve_chains(contents.curves, contents.composites).swap_remove(index);
+    let segments = if f == 1.0 {
+        segments
+    } else {
+        segments
+            .iter()
+            .map(|c| scaled_curve(c, f))
+            .collect::<Result<Vec<_>>>()
+            .map_err(|e| Error::Cad(format!("{file}: converting to mm: {e}")))?
+    };
+    Ok(CadChain {
+        segments,
+        source,
+        index,
+        count: n,
+        unit: contents.unit,
+    })
+}
+
 /// Takes the `index`-th entity of `kind` from `contents` and converts it to millimetres; `file` names
-/// the file in errors.
+/// the file in errors. A composite curve is joined into one B-spline
+/// ([`super::cad_chain::join_segments`]); one whose segments do not meet is an error.
 pub fn select(
     contents: CadContents,
     kind: CadKind,
     index: usize,
     file: &str,
 ) -> Result<CadGeometry> {
+    let has_curves = !(contents.curves.is_empty() && contents.composites.is_empty());
     let kind = match kind {
         CadKind::Any if contents.surfaces.is_empty() => CadKind::Curve,
-        CadKind::Any if !contents.surfaces.is_empty() => CadKind::Surface,
+        CadKind::Any => CadKind::Surface,
         k => k,
     };
-    let what = if kind == CadKind::Curve {
-        "B-spline curve"
-    } else {
-        "B-spline surface"
-    };
+    if kind == CadKind::Curve && has_curves {
+        let c = select_chain(contents, index, file)?;
+        let curve = match c.segments.len() {
+            1 => c.segments[0].clone(),
+            _ => join_segments(&c.segments).map_err(|e| {
+                Error::Cad(format!(
+                    "{file}: the composite curve {}: {e}; `fairfit curve` re-fits it as one chain of points",
+                    c.source
+                ))
+            })?,
+        };
+        return Ok(CadGeometry {
+            geometry: Geometry::Curve(curve),
+            source: c.source,
+            index,
+            count: c.count,
+            unit: c.unit,
+            segments: c.segments.len(),
+        });
+    }
     let n = if kind == CadKind::Curve {
-        contents.curves.len()
+        0
     } else {
         contents.surfaces.len()
     };
     if n == 0 {
-        let advice = if kind == CadKind::Curve {
-            "export the edge as a B-spline (NURBS) curve"
-        } else {
-            "export the face as a B-spline (NURBS) surface"
-        };
-        return Err(Error::Cad(format!(
-            "{file} has no {what} (found: {}); {advice}",
-            found(&contents)
-        )));
+        return Err(no_entity(&contents, kind, file));
     }
     if index >= n {
-        return Err(Error::InvalidOption(format!(
-            "{file} holds {}; index {index} is out of range (0 to {})",
-            plural(n, what),
-            n - 1
-        )));
+        return Err(out_of_range(n, "B-spline surface", index, file));
     }
     let f = contents.unit.mm_per_unit;
-    let convert = |e: Error| Error::Cad(format!("{file}: converting to mm: {e}"));
-    let (source, geometry) = if kind == CadKind::Curve {
-        let (src, c) = { contents.curves }.swap_remove(index);
-        let c = if f == 1.0 {
-            c
-        } else {
-            scaled_curve(&c, f).map_err(convert)?
-        };
-        (src, Geometry::Curve(c))
+    let (source, s) = { contents.surfaces }.swap_remove(index);
+    let s = if f == 1.0 {
+        s
     } else {
-        let (src, s) = { contents.surfaces }.swap_remove(index);
-        let s = if f == 1.0 {
-            s
-        } else {
-            scaled_surface(&s, f).map_err(convert)?
-        };
-        (src, Geometry::Surface(s))
+        scaled_surface(&s, f).map_err(|e| Error::Cad(format!("{file}: converting to mm: {e}")))?
     };
     Ok(CadGeometry {
-        geometry,
+        geometry: Geometry::Surface(s),
         source,
         index,
         count: n,
         unit: contents.unit,
+        segments: 1,
     })
 }
 
@@ -244,6 +342,14 @@ pub fn read_cad(path: impl AsRef<Path>, kind: CadKind, index: usize) -> Result<C
     let path = path.as_ref();
     let contents = read_contents(path)?;
     select(contents, kind, index, &path.display().to_string())
+}
+
+/// Reads the `index`-th curve entity (a B-spline or a composite curve, see [`select_chain`]) of a STEP
+/// or IGES file, in millimetres.
+pub fn read_cad_chain(path: impl AsRef<Path>, index: usize) -> Result<CadChain> {
+    let path = path.as_ref();
+    let contents = read_contents(path)?;
+    select_chain(contents, index, &path.display().to_string())
 }
 
 /// Reads and parses a STEP or IGES file: everything [`parse_cad`] finds, coordinates as written (the
@@ -275,6 +381,13 @@ pub(crate) fn trimmed(c: NurbsCurve, a: f64, b: f64) -> Result<NurbsCurve> {
     if !(cut_a || cut_b) || b <= a {
         return Ok(c);
     }
+    cut(c, a, b, cut_a, cut_b)
+}
+
+/// `c` cut at `a` (when `cut_a`) and at `b` (when `cut_b`), `a < b` inside or at the ends of its domain,
+/// by knot insertion to multiplicity `p` and dropping what lies outside (exact; also clamps an
+/// unclamped end).
+pub(crate) fn cut(c: NurbsCurve, a: f64, b: f64, cut_a: bool, cut_b: bool) -> Result<NurbsCurve> {
     let p = c.degree();
     let mut c = c;
     for (u, cut) in [(a, cut_a), (b, cut_b)] {

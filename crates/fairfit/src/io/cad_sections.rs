@@ -3,11 +3,15 @@
 //! re-fairs the surface.
 //!
 //! Curves: every curve of the file (in file order, in millimetres, see [`super::cad_read`]) is sampled
-//! as `fairfit curve` samples a CAD curve for re-fitting ([`sample_curve`]). Surface: the sections are
+//! as `fairfit curve` samples a CAD curve for re-fitting ([`sample_curve`]); a composite curve is one
+//! section, its segments sampled in order ([`sample_chain`]). Surface: the sections are
 //! the curves `u ↦ S(u, v_k)` at [`iso_section_count`] parameters `v_k` spread evenly over every
 //! non-empty v knot span, each sampled the same way.
 
-use super::cad_read::{read_contents, sample_curve, select, CadContents, CadKind, CadUnit};
+use super::cad_chain::sample_chain;
+use super::cad_read::{
+    curve_chains, read_contents, sample_curve, select, CadContents, CadKind, CadUnit,
+};
 use super::json::Geometry;
 use crate::errors::{Error, Result};
 use crate::nurbs::scale::scaled_curve;
@@ -108,12 +112,12 @@ pub fn cad_sections(
              B-spline curve of it is one section"
         )));
     }
-    let n = contents.curves.len();
+    let n = contents.curves.len() + contents.composites.len();
     if n < 2 {
-        let held = if n == 1 {
-            "1 B-spline curve".to_string()
-        } else {
-            "no B-spline curve".to_string()
+        let held = match (n, contents.composites.len()) {
+            (0, _) => "no B-spline curve",
+            (_, 0) => "1 B-spline curve",
+            _ => "1 composite curve",
         };
         return Err(Error::Cad(format!(
             "{file} holds {held}: a surface needs at least 2 sections; export every section as a \
@@ -121,17 +125,19 @@ pub fn cad_sections(
         )));
     }
     let f = unit.mm_per_unit;
-    let sections = contents
-        .curves
+    let sections = curve_chains(contents.curves, contents.composites)
         .into_iter()
-        .map(|(src, c)| {
-            let c = if f == 1.0 {
-                c
+        .map(|(src, segments)| {
+            let segments = if f == 1.0 {
+                segments
             } else {
-                scaled_curve(&c, f)
+                segments
+                    .iter()
+                    .map(|c| scaled_curve(c, f))
+                    .collect::<Result<Vec<_>>>()
                     .map_err(|e| Error::Cad(format!("{file}: converting to mm: {e}")))?
             };
-            Ok((src, sample_curve(&c)))
+            Ok((src, sample_chain(&segments)))
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(CadSections {

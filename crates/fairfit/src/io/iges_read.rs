@@ -14,6 +14,7 @@
 //! 102 composite curve) are skipped. Errors
 //! ([`Error::Cad`]) name the section line or the DE.
 
+use super::cad_chain::{orient_segments, CadComposite};
 use super::cad_read::{CadContents, CadUnit};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
@@ -442,6 +443,90 @@ fn surface(g: &Iges, de: usize) -> Result<NurbsSurface> {
         .map_err(|e| Error::Cad(format!("DE {de} (entity 128): {e}")))
 }
 
+/// A line (entity 110) as a B-spline of degree 1, moved by its transformation matrix.
+fn line(g: &Iges, de: usize) -> Result<NurbsCurve> {
+    let e = &g.entries[de / 2];
+    let mut p = Params {
+        f: g.params(de)?,
+        de,
+        next: 1,
+    };
+    let xf = transform(g, e.transform, 0)?;
+    let pts = p.points(2)?.into_iter().map(|q| apply(&xf, q)).collect();
+    NurbsCurve::bspline(1, vec![0.0, 0.0, 1.0, 1.0], pts)
+        .map_err(|e| Error::Cad(format!("DE {de} (entity 110): {e}")))
+}
+
+/// What a composite curve (entity 102) gives: its members as B-splines in order (126 curves, 110
+/// lines, nested 102s) with their DEs, or the name of a member kind fairfit does not read.
+enum Members {
+    Read(Vec<NurbsCurve>, Vec<usize>),
+    Unsupported(String),
+}
+
+fn composite(g: &Iges, de: usize, depth: usize) -> Result<Members> {
+    if depth > 8 {
+        return Err(Error::Cad(format!(
+            "DE {de}: composite curves nested more than 8 deep"
+        )));
+    }
+    let mut p = Params {
+        f: g.params(de)?,
+        de,
+        next: 1,
+    };
+    let n = p.int("the member count N")?;
+    let ptrs = (0..n)
+        .map(|_| p.int("a member pointer"))
+        .collect::<Result<Vec<_>>>()?;
+    let xf = transform(g, g.entries[de / 2].transform, 0)?;
+    let (mut segments, mut members) = (Vec::new(), Vec::new());
+    for m in ptrs {
+        let kind = g
+            .entry(m)
+            .ok_or_else(|| Error::Cad(format!("DE {de}: member DE {m} does not exist")))?
+            .kind;
+        members.push(m);
+        match kind {
+            126 => segments.push(curve(g, m)?),
+            110 => segments.push(line(g, m)?),
+            102 => match composite(g, m, depth + 1)? {
+                Members::Read(s, inner) => {
+                    segments.extend(s);
+                    members.extend(inner);
+                }
+                unsupported => return Ok(unsupported),
+            },
+            other => {
+                let name = other_name(other).map_or(format!("{other}"), |(n, _)| n.to_string());
+                return Ok(Members::Unsupported(format!(
+                    "102 (composite curve with a {name} member)"
+                )));
+            }
+        }
+    }
+    if segments.is_empty() {
+        return Err(Error::Cad(format!(
+            "DE {de}: a composite curve without members"
+        )));
+    }
+    if xf.is_some() {
+        segments = segments
+            .into_iter()
+            .map(|c| {
+                let pts = c.control_points().iter().map(|&q| apply(&xf, q)).collect();
+                NurbsCurve::new(
+                    c.degree(),
+                    c.knots().to_vec(),
+                    pts,
+                    c.is_rational().then(|| c.weights().to_vec()),
+                )
+            })
+            .collect::<Result<Vec<_>>>()?;
+    }
+    Ok(Members::Read(segments, members))
+}
+
 /// Millimetres per unit of IGES unit flag `flag` (field 14), or of the unit name (field 15) for flag 3.
 fn unit_mm(flag: usize, name: &str) -> Option<f64> {
     let by_name = |n: &str| match n.trim().to_ascii_uppercase().as_str() {
@@ -495,7 +580,9 @@ fn other_name(kind: u32) -> Option<(&'static str, bool)> {
 }
 
 /// Reads every entity 126 and 128 of an IGES text, in DE order, with the unit (coordinates as written;
-/// the unit factor includes the division by the model space scale).
+/// the unit factor includes the division by the model space scale), and every model-space composite
+/// curve (102) of 126 curves, 110 lines and nested 102s as its members in order (members that run
+/// against the chain are turned, [`orient_segments`]); members are not read on their own.
 pub fn contents(text: &str) -> Result<CadContents> {
     let g = split(text)?;
     let text_field = |i: usize| match g.global.get(i) {
@@ -539,12 +626,45 @@ pub fn contents(text: &str) -> Result<CadContents> {
             }
         }
     }
+    // composite curves in model space, and every member DE they hold (not read on their own)
+    let mut composites = std::collections::BTreeMap::new();
+    let mut members = BTreeSet::new();
+    for (k, e) in g.entries.iter().enumerate() {
+        let de = 2 * k + 1;
+        if e.kind == 102 && e.use_flag != 5 && !param_curves.contains(&de) {
+            let c = composite(&g, de, 0)?;
+            if let Members::Read(_, m) = &c {
+                members.extend(m.iter().copied());
+            }
+            composites.insert(de, c);
+        }
+    }
+    composites.retain(|de, _| !members.contains(de));
     let mut out = CadContents {
         unit,
         ..CadContents::default()
     };
     for (k, e) in g.entries.iter().enumerate() {
         let de = 2 * k + 1;
+        if let Some(c) = composites.remove(&de) {
+            match c {
+                Members::Read(mut segments, _) => {
+                    orient_segments(&mut segments);
+                    out.composites.push(CadComposite {
+                        source: format!("DE {de} (composite of {} segments)", segments.len()),
+                        segments,
+                        after: out.curves.len(),
+                    });
+                }
+                Members::Unsupported(name) => {
+                    out.other_curves.insert(name);
+                }
+            }
+            continue;
+        }
+        if members.contains(&de) {
+            continue;
+        }
         match e.kind {
             126 if e.use_flag != 5 && !param_curves.contains(&de) => {
                 out.curves.push((format!("DE {de}"), curve(&g, de)?));

@@ -2,6 +2,7 @@
 //! clouds (read and write), CAD files (STEP, IGES; written, and their B-splines read), and file helpers shared by every writer.
 
 pub mod atomic;
+pub mod cad_chain;
 pub mod cad_check;
 pub mod cad_common;
 pub mod cad_read;
@@ -16,6 +17,7 @@ pub mod points;
 pub mod samples;
 pub mod sections;
 pub mod step;
+mod step_composite;
 pub mod step_read;
 pub mod tessellate;
 

@@ -14,8 +14,10 @@
 //! (inch, foot, ...) followed through its `LENGTH_MEASURE_WITH_UNIT` to the SI unit. Coordinates are
 //! returned as written; [`super::cad_read`] converts them.
 
+use super::cad_chain::{orient_segments, CadComposite};
 use super::cad_read::{CadContents, CadUnit};
 use super::p21::{Exchange, Instance, Value};
+use super::step_composite::Composite;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use std::collections::BTreeSet;
@@ -251,7 +253,7 @@ fn point(x: &Exchange, v: &Value, id: u64, inst: &Instance) -> Result<Vec3> {
 }
 
 /// Builds the curve of instance `#id`, or `None` when it is no B-spline curve.
-fn curve(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<NurbsCurve>> {
+pub(super) fn curve(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<NurbsCurve>> {
     let Some(a) = bspline_attrs(inst, false) else {
         return Ok(None);
     };
@@ -429,7 +431,11 @@ fn trim_parameter(v: Option<&Value>) -> Option<f64> {
 
 /// A `TRIMMED_CURVE` of a B-spline curve trimmed by parameters: the basis curve cut exactly at them
 /// (reversed for sense `.F.`), or `None` for other trimmed curves (the basis is then read uncut).
-fn trimmed_curve(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<(u64, NurbsCurve)>> {
+pub(super) fn trimmed_curve(
+    x: &Exchange,
+    id: u64,
+    inst: &Instance,
+) -> Result<Option<(u64, NurbsCurve)>> {
     let Some(t) = inst.part("TRIMMED_CURVE") else {
         return Ok(None);
     };
@@ -459,16 +465,26 @@ fn trimmed_curve(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<(u64, 
 }
 
 /// Reads every B-spline curve and surface of a parsed STEP file, in instance order, with the unit.
-/// A `TRIMMED_CURVE` of a B-spline by parameter values stands for its basis curve, cut to the trim.
+/// A `TRIMMED_CURVE` of a B-spline by parameter values stands for its basis curve, cut to the trim. A
+/// `COMPOSITE_CURVE` of such curves ([`super::step_composite`]) stands for its segments (segments that
+/// run against the chain are turned, [`orient_segments`]).
 pub fn contents(x: &Exchange) -> Result<CadContents> {
     let mut out = CadContents {
         unit: length_unit(x)?,
         ..CadContents::default()
     };
     let skip = parameter_space_items(x);
+    let mut composites = super::step_composite::composites(x, &skip)?;
+    let members: BTreeSet<u64> = composites
+        .values()
+        .flat_map(|c| match c {
+            Composite::Read(_, m) => m.iter().copied().collect(),
+            Composite::Unsupported(_) => Vec::new(),
+        })
+        .collect();
     let mut trims = std::collections::BTreeMap::new();
     for (&id, inst) in &x.data {
-        if !skip.contains(&id) {
+        if !skip.contains(&id) && !members.contains(&id) {
             if let Some((basis, c)) = trimmed_curve(x, id, inst)? {
                 trims.insert(id, (basis, c));
             }
@@ -480,7 +496,23 @@ pub fn contents(x: &Exchange) -> Result<CadContents> {
             out.surfaces.push((format!("#{id}"), s));
             continue;
         }
-        if skip.contains(&id) || cut.contains(&id) {
+        if let Some(c) = composites.remove(&id) {
+            match c {
+                Composite::Read(mut segments, _) => {
+                    orient_segments(&mut segments);
+                    out.composites.push(CadComposite {
+                        source: format!("#{id} (composite of {} segments)", segments.len()),
+                        segments,
+                        after: out.curves.len(),
+                    });
+                }
+                Composite::Unsupported(name) => {
+                    out.other_curves.insert(name);
+                }
+            }
+            continue;
+        }
+        if skip.contains(&id) || cut.contains(&id) || members.contains(&id) {
             continue;
         }
         if let Some((basis, c)) = trims.remove(&id) {

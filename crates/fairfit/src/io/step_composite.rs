@@ -1,0 +1,145 @@
+//! STEP `COMPOSITE_CURVE`s ([`super::step_read`]): the segments (`COMPOSITE_CURVE_SEGMENT` and
+//! `REPARAMETRISED_COMPOSITE_CURVE_SEGMENT`) in order, each parent curve a B-spline, a `TRIMMED_CURVE`
+//! of a B-spline by parameter values, or a nested composite, reversed where `same_sense` is `.F.`.
+//! Composite curves on surfaces and boundary curves (subtypes that bound a face in its parameter space
+//! or on it) are not read; a composite with any other segment (a `LINE`, a `CIRCLE`, ...) is named in
+//! the "found:" list of errors instead.
+
+use super::p21::{Exchange, Instance, Value};
+use super::step_read::{curve, trimmed_curve};
+use crate::errors::{Error, Result};
+use crate::nurbs::NurbsCurve;
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Subtypes of `COMPOSITE_CURVE` that are not read.
+const SKIPPED: &[&str] = &[
+    "COMPOSITE_CURVE_ON_SURFACE",
+    "BOUNDARY_CURVE",
+    "OUTER_BOUNDARY_CURVE",
+];
+
+/// What a composite curve instance gives.
+pub(super) enum Composite {
+    /// Its segments in order, oriented along it, and every instance they came from (segments, parent
+    /// curves, trimmed bases, nested composites).
+    Read(Vec<NurbsCurve>, BTreeSet<u64>),
+    /// It has a segment of a kind fairfit does not read (the entity's name).
+    Unsupported(String),
+}
+
+fn is_composite(inst: &Instance) -> bool {
+    inst.part("COMPOSITE_CURVE").is_some()
+        && !inst
+            .parts
+            .iter()
+            .any(|p| SKIPPED.contains(&p.name.as_str()))
+}
+
+fn err(id: u64, inst: &Instance, msg: impl std::fmt::Display) -> Error {
+    Error::Cad(format!("line {} (#{id}): {msg}", inst.line))
+}
+
+/// Reads the composite `#id` (depth-limited for nested composites).
+fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize) -> Result<Composite> {
+    if depth > 8 {
+        return Err(err(id, inst, "composite curves nested more than 8 deep"));
+    }
+    let Some(refs) = inst
+        .part("COMPOSITE_CURVE")
+        .and_then(|c| c.params.get(1))
+        .and_then(Value::as_list)
+    else {
+        return Err(err(id, inst, "COMPOSITE_CURVE without a list of segments"));
+    };
+    let mut segments = Vec::new();
+    let mut members = BTreeSet::new();
+    for r in refs {
+        let sid = r
+            .as_ref_id()
+            .ok_or_else(|| err(id, inst, "a segment is not a reference #n"))?;
+        let sinst = x
+            .data
+            .get(&sid)
+            .ok_or_else(|| err(id, inst, format!("segment #{sid} is not defined")))?;
+        let seg = sinst
+            .part("COMPOSITE_CURVE_SEGMENT")
+            .or_else(|| sinst.part("REPARAMETRISED_COMPOSITE_CURVE_SEGMENT"))
+            .ok_or_else(|| {
+                err(
+                    id,
+                    inst,
+                    format!("#{sid} is a {}, not a segment", sinst.parts[0].name),
+                )
+            })?;
+        let same_sense = !matches!(seg.params.get(1), Some(Value::Enum(e)) if e == "F");
+        let pid = seg
+            .params
+            .get(2)
+            .and_then(Value::as_ref_id)
+            .ok_or_else(|| err(sid, sinst, "the parent curve is not a reference #n"))?;
+        let pinst = x
+            .data
+            .get(&pid)
+            .ok_or_else(|| err(sid, sinst, format!("parent curve #{pid} is not defined")))?;
+        members.extend([sid, pid]);
+        let mut part: Vec<NurbsCurve> = if let Some((basis, c)) = trimmed_curve(x, pid, pinst)? {
+            members.insert(basis);
+            vec![c]
+        } else if let Some(c) = curve(x, pid, pinst)? {
+            vec![c]
+        } else if is_composite(pinst) {
+            match composite(x, pid, pinst, depth + 1)? {
+                Composite::Read(s, m) => {
+                    members.extend(m);
+                    s
+                }
+                unsupported => return Ok(unsupported),
+            }
+        } else {
+            let name = match pinst.part("TRIMMED_CURVE") {
+                Some(t) => {
+                    let basis = t.params.get(1).and_then(Value::as_ref_id);
+                    let b = basis.and_then(|b| x.data.get(&b));
+                    format!(
+                        "a TRIMMED_CURVE of a {}",
+                        b.map_or("curve", |b| b.parts[0].name.as_str())
+                    )
+                }
+                None => format!("a {}", pinst.parts[0].name),
+            };
+            return Ok(Composite::Unsupported(format!(
+                "COMPOSITE_CURVE (with {name} segment)"
+            )));
+        };
+        if !same_sense {
+            part.reverse();
+            for c in &mut part {
+                *c = c.reversed();
+            }
+        }
+        segments.extend(part);
+    }
+    if segments.is_empty() {
+        return Err(err(id, inst, "COMPOSITE_CURVE without segments"));
+    }
+    Ok(Composite::Read(segments, members))
+}
+
+/// Every composite curve of the file that is not in `skip` (parameter-space items) and not itself a
+/// segment's parent of another composite, by instance id.
+pub(super) fn composites(x: &Exchange, skip: &BTreeSet<u64>) -> Result<BTreeMap<u64, Composite>> {
+    let mut out = BTreeMap::new();
+    let mut nested = BTreeSet::new();
+    for (&id, inst) in &x.data {
+        if skip.contains(&id) || !is_composite(inst) {
+            continue;
+        }
+        let c = composite(x, id, inst, 0)?;
+        if let Composite::Read(_, m) = &c {
+            nested.extend(m.iter().copied());
+        }
+        out.insert(id, c);
+    }
+    out.retain(|id, _| !nested.contains(id));
+    Ok(out)
+}
