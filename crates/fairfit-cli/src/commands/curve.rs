@@ -186,8 +186,9 @@ pub struct CurveArgs {
     #[arg(long)]
     pub no_band_fairing: bool,
     /// Integrated method, open curves: whether the curve's end points stay on the first and last
-    /// points (`pinned`) or may move within the tolerance of them (`free`); closed curves have no
-    /// ends, and the pieces between corners stay joined at their corner points.
+    /// points (`pinned`) or, in a last fairing pass, may move within the tolerance of them (`free`);
+    /// closed curves have no ends, and a curve with corners keeps its ends pinned (the report's
+    /// "ends" says which was used).
     #[arg(long, value_enum, default_value_t = EndsArg::Pinned)]
     pub ends: EndsArg,
     /// Parameter-correction rounds per least-squares fit.

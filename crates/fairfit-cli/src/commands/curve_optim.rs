@@ -88,8 +88,8 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     let mut report = json!({
         "method": "integrated",
         "closed": closed,
-        // a closed curve has no ends
-        "ends": (!closed).then(|| format!("{:?}", args.ends).to_lowercase()),
+        // a closed curve has no ends; a curve with corners keeps them pinned
+        "ends": (!closed).then_some(if r.stats.free_ends { "free" } else { "pinned" }),
         "control_points": fairfit::optim::closed::distinct_control_points(&r.curve),
         "tolerance": r.tolerance,
         "tolerance_met": r.met,

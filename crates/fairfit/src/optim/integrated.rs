@@ -100,8 +100,9 @@ pub struct IntegratedOptions {
     pub band_solves: usize,
     /// Most curve measurements of the polish.
     pub polish_evaluations: usize,
-    /// Whether the band fairing and the polish keep an open curve's end points on the data's first
-    /// and last points or move them within the tolerance ([`EndCondition`]). Not applicable to
+    /// Whether an open curve's end points stay on the data's first and last points, or the chosen
+    /// curve is faired once more with them moving within the tolerance ([`EndCondition`],
+    /// [`super::free_ends`]). Not applicable to
     /// closed curves (no end points); the pieces between corners keep theirs pinned (they are
     /// joined there).
     pub ends: EndCondition,
@@ -169,6 +170,9 @@ pub struct OptimStats {
     pub degrees_tried: Vec<super::degree_search::DegreeTrial>,
     /// Wall time in seconds.
     pub seconds: f64,
+    /// Whether the chosen curve's end points were free in its last fairing pass
+    /// ([`EndCondition::Free`] on an open curve without corners; [`super::free_ends`]).
+    pub free_ends: bool,
 }
 
 impl OptimStats {
@@ -372,6 +376,10 @@ pub fn fit_integrated_with_progress(
     } else {
         result?
     };
+    if opts.ends == EndCondition::Free {
+        result = super::free_ends::release_result(&prep, result, tol, opts)?;
+        stats.free_ends = true;
+    }
     stats.absorb(&mut result.stats, start);
     Ok(IntegratedResult {
         baseline_control_points: baseline,
@@ -618,8 +626,6 @@ pub(crate) struct Finishing {
     pub band_solves: usize,
     /// Most polish measurements.
     pub polish_evaluations: usize,
-    /// The end condition of the band fairing and the polish.
-    pub ends: EndCondition,
 }
 
 /// The band fairing's subproblem budget under `opts` (0: no band fairing).
@@ -664,7 +670,6 @@ pub(crate) fn finish_curve(
         span_cap,
         band_solves: band,
         polish_evaluations,
-        ends,
     }) = polish_within
     {
         let mut refair_from = None;
@@ -673,7 +678,6 @@ pub(crate) fn finish_curve(
             let bo = BandOptions {
                 span_cap,
                 max_solves: band,
-                ends,
                 ..BandOptions::default()
             };
             // a stalled first pass: a second one would stall too (3 wasted solves)
@@ -688,7 +692,6 @@ pub(crate) fn finish_curve(
         let po = PolishOptions {
             span_cap,
             max_evaluations: polish_evaluations,
-            ends,
             ..PolishOptions::default()
         };
         let pol = polish(&prep.data, &mut ws, &start, tol, &po);
@@ -739,7 +742,6 @@ pub(crate) fn finish(
             span_cap: opts.span_fairness,
             band_solves: band_solves(opts),
             polish_evaluations: opts.polish_evaluations,
-            ends: opts.ends,
         }),
     )?;
     let met = quality.max_deviation <= tol * prep.scale

@@ -52,6 +52,7 @@ pub mod degree_candidates;
 pub mod degree_search;
 pub(crate) mod descent;
 pub mod encoding;
+pub mod free_ends;
 pub mod integrated;
 pub(crate) mod knot_edits;
 pub mod mopso;

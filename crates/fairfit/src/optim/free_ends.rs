@@ -1,0 +1,162 @@
+//! Free end points ([`EndCondition::Free`]): the integrated method runs as with pinned ends (the
+//! knot and count search, the finishing stages, the degree choice), then the chosen open curve gets
+//! one more band fairing pass with its end points released: every control point moves, each data
+//! end point held within the tolerance of the curve's end point ([`super::control_map`]), followed
+//! by a polish with free ends and a pass holding the extrema pattern ([`HOLD_PERSISTENCE`]).
+//!
+//! The pass is kept only when it lowers `F` with no new curvature extrema (by the passes' guard,
+//! then by the reports' sampled and exact counts: [`more_extrema`]) and every point within the
+//! tolerance ([`refair`]), so the free-ended result has the pinned result's knots, count and
+//! degree and is never less fair. Two other designs ended less fair on some of the 33 benchmark
+//! curves: every finishing stage free from the start took other paths through the sequential
+//! convex programs (9 curves at seed 0, whitcomb 0.527 → 0.566 × splprep's `F`); the pinned stages
+//! followed by the free pass on every finished candidate changed the count or degree choice on 8
+//! of the 144 open (curve, seed 0-5) pairs, 7 of them to fewer control points or curvature extrema
+//! but a higher `F` (fx79w470a seed 5 0.559 → 0.652 with 7 extrema instead of 9).
+//!
+//! The gain is where the data end at high curvature: the quarter ellipse's vertex
+//! (`quarter_ellipse_200` 0.813 → 0.716 × splprep's `F`; the band optimum of
+//! `bench/band_optimum.py` at the same knots is 0.787 pinned, 0.690 free), FFA-W3-360
+//! 0.619 → 0.587, fx79w470a 0.571 → 0.542; at an airfoil's trailing edge it is worth little.
+
+use super::band_fairing::{refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
+use super::control_map::EndCondition;
+use super::integrated::{band_solves, IntegratedOptions, IntegratedResult};
+use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
+use super::polish::{polish, PolishOptions};
+use super::prepare::Prepared;
+use crate::diffgeo::CurveProjector;
+use crate::errors::Result;
+use crate::fair::{count_extrema_exact, curve_fairness};
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// [`release_ends`] on the chosen open result `r` of the integrated method on `prep`'s data
+/// (tolerance `tol` in its normalised units), with the budgets of `opts`; `r` unchanged without
+/// finishing stages (`opts.polish` off) or when the pass is not kept.
+pub(crate) fn release_result(
+    prep: &Prepared,
+    mut r: IntegratedResult,
+    tol: f64,
+    opts: &IntegratedOptions,
+) -> Result<IntegratedResult> {
+    let p = r.curve.degree();
+    if !opts.polish || r.curve.is_rational() || p > super::objective::MAX_DEGREE {
+        return Ok(r);
+    }
+    let mut data = prep.data.clone();
+    data.degree = p;
+    let inv = 1.0 / prep.scale;
+    let ctrl: Vec<Vec3> = r
+        .curve
+        .control_points()
+        .iter()
+        .map(|&c| (c - prep.origin) * inv)
+        .collect();
+    let normalised = NurbsCurve::bspline(p, r.curve.knots().to_vec(), ctrl.clone())?;
+    // the feet by a global projection (the finishing stages' feet are not kept with the result)
+    let projector = CurveProjector::new(&normalised, 16);
+    let start: Vec<f64> = data
+        .points
+        .iter()
+        .map(|&q| projector.project(q).u)
+        .collect();
+    let mut ws = EvalWorkspace::default();
+    ws.knots = r.curve.knots().to_vec();
+    ws.ctrl = ctrl;
+    let before = measure_current(&data, &start, &mut ws);
+    if !before.solved || before.max_deviation > tol {
+        return Ok(r);
+    }
+    let ro = ReleaseOptions {
+        span_cap: opts.span_fairness,
+        band_solves: band_solves(opts),
+        polish_evaluations: opts.polish_evaluations,
+    };
+    let e = release_ends(&data, &mut ws, before, tol, &ro);
+    if !(e.solved && e.fairness < before.fairness && e.max_deviation <= tol) {
+        return Ok(r);
+    }
+    let ctrl: Vec<Vec3> = ws.ctrl.iter().map(|&c| prep.denormalise(c)).collect();
+    let curve = NurbsCurve::bspline(p, ws.knots.clone(), ctrl)?;
+    if more_extrema(&curve, &r.curve) {
+        return Ok(r);
+    }
+    r.curve = curve;
+    r.quality.max_deviation = e.max_deviation * prep.scale;
+    r.quality.rms_deviation = e.rms_deviation * prep.scale;
+    r.quality.fairness = e.fairness;
+    r.quality.max_span_fairness = e.max_span_fairness;
+    r.met = e.max_deviation <= tol && opts.span_fairness.is_none_or(|t| e.max_span_fairness <= t);
+    Ok(r)
+}
+
+/// Whether `curve` has more curvature extrema than `before`, sampled as the reports count them
+/// ([`curve_fairness`]) or exactly ([`count_extrema_exact`]). The passes' own guard
+/// ([`super::band_fairing::ExtremaCount`], 96 samples per knot span) can miss a flat ripple in a
+/// long span: naca4412 at seed 1 got two extrema 0.005 apart in a span of 0.4 (`κ` 0.31422 and
+/// 0.31421), seen by both of these counts.
+fn more_extrema(curve: &NurbsCurve, before: &NurbsCurve) -> bool {
+    let (a, b) = (curve_fairness(curve), curve_fairness(before));
+    a.curvature_extrema > b.curvature_extrema
+        || count_extrema_exact(curve, a.length).curvature_extrema
+            > count_extrema_exact(before, b.length).curvature_extrema
+}
+
+/// Budgets and targets of [`release_ends`] (those of the pinned stages).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReleaseOptions {
+    /// The per-span fairness target `F*`.
+    pub span_cap: Option<f64>,
+    /// Most subproblems of the band fairing pass (0: no band fairing, the polish alone).
+    pub band_solves: usize,
+    /// Most curve measurements of the polish.
+    pub polish_evaluations: usize,
+}
+
+/// Releases the end points of the finished open curve in `ws` (measured as `before`, ends pinned):
+/// a band fairing pass with free ends (kept only when it lowers `F` without new curvature extrema
+/// and within `tol`), then, when it was kept (or without band fairing), a polish with free ends and
+/// a pass holding the extrema pattern. Returns the measurement of the curve left in `ws` (with the
+/// end points' distances from the curve's ends).
+pub fn release_ends(
+    data: &FitData,
+    ws: &mut EvalWorkspace,
+    before: CandidateEval,
+    tol: f64,
+    opts: &ReleaseOptions,
+) -> CandidateEval {
+    let bo = BandOptions {
+        span_cap: opts.span_cap,
+        max_solves: opts.band_solves,
+        ends: EndCondition::Free,
+        ..BandOptions::default()
+    };
+    let mut e = before;
+    let kept = if opts.band_solves > 0 {
+        refair(data, ws, &e, tol, &bo)
+    } else {
+        None
+    };
+    if let Some(k) = kept {
+        e = k;
+    }
+    if kept.is_some() || opts.band_solves == 0 {
+        let start = ws.foot_params.clone();
+        let po = PolishOptions {
+            span_cap: opts.span_cap,
+            max_evaluations: opts.polish_evaluations,
+            ends: EndCondition::Free,
+            ..PolishOptions::default()
+        };
+        e = polish(data, ws, &start, tol, &po).eval;
+    }
+    if kept.is_some() {
+        let hold = BandOptions {
+            extrema_persistence: HOLD_PERSISTENCE,
+            max_solves: opts.band_solves.min(REFAIR_SOLVES),
+            ..bo
+        };
+        e = refair(data, ws, &e, tol, &hold).unwrap_or(e);
+    }
+    e
+}
