@@ -237,6 +237,61 @@ fn gaps_and_unsupported_segments_give_one_line_errors() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// Straight segments: the last segment a `TRIMMED_CURVE` of a `LINE` (by parameter values, and by its
+/// trimming points) or a `POLYLINE`: the joined curve runs straight along them (degree 1 raised to 3).
+#[test]
+fn trimmed_lines_and_polylines_are_straight_segments() {
+    let text = std::fs::read_to_string(fixture()).unwrap();
+    let with = |parent: &str, extra: &str| {
+        let t = text.replace(
+            "REPARAMETRISED_COMPOSITE_CURVE_SEGMENT(.DISCONTINUOUS.,.T.,#31,2.)",
+            &format!("REPARAMETRISED_COMPOSITE_CURVE_SEGMENT(.DISCONTINUOUS.,.T.,{parent},2.)"),
+        );
+        let t = t.replace(
+            "ENDSEC;\nEND-ISO-10303-21;",
+            &format!(
+                "#900 = CARTESIAN_POINT('',(40.,10.,5.));#901 = CARTESIAN_POINT('',(70.,0.,0.));\
+                 #902 = DIRECTION('',(6.,-2.,-1.));#903 = VECTOR('',#902,15.);\
+                 #904 = LINE('',#900,#903);\
+                 #905 = CARTESIAN_POINT('',(55.,10.,2.));\n{extra}\nENDSEC;\nEND-ISO-10303-21;"
+            ),
+        );
+        let c = parse_cad(&t, CadFormat::Step).unwrap();
+        // the third B-spline (#31) is no member any more: it comes first, the composite second
+        let g = select(c, CadKind::Curve, 1, "x").unwrap();
+        assert_eq!(
+            (g.source.as_str(), g.count),
+            ("#49 (composite of 3 segments)", 2)
+        );
+        match g.geometry {
+            Geometry::Curve(c) => c,
+            other => panic!("{other:?}"),
+        }
+    };
+    // |(6, -2, -1)| = sqrt(41); magnitude 15: parameter sqrt(41) / 3 moves by 5 (6, -2, -1) to (70, 0, 0)
+    let u1 = 41f64.sqrt() / 3.0;
+    for trims in [
+        format!("(PARAMETER_VALUE(0.)),(PARAMETER_VALUE({u1:?}))"),
+        "(#900),(#901)".to_string(),
+    ] {
+        let c = with(
+            "#906",
+            &format!("#906 = TRIMMED_CURVE('',#904,{trims},.T.,.PARAMETER.);"),
+        );
+        assert_eq!((c.degree(), c.domain()), (3, (0.2, 3.0)), "{trims}");
+        for i in 0..=10 {
+            let t = i as f64 / 10.0;
+            let want = Vec3::new(40.0 + 30.0 * t, 10.0 - 10.0 * t, 5.0 - 5.0 * t);
+            assert!((c.point(2.0 + t) - want).norm() < 1e-12, "{trims} {t}");
+        }
+    }
+    let c = with("#906", "#906 = POLYLINE('',(#900,#905,#901));");
+    assert_eq!(c.domain(), (0.2, 4.0));
+    assert!((c.point(2.5) - Vec3::new(47.5, 10.0, 3.5)).norm() < 1e-12);
+    assert!((c.point(3.0) - Vec3::new(55.0, 10.0, 2.0)).norm() < 1e-12);
+    assert!((c.point(3.5) - Vec3::new(62.5, 5.0, 1.0)).norm() < 1e-12);
+}
+
 /// Every prefix (200 cut points), 400 single-character corruptions and 100 deletions of the composite
 /// fixture give a curve or a typed one-line error: never a panic.
 #[test]

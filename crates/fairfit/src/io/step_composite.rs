@@ -1,14 +1,15 @@
 //! STEP `COMPOSITE_CURVE`s ([`super::step_read`]): the segments (`COMPOSITE_CURVE_SEGMENT` and
 //! `REPARAMETRISED_COMPOSITE_CURVE_SEGMENT`) in order, each parent curve a B-spline, a `TRIMMED_CURVE`
-//! of a B-spline by parameter values, or a nested composite, reversed where `same_sense` is `.F.`.
+//! of a B-spline by parameter values, a straight piece (a trimmed `LINE` or a `POLYLINE`, as a B-spline
+//! of degree 1), or a nested composite, reversed where `same_sense` is `.F.`.
 //! Composite curves on surfaces and boundary curves (subtypes that bound a face in its parameter space
-//! or on it) are not read; a composite with any other segment (a `LINE`, a `CIRCLE`, ...) is named in
-//! the "found:" list of errors instead.
+//! or on it) are not read; a composite with any other segment (a `CIRCLE`, an untrimmed `LINE`, ...)
+//! is named in the "found:" list of errors instead.
 
 use super::p21::{Exchange, Instance, Value};
-use super::step_read::{curve, trimmed_curve};
+use super::step_read::{curve, point, trim_parameter, trimmed_curve};
 use crate::errors::{Error, Result};
-use crate::nurbs::NurbsCurve;
+use crate::nurbs::{NurbsCurve, Vec3};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Subtypes of `COMPOSITE_CURVE` that are not read.
@@ -37,6 +38,94 @@ fn is_composite(inst: &Instance) -> bool {
 
 fn err(id: u64, inst: &Instance, msg: impl std::fmt::Display) -> Error {
     Error::Cad(format!("line {} (#{id}): {msg}", inst.line))
+}
+
+/// A straight segment as a B-spline of degree 1: a `TRIMMED_CURVE` of a `LINE` by parameter values (or,
+/// without them, by its trimming points), from the first trim to the second, or a `POLYLINE` (knots
+/// 0, 1, ..., n - 1 as ISO 10303-42 parametrises it). `None` for anything else.
+fn straight(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<NurbsCurve>> {
+    let to_curve = |pts: Vec<Vec3>| {
+        let n = pts.len();
+        let mut knots = vec![0.0];
+        knots.extend((0..n).map(|i| i as f64));
+        knots.push((n - 1) as f64);
+        NurbsCurve::bspline(1, knots, pts).map_err(|e| err(id, inst, e))
+    };
+    if let Some(p) = inst.part("POLYLINE") {
+        let refs = p
+            .params
+            .get(1)
+            .and_then(Value::as_list)
+            .ok_or_else(|| err(id, inst, "POLYLINE without points"))?;
+        let pts = refs
+            .iter()
+            .map(|v| point(x, v, id, inst))
+            .collect::<Result<Vec<_>>>()?;
+        if pts.len() < 2 {
+            return Err(err(id, inst, "a POLYLINE needs at least 2 points"));
+        }
+        return to_curve(pts).map(Some);
+    }
+    let Some(t) = inst.part("TRIMMED_CURVE") else {
+        return Ok(None);
+    };
+    let Some(line) = t
+        .params
+        .get(1)
+        .and_then(Value::as_ref_id)
+        .and_then(|b| x.data.get(&b))
+        .and_then(|b| b.part("LINE"))
+    else {
+        return Ok(None);
+    };
+    let origin = point(x, line.params.get(1).unwrap_or(&Value::Unset), id, inst)?;
+    let dir = line
+        .params
+        .get(2)
+        .and_then(Value::as_ref_id)
+        .and_then(|v| x.data.get(&v))
+        .and_then(|v| v.part("VECTOR"))
+        .and_then(|v| {
+            let magnitude = v.params.get(2)?.as_f64()?;
+            let d = x
+                .data
+                .get(&v.params.get(1)?.as_ref_id()?)?
+                .part("DIRECTION")?;
+            let r = d.params.get(1)?.as_list()?;
+            let c: Vec<f64> = r.iter().map(Value::as_f64).collect::<Option<_>>()?;
+            let v = Vec3::new(
+                *c.first()?,
+                c.get(1).copied().unwrap_or(0.0),
+                c.get(2).copied().unwrap_or(0.0),
+            );
+            let n = v.norm();
+            (n > 0.0 && n.is_finite() && magnitude.is_finite()).then(|| v * (magnitude / n))
+        })
+        .ok_or_else(|| {
+            err(
+                id,
+                inst,
+                "the LINE has no VECTOR with a DIRECTION and a magnitude",
+            )
+        })?;
+    let end = |trim: Option<&Value>| -> Result<Vec3> {
+        if let Some(u) = trim_parameter(trim) {
+            return Ok(origin + dir * u);
+        }
+        let p = trim
+            .and_then(Value::as_list)
+            .and_then(|l| l.iter().find(|v| v.as_ref_id().is_some()))
+            .ok_or_else(|| {
+                err(
+                    id,
+                    inst,
+                    "a trim of the LINE is neither a parameter nor a point",
+                )
+            })?;
+        point(x, p, id, inst)
+    };
+    let (a, b) = (end(t.params.get(2))?, end(t.params.get(3))?);
+    to_curve(vec![a, b]).map(Some)
 }
 
 /// Reads the composite `#id` (depth-limited for nested composites).
@@ -86,6 +175,8 @@ fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize) -> Result<Com
             members.insert(basis);
             vec![c]
         } else if let Some(c) = curve(x, pid, pinst)? {
+            vec![c]
+        } else if let Some(c) = straight(x, pid, pinst)? {
             vec![c]
         } else if is_composite(pinst) {
             match composite(x, pid, pinst, depth + 1)? {

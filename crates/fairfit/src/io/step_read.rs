@@ -214,7 +214,7 @@ fn knot_vector(
 }
 
 /// The coordinates of the `CARTESIAN_POINT` `#r` (z = 0 for a 2D point).
-fn point(x: &Exchange, v: &Value, id: u64, inst: &Instance) -> Result<Vec3> {
+pub(super) fn point(x: &Exchange, v: &Value, id: u64, inst: &Instance) -> Result<Vec3> {
     let r = v
         .as_ref_id()
         .ok_or_else(|| err(id, inst, "a control point is not a reference #n"))?;
@@ -422,7 +422,7 @@ fn parameter_space_items(x: &Exchange) -> BTreeSet<u64> {
 }
 
 /// The parameter of a trimming select list (`(#5, PARAMETER_VALUE(0.2))`), if it has one.
-fn trim_parameter(v: Option<&Value>) -> Option<f64> {
+pub(super) fn trim_parameter(v: Option<&Value>) -> Option<f64> {
     v?.as_list()?.iter().find_map(|t| match t {
         Value::Typed(name, inner) if name == "PARAMETER_VALUE" => inner.as_f64(),
         _ => None,

@@ -376,10 +376,9 @@ pub fn fit_integrated_with_progress(
     } else {
         result?
     };
-    if opts.ends == EndCondition::Free {
-        result = super::free_ends::release_result(&prep, result, tol, opts)?;
-        stats.free_ends = true;
-    }
+    // one more band fairing pass on the chosen curve, with the requested end condition
+    result = super::free_ends::release_result(&prep, result, tol, opts)?;
+    stats.free_ends = opts.ends == EndCondition::Free;
     stats.absorb(&mut result.stats, start);
     Ok(IntegratedResult {
         baseline_control_points: baseline,
