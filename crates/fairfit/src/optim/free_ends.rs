@@ -4,7 +4,7 @@
 //! the count and degree choice kept: those stages ran on every candidate with the budgets of the
 //! search, and a pass on the winner alone still lowers `F` where the first passes stalled
 //! (session 11, seed 0: sc20714_noise1e-4 1.071 → 0.814 × splprep's `F`, clarky 0.621 → 0.614,
-//! naca23015 0.580 → 0.574; 29 of the 33 benchmark curves keep their curve; +3 % to +9 %
+//! naca23015 0.580 → 0.574; 26 of the 33 benchmark curves keep their curve byte for byte; +3 % to +9 %
 //! instructions at one thread on the 200-point curves).
 //!
 //! Free end points ([`EndCondition::Free`]): the integrated method runs as with pinned ends (the
