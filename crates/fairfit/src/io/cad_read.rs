@@ -156,6 +156,23 @@ pub struct CadChain {
     pub unit: CadUnit,
 }
 
+/// `segments` (in a file's unit, `mm_per_unit` millimetres each) scaled to millimetres; `file`
+/// names the file in the error.
+pub(crate) fn segments_in_mm(
+    segments: Vec<NurbsCurve>,
+    mm_per_unit: f64,
+    file: &str,
+) -> Result<Vec<NurbsCurve>> {
+    if mm_per_unit == 1.0 {
+        return Ok(segments);
+    }
+    segments
+        .iter()
+        .map(|c| scaled_curve(c, mm_per_unit))
+        .collect::<Result<Vec<_>>>()
+        .map_err(|e| Error::Cad(format!("{file}: converting to mm: {e}")))
+}
+
 /// The curve entities of a file in file order: single B-splines as chains of one segment, composites
 /// as their segments (coordinates as written).
 pub fn curve_chains(
@@ -252,17 +269,8 @@ pub fn select_chain(contents: CadContents, index: usize, file: &str) -> Result<C
         };
         return Err(out_of_range(n, what, index, file));
     }
-    let f = contents.unit.mm_per_unit;
     let (source, segments) = curve_chains(contents.curves, contents.composites).swap_remove(index);
-    let segments = if f == 1.0 {
-        segments
-    } else {
-        segments
-            .iter()
-            .map(|c| scaled_curve(c, f))
-            .collect::<Result<Vec<_>>>()
-            .map_err(|e| Error::Cad(format!("{file}: converting to mm: {e}")))?
-    };
+    let segments = segments_in_mm(segments, contents.unit.mm_per_unit, file)?;
     Ok(CadChain {
         segments,
         source,

@@ -10,11 +10,11 @@
 
 use super::cad_chain::sample_chain;
 use super::cad_read::{
-    curve_chains, read_contents, sample_curve, select, CadContents, CadKind, CadUnit,
+    curve_chains, read_contents, sample_curve, segments_in_mm, select, CadContents, CadKind,
+    CadUnit,
 };
 use super::json::Geometry;
 use crate::errors::{Error, Result};
-use crate::nurbs::scale::scaled_curve;
 use crate::nurbs::{NurbsSurface, Vec3};
 use std::path::Path;
 
@@ -128,15 +128,7 @@ pub fn cad_sections(
     let sections = curve_chains(contents.curves, contents.composites)
         .into_iter()
         .map(|(src, segments)| {
-            let segments = if f == 1.0 {
-                segments
-            } else {
-                segments
-                    .iter()
-                    .map(|c| scaled_curve(c, f))
-                    .collect::<Result<Vec<_>>>()
-                    .map_err(|e| Error::Cad(format!("{file}: converting to mm: {e}")))?
-            };
+            let segments = segments_in_mm(segments, f, file)?;
             Ok((src, sample_chain(&segments)))
         })
         .collect::<Result<Vec<_>>>()?;
