@@ -12,7 +12,7 @@
 //! (0-based, in file order) of that kind is returned with the count of its kind, so the caller can say
 //! how many there were.
 
-use super::cad_chain::{join_segments, CadComposite};
+use super::cad_chain::{join_segments, orient_segments, CadComposite};
 use super::json::Geometry;
 use crate::errors::{Error, Result};
 use crate::nurbs::scale::{scaled_curve, scaled_surface};
@@ -110,6 +110,31 @@ pub struct CadContents {
     pub other_surfaces: BTreeSet<String>,
     /// The length unit.
     pub unit: CadUnit,
+}
+
+impl CadContents {
+    /// Files the composite curve found at `at` (`#40` in STEP, `DE 7` in IGES): its segments
+    /// (`Ok`, oriented along the chain here) as a composite after the single curves read so far, or
+    /// (`Err`) the name of a member kind fairfit does not read among the other curves.
+    pub(super) fn push_composite(
+        &mut self,
+        at: &str,
+        read: std::result::Result<Vec<NurbsCurve>, String>,
+    ) {
+        match read {
+            Ok(mut segments) => {
+                orient_segments(&mut segments);
+                self.composites.push(CadComposite {
+                    source: format!("{at} (composite of {} segments)", segments.len()),
+                    segments,
+                    after: self.curves.len(),
+                });
+            }
+            Err(name) => {
+                self.other_curves.insert(name);
+            }
+        }
+    }
 }
 
 /// Which kind of geometry to take from a file.

@@ -14,7 +14,6 @@
 //! 102 composite curve) are skipped. Errors
 //! ([`Error::Cad`]) name the section line or the DE.
 
-use super::cad_chain::{orient_segments, CadComposite};
 use super::cad_read::{CadContents, CadUnit};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
@@ -582,7 +581,7 @@ fn other_name(kind: u32) -> Option<(&'static str, bool)> {
 /// Reads every entity 126 and 128 of an IGES text, in DE order, with the unit (coordinates as written;
 /// the unit factor includes the division by the model space scale), and every model-space composite
 /// curve (102) of 126 curves, 110 lines and nested 102s as its members in order (members that run
-/// against the chain are turned, [`orient_segments`]); members are not read on their own.
+/// against the chain are turned, [`super::cad_chain::orient_segments`]); members are not read on their own.
 pub fn contents(text: &str) -> Result<CadContents> {
     let g = split(text)?;
     let text_field = |i: usize| match g.global.get(i) {
@@ -647,19 +646,11 @@ pub fn contents(text: &str) -> Result<CadContents> {
     for (k, e) in g.entries.iter().enumerate() {
         let de = 2 * k + 1;
         if let Some(c) = composites.remove(&de) {
-            match c {
-                Members::Read(mut segments, _) => {
-                    orient_segments(&mut segments);
-                    out.composites.push(CadComposite {
-                        source: format!("DE {de} (composite of {} segments)", segments.len()),
-                        segments,
-                        after: out.curves.len(),
-                    });
-                }
-                Members::Unsupported(name) => {
-                    out.other_curves.insert(name);
-                }
-            }
+            let read = match c {
+                Members::Read(segments, _) => Ok(segments),
+                Members::Unsupported(name) => Err(name),
+            };
+            out.push_composite(&format!("DE {de}"), read);
             continue;
         }
         if members.contains(&de) {

@@ -14,7 +14,6 @@
 //! (inch, foot, ...) followed through its `LENGTH_MEASURE_WITH_UNIT` to the SI unit. Coordinates are
 //! returned as written; [`super::cad_read`] converts them.
 
-use super::cad_chain::{orient_segments, CadComposite};
 use super::cad_read::{CadContents, CadUnit};
 use super::p21::{Exchange, Instance, Value};
 use super::step_composite::Composite;
@@ -467,7 +466,7 @@ pub(super) fn trimmed_curve(
 /// Reads every B-spline curve and surface of a parsed STEP file, in instance order, with the unit.
 /// A `TRIMMED_CURVE` of a B-spline by parameter values stands for its basis curve, cut to the trim. A
 /// `COMPOSITE_CURVE` of such curves ([`super::step_composite`]) stands for its segments (segments that
-/// run against the chain are turned, [`orient_segments`]).
+/// run against the chain are turned, [`super::cad_chain::orient_segments`]).
 pub fn contents(x: &Exchange) -> Result<CadContents> {
     let mut out = CadContents {
         unit: length_unit(x)?,
@@ -497,19 +496,11 @@ pub fn contents(x: &Exchange) -> Result<CadContents> {
             continue;
         }
         if let Some(c) = composites.remove(&id) {
-            match c {
-                Composite::Read(mut segments, _) => {
-                    orient_segments(&mut segments);
-                    out.composites.push(CadComposite {
-                        source: format!("#{id} (composite of {} segments)", segments.len()),
-                        segments,
-                        after: out.curves.len(),
-                    });
-                }
-                Composite::Unsupported(name) => {
-                    out.other_curves.insert(name);
-                }
-            }
+            let read = match c {
+                Composite::Read(segments, _) => Ok(segments),
+                Composite::Unsupported(name) => Err(name),
+            };
+            out.push_composite(&format!("#{id}"), read);
             continue;
         }
         if skip.contains(&id) || cut.contains(&id) || members.contains(&id) {
