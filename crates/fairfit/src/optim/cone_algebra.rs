@@ -150,10 +150,23 @@ pub(crate) fn cone_step<const D: usize>(u: &[f64; D], du: &[f64; D]) -> f64 {
 }
 
 /// In-place Cholesky factor (lower, row-major) of the symmetric `n × n` matrix `a`; `false`
-/// when it is not positive definite.
-pub(crate) fn cholesky(a: &mut [f64], n: usize) -> bool {
+/// when it is not positive definite. `first[i]` receives the first non-zero column of row `i`
+/// (its envelope; `i` for an empty row): the factor has the same envelope, entries left of it
+/// stay the zeros of `a`, and only the envelope is computed. The values are those of the plain
+/// dense algorithm: the products it adds left of the envelope are zeros (a zero entry times a
+/// finite one), and adding them to a sum of zeros before the first non-zero product changes
+/// nothing but possibly the sign of an all-zero sum.
+pub(crate) fn cholesky(a: &mut [f64], n: usize, first: &mut Vec<usize>) -> bool {
+    first.clear();
+    first.extend((0..n).map(|i| {
+        a[i * n..i * n + i]
+            .iter()
+            .position(|&v| v != 0.0)
+            .unwrap_or(i)
+    }));
     for j in 0..n {
-        let rj = &a[j * n..j * n + j];
+        let fj = first[j];
+        let rj = &a[j * n + fj..j * n + j];
         let d = a[j * n + j] - dot(rj, rj);
         if !(d > 0.0 && d.is_finite()) {
             return false;
@@ -161,25 +174,33 @@ pub(crate) fn cholesky(a: &mut [f64], n: usize) -> bool {
         let d = d.sqrt();
         a[j * n + j] = d;
         for i in j + 1..n {
+            let fi = first[i];
+            if fi > j {
+                continue;
+            }
+            let k0 = fi.max(fj);
             let (lo, hi) = a.split_at_mut(i * n);
-            let rj = &lo[j * n..j * n + j];
+            let rj = &lo[j * n + k0..j * n + j];
             let ri = &mut hi[..=j];
-            ri[j] = (ri[j] - dot(&ri[..j], rj)) / d;
+            ri[j] = (ri[j] - dot(&ri[k0..j], rj)) / d;
         }
     }
     true
 }
 
-/// Solves `L Lᵀ x = b` in place (`l` from [`cholesky`]).
-pub(crate) fn chol_solve(l: &[f64], n: usize, x: &mut [f64]) {
+/// Solves `L Lᵀ x = b` in place (`l` and its envelope `first` from [`cholesky`]).
+pub(crate) fn chol_solve(l: &[f64], n: usize, first: &[usize], x: &mut [f64]) {
     for i in 0..n {
-        let v = x[i] - dot(&l[i * n..i * n + i], &x[..i]);
+        let fi = first[i];
+        let v = x[i] - dot(&l[i * n + fi..i * n + i], &x[fi..i]);
         x[i] = v / l[i * n + i];
     }
     for i in (0..n).rev() {
         let mut v = x[i];
         for k in i + 1..n {
-            v -= l[k * n + i] * x[k];
+            if first[k] <= i {
+                v -= l[k * n + i] * x[k];
+            }
         }
         x[i] = v / l[i * n + i];
     }

@@ -85,6 +85,8 @@ pub(super) struct State {
     pub(super) dl: Vec<f64>,
     /// The normal matrix and its Cholesky factor.
     pub(super) chol: Vec<f64>,
+    /// The first non-zero column of every row of `chol` (its envelope).
+    pub(super) first: Vec<usize>,
     /// Per slack: the diagonal of the eliminated block and `1/d²` of its row.
     pub(super) htt: Vec<f64>,
     pub(super) arow: Vec<f64>,
@@ -354,7 +356,7 @@ pub(super) fn factor<const D: usize, const M: usize>(dt: &Data, st: &mut State) 
             h[a * nv + b] = h[b * nv + a];
         }
     }
-    cholesky(h, nv)
+    cholesky(h, nv, &mut st.first)
 }
 
 /// Solves the reduced system for the right-hand side `r` (length `nx`) in place.
@@ -366,7 +368,7 @@ pub(super) fn solve_reduced<const M: usize>(dt: &Data, st: &State, r: &mut [f64]
         let f = st.arow[t] * rt[t] / st.htt[t];
         axpy_win::<M>(f, &dt.rvals[win.off..win.off + win.m], rv, win);
     }
-    chol_solve(&st.chol, nv, rv);
+    chol_solve(&st.chol, nv, &st.first, rv);
     for (t, &j) in dt.row_of.iter().enumerate() {
         let win = &dt.rwin[j];
         let gd = dot_win::<M>(&dt.rvals[win.off..win.off + win.m], rv, win);
