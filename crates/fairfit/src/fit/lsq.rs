@@ -88,6 +88,18 @@ pub struct LsqSolver {
     ders: Vec<f64>,
     /// Gauss–Legendre rules with 0..=p nodes (index = node count).
     gl: Vec<GaussLegendre>,
+    /// The smoothing term's `r`-th basis derivatives at its Gauss nodes for `smooth_knots` (they
+    /// depend on the knots only: a parameter correction solves again on the same knots).
+    smooth: SmoothingDers,
+}
+
+/// `p + 1` values `N^(r)_{s−p+j}` per Gauss node of every non-empty span, in the order the
+/// smoothing term visits them, for the knot vector `knots` and the order `r`.
+#[derive(Clone, Debug, Default)]
+struct SmoothingDers {
+    knots: Vec<f64>,
+    r: usize,
+    ders: Vec<f64>,
 }
 
 /// How control-point columns map to unknowns.
@@ -131,6 +143,7 @@ impl LsqSolver {
             a: vec![0.0; 2 * p1],
             ders: vec![0.0; 4 * p1],
             gl,
+            smooth: SmoothingDers::default(),
         }
     }
 
@@ -307,6 +320,42 @@ impl LsqSolver {
             let lam = opts.smoothing * points.len() as f64 * (db - da).powi(2 * r as i32 - 1);
             let ng = (p - r + 1).min(self.gl.len() - 1);
             let p1 = p + 1;
+            let same = |a: &[f64], b: &[f64]| {
+                a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+            };
+            if self.smooth.r != r || !same(&self.smooth.knots, knots) {
+                // the derivatives at every node, in the order of the loop below
+                self.smooth.r = r;
+                self.smooth.knots.clear();
+                self.smooth.knots.extend_from_slice(knots);
+                self.smooth.ders.clear();
+                for s in p..=n {
+                    let (u0, u1) = (knots[s], knots[s + 1]);
+                    if u1 <= u0 {
+                        continue;
+                    }
+                    let half = 0.5 * (u1 - u0);
+                    for g in 0..ng {
+                        let u = u0 + half * (self.gl[ng].nodes()[g] + 1.0);
+                        ders_basis_funs_into(
+                            s,
+                            u,
+                            p,
+                            r,
+                            knots,
+                            &mut self.left,
+                            &mut self.right,
+                            &mut self.ndu,
+                            &mut self.a,
+                            &mut self.ders,
+                        );
+                        self.smooth
+                            .ders
+                            .extend_from_slice(&self.ders[r * p1..(r + 1) * p1]);
+                    }
+                }
+            }
+            let mut node = 0;
             for s in p..=n {
                 let (u0, u1) = (knots[s], knots[s + 1]);
                 if u1 <= u0 {
@@ -315,21 +364,9 @@ impl LsqSolver {
                 let half = 0.5 * (u1 - u0);
                 for g in 0..ng {
                     let rule = &self.gl[ng];
-                    let u = u0 + half * (rule.nodes()[g] + 1.0);
                     let wg = rule.weights()[g] * half * lam;
-                    ders_basis_funs_into(
-                        s,
-                        u,
-                        p,
-                        r,
-                        knots,
-                        &mut self.left,
-                        &mut self.right,
-                        &mut self.ndu,
-                        &mut self.a,
-                        &mut self.ders,
-                    );
-                    let d = &self.ders[r * p1..(r + 1) * p1];
+                    let d = &self.smooth.ders[node * p1..(node + 1) * p1];
+                    node += 1;
                     for a in 0..=p {
                         let Some(ua) = layout.unknown(s - p + a) else {
                             continue;
