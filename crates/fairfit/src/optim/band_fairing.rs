@@ -677,16 +677,20 @@ pub fn band_fair_mapped(
     let mut res = vec![0.0; nodes.len()];
     let mut jtj = vec![0.0; nv * nv];
     let mut jtr = vec![0.0; nv];
+    let mut node_ders = Vec::with_capacity(nodes.len());
     while out.solves < opts.max_solves {
         // linearise F at the current control points (residuals normalised by F: Σ r² = 1)
+        node_ders.clear();
+        node_ders.extend(nodes.iter().map(|nd| node_derivatives(nd, &ctrl, p)));
         let length: f64 = nodes
             .iter()
-            .map(|nd| nd.weight * node_derivatives(nd, &ctrl, p)[1].norm())
+            .zip(&node_ders)
+            .map(|(nd, d)| nd.weight * d[1].norm())
             .sum();
         let c = length.powi(3) / cur_f.max(f64::MIN_POSITIVE);
         jac.fill(0.0);
-        for (g, nd) in nodes.iter().enumerate() {
-            let d = node_derivatives(nd, &ctrl, p);
+        for (g, (nd, d)) in nodes.iter().zip(&node_ders).enumerate() {
+            let d = *d;
             let cw = c * nd.weight;
             res[g] = residual(&d, cw, data.planar);
             let grad = residual_gradient(&d, cw, data.planar, p, dims);
