@@ -14,6 +14,7 @@
 //! 102 composite curve) are skipped. Errors
 //! ([`Error::Cad`]) name the section line or the DE.
 
+use super::cad_conic::{arc_between, Conic};
 use super::cad_read::{CadContents, CadUnit};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
@@ -456,6 +457,162 @@ fn line(g: &Iges, de: usize) -> Result<NurbsCurve> {
         .map_err(|e| Error::Cad(format!("DE {de} (entity 110): {e}")))
 }
 
+/// `c` with its control points moved by `xf` (exact: B-splines are invariant under affine maps).
+fn moved(c: NurbsCurve, xf: &Option<Affine>) -> Result<NurbsCurve> {
+    if xf.is_none() {
+        return Ok(c);
+    }
+    let pts = c.control_points().iter().map(|&q| apply(xf, q)).collect();
+    NurbsCurve::new(
+        c.degree(),
+        c.knots().to_vec(),
+        pts,
+        c.is_rational().then(|| c.weights().to_vec()),
+    )
+}
+
+/// The conic `c` of a definition plane moved by the transformation `xf` as OpenCASCADE moves it: the
+/// centre mapped, the plane's normal the matrix's third column (turned for a reflection), the first
+/// axis the mapped one made orthogonal to the normal, the semi-axes kept (a 124 matrix is a rotation,
+/// written to 10 digits or so: this keeps a circle a circle of the written radius).
+fn conic_moved(c: &Conic, xf: &Option<Affine>, de: usize) -> Result<Conic> {
+    let Some((r, _)) = xf else {
+        return Ok(*c);
+    };
+    let col = |k: usize| Vec3::new(r[0][k], r[1][k], r[2][k]);
+    let det = col(0).dot(col(1).cross(col(2)));
+    let n = col(2) * det.signum();
+    let rx = Vec3(std::array::from_fn(|i| {
+        r[i][0] * c.x[0] + r[i][1] * c.x[1] + r[i][2] * c.x[2]
+    }));
+    let fail = || {
+        Error::Cad(format!(
+            "DE {de}: the transformation matrix is degenerate (not a rotation)"
+        ))
+    };
+    let nn = n.norm();
+    if !(nn > 1e-9 && nn.is_finite()) {
+        return Err(fail());
+    }
+    let n = n * (1.0 / nn);
+    let x = rx - n * rx.dot(n);
+    let xn = x.norm();
+    if !(xn > 1e-9 && xn.is_finite()) {
+        return Err(fail());
+    }
+    let x = x * (1.0 / xn);
+    Conic::new(apply(xf, c.centre), x, n.cross(x), c.a, c.b)
+        .map_err(|e| Error::Cad(format!("DE {de}: {e}")))
+}
+
+/// A circular arc (entity 100) as an exact rational quadratic B-spline, moved by its transformation
+/// matrix, and its kind (`circular arc`, or `circle` when the start is the end).
+fn circular_arc(g: &Iges, de: usize) -> Result<(NurbsCurve, &'static str)> {
+    let e = &g.entries[de / 2];
+    let mut p = Params {
+        f: g.params(de)?,
+        de,
+        next: 1,
+    };
+    let v = p.reals(7, "a coordinate")?;
+    let fail = |m: String| Error::Cad(format!("DE {de} (entity 100): {m}"));
+    let centre = Vec3::new(v[1], v[2], v[0]);
+    let (start, end) = (Vec3::new(v[3], v[4], v[0]), Vec3::new(v[5], v[6], v[0]));
+    let r = (start - centre).norm();
+    let conic = Conic::new(
+        centre,
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        r,
+        r,
+    )
+    .map_err(|e| fail(e.to_string()))?;
+    let re = (end - centre).norm();
+    if (re - r).abs().is_nan() || (re - r).abs() > 1e-6 * r {
+        return Err(fail(format!(
+            "the end point is {re} from the centre, the start point {r}: not one circle"
+        )));
+    }
+    let xf = transform(g, e.transform, 0)?;
+    let conic = conic_moved(&conic, &xf, de)?;
+    let (t0, t1) = (
+        conic.angle_of(apply(&xf, start)).0,
+        conic.angle_of(apply(&xf, end)).0,
+    );
+    let (c, full) = arc_between(&conic, t0, t1, true).map_err(|e| fail(e.to_string()))?;
+    Ok((c, conic.kind(full)))
+}
+
+/// What a conic arc (entity 104) gives: the arc and its kind, or (`Err`) the name it is listed under
+/// when fairfit does not read it.
+type ConicRead = std::result::Result<(NurbsCurve, &'static str), String>;
+
+/// A conic arc (entity 104): an ellipse arc (counter-clockwise from the start to the end point, the
+/// whole ellipse when they coincide) as an exact rational quadratic B-spline in its definition plane
+/// `z = ZT`, moved by its transformation matrix. Parabolas and hyperbolas are not read.
+fn conic_arc(g: &Iges, de: usize) -> Result<ConicRead> {
+    let e = &g.entries[de / 2];
+    let mut p = Params {
+        f: g.params(de)?,
+        de,
+        next: 1,
+    };
+    let v = p.reals(11, "a coefficient or coordinate")?;
+    let fail = |m: String| Error::Cad(format!("DE {de} (entity 104): {m}"));
+    let (a, b, c, d, ee, f, zt) = (v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+    let disc = b * b - 4.0 * a * c;
+    let scale = (b * b).max((4.0 * a * c).abs());
+    if disc.is_nan() || disc >= -1e-12 * scale {
+        let kind = if disc.abs() <= 1e-12 * scale {
+            "parabola"
+        } else {
+            "hyperbola"
+        };
+        return Ok(Err(format!(
+            "104 ({kind}: not read, only elliptical conic arcs are)"
+        )));
+    }
+    // centre: the gradient of A x² + B xy + C y² + D x + E y + F vanishes
+    let det = 4.0 * a * c - b * b;
+    let (cx, cy) = ((b * ee - 2.0 * c * d) / det, (b * d - 2.0 * a * ee) / det);
+    let fc = f + 0.5 * (d * cx + ee * cy);
+    // principal axes of [[A, B/2], [B/2, C]] (exactly the coordinate axes when B = 0)
+    let (l1, l2, ux) = if b == 0.0 {
+        (a, c, Vec3::new(1.0, 0.0, 0.0))
+    } else {
+        let m = 0.5 * (a + c);
+        let h = (0.25 * (a - c) * (a - c) + 0.25 * b * b).sqrt();
+        let (l1, l2) = (m + h, m - h);
+        // eigenvector of l1: (B/2, l1 - A) or (l1 - C, B/2)
+        let (v1, v2) = (
+            Vec3::new(0.5 * b, l1 - a, 0.0),
+            Vec3::new(l1 - c, 0.5 * b, 0.0),
+        );
+        let v = if v1.norm() >= v2.norm() { v1 } else { v2 };
+        (l1, l2, v * (1.0 / v.norm()))
+    };
+    let (sa, sb) = ((-fc / l1).sqrt(), (-fc / l2).sqrt());
+    let uy = Vec3::new(-ux[1], ux[0], 0.0);
+    let conic = Conic::new(Vec3::new(cx, cy, zt), ux, uy, sa, sb)
+        .map_err(|e| fail(format!("the coefficients describe no real ellipse ({e})")))?;
+    let xf = transform(g, e.transform, 0)?;
+    let conic = conic_moved(&conic, &xf, de)?;
+    let size = sa.max(sb);
+    let mut t = [0.0; 2];
+    for (k, (x, y)) in [(v[7], v[8]), (v[9], v[10])].into_iter().enumerate() {
+        let (ang, dist) = conic.angle_of(apply(&xf, Vec3::new(x, y, zt)));
+        if dist.is_nan() || dist > 1e-6 * size {
+            return Err(fail(format!(
+                "the {} point lies {dist:.3e} off the ellipse (more than 1e-6 of its size)",
+                ["start", "end"][k]
+            )));
+        }
+        t[k] = ang;
+    }
+    let (arc, full) = arc_between(&conic, t[0], t[1], true).map_err(|e| fail(e.to_string()))?;
+    Ok(Ok((arc, conic.kind(full))))
+}
+
 /// What a composite curve (entity 102) gives: its members as B-splines in order (126 curves, 110
 /// lines, nested 102s) with their DEs, or the name of a member kind fairfit does not read.
 enum Members {
@@ -489,6 +646,15 @@ fn composite(g: &Iges, de: usize, depth: usize) -> Result<Members> {
         match kind {
             126 => segments.push(curve(g, m)?),
             110 => segments.push(line(g, m)?),
+            100 => segments.push(circular_arc(g, m)?.0),
+            104 => match conic_arc(g, m)? {
+                Ok((c, _)) => segments.push(c),
+                Err(name) => {
+                    return Ok(Members::Unsupported(format!(
+                        "102 (composite curve with a {name} member)"
+                    )))
+                }
+            },
             102 => match composite(g, m, depth + 1)? {
                 Members::Read(s, inner) => {
                     segments.extend(s);
@@ -512,15 +678,7 @@ fn composite(g: &Iges, de: usize, depth: usize) -> Result<Members> {
     if xf.is_some() {
         segments = segments
             .into_iter()
-            .map(|c| {
-                let pts = c.control_points().iter().map(|&q| apply(&xf, q)).collect();
-                NurbsCurve::new(
-                    c.degree(),
-                    c.knots().to_vec(),
-                    pts,
-                    c.is_rational().then(|| c.weights().to_vec()),
-                )
-            })
+            .map(|c| moved(c, &xf))
             .collect::<Result<Vec<_>>>()?;
     }
     Ok(Members::Read(segments, members))
@@ -660,6 +818,16 @@ pub fn contents(text: &str) -> Result<CadContents> {
             126 if e.use_flag != 5 && !param_curves.contains(&de) => {
                 out.curves.push((format!("DE {de}"), curve(&g, de)?));
             }
+            100 if e.use_flag != 5 && !param_curves.contains(&de) => {
+                let (c, kind) = circular_arc(&g, de)?;
+                out.curves.push((format!("DE {de} ({kind})"), c));
+            }
+            104 if e.use_flag != 5 && !param_curves.contains(&de) => match conic_arc(&g, de)? {
+                Ok((c, kind)) => out.curves.push((format!("DE {de} ({kind})"), c)),
+                Err(name) => {
+                    out.other_curves.insert(name);
+                }
+            },
             128 => {
                 out.surfaces.push((format!("DE {de}"), surface(&g, de)?));
             }

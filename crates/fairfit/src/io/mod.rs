@@ -5,6 +5,7 @@ pub mod atomic;
 pub mod cad_chain;
 pub mod cad_check;
 pub mod cad_common;
+pub mod cad_conic;
 pub mod cad_read;
 pub mod cad_sections;
 pub mod iges;
@@ -18,6 +19,7 @@ pub mod samples;
 pub mod sections;
 pub mod step;
 mod step_composite;
+mod step_conic;
 pub mod step_read;
 pub mod tessellate;
 

@@ -7,6 +7,7 @@
 //! is named in the "found:" list of errors instead.
 
 use super::p21::{Exchange, Instance, Value};
+use super::step_conic::conic;
 use super::step_read::{curve, point, trim_parameter, trimmed_curve};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -129,7 +130,7 @@ fn straight(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<NurbsCurve>
 }
 
 /// Reads the composite `#id` (depth-limited for nested composites).
-fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize) -> Result<Composite> {
+fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize, rad: f64) -> Result<Composite> {
     if depth > 8 {
         return Err(err(id, inst, "composite curves nested more than 8 deep"));
     }
@@ -171,15 +172,17 @@ fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize) -> Result<Com
             .get(&pid)
             .ok_or_else(|| err(sid, sinst, format!("parent curve #{pid} is not defined")))?;
         members.extend([sid, pid]);
-        let mut part: Vec<NurbsCurve> = if let Some((basis, c)) = trimmed_curve(x, pid, pinst)? {
-            members.insert(basis);
-            vec![c]
+        let mut part: Vec<NurbsCurve> = if let Some(t) = trimmed_curve(x, pid, pinst, rad)? {
+            members.insert(t.basis);
+            vec![t.curve]
         } else if let Some(c) = curve(x, pid, pinst)? {
             vec![c]
+        } else if let Some(c) = conic(x, pid, pinst)? {
+            vec![c.full(0.0).map_err(|e| err(pid, pinst, e))?]
         } else if let Some(c) = straight(x, pid, pinst)? {
             vec![c]
         } else if is_composite(pinst) {
-            match composite(x, pid, pinst, depth + 1)? {
+            match composite(x, pid, pinst, depth + 1, rad)? {
                 Composite::Read(s, m) => {
                     members.extend(m);
                     s
@@ -218,14 +221,18 @@ fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize) -> Result<Com
 
 /// Every composite curve of the file that is not in `skip` (parameter-space items) and not itself a
 /// segment's parent of another composite, by instance id.
-pub(super) fn composites(x: &Exchange, skip: &BTreeSet<u64>) -> Result<BTreeMap<u64, Composite>> {
+pub(super) fn composites(
+    x: &Exchange,
+    skip: &BTreeSet<u64>,
+    rad: f64,
+) -> Result<BTreeMap<u64, Composite>> {
     let mut out = BTreeMap::new();
     let mut nested = BTreeSet::new();
     for (&id, inst) in &x.data {
         if skip.contains(&id) || !is_composite(inst) {
             continue;
         }
-        let c = composite(x, id, inst, 0)?;
+        let c = composite(x, id, inst, 0, rad)?;
         if let Composite::Read(_, m) = &c {
             nested.extend(m.iter().copied());
         }

@@ -24,8 +24,6 @@ use std::collections::BTreeSet;
 /// Curve entities that are not B-splines, named in the "no B-spline curve" error.
 const OTHER_CURVES: &[&str] = &[
     "LINE",
-    "CIRCLE",
-    "ELLIPSE",
     "PARABOLA",
     "HYPERBOLA",
     "POLYLINE",
@@ -55,7 +53,7 @@ enum KnotForm<'a> {
     QuasiUniform,
 }
 
-fn err(inst_id: u64, inst: &Instance, msg: impl std::fmt::Display) -> Error {
+pub(super) fn err(inst_id: u64, inst: &Instance, msg: impl std::fmt::Display) -> Error {
     Error::Cad(format!("line {} (#{inst_id}): {msg}", inst.line))
 }
 
@@ -428,13 +426,25 @@ pub(super) fn trim_parameter(v: Option<&Value>) -> Option<f64> {
     })
 }
 
-/// A `TRIMMED_CURVE` of a B-spline curve trimmed by parameters: the basis curve cut exactly at them
-/// (reversed for sense `.F.`), or `None` for other trimmed curves (the basis is then read uncut).
+/// A `TRIMMED_CURVE` read: its basis curve's id, the trimmed curve, and its kind (`trimmed` for a
+/// B-spline basis, `circular arc`, `circle`, `elliptical arc`, `ellipse` for a conic).
+pub(super) struct Trimmed {
+    pub basis: u64,
+    pub curve: NurbsCurve,
+    pub kind: &'static str,
+}
+
+/// A `TRIMMED_CURVE` of a B-spline, a `CIRCLE` or an `ELLIPSE`, cut at its trims, or `None` for other
+/// trimmed curves (and for a B-spline trimmed across its seam: the basis is then read uncut). Trims
+/// are parameter values or points (`master_representation .CARTESIAN.` prefers the points); a point
+/// is taken at its projection onto the basis curve. `.F.` sense runs the curve from the first trim
+/// backwards to the second. `rad`: radians per unit of the file's plane-angle unit (conic trims).
 pub(super) fn trimmed_curve(
     x: &Exchange,
     id: u64,
     inst: &Instance,
-) -> Result<Option<(u64, NurbsCurve)>> {
+    rad: f64,
+) -> Result<Option<Trimmed>> {
     let Some(t) = inst.part("TRIMMED_CURVE") else {
         return Ok(None);
     };
@@ -444,23 +454,89 @@ pub(super) fn trimmed_curve(
     let Some(b) = x.data.get(&basis) else {
         return Ok(None);
     };
-    let (Some(t1), Some(t2)) = (
-        trim_parameter(t.params.get(2)),
-        trim_parameter(t.params.get(3)),
-    ) else {
-        return Ok(None);
+    let conic = super::step_conic::conic(x, basis, b)?;
+    let bspline = match conic {
+        Some(_) => None,
+        None => curve(x, basis, b)?,
     };
-    let Some(c) = curve(x, basis, b)? else {
+    if conic.is_none() && bspline.is_none() {
         return Ok(None);
-    };
+    }
+    let ends = [
+        super::step_conic::trim(x, t.params.get(2), id, inst)?,
+        super::step_conic::trim(x, t.params.get(3), id, inst)?,
+    ];
     let sense = !matches!(t.params.get(4), Some(Value::Enum(e)) if e == "F");
-    let (lo, hi) = if sense { (t1, t2) } else { (t2, t1) };
+    let points_first = super::step_conic::points_are_master(t.params.get(5));
+    if let Some(c) = conic {
+        let (curve, kind) =
+            super::step_conic::trimmed_conic(&c, ends, sense, points_first, rad, id, inst)?;
+        return Ok(Some(Trimmed { basis, curve, kind }));
+    }
+    let Some(c) = bspline else {
+        return Ok(None);
+    };
+    let projector = crate::diffgeo::CurveProjector::new(&c, 16);
+    let size = extent(c.control_points());
+    let mut u = [0.0; 2];
+    for (k, e) in ends.iter().enumerate() {
+        u[k] = match e.by(points_first) {
+            super::step_conic::TrimBy::Param(v) => {
+                let (a, b) = c.domain();
+                let slack = 1e-9 * (b - a).abs().max(a.abs()).max(b.abs());
+                if !(v >= a - slack && v <= b + slack) {
+                    return Err(err(
+                        id,
+                        inst,
+                        format!(
+                            "trim parameter {v} lies outside the domain [{a}, {b}] of the B-spline \
+                             #{basis}"
+                        ),
+                    ));
+                }
+                v.clamp(a, b)
+            }
+            super::step_conic::TrimBy::Point(p) => {
+                let pr = projector.project(p);
+                if pr.distance.is_nan() || pr.distance > 1e-6 * size {
+                    return Err(err(
+                        id,
+                        inst,
+                        format!(
+                            "trimming point {} lies {:.3e} off the B-spline #{basis} (more than 1e-6 \
+                             of its size)",
+                            k + 1,
+                            pr.distance
+                        ),
+                    ));
+                }
+                pr.u
+            }
+        };
+    }
+    let (lo, hi) = if sense { (u[0], u[1]) } else { (u[1], u[0]) };
     if lo >= hi {
         // a trim across the seam of a periodic curve: read the whole basis curve
         return Ok(None);
     }
     let c = super::cad_read::trimmed(c, lo, hi).map_err(|e| err(id, inst, e))?;
-    Ok(Some((basis, if sense { c } else { c.reversed() })))
+    Ok(Some(Trimmed {
+        basis,
+        curve: if sense { c } else { c.reversed() },
+        kind: "trimmed",
+    }))
+}
+
+/// The largest side of the bounding box of `pts`.
+fn extent(pts: &[Vec3]) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in pts {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max)
 }
 
 /// Reads every B-spline curve and surface of a parsed STEP file, in instance order, with the unit.
@@ -472,8 +548,9 @@ pub fn contents(x: &Exchange) -> Result<CadContents> {
         unit: length_unit(x)?,
         ..CadContents::default()
     };
+    let rad = super::step_conic::radians_per_angle_unit(x)?;
     let skip = parameter_space_items(x);
-    let mut composites = super::step_composite::composites(x, &skip)?;
+    let mut composites = super::step_composite::composites(x, &skip, rad)?;
     let members: BTreeSet<u64> = composites
         .values()
         .flat_map(|c| match c {
@@ -484,12 +561,12 @@ pub fn contents(x: &Exchange) -> Result<CadContents> {
     let mut trims = std::collections::BTreeMap::new();
     for (&id, inst) in &x.data {
         if !skip.contains(&id) && !members.contains(&id) {
-            if let Some((basis, c)) = trimmed_curve(x, id, inst)? {
-                trims.insert(id, (basis, c));
+            if let Some(t) = trimmed_curve(x, id, inst, rad)? {
+                trims.insert(id, t);
             }
         }
     }
-    let cut: BTreeSet<u64> = trims.values().map(|(basis, _)| *basis).collect();
+    let cut: BTreeSet<u64> = trims.values().map(|t| t.basis).collect();
     for (&id, inst) in &x.data {
         if let Some(s) = surface(x, id, inst)? {
             out.surfaces.push((format!("#{id}"), s));
@@ -506,12 +583,21 @@ pub fn contents(x: &Exchange) -> Result<CadContents> {
         if skip.contains(&id) || cut.contains(&id) || members.contains(&id) {
             continue;
         }
-        if let Some((basis, c)) = trims.remove(&id) {
-            out.curves.push((format!("#{id} (trimmed #{basis})"), c));
+        if let Some(t) = trims.remove(&id) {
+            let label = match t.kind {
+                "trimmed" => format!("#{id} (trimmed #{})", t.basis),
+                kind => format!("#{id} ({kind}, trimmed #{})", t.basis),
+            };
+            out.curves.push((label, t.curve));
             continue;
         }
         if let Some(c) = curve(x, id, inst)? {
             out.curves.push((format!("#{id}"), c));
+            continue;
+        }
+        if let Some(c) = super::step_conic::conic(x, id, inst)? {
+            let full = c.full(0.0).map_err(|e| err(id, inst, e))?;
+            out.curves.push((format!("#{id} ({})", c.kind(true)), full));
             continue;
         }
         for part in &inst.parts {
@@ -634,5 +720,235 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("#9 is not defined"), "{e}");
+    }
+}
+
+#[cfg(test)]
+mod conic_tests {
+    use super::super::p21::parse;
+    use super::*;
+    use std::f64::consts::PI;
+
+    fn wrap(data: &str) -> String {
+        format!("ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n{data}\nENDSEC;\nEND-ISO-10303-21;\n")
+    }
+
+    /// A circle of radius 5 about (1, 2, 3) in the plane x + y + z = const (axis (1, 1, 1)/√3, ref
+    /// direction (1, -1, 0)/√2), `extra` instances after it, and the plane-angle unit `unit`.
+    fn circle_file(extra: &str, unit: &str) -> String {
+        wrap(&format!(
+            "#1=CARTESIAN_POINT('',(1.,2.,3.));#2=DIRECTION('',(1.,1.,1.));#3=DIRECTION('',(1.,-1.,0.));\
+             #4=AXIS2_PLACEMENT_3D('',#1,#2,#3);#5=CIRCLE('',#4,5.);{extra}\
+             #40=( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) );{unit}\
+             #50=( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNIT_ASSIGNED_CONTEXT((#41)) \
+             REPRESENTATION_CONTEXT('','') );"
+        ))
+    }
+
+    const RADIAN: &str = "#41=( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) );";
+    const DEGREE: &str = "#42=PLANE_ANGLE_MEASURE_WITH_UNIT(PLANE_ANGLE_MEASURE(0.0174532925199433),#40);\
+                          #43=DIMENSIONAL_EXPONENTS(0.,0.,0.,0.,0.,0.,0.);\
+                          #41=( CONVERSION_BASED_UNIT('DEGREE',#42) NAMED_UNIT(#43) PLANE_ANGLE_UNIT() );";
+
+    fn axes() -> (Vec3, Vec3, Vec3) {
+        let z = Vec3::new(1.0, 1.0, 1.0) * (1.0 / 3f64.sqrt());
+        let x = Vec3::new(1.0, -1.0, 0.0) * (1.0 / 2f64.sqrt());
+        (Vec3::new(1.0, 2.0, 3.0), x, z.cross(x))
+    }
+
+    fn on_circle(t: f64) -> Vec3 {
+        let (c, x, y) = axes();
+        c + x * (5.0 * t.cos()) + y * (5.0 * t.sin())
+    }
+
+    fn assert_on_circle(c: &NurbsCurve) {
+        let (centre, x, y) = axes();
+        let n = x.cross(y);
+        let (a, b) = c.domain();
+        for i in 0..=1000 {
+            let p = c.point(a + (b - a) * i as f64 / 1000.0);
+            assert!(((p - centre).norm() - 5.0).abs() < 1e-12 * 5.0, "{p:?}");
+            assert!((p - centre).dot(n).abs() < 1e-12 * 5.0);
+        }
+    }
+
+    #[test]
+    fn a_whole_circle_is_read_exactly() {
+        let c = contents(&parse(&circle_file("", RADIAN)).unwrap()).unwrap();
+        assert_eq!(c.curves.len(), 1);
+        assert_eq!(c.curves[0].0, "#5 (circle)");
+        let k = &c.curves[0].1;
+        assert_eq!((k.degree(), k.domain()), (2, (0.0, 2.0 * PI)));
+        assert_on_circle(k);
+        // the parameter is the angle at the knots (quarter turns)
+        for q in 0..4 {
+            let t = q as f64 * PI / 2.0;
+            assert!((k.point(t) - on_circle(t)).norm() < 1e-14 * 5.0, "{q}");
+        }
+    }
+
+    #[test]
+    fn arcs_trimmed_by_degrees_radians_and_points_agree() {
+        let deg = "#6=CARTESIAN_POINT('',(0.,0.,0.));\
+                   #7=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(30.)),(PARAMETER_VALUE(200.)),.T.,.PARAMETER.);";
+        let rad = format!(
+            "#7=TRIMMED_CURVE('',#5,(PARAMETER_VALUE({})),(PARAMETER_VALUE({})),.T.,.PARAMETER.);",
+            30f64.to_radians(),
+            200f64.to_radians()
+        );
+        let (p1, p2) = (
+            on_circle(30f64.to_radians()),
+            on_circle(200f64.to_radians()),
+        );
+        let pts = format!(
+            "#8=CARTESIAN_POINT('',({:.17},{:.17},{:.17}));#9=CARTESIAN_POINT('',({:.17},{:.17},{:.17}));\
+             #7=TRIMMED_CURVE('',#5,(#8,PARAMETER_VALUE(99.)),(#9),.T.,.CARTESIAN.);",
+            p1[0], p1[1], p1[2], p2[0], p2[1], p2[2]
+        );
+        for (data, unit) in [
+            (deg, DEGREE),
+            (rad.as_str(), RADIAN),
+            (pts.as_str(), DEGREE),
+        ] {
+            let c = contents(&parse(&circle_file(data, unit)).unwrap()).unwrap();
+            assert_eq!(c.curves.len(), 1, "{data}");
+            assert_eq!(c.curves[0].0, "#7 (circular arc, trimmed #5)");
+            let arc = &c.curves[0].1;
+            assert_on_circle(arc);
+            let (a, b) = arc.domain();
+            assert!((b - a - 170f64.to_radians()).abs() < 1e-14, "{a} {b}");
+            assert!((arc.point(a) - p1).norm() < 1e-13 && (arc.point(b) - p2).norm() < 1e-13);
+            // the middle of the arc is at 115 degrees
+            let mid = crate::diffgeo::project_point(arc, on_circle(115f64.to_radians()));
+            assert!(mid.distance < 1e-13, "{}", mid.distance);
+        }
+        // sense .F.: from 30 degrees backwards to 200 (the other 190 degrees)
+        let back = "#7=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(30.)),(PARAMETER_VALUE(200.)),.F.,.PARAMETER.);";
+        let c = contents(&parse(&circle_file(back, DEGREE)).unwrap()).unwrap();
+        let arc = &c.curves[0].1;
+        let (a, b) = arc.domain();
+        assert!((b - a - 190f64.to_radians()).abs() < 1e-14);
+        assert!((arc.point(a) - p1).norm() < 1e-13 && (arc.point(b) - p2).norm() < 1e-13);
+        let mid = crate::diffgeo::project_point(arc, on_circle(-65f64.to_radians()));
+        assert!(mid.distance < 1e-13);
+        assert_on_circle(arc);
+        // equal trims: the full circle from there
+        let full = "#7=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(30.)),(PARAMETER_VALUE(390.)),.T.,.PARAMETER.);";
+        let c = contents(&parse(&circle_file(full, DEGREE)).unwrap()).unwrap();
+        assert_eq!(c.curves[0].0, "#7 (circle, trimmed #5)");
+    }
+
+    #[test]
+    fn an_ellipse_in_a_2d_placement() {
+        let data = "#1=CARTESIAN_POINT('',(1.,2.));#3=DIRECTION('',(0.,1.));\
+                    #4=AXIS2_PLACEMENT_2D('',#1,#3);#5=ELLIPSE('',#4,4.,1.5);\
+                    #7=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.5707963267948966)),.T.,.PARAMETER.);";
+        let c = contents(&parse(&wrap(data)).unwrap()).unwrap();
+        assert_eq!(c.curves[0].0, "#7 (elliptical arc, trimmed #5)");
+        let e = &c.curves[0].1;
+        let (a, b) = e.domain();
+        // from the end of the 4 semi-axis along +y to the end of the 1.5 semi-axis along -x
+        assert!((e.point(a) - Vec3::new(1.0, 6.0, 0.0)).norm() < 1e-14);
+        assert!((e.point(b) - Vec3::new(-0.5, 2.0, 0.0)).norm() < 1e-14);
+        for i in 0..=1000 {
+            let p = e.point(a + (b - a) * i as f64 / 1000.0);
+            let (u, v) = ((p[1] - 2.0) / 4.0, (p[0] - 1.0) / 1.5);
+            assert!((u * u + v * v - 1.0).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn a_bspline_trimmed_by_points_is_cut_at_their_projections() {
+        let data = "#1=CARTESIAN_POINT('',(0.,0.,0.));#2=CARTESIAN_POINT('',(1.,1.,0.));\
+                    #3=CARTESIAN_POINT('',(2.,0.,0.));\
+                    #4=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);\
+                    #5=CARTESIAN_POINT('',(0.5,0.375,0.));#6=CARTESIAN_POINT('',(1.6,0.32,0.));\
+                    #7=TRIMMED_CURVE('',#4,(#5),(#6),.T.,.CARTESIAN.);";
+        // C(u) = (2u, 2u(1-u)): (0.5, 0.375) is u = 0.25, (1.6, 0.32) is u = 0.8
+        let c = contents(&parse(&wrap(data)).unwrap()).unwrap();
+        assert_eq!(c.curves.len(), 1);
+        assert_eq!(c.curves[0].0, "#7 (trimmed #4)");
+        let t = &c.curves[0].1;
+        let (a, b) = t.domain();
+        assert!(
+            (a - 0.25).abs() < 1e-14 && (b - 0.8).abs() < 1e-14,
+            "{a} {b}"
+        );
+        assert!((t.point(0.5) - Vec3::new(1.0, 0.5, 0.0)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn malformed_conics_and_trims_give_one_line_errors() {
+        let bad = [
+            (
+                "#5=CIRCLE('',#4,5.);",
+                "#5=CIRCLE('',#4,0.);",
+                "not a finite positive length",
+            ),
+            (
+                "#5=CIRCLE('',#4,5.);",
+                "#5=CIRCLE('',#4,-2.);",
+                "not a finite positive length",
+            ),
+            (
+                "#5=CIRCLE('',#4,5.);",
+                "#5=CIRCLE('',#4,$);",
+                "not a finite positive length",
+            ),
+            (
+                "#3=DIRECTION('',(1.,-1.,0.));",
+                "#3=DIRECTION('',(1.,1.,1.));",
+                "degenerate",
+            ),
+            (
+                "#2=DIRECTION('',(1.,1.,1.));",
+                "#2=DIRECTION('',(0.,0.,0.));",
+                "zero or not finite",
+            ),
+            (
+                "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);",
+                "#4=AXIS2_PLACEMENT_3D('',#1,#2,#99);",
+                "not a DIRECTION",
+            ),
+            (
+                "#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);",
+                "#4=CARTESIAN_POINT('',(0.,0.,0.));",
+                "not an AXIS2_PLACEMENT",
+            ),
+        ];
+        for (from, to, want) in bad {
+            let text = circle_file("", RADIAN).replace(from, to);
+            let e = contents(&parse(&text).unwrap()).unwrap_err().to_string();
+            assert!(e.contains(want) && !e.contains('\n'), "{to}: {e}");
+        }
+        let trims = [
+            ("#7=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(1.)),(),.T.,.PARAMETER.);", "neither"),
+            ("#8=CARTESIAN_POINT('',(100.,0.,0.));#7=TRIMMED_CURVE('',#5,(#8),(PARAMETER_VALUE(1.)),.T.,.CARTESIAN.);", "off the circle"),
+            ("#7=TRIMMED_CURVE('',#5,(PARAMETER_VALUE(1.E300)),(PARAMETER_VALUE(1.)),.T.,.PARAMETER.);", "not usable angles"),
+        ];
+        for (data, want) in trims {
+            let e = contents(&parse(&circle_file(data, RADIAN)).unwrap())
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(want) && e.contains("#7"), "{data}: {e}");
+        }
+        let e = contents(
+            &parse(&circle_file(
+                "",
+                "#41=( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.STERADIAN.) );",
+            ))
+            .unwrap(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("plane-angle unit"), "{e}");
+        let data = "#1=CARTESIAN_POINT('',(0.,0.,0.));#2=CARTESIAN_POINT('',(1.,1.,0.));\
+                    #3=CARTESIAN_POINT('',(2.,0.,0.));\
+                    #4=B_SPLINE_CURVE_WITH_KNOTS('',2,(#1,#2,#3),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),.UNSPECIFIED.);\
+                    #7=TRIMMED_CURVE('',#4,(PARAMETER_VALUE(0.2)),(PARAMETER_VALUE(3.)),.T.,.PARAMETER.);";
+        let e = contents(&parse(&wrap(data)).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("outside the domain [0, 1]"), "{e}");
     }
 }

@@ -1,0 +1,304 @@
+//! STEP `CIRCLE` and `ELLIPSE` ([`super::step_read`]) with their `AXIS2_PLACEMENT_3D` or
+//! `AXIS2_PLACEMENT_2D`, the file's plane-angle unit, and the trims of a `TRIMMED_CURVE` (parameter
+//! values and/or `CARTESIAN_POINT`s, `sense_agreement`, `master_representation`).
+//!
+//! ISO 10303-42: a circle is `C(t) = location + r (cos t ref_direction + sin t (axis × ref_direction))`,
+//! an ellipse has `semi_axis_1` along `ref_direction` and `semi_axis_2` across; `t` is an angle in the
+//! file's plane-angle unit (`SI_UNIT(.RADIAN.)`, or a `CONVERSION_BASED_UNIT` such as `'DEGREE'`
+//! followed through its `PLANE_ANGLE_MEASURE_WITH_UNIT`). The placement's `axis` defaults to
+//! `(0, 0, 1)`, its `ref_direction` to `(1, 0, 0)` (or `(0, 1, 0)` when the axis is x), and only the
+//! part of `ref_direction` across the axis counts. The curves become exact rational quadratic
+//! B-splines ([`super::cad_conic`]).
+
+use super::cad_conic::{arc_between, Conic};
+use super::p21::{Exchange, Instance, Value};
+use super::step_read::{err, point};
+use crate::errors::Result;
+use crate::nurbs::{NurbsCurve, Vec3};
+use std::f64::consts::PI;
+
+/// The unit vector of the `DIRECTION` `v` refers to; `None` for `$`.
+fn direction(x: &Exchange, v: Option<&Value>, id: u64, inst: &Instance) -> Result<Option<Vec3>> {
+    let Some(r) = v.and_then(Value::as_ref_id) else {
+        return Ok(None);
+    };
+    let d = x
+        .data
+        .get(&r)
+        .and_then(|d| d.part("DIRECTION"))
+        .ok_or_else(|| err(id, inst, format!("#{r} is not a DIRECTION")))?;
+    let ratios = d
+        .params
+        .iter()
+        .rev()
+        .find_map(Value::as_list)
+        .ok_or_else(|| err(id, inst, format!("the DIRECTION #{r} has no ratios")))?;
+    if !(2..=3).contains(&ratios.len()) {
+        return Err(err(
+            id,
+            inst,
+            format!("the DIRECTION #{r} needs 2 or 3 ratios"),
+        ));
+    }
+    let mut c = [0.0; 3];
+    for (k, v) in ratios.iter().enumerate() {
+        c[k] = v.as_f64().unwrap_or(f64::NAN);
+    }
+    let v = Vec3(c);
+    let n = v.norm();
+    if !(n.is_finite() && n > 1e-12 * v.max_abs().max(f64::MIN_POSITIVE) && n > 0.0) {
+        return Err(err(
+            id,
+            inst,
+            format!("the DIRECTION #{r} is zero or not finite"),
+        ));
+    }
+    Ok(Some(v * (1.0 / n)))
+}
+
+/// The origin and the two in-plane axes (`x` = ref_direction, `y` = axis × x) of the placement `v`.
+fn placement(
+    x: &Exchange,
+    v: Option<&Value>,
+    id: u64,
+    inst: &Instance,
+) -> Result<(Vec3, Vec3, Vec3)> {
+    let r = v
+        .and_then(Value::as_ref_id)
+        .ok_or_else(|| err(id, inst, "the position is not a reference #n"))?;
+    let p = x
+        .data
+        .get(&r)
+        .ok_or_else(|| err(id, inst, format!("the position #{r} is not defined")))?;
+    let (origin, z, refd) = if let Some(a) = p.part("AXIS2_PLACEMENT_3D") {
+        (
+            point(x, a.params.get(1).unwrap_or(&Value::Unset), r, p)?,
+            direction(x, a.params.get(2), r, p)?,
+            direction(x, a.params.get(3), r, p)?,
+        )
+    } else if let Some(a) = p.part("AXIS2_PLACEMENT_2D") {
+        (
+            point(x, a.params.get(1).unwrap_or(&Value::Unset), r, p)?,
+            None,
+            direction(x, a.params.get(2), r, p)?,
+        )
+    } else {
+        return Err(err(
+            id,
+            inst,
+            format!(
+                "the position #{r} is a {}, not an AXIS2_PLACEMENT_3D or _2D",
+                p.parts[0].name
+            ),
+        ));
+    };
+    let z = z.unwrap_or(Vec3::new(0.0, 0.0, 1.0));
+    let refd = refd.unwrap_or(if z == Vec3::new(1.0, 0.0, 0.0) {
+        Vec3::new(0.0, 1.0, 0.0)
+    } else {
+        Vec3::new(1.0, 0.0, 0.0)
+    });
+    let across = refd - z * refd.dot(z);
+    let n = across.norm();
+    if n.is_nan() || n <= 1e-9 {
+        return Err(err(
+            r,
+            p,
+            "the placement's ref_direction is parallel to its axis (degenerate)",
+        ));
+    }
+    let xa = across * (1.0 / n);
+    Ok((origin, xa, z.cross(xa)))
+}
+
+/// The `CIRCLE` or `ELLIPSE` of instance `#id`, or `None` when it is neither.
+pub(super) fn conic(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<Conic>> {
+    let (part, a, b) = if let Some(c) = inst.part("CIRCLE") {
+        let r = c.params.get(2).and_then(Value::as_f64).unwrap_or(f64::NAN);
+        (c, r, r)
+    } else if let Some(e) = inst.part("ELLIPSE") {
+        let a = e.params.get(2).and_then(Value::as_f64).unwrap_or(f64::NAN);
+        let b = e.params.get(3).and_then(Value::as_f64).unwrap_or(f64::NAN);
+        (e, a, b)
+    } else {
+        return Ok(None);
+    };
+    let (origin, xa, ya) = placement(x, part.params.get(1), id, inst)?;
+    Conic::new(origin, xa, ya, a, b)
+        .map(Some)
+        .map_err(|e| err(id, inst, format!("{}: {e}", part.name)))
+}
+
+/// Radians per unit of the plane-angle unit `#r` (depth-limited through conversion-based units).
+fn radians_per(x: &Exchange, r: u64, depth: usize) -> Option<f64> {
+    let inst = x.data.get(&r)?;
+    if depth > 8 {
+        return None;
+    }
+    if let Some(si) = inst.part("SI_UNIT") {
+        let n = si.params.len();
+        if n < 2 || !matches!(&si.params[n - 1], Value::Enum(e) if e == "RADIAN") {
+            return None;
+        }
+        return match &si.params[n - 2] {
+            Value::Enum(p) if p == "MILLI" => Some(1e-3),
+            Value::Enum(p) if p == "MICRO" => Some(1e-6),
+            Value::Enum(_) => None,
+            _ => Some(1.0),
+        };
+    }
+    let cb = inst.part("CONVERSION_BASED_UNIT")?;
+    let name = match cb.params.first() {
+        Some(Value::Str(s)) => s.to_ascii_uppercase(),
+        _ => String::new(),
+    };
+    let factor = cb.params.get(1).and_then(Value::as_ref_id).and_then(|m| {
+        let mwu = x
+            .data
+            .get(&m)?
+            .parts
+            .iter()
+            .find(|p| p.name.ends_with("MEASURE_WITH_UNIT") && p.params.len() >= 2)?
+            .clone();
+        Some(mwu.params[0].as_f64()? * radians_per(x, mwu.params[1].as_ref_id()?, depth + 1)?)
+    });
+    let by_name = match name.as_str() {
+        "DEGREE" | "DEGREES" | "DEG" => Some(PI / 180.0),
+        "RADIAN" | "RADIANS" | "RAD" => Some(1.0),
+        "GRAD" | "GON" => Some(PI / 200.0),
+        _ => None,
+    };
+    factor.filter(|f| f.is_finite() && *f > 0.0).or(by_name)
+}
+
+/// Radians per unit of the file's plane-angle unit (the first `PLANE_ANGLE_UNIT` of a
+/// `GLOBAL_UNIT_ASSIGNED_CONTEXT`); 1 when the file declares none. A declared unit fairfit does not
+/// know is an error (angles would be misread).
+pub(super) fn radians_per_angle_unit(x: &Exchange) -> Result<f64> {
+    for inst in x.data.values() {
+        let Some(units) = inst
+            .part("GLOBAL_UNIT_ASSIGNED_CONTEXT")
+            .and_then(|c| c.params.first())
+            .and_then(Value::as_list)
+        else {
+            continue;
+        };
+        for u in units.iter().filter_map(Value::as_ref_id) {
+            let Some(ui) = x
+                .data
+                .get(&u)
+                .filter(|i| i.part("PLANE_ANGLE_UNIT").is_some())
+            else {
+                continue;
+            };
+            return radians_per(x, u, 0).ok_or_else(|| {
+                err(
+                    u,
+                    ui,
+                    "the plane-angle unit is not one fairfit knows (SI radian, or a conversion-based \
+                     unit such as degree)",
+                )
+            });
+        }
+    }
+    Ok(1.0)
+}
+
+/// One end of a `TRIMMED_CURVE`: its parameter value and/or its point.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Trim {
+    /// The `PARAMETER_VALUE`, as written.
+    pub param: Option<f64>,
+    /// The `CARTESIAN_POINT`.
+    pub point: Option<Vec3>,
+}
+
+/// Which end of a trim is used.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum TrimBy {
+    /// The parameter value, as written.
+    Param(f64),
+    /// The point.
+    Point(Vec3),
+}
+
+impl Trim {
+    /// The parameter, or the point when there is no parameter or `points_first` and a point.
+    pub fn by(&self, points_first: bool) -> TrimBy {
+        match (self.param, self.point) {
+            (_, Some(p)) if points_first => TrimBy::Point(p),
+            (Some(u), _) => TrimBy::Param(u),
+            (None, Some(p)) => TrimBy::Point(p),
+            (None, None) => TrimBy::Param(f64::NAN),
+        }
+    }
+}
+
+/// The trim select list `v` (`(#5, PARAMETER_VALUE(0.2))`).
+pub(super) fn trim(x: &Exchange, v: Option<&Value>, id: u64, inst: &Instance) -> Result<Trim> {
+    let mut t = Trim::default();
+    for item in v.and_then(Value::as_list).unwrap_or(&[]) {
+        match item {
+            Value::Typed(name, inner) if name == "PARAMETER_VALUE" => {
+                let u = inner.as_f64().filter(|u| u.is_finite()).ok_or_else(|| {
+                    err(id, inst, "a PARAMETER_VALUE trim is not a finite number")
+                })?;
+                t.param = Some(u);
+            }
+            Value::Ref(_) => t.point = Some(point(x, item, id, inst)?),
+            _ => {}
+        }
+    }
+    if t.param.is_none() && t.point.is_none() {
+        return Err(err(
+            id,
+            inst,
+            "a trim of the TRIMMED_CURVE is neither a PARAMETER_VALUE nor a CARTESIAN_POINT",
+        ));
+    }
+    Ok(t)
+}
+
+/// True when the `TRIMMED_CURVE`'s `master_representation` is `.CARTESIAN.` (points win over
+/// parameters when both are given; otherwise parameters do).
+pub(super) fn points_are_master(v: Option<&Value>) -> bool {
+    matches!(v, Some(Value::Enum(e)) if e == "CARTESIAN")
+}
+
+/// A `TRIMMED_CURVE` `#id` of the conic `c`: the arc between its trims (angles in the file's unit,
+/// `rad` radians each, or the angles of the trimming points), in the sense `forward`; the curve and
+/// its kind (`circular arc`, `circle`, ...).
+pub(super) fn trimmed_conic(
+    c: &Conic,
+    ends: [Trim; 2],
+    forward: bool,
+    points_first: bool,
+    rad: f64,
+    id: u64,
+    inst: &Instance,
+) -> Result<(NurbsCurve, &'static str)> {
+    let size = c.a.max(c.b);
+    let mut t = [0.0; 2];
+    for (k, e) in ends.iter().enumerate() {
+        t[k] = match e.by(points_first) {
+            TrimBy::Param(u) => u * rad,
+            TrimBy::Point(p) => {
+                let (a, d) = c.angle_of(p);
+                if d.is_nan() || d > 1e-6 * size {
+                    return Err(err(
+                        id,
+                        inst,
+                        format!(
+                            "trimming point {} lies {d:.3e} off the {} (more than 1e-6 of its size)",
+                            k + 1,
+                            c.kind(true)
+                        ),
+                    ));
+                }
+                a
+            }
+        };
+    }
+    let (curve, full) = arc_between(c, t[0], t[1], forward).map_err(|e| err(id, inst, e))?;
+    Ok((curve, c.kind(full)))
+}
