@@ -32,11 +32,12 @@
 //! reference's must buy 5 %). Not with a fixed count or `max_extra_control_points = 0` (no counts
 //! to search), nor on periodic curves or pieces between corners (no trigger measured there).
 //!
-//! Measured (quick targets, 33 curves, seeds 0-5, main 068885d): the trigger fires only on hq17
-//! at seeds 0, 2 and 5 (cost 2.01, 1.92, 2.14), where the cubic keeps 13 points with 3 extrema at
+//! Measured (quick targets, 33 curves, seeds 0-5, main 068885d): the trigger fires on hq17 at
+//! seeds 0, 2 and 5 (cost 2.01, 1.92, 2.14), where the cubic keeps 13 points with 3 extrema at
 //! 0.525-0.570x splprep's F; the quartic's own count search keeps 15-16 points with 3 extrema at
-//! 0.258-0.266x. Every other curve and seed is byte-identical, so the 200-point curves pay nothing
-//! but the cost's arithmetic.
+//! 0.258-0.266x. It also fires on sc20714 at seed 4, where the quartic loses (same curve, 36 % more
+//! candidate evaluations). Every other curve and seed does the same work as before, so the
+//! 200-point curves pay nothing but the cost's arithmetic.
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{choose_count, pso_options, CountProblem, Ranked};
