@@ -22,9 +22,9 @@
 //! the fewest curvature extrema first; where that rule is costly — the kept curve's score
 //! (`F · 1.05^extra`) is at least [`OWN_COUNT_SEARCH_COST`] times the fairest finished candidate's —
 //! the cubic cannot remove the wiggles cheaply, and a quartic (one derivative smoother) may do it
-//! at more control points. Then degree `p + 1` gets a count search of its own: at every count from
-//! the reference's smallest feasible count to the least-squares baseline (the reference's limit)
-//! a full knot search (the full swarm's iterations, seeded as above from the reference descent's
+//! at more control points. Then degree `p + 1` gets a count search of its own: at every count
+//! above the reference's kept count up to the least-squares baseline (the reference's limit; at
+//! the reference's count and below, the staged attempt stands for it) a full knot search (the full swarm's iterations, seeded as above from the reference descent's
 //! knots at that count), every feasible one finished like a staged candidate (capped band fairing
 //! and polish), all counts in parallel; with the staged attempt at the smallest count, the count
 //! search's rule ([`choose_count`]: fewest extrema, then `F · 1.05^extra`) keeps one, which then
@@ -35,9 +35,9 @@
 //! Measured (quick targets, 33 curves, seeds 0-5, main 068885d): the trigger fires on hq17 at
 //! seeds 0, 2 and 5 (cost 2.01, 1.92, 2.14), where the cubic keeps 13 points with 3 extrema at
 //! 0.525-0.570x splprep's F; the quartic's own count search keeps 15-16 points with 3 extrema at
-//! 0.258-0.266x. It also fires on sc20714 at seed 4, where the quartic loses (same curve, 36 % more
-//! candidate evaluations). Every other curve and seed does the same work as before, so the
-//! 200-point curves pay nothing but the cost's arithmetic.
+//! 0.258-0.266x. It also fires on sc20714 at seed 4, where the cubic's count is the baseline's
+//! (nothing to search). Every other curve and seed does the same work as before, so the 200-point
+//! curves pay nothing but the cost's arithmetic.
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{choose_count, pso_options, CountProblem, Ranked};
@@ -127,6 +127,7 @@ pub(crate) fn raise_open(
     let k = reference.curve.knots().to_vec();
     let interior = &k[p + 1..k.len() - p - 1];
     let first = std::sync::Mutex::new(first);
+    let reference_count = reference.curve.n_control_points();
     let attempt = |d: usize| {
         let a = match (d == p + 1)
             .then(|| first.lock().expect("not poisoned").take())
@@ -137,7 +138,8 @@ pub(crate) fn raise_open(
         };
         match seen {
             Some(s) if d == p + 1 && s.extrema_cost >= OWN_COUNT_SEARCH_COST => {
-                own_count_search(&preps[d - p], p, s, tol, opts, d, a)
+                let counts = (reference_count + 1).max(s.n)..=s.limit;
+                own_count_search(&preps[d - p], p, s, counts, tol, opts, d, a)
             }
             _ => a,
         }
@@ -146,20 +148,22 @@ pub(crate) fn raise_open(
 }
 
 /// The own count search of degree `d` (data `q`; module doc): a full knot search at every count
-/// from `seen.n` to `seen.limit` (in parallel), seeded from the reference degree's descent knots
-/// at that count, every feasible one finished like a staged candidate; of these and `at_n` (the
-/// staged attempt) the count search's rule ([`choose_count`]) keeps one.
+/// of `counts` (in parallel), seeded from the reference degree's descent knots at that count,
+/// every feasible one finished like a staged candidate; of these and `at_n` (the staged attempt)
+/// the count search's rule ([`choose_count`]) keeps one.
+#[allow(clippy::too_many_arguments)]
 fn own_count_search(
     q: &Prepared,
     p: usize,
     seen: CountsSeen<'_>,
+    counts: std::ops::RangeInclusive<usize>,
     tol: f64,
     opts: &IntegratedOptions,
     d: usize,
     at_n: Attempt,
 ) -> Attempt {
     let o = candidate_options(opts, d);
-    let searched: Vec<(Option<Candidate>, Option<IntegratedResult>)> = (seen.n..=seen.limit)
+    let searched: Vec<(Option<Candidate>, Option<IntegratedResult>)> = counts
         .into_par_iter()
         .filter_map(|c| seen.descent.iter().find(|(k, _)| *k == c))
         .map(|(_, knots)| {

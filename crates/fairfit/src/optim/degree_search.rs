@@ -25,8 +25,8 @@
 //! - degree `d` keeps the reference's count; its knots come from a short knot search seeded with
 //!   the reference's knots (open curves: `d − 3` fewer of them at the same count; periodic curves:
 //!   the same breakpoints, a periodic curve has as many spans as distinct control points);
-//! - a degree whose knot search misses the tolerance at that count is not finished; the others get band fairing
-//!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
+//! - a degree whose knot search misses the tolerance at that count is not finished; the others
+//!   get band fairing (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
 //!   [`CANDIDATE_POLISH_EVALUATIONS`] measurements);
 //! - open curves: the first higher degree runs beside the reference's count search (rayon
 //!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
@@ -40,8 +40,8 @@
 //!
 //! - open curves: when the reference's count choice was costly (its fewest-extrema rule kept a curve
 //!   at least [`super::degree_candidates::OWN_COUNT_SEARCH_COST`] times less fair than its fairest
-//!   candidate), the next degree also gets a count search of its own, from the smallest feasible
-//!   count to the least-squares baseline ([`super::degree_candidates`], "Own count search").
+//!   candidate), the next degree also gets a count search of its own, above the reference's count
+//!   up to the least-squares baseline ([`super::degree_candidates`], "Own count search").
 //!
 //! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
 //! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:
