@@ -655,15 +655,39 @@ fn deviations_bounded(
     ws.foot_params.extend_from_slice(start);
     ws.dev2.clear();
     ws.dev2.resize(m, 0.0);
+    // the projection chosen once, not per point (the loop is compiled for each; same arithmetic)
+    match (is_flat(data, ws), data.degree) {
+        (true, 3) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project_planar_any(data, 3, k, u, ws, hint)
+        }),
+        (true, 4) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project_planar_any(data, 4, k, u, ws, hint)
+        }),
+        (true, p) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project_planar_any(data, p, k, u, ws, hint)
+        }),
+        (false, _) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project(data, k, u, ws, hint)
+        }),
+    }
+}
+
+/// The loop of [`deviations_bounded`] with the projection `proj(k, u, ws, hint)` of point `k` from
+/// `u` (`hint`: the span of the last evaluation).
+#[inline(always)]
+fn deviation_pass(
+    data: &FitData,
+    start: &[f64],
+    floor: f64,
+    give_up: Option<(f64, f64)>,
+    ws: &mut EvalWorkspace,
+    proj: impl Fn(usize, f64, &EvalWorkspace, &mut usize) -> (f64, f64),
+) -> Result<(f64, f64), f64> {
+    let m = data.points.len();
     let mut hint = 0;
-    let flat = is_flat(data, ws);
     let mut worst2 = 0.0f64;
     for k in 1..m.saturating_sub(1) {
-        let (best, best_u) = if flat {
-            project_planar(data, k, start[k], ws, &mut hint)
-        } else {
-            project(data, k, start[k], ws, &mut hint)
-        };
+        let (best, best_u) = proj(k, start[k], ws, &mut hint);
         ws.foot_params[k] = best_u;
         ws.dev2[k] = best;
         if best > worst2 {
