@@ -1,4 +1,5 @@
-//! Reading B-spline / NURBS curves and surfaces from CAD files: the format by extension (`.step`,
+//! Reading B-spline / NURBS curves and surfaces (and circles and ellipses, as exact rational quadratic
+//! B-splines) from CAD files: the format by extension (`.step`,
 //! `.stp`: [`super::step_read`]; `.igs`, `.iges`: [`super::iges_read`]), the choice of one entity, the
 //! unit conversion, and dense sampling of a curve for re-fitting.
 //!
