@@ -22,6 +22,8 @@ then edited as text, as noted):
                                    from (5, -5, 0) back to (100, -0.5, 0); the STEP set of three
                                    TRIMMED_CURVEs is turned by text into one COMPOSITE_CURVE (as
                                    occ_composite.py does); the IGES wire is OpenCASCADE's 102.
+  cone_arcs.step, cone_circles.igs sections of the cone r = 5 + z / 10 at z = 0, 10, 20: arcs from 0 to
+                                   270 degrees (STEP), full circles (IGES 100s); not in occ_truth.json
 
 read: the file is transferred by STEPControl_Reader / IGESControl_Reader; every edge, in TopExp_Explorer
 order, is sampled at 51 equally spaced parameters along its orientation (BRepAdaptor_Curve) and the
@@ -36,6 +38,7 @@ import os
 import re
 import sys
 
+from OCP.BRep import BRep_Builder
 from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire
 from OCP.GCPnts import GCPnts_AbscissaPoint
@@ -45,7 +48,7 @@ from OCP.Interface import Interface_Static
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_REVERSED
 from OCP.TopExp import TopExp_Explorer
-from OCP.TopoDS import TopoDS
+from OCP.TopoDS import TopoDS, TopoDS_Compound
 from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
 
 try:  # OCP 7.7 names
@@ -176,9 +179,20 @@ def write(d):
     )
     edit(f"{d}/section.step", text.replace("ENDSEC;\nEND-ISO-10303-21;", extra + "ENDSEC;\nEND-ISO-10303-21;"))
     write_iges(wire.Wire(), f"{d}/section.igs")
+    # sections of the cone r = 5 + z / 10: arcs of 270 degrees, and full circles
+    arcs, circles = TopoDS_Compound(), TopoDS_Compound()
+    b = BRep_Builder()
+    b.MakeCompound(arcs)
+    b.MakeCompound(circles)
+    for z in (0.0, 10.0, 20.0):
+        c = Geom_Circle(gp_Ax2(gp_Pnt(0, 0, z), gp_Dir(0, 0, 1), gp_Dir(1, 0, 0)), 5.0 + z / 10.0)
+        b.Add(arcs, BRepBuilderAPI_MakeEdge(c, 0.0, 1.5 * math.pi).Edge())
+        b.Add(circles, BRepBuilderAPI_MakeEdge(c).Edge())
+    write_step(arcs, f"{d}/cone_arcs.step")
+    write_iges(circles, f"{d}/cone_circles.igs")
     truth = {}
     for name in sorted(os.listdir(d)):
-        if name.endswith((".step", ".igs")):
+        if name.endswith((".step", ".igs")) and not name.startswith("cone_"):
             truth[name] = read_file(f"{d}/{name}")
     with open(f"{d}/occ_truth.json", "w") as f:
         json.dump(truth, f, separators=(",", ":"))

@@ -291,3 +291,149 @@ fn the_section_joins_into_one_curve() {
     assert_eq!(contents.composites.len(), 1);
     assert!(contents.curves.is_empty());
 }
+
+/// Every prefix (100 cut points), 300 single-character corruptions and 60 deletions of each STEP and
+/// IGES conic fixture give a curve or a typed one-line error: never a panic.
+#[test]
+fn corrupted_conic_files_never_panic() {
+    use fairfit::io::cad_read::{parse_cad, select, CadFormat};
+    let (mut errors, mut read) = (0, 0);
+    for file in [
+        "arc_deg.step",
+        "arc_points_reversed.step",
+        "ellipse_arc.step",
+        "section.step",
+        "arc.igs",
+        "ellipse_arc.igs",
+        "section.igs",
+    ] {
+        let bytes = std::fs::read(data().join(file)).unwrap();
+        let format = CadFormat::from_path(file).unwrap();
+        let mut variants: Vec<Vec<u8>> = (0..100)
+            .map(|k| bytes[..bytes.len() * k / 100].to_vec())
+            .collect();
+        for k in 0..300 {
+            let mut v = bytes.clone();
+            let at = (k * 7919) % v.len();
+            v[at] = b"()#,;9H'./ EF-0"[k % 15];
+            variants.push(v);
+        }
+        for k in 0..60 {
+            let mut v = bytes.clone();
+            v.remove((k * 15_485_863) % v.len());
+            variants.push(v);
+        }
+        for v in &variants {
+            let text = String::from_utf8_lossy(v);
+            match parse_cad(&text, format).and_then(|c| select(c, CadKind::Any, 0, "x")) {
+                Ok(_) => read += 1,
+                Err(e) => {
+                    errors += 1;
+                    let m = e.to_string();
+                    assert!(!m.contains('\n') && !m.is_empty(), "{file}: {m}");
+                }
+            }
+        }
+    }
+    println!("{errors} errors, {read} read");
+    assert!(errors > 500 && read > 500, "{errors} {read}");
+}
+
+/// Hostile numbers in the conic entities (zero, negative, NaN-like and huge radii, degenerate axes,
+/// trims out of range, points off the curve, no plane-angle unit fairfit knows): one-line errors
+/// naming the entity, never a panic.
+#[test]
+fn hostile_conic_data_gives_one_line_errors() {
+    use fairfit::io::cad_read::{parse_cad, select, CadFormat};
+    let step = std::fs::read_to_string(data().join("arc_rad.step")).unwrap();
+    let iges = std::fs::read_to_string(data().join("arc.igs")).unwrap();
+    let ell = std::fs::read_to_string(data().join("ellipse_arc.igs")).unwrap();
+    let cases: Vec<(String, CadFormat, &str)> = vec![
+        (
+            step.replace("CIRCLE('',#18,7.5)", "CIRCLE('',#18,0.)"),
+            CadFormat::Step,
+            "#17",
+        ),
+        (
+            step.replace("CIRCLE('',#18,7.5)", "CIRCLE('',#18,-7.5)"),
+            CadFormat::Step,
+            "not a finite positive length",
+        ),
+        (
+            step.replace("CIRCLE('',#18,7.5)", "CIRCLE('',#18,1.E309)"),
+            CadFormat::Step,
+            "line",
+        ),
+        (
+            step.replace("CIRCLE('',#18,7.5)", "CIRCLE('',#18,'r')"),
+            CadFormat::Step,
+            "not a finite positive length",
+        ),
+        (
+            step.replace(
+                "#21 = DIRECTION('',(0.980580675691,-6.938893903907E-18,-0.196116135138)",
+                "#21 = DIRECTION('',(0.188144173677,0.282216260515,0.940720868384)",
+            ),
+            CadFormat::Step,
+            "degenerate",
+        ),
+        (
+            step.replace("PARAMETER_VALUE(0.4)", "PARAMETER_VALUE(1.E200)"),
+            CadFormat::Step,
+            "not usable angles",
+        ),
+        (
+            step.replace("(#22,PARAMETER_VALUE(0.4))", "(PARAMETER_VALUE(0.4),#22)")
+                .replace(".T.,.PARAMETER.", ".T.,.CARTESIAN.")
+                .replace(
+                    "#22 = CARTESIAN_POINT('',(7.612160587474",
+                    "#22 = CARTESIAN_POINT('',(70.612160587474",
+                ),
+            CadFormat::Step,
+            "off the circle",
+        ),
+        (
+            step.replace("SI_UNIT($,.RADIAN.)", "SI_UNIT($,.STERADIAN.)"),
+            CadFormat::Step,
+            "plane-angle unit",
+        ),
+        (
+            iges.replace(
+                "100,0.,0.,0.,6.907957455,2.920637567",
+                "100,0.,0.,0.,0.000000000,0.000000000",
+            ),
+            CadFormat::Iges,
+            "DE 1",
+        ),
+        (
+            iges.replace("-7.282186239,1.794369969;", "-9.282186239,1.794369969;"),
+            CadFormat::Iges,
+            "not one circle",
+        ),
+        (
+            ell.replacen("104,1.234567901E-02,", "104,-1.23456790E-02,", 1),
+            CadFormat::Iges,
+            "hyperbola",
+        ),
+    ];
+    for (k, (text, format, want)) in cases.iter().enumerate() {
+        assert_ne!(
+            text,
+            if *format == CadFormat::Step {
+                &step
+            } else if text.contains("104,") {
+                &ell
+            } else {
+                &iges
+            },
+            "case {k} changes nothing"
+        );
+        let e = parse_cad(text, *format)
+            .and_then(|c| select(c, CadKind::Curve, 0, "f"))
+            .map(|g| g.source)
+            .unwrap_err()
+            .to_string();
+        println!("case {k}: {e}");
+        assert!(e.contains(want) && !e.contains('\n'), "case {k}: {e}");
+    }
+}

@@ -1,7 +1,7 @@
 //! The degree search of the integrated method (`fairfit::optim::degree_search`,
 //! `IntegratedOptions::max_degree`): on a sampled circle (exact `dκ/ds = 0`) a higher degree is kept
-//! and is far fairer than the cubic; on shared airfoils the choice never costs control points or
-//! curvature extrema against a separate cubic fit.
+//! and is far fairer than the cubic; on shared airfoils the choice never costs curvature extrema
+//! against a separate cubic fit (nor control points where the staged search alone runs).
 
 use fairfit::fair::curve_fairness;
 use fairfit::io::read_points;
@@ -67,7 +67,10 @@ fn a_sampled_circle_gets_a_higher_degree_and_a_small_fraction_of_the_cubics_fair
 
 #[test]
 fn the_degree_never_costs_control_points_or_extrema_on_airfoils() {
-    for name in ["naca4412.csv", "e387.csv", "hq17.csv"] {
+    // hq17 is left to integrated_own_count_search.rs: there the quartic's own count search (the
+    // cubic's count choice cost 2x F for its fewest extrema) keeps 15 points against the
+    // cubic's 13 at less than half its F
+    for name in ["naca4412.csv", "e387.csv"] {
         let pts = data(name);
         let cubic = fit_integrated(&pts, &IntegratedOptions::default()).unwrap();
         let r = fit_integrated(&pts, &auto()).unwrap();

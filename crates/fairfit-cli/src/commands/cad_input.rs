@@ -10,7 +10,8 @@ use super::CliError;
 use clap::{Args, ValueEnum};
 use fairfit::io::cad_chain::{open_gaps, sample_chain};
 use fairfit::io::cad_read::{
-    read_cad, read_cad_chain, sample_curve, samples_per_span, CadFormat, CadGeometry, CadKind,
+    curve_kind, read_cad, read_cad_chain, sample_curve, samples_per_span, CadFormat, CadGeometry,
+    CadKind, CadUnit,
 };
 use fairfit::io::cad_sections::read_cad_sections as read_sections;
 use fairfit::io::{read_geometry, read_points, Geometry, PointSet};
@@ -63,36 +64,61 @@ impl CadInputArgs {
     }
 }
 
-/// Reads the CAD file and prints a note when there was a choice or a unit conversion.
-fn read_noted(path: &Path, kind: CadKind, args: &CadInputArgs) -> Result<CadGeometry, CliError> {
-    let g = read_cad(path, kind, args.index.unwrap_or(0))?;
-    let what = match g.geometry {
-        Geometry::Curve(_) if g.segments > 1 => "composite curve (joined into one B-spline)",
-        Geometry::Curve(_) => "B-spline curve",
+/// What a read geometry is: `composite curve`, `circle`, `circular arc`, `ellipse`, `elliptical arc`,
+/// `B-spline curve` or `B-spline surface`.
+fn kind_of(g: &CadGeometry) -> &'static str {
+    match g.geometry {
+        Geometry::Curve(_) if g.segments > 1 => "composite curve",
+        Geometry::Curve(_) => curve_kind(&g.source),
         Geometry::Surface(_) => "B-spline surface",
-    };
-    let unit = if g.unit.name != "mm" {
-        format!("; coordinates converted from {} to mm", g.unit.name)
+    }
+}
+
+/// Prints the note on what was read when there was a choice (`count > 1`) or a unit conversion.
+fn note_read(path: &Path, what: &str, source: &str, index: usize, count: usize, unit: &CadUnit) {
+    let unit = if unit.name != "mm" {
+        format!("; coordinates converted from {} to mm", unit.name)
     } else {
         String::new()
     };
-    if g.count > 1 || !unit.is_empty() {
-        let choice = if g.count > 1 {
+    if count > 1 || !unit.is_empty() {
+        let choice = if count > 1 {
             format!(
-                " ({} of {}; choose with --index 0..{})",
-                g.index + 1,
-                g.count,
-                g.count - 1
+                " ({} of {count}; choose with --index 0..{})",
+                index + 1,
+                count - 1
             )
         } else {
             String::new()
         };
         eprintln!(
-            "note: {}: read {what} {}{choice}{unit}",
-            path.display(),
-            g.source
+            "note: {}: read {what} {source}{choice}{unit}",
+            path.display()
         );
     }
+}
+
+/// What the note calls a curve of `kind` (a conic's source names its kind: `read exact conic #16
+/// (circular arc, trimmed #17)`).
+fn described(kind: &str) -> String {
+    match kind {
+        "B-spline curve" | "B-spline surface" => kind.to_string(),
+        "composite curve" => "composite curve (joined into one B-spline)".to_string(),
+        _ => "exact conic".to_string(),
+    }
+}
+
+/// Reads the CAD file and prints a note when there was a choice or a unit conversion.
+fn read_noted(path: &Path, kind: CadKind, args: &CadInputArgs) -> Result<CadGeometry, CliError> {
+    let g = read_cad(path, kind, args.index.unwrap_or(0))?;
+    note_read(
+        path,
+        &described(kind_of(&g)),
+        &g.source,
+        g.index,
+        g.count,
+        &g.unit,
+    );
     Ok(g)
 }
 
@@ -113,11 +139,7 @@ pub fn read_input_with_source(
         return Ok((read_geometry(path)?, None));
     };
     let g = read_noted(path, args.kind(CadKind::Any), args)?;
-    let kind = match g.geometry {
-        Geometry::Curve(_) if g.segments > 1 => "composite curve",
-        Geometry::Curve(_) => "B-spline curve",
-        Geometry::Surface(_) => "B-spline surface",
-    };
+    let kind = kind_of(&g);
     let source = serde_json::json!({
         "format": match format {
             CadFormat::Step => "STEP",
@@ -147,23 +169,29 @@ pub fn read_curve_points(path: &Path, args: &CadInputArgs) -> Result<PointSet, C
             "fairfit curve re-fits a curve: --entity surface is not possible here",
         ));
     }
+    // the file is read and parsed once: a single curve is the chain's one segment
     let chain = read_cad_chain(path, args.index.unwrap_or(0))?;
-    if chain.segments.len() == 1 {
-        let g = read_noted(path, CadKind::Curve, args)?;
-        let Geometry::Curve(c) = &g.geometry else {
-            return Err(CliError::new("internal: a curve was asked for"));
-        };
+    if let [c] = chain.segments.as_slice() {
+        let kind = curve_kind(&chain.source);
+        note_read(
+            path,
+            &described(kind),
+            &chain.source,
+            chain.index,
+            chain.count,
+            &chain.unit,
+        );
         let points = sample_curve(c);
         eprintln!(
             "note: {}: fitting {} points sampled on {} (degree {}, {} control points; {} per knot span)",
             path.display(),
             points.len(),
-            g.source,
+            chain.source,
             c.degree(),
             c.n_control_points(),
             samples_per_span(c.degree())
         );
-        return Ok(cad_points(points, g.source));
+        return Ok(cad_points(points, chain.source));
     }
     let points = sample_chain(&chain.segments);
     let degrees: Vec<String> = chain

@@ -165,8 +165,10 @@ pub struct CurveArgs {
     #[arg(long)]
     pub rel_tol: Option<f64>,
     /// Degree of the curve (1 to 15), or `auto` (integrated method, its default): the cubic's count
-    /// search, then degrees 4 and 5 at the cubic's control points, keeping the fairest with no more
-    /// curvature extrema than the cubic's [default: auto for integrated, 3 for lsq and fit-then-fair]
+    /// search, then degrees 4 and 5 at the cubic's control points (the quartic also at more points,
+    /// up to the least-squares count, where the cubic's fewest-extrema choice cost much F), keeping
+    /// the fairest with no more curvature extrema than the cubic's [default: auto for integrated, 3
+    /// for lsq and fit-then-fair]
     #[arg(long, value_parser = parse_degree)]
     pub degree: Option<DegreeArg>,
     /// Parameterisation of the points.

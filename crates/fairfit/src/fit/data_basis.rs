@@ -173,7 +173,7 @@ impl DataBasis {
 }
 
 /// The span `s` with `knots[s] <= u < knots[s + 1]` as [`find_span`] returns it, walking from `hint`.
-#[inline]
+#[inline(always)]
 fn span_from(n: usize, p: usize, u: f64, knots: &[f64], hint: usize) -> usize {
     if u >= knots[n + 1] || u <= knots[p] || !(p..=n).contains(&hint) {
         return find_span(n, p, u, knots);

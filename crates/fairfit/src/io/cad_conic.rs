@@ -124,7 +124,7 @@ impl Conic {
 pub fn arc_between(c: &Conic, t0: f64, t1: f64, forward: bool) -> Result<(NurbsCurve, bool)> {
     if !(t0.is_finite() && t1.is_finite()) || t0.abs() > 1e6 || t1.abs() > 1e6 {
         return Err(Error::Cad(format!(
-            "the trim angles {t0}, {t1} (radians) are not usable angles"
+            "the trim angles {t0:e}, {t1:e} (radians) are not usable angles"
         )));
     }
     let (lo, hi) = if forward { (t0, t1) } else { (t1, t0) };

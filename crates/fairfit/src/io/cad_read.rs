@@ -1,4 +1,5 @@
-//! Reading B-spline / NURBS curves and surfaces from CAD files: the format by extension (`.step`,
+//! Reading B-spline / NURBS curves and surfaces (and circles and ellipses, as exact rational quadratic
+//! B-splines) from CAD files: the format by extension (`.step`,
 //! `.stp`: [`super::step_read`]; `.igs`, `.iges`: [`super::iges_read`]), the choice of one entity, the
 //! unit conversion, and dense sampling of a curve for re-fitting.
 //!
@@ -179,6 +180,27 @@ pub struct CadChain {
     pub count: usize,
     /// The file's unit.
     pub unit: CadUnit,
+}
+
+/// The kinds of exact conic curves in the sources the readers give (`#12 (circle)`, `DE 3 (circular
+/// arc)`, `#20 (elliptical arc, trimmed #12)`).
+const CONIC_KINDS: [&str; 4] = ["circular arc", "circle", "elliptical arc", "ellipse"];
+
+/// What kind of curve a curve's source label (as the readers give it) names: `circle`, `circular arc`,
+/// `ellipse`, `elliptical arc` (conics, read as exact rational quadratic B-splines), or `B-spline
+/// curve`.
+///
+/// ```
+/// use fairfit::io::cad_read::curve_kind;
+/// assert_eq!(curve_kind("#20 (circular arc, trimmed #12)"), "circular arc");
+/// assert_eq!(curve_kind("DE 5 (ellipse)"), "ellipse");
+/// assert_eq!(curve_kind("#12 (trimmed #9)"), "B-spline curve");
+/// ```
+pub fn curve_kind(source: &str) -> &'static str {
+    source
+        .split_once(" (")
+        .and_then(|(_, rest)| CONIC_KINDS.into_iter().find(|k| rest.starts_with(k)))
+        .unwrap_or("B-spline curve")
 }
 
 /// `segments` (in a file's unit, `mm_per_unit` millimetres each) scaled to millimetres; `file`

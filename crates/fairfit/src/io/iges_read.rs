@@ -1,4 +1,9 @@
-//! IGES reader for entity 126 (rational B-spline curve) and 128 (rational B-spline surface).
+//! IGES reader for entity 126 (rational B-spline curve) and 128 (rational B-spline surface), and for
+//! the conics 100 (circular arc) and 104 (conic arc: ellipses; parabolas and hyperbolas are named, not
+//! read) as exact rational quadratic B-splines ([`super::cad_conic`]): counter-clockwise in their
+//! definition plane `z = ZT` from the start to the end point (the whole conic when they coincide),
+//! then moved by their 124 as OpenCASCADE moves a conic (centre mapped, plane normal the matrix's third
+//! column, semi-axes kept), alone and as members of a 102.
 //!
 //! Hand-written, like the writer ([`super::iges`]): no maintained small Rust crate parses IGES (the
 //! readers that exist live inside whole B-rep kernels). Read: the fixed 80-column ASCII form with its

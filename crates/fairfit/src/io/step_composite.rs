@@ -1,9 +1,10 @@
 //! STEP `COMPOSITE_CURVE`s ([`super::step_read`]): the segments (`COMPOSITE_CURVE_SEGMENT` and
-//! `REPARAMETRISED_COMPOSITE_CURVE_SEGMENT`) in order, each parent curve a B-spline, a `TRIMMED_CURVE`
-//! of a B-spline by parameter values, a straight piece (a trimmed `LINE` or a `POLYLINE`, as a B-spline
-//! of degree 1), or a nested composite, reversed where `same_sense` is `.F.`.
+//! `REPARAMETRISED_COMPOSITE_CURVE_SEGMENT`) in order, each parent curve a B-spline, a `CIRCLE` or an
+//! `ELLIPSE` (exact rational quadratics), a `TRIMMED_CURVE` of any of these (by parameters or points,
+//! `step_read::trimmed_curve`), a straight piece (a trimmed `LINE` or a `POLYLINE`, as a
+//! B-spline of degree 1), or a nested composite, reversed where `same_sense` is `.F.`.
 //! Composite curves on surfaces and boundary curves (subtypes that bound a face in its parameter space
-//! or on it) are not read; a composite with any other segment (a `CIRCLE`, an untrimmed `LINE`, ...)
+//! or on it) are not read; a composite with any other segment (an untrimmed `LINE`, a `PARABOLA`, ...)
 //! is named in the "found:" list of errors instead.
 
 use super::p21::{Exchange, Instance, Value};

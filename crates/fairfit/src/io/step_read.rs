@@ -8,8 +8,13 @@
 //! knots ISO 10303-42 implies, and `CARTESIAN_POINT` with 2 or 3 coordinates (z = 0 for 2). Knots come
 //! as distinct values plus multiplicities and are expanded. Curves that only describe a trim in a
 //! surface's parameter space (items of a `DEFINITIONAL_REPRESENTATION`, the `PCURVE`s CAD systems write
-//! beside every face) are skipped. A `TRIMMED_CURVE` of a B-spline with `PARAMETER_VALUE` trims gives the
-//! B-spline cut there exactly (an edge's sub-range given only by its vertices is not cut). The length unit is the one of the file's
+//! beside every face) are skipped. `CIRCLE` and `ELLIPSE` are read as exact rational quadratic B-splines
+//! (`io/step_conic.rs`, [`super::cad_conic`]): alone as the whole conic, as the basis of a
+//! `TRIMMED_CURVE` as the arc between its trims. A `TRIMMED_CURVE` of a B-spline or a conic is cut at its
+//! trims, exactly: `PARAMETER_VALUE`s (conic angles in the file's plane-angle unit) or `CARTESIAN_POINT`s
+//! (taken at their projection onto the basis; `master_representation .CARTESIAN.` prefers them when
+//! both are given), `sense_agreement .F.` running from the first trim backwards to the second (an
+//! edge's sub-range given only by its vertices is not cut). The length unit is the one of the file's
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: an `SI_UNIT` metre with any prefix, or a `CONVERSION_BASED_UNIT`
 //! (inch, foot, ...) followed through its `LENGTH_MEASURE_WITH_UNIT` to the SI unit. Coordinates are
 //! returned as written; [`super::cad_read`] converts them.

@@ -515,8 +515,20 @@ impl ExtremaCount {
     }
 }
 
-/// `[C, C', C'', C''']` at a node from the control points.
+/// `[C, C', C'', C''']` at a node from the control points (`C` itself is left zero).
+#[inline]
 fn node_derivatives(node: &Node, ctrl: &[Vec3], p: usize) -> [Vec3; 4] {
+    if p == 3 {
+        // the usual cubic: the same loops with a constant degree, unrolled by the compiler
+        node_derivatives_any(node, ctrl, 3)
+    } else {
+        node_derivatives_any(node, ctrl, p)
+    }
+}
+
+/// [`node_derivatives`] for any degree (always inlined so a constant `p` unrolls the loops).
+#[inline(always)]
+fn node_derivatives_any(node: &Node, ctrl: &[Vec3], p: usize) -> [Vec3; 4] {
     let mut d = [Vec3::ZERO; 4];
     for (o, out) in d.iter_mut().enumerate().skip(1).take(3.min(p)) {
         for j in 0..=p {

@@ -175,6 +175,20 @@ pub(crate) fn search_counts<C: CountFamily>(
     progress: &(dyn Fn(usize, usize) + Sync),
     stats: &mut OptimStats,
 ) -> Result<IntegratedResult> {
+    search_counts_costed(family, start, opts, progress, stats).map(|(r, _)| r)
+}
+
+/// [`search_counts`], with the **extrema cost** of the choice: the chosen candidate's score
+/// `F · EXTRA_POINT_GAIN^extra` over the lowest score of all finished candidates within the
+/// tolerance (1 when the fairest candidate was kept; above 1 when the fewest-extrema rule kept a
+/// less fair curve). The degree search reads it ([`super::degree_candidates`]).
+pub(crate) fn search_counts_costed<C: CountFamily>(
+    family: &C,
+    start: CountStart<'_>,
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    stats: &mut OptimStats,
+) -> Result<(IntegratedResult, f64)> {
     let CountStart {
         n,
         knots,
@@ -253,11 +267,32 @@ pub(crate) fn search_counts<C: CountFamily>(
             best = choose_count(&counts, &ranked);
         }
     }
-    finished.into_iter().nth(best).unwrap_or_else(|| {
+    let cost = extrema_cost(&counts, &ranked, best);
+    let chosen = finished.into_iter().nth(best).unwrap_or_else(|| {
         Err(Error::Fit(
             "no valid knot vector for the data (too few points?)".into(),
         ))
-    })
+    })?;
+    Ok((chosen, cost))
+}
+
+/// The extrema cost of choosing candidate `best` ([`search_counts_costed`]): its score over the
+/// lowest score of the candidates within the tolerance (1 when none is within it).
+pub(crate) fn extrema_cost(counts: &[usize], ranked: &[Ranked], best: usize) -> f64 {
+    let Some(lowest) = counts.iter().copied().min() else {
+        return 1.0;
+    };
+    let score = |i: usize| ranked[i].fairness * EXTRA_POINT_GAIN.powi((counts[i] - lowest) as i32);
+    let fairest = (0..counts.len())
+        .filter(|&i| ranked[i].fairness.is_finite())
+        .map(score)
+        .fold(f64::INFINITY, f64::min);
+    let chosen = score(best);
+    if chosen.is_finite() && fairest > 0.0 && fairest.is_finite() {
+        chosen / fairest
+    } else {
+        1.0
+    }
 }
 
 /// Finishes the draws in parallel (an error for a draw without knots).

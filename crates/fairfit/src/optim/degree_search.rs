@@ -4,12 +4,16 @@
 //! result is kept by [`choose_degree`]:
 //!
 //! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the result
-//!    has no more (distinct) control points and no more curvature extrema than the reference's.
-//!    The count search's "fewest control points" and the extrema count are never traded for F;
-//! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference)` wins (ties: the lower
+//!    has no more curvature extrema than the reference's (the extrema count is never traded for F);
+//!    its control points are the reference's count or fewer, except after the next degree's own
+//!    count search ([`super::degree_candidates`], "Own count search"), which may go up to the
+//!    least-squares baseline;
+//! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) ·
+//!    EXTRA_POINT_GAIN^extra` wins (`extra`: control points above the reference's; ties: the lower
 //!    degree). A higher degree must buy the same factor [`IntegratedOptions::fairness_gain`] per
 //!    degree step that an added control point must buy in the count search, so the degree does not
-//!    change for F differences of a few per cent (the swarm's own noise);
+//!    change for F differences of a few per cent (the swarm's own noise), and every control point
+//!    it adds must buy the count search's 5 % ([`super::count_search`]);
 //! 3. when the reference misses the tolerance and another degree meets it, the fewest control points
 //!    among those meeting it, then the lowest F, wins; when none meets it, the reference is returned
 //!    (its miss is reported as usual).
@@ -21,9 +25,8 @@
 //! - degree `d` keeps the reference's count; its knots come from a short knot search seeded with
 //!   the reference's knots (open curves: `d − 3` fewer of them at the same count; periodic curves:
 //!   the same breakpoints, a periodic curve has as many spans as distinct control points);
-//! - a degree whose knot search misses the tolerance at that count is not finished (it would need
-//!   more control points than the reference, which rule 1 refuses); the others get band fairing
-//!   (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
+//! - a degree whose knot search misses the tolerance at that count is not finished; the others
+//!   get band fairing (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
 //!   [`CANDIDATE_POLISH_EVALUATIONS`] measurements);
 //! - open curves: the first higher degree runs beside the reference's count search (rayon
 //!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
@@ -34,6 +37,11 @@
 //! - data with corners: the pieces between corners are fitted at the reference degree and joined
 //!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
 //!   knots and the raised pieces are joined, so one degree serves the whole curve.
+//!
+//! - open curves: when the reference's count choice was costly (its fewest-extrema rule kept a curve
+//!   at least [`super::degree_candidates::OWN_COUNT_SEARCH_COST`] times less fair than its fairest
+//!   candidate), the next degree also gets a count search of its own, above the reference's count
+//!   up to the least-squares baseline ([`super::degree_candidates`], "Own count search").
 //!
 //! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
 //! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:
@@ -47,6 +55,7 @@
 //! threads.
 
 use super::closed::distinct_control_points;
+use super::count_search::EXTRA_POINT_GAIN;
 use super::integrated::{IntegratedOptions, IntegratedResult};
 use crate::errors::Result;
 use crate::fair::curve_fairness;
@@ -156,13 +165,13 @@ pub fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
             continue;
         }
         let key = if reference.tolerance_met {
-            if t.control_points > reference.control_points
-                || t.curvature_extrema > reference.curvature_extrema
-            {
+            if t.curvature_extrema > reference.curvature_extrema {
                 continue;
             }
             let steps = t.degree.saturating_sub(reference.degree) as i32;
-            (0, t.fairness * fairness_gain.powi(steps), t.degree)
+            let extra = t.control_points.saturating_sub(reference.control_points) as i32;
+            let score = t.fairness * fairness_gain.powi(steps) * EXTRA_POINT_GAIN.powi(extra);
+            (0, score, t.degree)
         } else {
             (t.control_points, t.fairness, t.degree)
         };
@@ -189,13 +198,29 @@ mod tests {
 
     #[test]
     fn lowest_scored_fairness_among_admissible_degrees() {
-        // degree 5 is fairest but has more control points; degree 4 wins by more than the gain
+        // degree 4 wins by more than the gain; degree 5 is fairer still but has more extrema
         let trials = [
             t(3, 7, 100.0, 3, true),
             t(4, 7, 50.0, 3, true),
-            t(5, 8, 1.0, 1, true),
+            t(5, 7, 1.0, 4, true),
         ];
         assert_eq!(choose_degree(&trials, 1.1), 1);
+    }
+
+    #[test]
+    fn every_added_point_must_buy_five_per_cent() {
+        // hq17 (seed 0): the cubic at 13 points F 9.03e6, the quartic's own count search 15
+        // points F 4.28e6: 4.28e6 · 1.1 · 1.05² = 5.19e6 wins
+        let hq17 = [t(3, 13, 9.03e6, 3, true), t(4, 15, 4.28e6, 3, true)];
+        assert_eq!(choose_degree(&hq17, 1.1), 1);
+        // 80 · 1.1 · 1.05² = 97.0 < 100 wins; 85 · 1.1 · 1.05² = 103.1 does not
+        let wins = [t(3, 13, 100.0, 3, true), t(4, 15, 80.0, 3, true)];
+        assert_eq!(choose_degree(&wins, 1.1), 1);
+        let loses = [t(3, 13, 100.0, 3, true), t(4, 15, 85.0, 3, true)];
+        assert_eq!(choose_degree(&loses, 1.1), 0);
+        // fewer points than the reference earn nothing
+        let fewer = [t(3, 13, 100.0, 3, true), t(4, 11, 95.0, 3, true)];
+        assert_eq!(choose_degree(&fewer, 1.1), 0);
     }
 
     #[test]

@@ -24,7 +24,8 @@
 
 use super::band_fairing::{band_fair, refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
 pub use super::control_map::EndCondition;
-use super::count_search::{search_counts, CountFamily, CountStart};
+use super::count_search::{search_counts_costed, CountFamily, CountStart};
+use super::degree_candidates::CountsSeen;
 use super::descent::second_descent;
 use super::encoding::KnotEncoding;
 use super::knot_edits::{self, descend, insertion_spans, lsq_method_fit, map_knots, Descent};
@@ -54,8 +55,9 @@ pub struct IntegratedOptions {
     /// degree searched and the reference of the degree search.
     pub degree: usize,
     /// Degree search (`--degree auto`): also fit every degree from `degree + 1` up to this one and
-    /// keep one by the rule of [`super::degree_search`] (never more control points or curvature
-    /// extrema than the fit at `degree`). `None` fits `degree` only.
+    /// keep one by the rule of [`super::degree_search`] (never more curvature extrema than the fit
+    /// at `degree`; more control points only up to the least-squares baseline and at 5 % of F per
+    /// point). `None` fits `degree` only.
     pub max_degree: Option<usize>,
     /// The fitting tolerance.
     pub tolerance: Tolerance,
@@ -365,16 +367,24 @@ pub fn fit_integrated_with_progress(
     };
     // with a degree search, the next degree (from the descent's knots) runs beside the count search
     let (result, first) = rayon::join(
-        || search_counts(&family, start_at, opts, progress, &mut stats),
+        || search_counts_costed(&family, start_at, opts, progress, &mut stats),
         || {
             opts.searches_degree()
                 .then(|| super::degree_candidates::open_next(&prep, &best_knots, tol, opts))
         },
     );
+    let (result, extrema_cost) = result?;
     let mut result = if opts.searches_degree() {
-        super::degree_candidates::raise_open(&prep, result?, tol, opts, first)?
+        // a fixed count, or no extra points, leaves the next degree no counts of its own
+        let seen = (fixed.is_none() && opts.max_extra_control_points > 0).then_some(CountsSeen {
+            n: best_n,
+            descent: &descent,
+            limit: start_at.limit,
+            extrema_cost,
+        });
+        super::degree_candidates::raise_open(&prep, result, tol, opts, first, seen)?
     } else {
-        result?
+        result
     };
     // one more band fairing pass on the chosen curve, with the requested end condition
     result = super::free_ends::release_result(&prep, result, tol, opts)?;

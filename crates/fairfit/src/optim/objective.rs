@@ -377,6 +377,7 @@ pub fn measure_move_within(
     if j0 >= j1 {
         return CandidateEval::failed();
     }
+    ensure_span_ders(p, ws);
     for j in j0..j1 {
         span_power_coefs_cached(p, ws.break_knot[j], j * (p + 1), ws);
         let (e, len) = span_energy_length(data, ws, j);
@@ -416,25 +417,23 @@ pub fn measure_move_deviations(
     let j1 = ws.break_knot.partition_point(|&s| s <= r + p);
     let a = ws.breaks[j0];
     let b = ws.breaks.get(j1).copied().unwrap_or(1.0);
-    let mut hint = j0;
-    let flat = is_flat(data, ws);
-    for k in 1..data.points.len().saturating_sub(1) {
-        let u = start[k];
-        if u >= a && u <= b {
-            let (best, best_u) = if flat {
-                project_planar(data, k, u, ws, &mut hint)
-            } else {
-                project(data, k, u, ws, &mut hint)
-            };
-            ws.foot_params[k] = best_u;
-            ws.dev2[k] = best;
-            if best.sqrt() > give_up {
-                return CandidateEval {
-                    max_deviation: best.sqrt(),
-                    ..e
-                };
-            }
-        }
+    // the projection chosen once, not per point (as in `deviations_bounded`)
+    let far = match (is_flat(data, ws), p) {
+        (true, 3) => move_pass(data, start, (a, b), j0, give_up, ws, |k, u, ws, hint| {
+            project_planar_any(data, 3, k, u, ws, hint)
+        }),
+        (true, _) => move_pass(data, start, (a, b), j0, give_up, ws, |k, u, ws, hint| {
+            project_planar(data, k, u, ws, hint)
+        }),
+        (false, _) => move_pass(data, start, (a, b), j0, give_up, ws, |k, u, ws, hint| {
+            project(data, k, u, ws, hint)
+        }),
+    };
+    if let Some(d) = far {
+        return CandidateEval {
+            max_deviation: d,
+            ..e
+        };
     }
     let (max_deviation, rms_deviation) = deviation_totals(&ws.dev2);
     CandidateEval {
@@ -442,6 +441,33 @@ pub fn measure_move_deviations(
         rms_deviation,
         ..e
     }
+}
+
+/// The loop of [`measure_move_deviations`]: projects the data points whose `start` parameter
+/// lies in `[a, b]` by `proj(k, u, ws, hint)` (from span `hint`); the distance of the first point
+/// farther than `give_up`, if any.
+#[inline(always)]
+fn move_pass(
+    data: &FitData,
+    start: &[f64],
+    (a, b): (f64, f64),
+    mut hint: usize,
+    give_up: f64,
+    ws: &mut EvalWorkspace,
+    proj: impl Fn(usize, f64, &EvalWorkspace, &mut usize) -> (f64, f64),
+) -> Option<f64> {
+    for k in 1..data.points.len().saturating_sub(1) {
+        let u = start[k];
+        if u >= a && u <= b {
+            let (best, best_u) = proj(k, u, ws, &mut hint);
+            ws.foot_params[k] = best_u;
+            ws.dev2[k] = best;
+            if best.sqrt() > give_up {
+                return Some(best.sqrt());
+            }
+        }
+    }
+    None
 }
 
 /// Sets `ws.knots` to the clamped knot vector on `[0, 1]` with the given interior knots.
@@ -491,6 +517,7 @@ fn build_power_form(p: usize, ws: &mut EvalWorkspace) {
     ws.breaks.clear();
     ws.coef.clear();
     ws.break_knot.clear();
+    ensure_span_ders(p, ws);
     for s in p..=n {
         let u0 = ws.knots[s];
         if ws.knots[s + 1] <= u0 {
@@ -503,11 +530,9 @@ fn build_power_form(p: usize, ws: &mut EvalWorkspace) {
     }
 }
 
-/// Writes the `p + 1` Taylor coefficients of knot span `s` at `ws.coef[at..]`, with the basis
-/// derivatives at the span starts from `ws.span_ders` (rebuilt when the knots or the degree
-/// changed): a candidate's parameter correction, band fairing's and the polish's measurements
-/// reuse them on the same knots.
-fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
+/// Rebuilds `ws.span_ders` (the basis derivatives at every span start) when the knots or the
+/// degree changed since it was built; [`span_power_coefs_cached`] reads it.
+fn ensure_span_ders(p: usize, ws: &mut EvalWorkspace) {
     let q = (p + 1) * (p + 1);
     if ws.span_ders.degree != p || ws.span_ders.knots != ws.knots {
         let cache = &mut ws.span_ders;
@@ -532,6 +557,14 @@ fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace
             );
         }
     }
+}
+
+/// Writes the `p + 1` Taylor coefficients of knot span `s` at `ws.coef[at..]`, with the basis
+/// derivatives at the span starts from `ws.span_ders` (made current by [`ensure_span_ders`] once
+/// before a run of spans): a candidate's parameter correction, band fairing's and the polish's
+/// measurements reuse them on the same knots.
+fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace) {
+    let q = (p + 1) * (p + 1);
     let ders = &ws.span_ders.ders[s * q..(s + 1) * q];
     taylor_coefs(p, &ws.ctrl[s - p..=s], ders, &mut ws.coef[at..=at + p]);
 }
@@ -540,6 +573,17 @@ fn span_power_coefs_cached(p: usize, s: usize, at: usize, ws: &mut EvalWorkspace
 /// the basis derivatives `ders[k (p + 1) + j] = N_j^(k)(u_0)` at the span's start.
 #[inline]
 fn taylor_coefs(p: usize, ctrl: &[Vec3], ders: &[f64], coef: &mut [Vec3]) {
+    if p == 3 {
+        // the usual cubic: the same loops with a constant degree, unrolled by the compiler
+        taylor_coefs_any(3, ctrl, ders, coef);
+    } else {
+        taylor_coefs_any(p, ctrl, ders, coef);
+    }
+}
+
+/// [`taylor_coefs`] for any degree (always inlined so a constant `p` unrolls the loops).
+#[inline(always)]
+fn taylor_coefs_any(p: usize, ctrl: &[Vec3], ders: &[f64], coef: &mut [Vec3]) {
     let mut fact = 1.0;
     for k in 0..=p {
         if k > 0 {
@@ -655,15 +699,39 @@ fn deviations_bounded(
     ws.foot_params.extend_from_slice(start);
     ws.dev2.clear();
     ws.dev2.resize(m, 0.0);
+    // the projection chosen once, not per point (the loop is compiled for each; same arithmetic)
+    match (is_flat(data, ws), data.degree) {
+        (true, 3) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project_planar_any(data, 3, k, u, ws, hint)
+        }),
+        (true, 4) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project_planar_any(data, 4, k, u, ws, hint)
+        }),
+        (true, p) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project_planar_any(data, p, k, u, ws, hint)
+        }),
+        (false, _) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
+            project(data, k, u, ws, hint)
+        }),
+    }
+}
+
+/// The loop of [`deviations_bounded`] with the projection `proj(k, u, ws, hint)` of point `k` from
+/// `u` (`hint`: the span of the last evaluation).
+#[inline(always)]
+fn deviation_pass(
+    data: &FitData,
+    start: &[f64],
+    floor: f64,
+    give_up: Option<(f64, f64)>,
+    ws: &mut EvalWorkspace,
+    proj: impl Fn(usize, f64, &EvalWorkspace, &mut usize) -> (f64, f64),
+) -> Result<(f64, f64), f64> {
+    let m = data.points.len();
     let mut hint = 0;
-    let flat = is_flat(data, ws);
     let mut worst2 = 0.0f64;
     for k in 1..m.saturating_sub(1) {
-        let (best, best_u) = if flat {
-            project_planar(data, k, start[k], ws, &mut hint)
-        } else {
-            project(data, k, start[k], ws, &mut hint)
-        };
+        let (best, best_u) = proj(k, start[k], ws, &mut hint);
         ws.foot_params[k] = best_u;
         ws.dev2[k] = best;
         if best > worst2 {
