@@ -83,7 +83,7 @@ fn compare(file: &str, occ: &serde_json::Value) -> (f64, f64, f64) {
 fn every_fixture_agrees_with_opencascade() {
     let t = truth();
     let files = t.as_object().unwrap();
-    assert_eq!(files.len(), 12);
+    assert_eq!(files.len(), 14);
     let mut bad = Vec::new();
     for (file, occ) in files {
         let (off, end, len) = compare(file, occ);
@@ -222,6 +222,8 @@ fn the_arc_is_the_same_however_it_is_trimmed() {
         read("ellipse_arc.igs").source,
         "DE 1 (elliptical arc)".to_string()
     );
+    assert_eq!(read("parabola_arc.igs").source, "DE 1 (parabolic arc)");
+    assert_eq!(read("hyperbola_arc.igs").source, "DE 1 (hyperbolic arc)");
     assert_eq!(
         read("ellipse_arc.step").source,
         "#16 (elliptical arc, trimmed #17)"
@@ -413,7 +415,7 @@ fn hostile_conic_data_gives_one_line_errors() {
         (
             ell.replacen("104,1.234567901E-02,", "104,-1.23456790E-02,", 1),
             CadFormat::Iges,
-            "hyperbola",
+            "hyperbolic arc: the start point",
         ),
     ];
     for (k, (text, format, want)) in cases.iter().enumerate() {
