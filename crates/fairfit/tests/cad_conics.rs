@@ -439,3 +439,32 @@ fn hostile_conic_data_gives_one_line_errors() {
         assert!(e.contains(want) && !e.contains('\n'), "case {k}: {e}");
     }
 }
+
+/// Extreme but finite conic data (radius 1e300, tiny radius, a far-away centre) reads or fails with one
+/// line; it never panics, and a read circle is still exact where it is finite.
+#[test]
+fn extreme_conic_sizes_never_panic() {
+    use fairfit::io::cad_read::{parse_cad, select, CadFormat};
+    let step = std::fs::read_to_string(data().join("circle.step")).unwrap();
+    for (from, to) in [
+        ("CIRCLE('',#18,7.5)", "CIRCLE('',#18,1.E300)"),
+        ("CIRCLE('',#18,7.5)", "CIRCLE('',#18,1.E-300)"),
+        (
+            "#19 = CARTESIAN_POINT('',(1.,2.,3.))",
+            "#19 = CARTESIAN_POINT('',(1.E308,2.,3.))",
+        ),
+    ] {
+        let text = step.replace(from, to);
+        assert_ne!(text, step, "{to}");
+        match parse_cad(&text, CadFormat::Step).and_then(|c| select(c, CadKind::Curve, 0, "f")) {
+            Ok(g) => {
+                let Geometry::Curve(c) = g.geometry else {
+                    panic!("a curve")
+                };
+                let (a, b) = c.domain();
+                let _ = c.point(0.5 * (a + b));
+            }
+            Err(e) => assert!(!e.to_string().contains('\n'), "{e}"),
+        }
+    }
+}
