@@ -14,6 +14,8 @@ then edited as text, as noted):
                                    master_representation .CARTESIAN.)
   arc_points_reversed.step         the same arc as TRIMMED_CURVE(basis, (end), (start), .F., .CARTESIAN.)
   ellipse_arc.step, ellipse_arc.igs  ellipse with semi-axes 9 and 4 from 1 to 4 rad (IGES 104 with a 124)
+  parabola_arc.igs                 parabola of focal length 2 (same placement) from -3 to 2 (IGES 104)
+  hyperbola_arc.igs                hyperbola with semi-axes 6 and 3 (same placement) from -1 to 1.5 (IGES 104)
   bspline_points.step              a cubic B-spline edge on [0.15, 0.85] of its [0, 1], its trims
                                    changed by text to points only (.CARTESIAN.)
   section.step, section.igs        an airfoil-like section: an upper cubic B-spline from the trailing
@@ -42,7 +44,7 @@ from OCP.BRep import BRep_Builder
 from OCP.BRepAdaptor import BRepAdaptor_Curve
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeWire
 from OCP.GCPnts import GCPnts_AbscissaPoint
-from OCP.Geom import Geom_BSplineCurve, Geom_Circle, Geom_Ellipse
+from OCP.Geom import Geom_BSplineCurve, Geom_Circle, Geom_Ellipse, Geom_Hyperbola, Geom_Parabola
 from OCP.IGESControl import IGESControl_Reader, IGESControl_Writer
 from OCP.Interface import Interface_Static
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer
@@ -125,6 +127,8 @@ def write(d):
     write_iges(arc, f"{d}/arc.igs")
     write_step(ell, f"{d}/ellipse_arc.step")
     write_iges(ell, f"{d}/ellipse_arc.igs")
+    write_iges(BRepBuilderAPI_MakeEdge(Geom_Parabola(AX, 2.0), -3.0, 2.0).Edge(), f"{d}/parabola_arc.igs")
+    write_iges(BRepBuilderAPI_MakeEdge(Geom_Hyperbola(AX, 6.0, 3.0), -1.0, 1.5).Edge(), f"{d}/hyperbola_arc.igs")
     # trims by points only, in both senses
     m = TRIM.search(text)
     basis, p1, _, p2, _ = m.groups()

@@ -83,7 +83,7 @@ fn compare(file: &str, occ: &serde_json::Value) -> (f64, f64, f64) {
 fn every_fixture_agrees_with_opencascade() {
     let t = truth();
     let files = t.as_object().unwrap();
-    assert_eq!(files.len(), 12);
+    assert_eq!(files.len(), 14);
     let mut bad = Vec::new();
     for (file, occ) in files {
         let (off, end, len) = compare(file, occ);
@@ -222,6 +222,8 @@ fn the_arc_is_the_same_however_it_is_trimmed() {
         read("ellipse_arc.igs").source,
         "DE 1 (elliptical arc)".to_string()
     );
+    assert_eq!(read("parabola_arc.igs").source, "DE 1 (parabolic arc)");
+    assert_eq!(read("hyperbola_arc.igs").source, "DE 1 (hyperbolic arc)");
     assert_eq!(
         read("ellipse_arc.step").source,
         "#16 (elliptical arc, trimmed #17)"
@@ -413,7 +415,7 @@ fn hostile_conic_data_gives_one_line_errors() {
         (
             ell.replacen("104,1.234567901E-02,", "104,-1.23456790E-02,", 1),
             CadFormat::Iges,
-            "hyperbola",
+            "hyperbolic arc: the start point",
         ),
     ];
     for (k, (text, format, want)) in cases.iter().enumerate() {
@@ -435,5 +437,34 @@ fn hostile_conic_data_gives_one_line_errors() {
             .to_string();
         println!("case {k}: {e}");
         assert!(e.contains(want) && !e.contains('\n'), "case {k}: {e}");
+    }
+}
+
+/// Extreme but finite conic data (radius 1e300, tiny radius, a far-away centre) reads or fails with one
+/// line; it never panics, and a read circle is still exact where it is finite.
+#[test]
+fn extreme_conic_sizes_never_panic() {
+    use fairfit::io::cad_read::{parse_cad, select, CadFormat};
+    let step = std::fs::read_to_string(data().join("circle.step")).unwrap();
+    for (from, to) in [
+        ("CIRCLE('',#18,7.5)", "CIRCLE('',#18,1.E300)"),
+        ("CIRCLE('',#18,7.5)", "CIRCLE('',#18,1.E-300)"),
+        (
+            "#19 = CARTESIAN_POINT('',(1.,2.,3.))",
+            "#19 = CARTESIAN_POINT('',(1.E308,2.,3.))",
+        ),
+    ] {
+        let text = step.replace(from, to);
+        assert_ne!(text, step, "{to}");
+        match parse_cad(&text, CadFormat::Step).and_then(|c| select(c, CadKind::Curve, 0, "f")) {
+            Ok(g) => {
+                let Geometry::Curve(c) = g.geometry else {
+                    panic!("a curve")
+                };
+                let (a, b) = c.domain();
+                let _ = c.point(0.5 * (a + b));
+            }
+            Err(e) => assert!(!e.to_string().contains('\n'), "{e}"),
+        }
     }
 }

@@ -138,6 +138,132 @@ pub fn arc_between(c: &Conic, t0: f64, t1: f64, forward: bool) -> Result<(NurbsC
     Ok((arc, full))
 }
 
+/// The conic `A x² + B xy + C y² + D x + E y + F = 0` of a plane (coefficients in that order).
+pub type Implicit = [f64; 6];
+
+fn implicit_value(q: &Implicit, x: f64, y: f64) -> f64 {
+    q[0] * x * x + q[1] * x * y + q[2] * y * y + q[3] * x + q[4] * y + q[5]
+}
+
+fn implicit_gradient(q: &Implicit, x: f64, y: f64) -> (f64, f64) {
+    (
+        2.0 * q[0] * x + q[1] * y + q[3],
+        q[1] * x + 2.0 * q[2] * y + q[4],
+    )
+}
+
+/// `p` moved onto the conic `q` by Newton steps in x (y kept), or along the gradient where the conic
+/// runs nearly along x there; `p` itself when that does not converge.
+fn onto(q: &Implicit, p: (f64, f64)) -> (f64, f64) {
+    let mut r = p;
+    for _ in 0..8 {
+        let f = implicit_value(q, r.0, r.1);
+        let g = implicit_gradient(q, r.0, r.1);
+        let gn2 = g.0 * g.0 + g.1 * g.1;
+        if f == 0.0 || gn2 == 0.0 {
+            break;
+        }
+        r = if g.0 * g.0 >= 1e-6 * gn2 {
+            (r.0 - f / g.0, r.1)
+        } else {
+            (r.0 - f * g.0 / gn2, r.1 - f * g.1 / gn2)
+        };
+    }
+    let moved = (r.0 - p.0).hypot(r.1 - p.1);
+    if moved.is_finite() && moved <= 1e-6 * p.0.hypot(p.1).max(1.0) {
+        r
+    } else {
+        p
+    }
+}
+
+/// The arc of the plane conic `q` from `p0` to `p2` (both on it) as one rational quadratic Bezier
+/// curve on `[0, 1]`, in the plane `z = z`: the middle control point is where the tangents at the ends
+/// meet, and the middle weight `w = s / (1 - s)` puts the curve's midpoint on the conic where the median
+/// from the chord's midpoint `M` towards that point crosses it (`M + s (P1 - M)`). Two points, their
+/// tangents and a fifth point fix a conic, so this is the conic exactly. The ends are first moved onto
+/// the conic (their y kept) to undo the rounding of the file. For arcs that turn by less
+/// than 180 degrees: every parabola arc, every arc on one branch of a hyperbola (and ellipse arcs under
+/// half a turn). Errors (one line) for ends off the conic (more than 1e-6 of the arc's size), ends
+/// whose tangents do not meet, and a median that does not cross the conic between them (ends on two
+/// branches).
+pub fn bezier_arc(q: &Implicit, p0: (f64, f64), p2: (f64, f64), z: f64) -> Result<NurbsCurve> {
+    let size = (p2.0 - p0.0).hypot(p2.1 - p0.1);
+    if !(size.is_finite() && size > 0.0) || q.iter().any(|c| !c.is_finite()) {
+        return Err(Error::Cad(
+            "the conic arc's ends coincide or its data are not finite".into(),
+        ));
+    }
+    for (name, p) in [("start", p0), ("end", p2)] {
+        let g = implicit_gradient(q, p.0, p.1);
+        let gn = g.0.hypot(g.1);
+        let d = implicit_value(q, p.0, p.1).abs() / gn;
+        if d.is_nan() || gn == 0.0 || d > 1e-6 * size {
+            return Err(Error::Cad(format!(
+                "the {name} point ({}, {}) is not on the conic",
+                p.0, p.1
+            )));
+        }
+    }
+    // the ends as written (to 10 digits or so) lie off the conic by rounding: move each onto it
+    // keeping its y (as OpenCASCADE does for a conic in standard position: its parameter comes from y)
+    let (p0, p2) = (onto(q, p0), onto(q, p2));
+    let (g0, g2) = (
+        implicit_gradient(q, p0.0, p0.1),
+        implicit_gradient(q, p2.0, p2.1),
+    );
+    let (t0, t2) = ((-g0.1, g0.0), (-g2.1, g2.0));
+    let det = t0.0 * (-t2.1) - t0.1 * (-t2.0);
+    let scale = t0.0.hypot(t0.1) * t2.0.hypot(t2.1);
+    if det.is_nan() || det.abs() <= 1e-12 * scale {
+        return Err(Error::Cad(
+            "the tangents at the conic arc's ends are parallel: the arc turns by half a turn or more"
+                .into(),
+        ));
+    }
+    // p0 + a t0 = p2 + b t2
+    let (rx, ry) = (p2.0 - p0.0, p2.1 - p0.1);
+    let a = (rx * (-t2.1) - ry * (-t2.0)) / det;
+    let p1 = (p0.0 + a * t0.0, p0.1 + a * t0.1);
+    let m = (0.5 * (p0.0 + p2.0), 0.5 * (p0.1 + p2.1));
+    let d = (p1.0 - m.0, p1.1 - m.1);
+    // f(M + s d) = alpha s² + beta s + gamma
+    let alpha = q[0] * d.0 * d.0 + q[1] * d.0 * d.1 + q[2] * d.1 * d.1;
+    let gm = implicit_gradient(q, m.0, m.1);
+    let beta = gm.0 * d.0 + gm.1 * d.1;
+    let gamma = implicit_value(q, m.0, m.1);
+    let roots: Vec<f64> = if alpha.abs() <= 1e-14 * (beta.abs() + gamma.abs()) {
+        vec![-gamma / beta]
+    } else {
+        let disc = beta * beta - 4.0 * alpha * gamma;
+        if disc < 0.0 {
+            Vec::new()
+        } else {
+            // the numerically stable pair of roots
+            let k = -0.5 * (beta + beta.signum() * disc.sqrt());
+            vec![k / alpha, gamma / k]
+        }
+    };
+    let s = roots
+        .into_iter()
+        .filter(|s| *s > 0.0 && *s < 1.0)
+        .min_by(|a, b| (a - 0.5).abs().total_cmp(&(b - 0.5).abs()))
+        .ok_or_else(|| {
+            Error::Cad(
+                "the conic does not run between the arc's ends on one branch (no point on the median)"
+                    .into(),
+            )
+        })?;
+    let w = s / (1.0 - s);
+    let pt = |p: (f64, f64)| Vec3::new(p.0, p.1, z);
+    NurbsCurve::new(
+        2,
+        vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        vec![pt(p0), pt(p1), pt(p2)],
+        Some(vec![1.0, w, 1.0]),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -190,6 +316,60 @@ mod tests {
         }
         let (t, d) = e.angle_of(Vec3::new(0.0, -5.0, 0.0));
         assert!((t.abs() - PI).abs() < 1e-15 && d < 1e-15);
+    }
+
+    #[test]
+    fn parabola_and_hyperbola_arcs_are_exact() {
+        // y = x²: -x² + y = 0, from (-1, 1) to (2, 4)
+        let par = bezier_arc(
+            &[-1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+            (-1.0, 1.0),
+            (2.0, 4.0),
+            3.0,
+        )
+        .unwrap();
+        assert!(
+            (par.weights()[1] - 1.0).abs() < 1e-15,
+            "{:?}",
+            par.weights()
+        );
+        // x y = 1 (B = 1, F = -1), from (0.5, 2) to (4, 0.25)
+        let hyp = bezier_arc(
+            &[0.0, 1.0, 0.0, 0.0, 0.0, -1.0],
+            (0.5, 2.0),
+            (4.0, 0.25),
+            0.0,
+        )
+        .unwrap();
+        assert!(hyp.weights()[1] > 1.0);
+        let mut xs = Vec::new();
+        for i in 0..=1000 {
+            let u = i as f64 / 1000.0;
+            let p = par.point(u);
+            assert!((p[1] - p[0] * p[0]).abs() < 1e-14 * 4.0, "{p:?}");
+            assert!((p[2] - 3.0).abs() < 1e-15 * 3.0, "{p:?}");
+            let h = hyp.point(u);
+            assert!((h[0] * h[1] - 1.0).abs() < 1e-14, "{h:?}");
+            xs.push(h[0]);
+        }
+        // the hyperbola arc runs monotonically from the start to the end
+        assert!(xs.windows(2).all(|w| w[1] > w[0]));
+        assert!((par.point(0.0) - Vec3::new(-1.0, 1.0, 3.0)).norm() < 1e-15);
+        assert!((par.point(1.0) - Vec3::new(2.0, 4.0, 3.0)).norm() < 1e-15);
+        // ends off the conic, on two branches, or with parallel tangents
+        let hq = [0.0, 1.0, 0.0, 0.0, 0.0, -1.0];
+        assert!(bezier_arc(&hq, (0.5, 2.5), (4.0, 0.25), 0.0).is_err());
+        assert!(bezier_arc(&hq, (-1.0, -1.0), (1.0, 1.0), 0.0).is_err());
+        let circle = [1.0, 0.0, 1.0, 0.0, 0.0, -1.0];
+        assert!(bezier_arc(&circle, (1.0, 0.0), (-1.0, 0.0), 0.0).is_err());
+        assert!(bezier_arc(&hq, (1.0, 1.0), (1.0, 1.0), 0.0).is_err());
+        assert!(bezier_arc(
+            &[f64::NAN, 1.0, 0.0, 0.0, 0.0, -1.0],
+            (1.0, 1.0),
+            (2.0, 0.5),
+            0.0
+        )
+        .is_err());
     }
 
     #[test]

@@ -184,11 +184,18 @@ pub struct CadChain {
 
 /// The kinds of exact conic curves in the sources the readers give (`#12 (circle)`, `DE 3 (circular
 /// arc)`, `#20 (elliptical arc, trimmed #12)`).
-const CONIC_KINDS: [&str; 4] = ["circular arc", "circle", "elliptical arc", "ellipse"];
+const CONIC_KINDS: [&str; 6] = [
+    "circular arc",
+    "circle",
+    "elliptical arc",
+    "ellipse",
+    "parabolic arc",
+    "hyperbolic arc",
+];
 
 /// What kind of curve a curve's source label (as the readers give it) names: `circle`, `circular arc`,
-/// `ellipse`, `elliptical arc` (conics, read as exact rational quadratic B-splines), or `B-spline
-/// curve`.
+/// `ellipse`, `elliptical arc`, `parabolic arc`, `hyperbolic arc` (conics, read as exact rational
+/// quadratic B-splines), or `B-spline curve`.
 ///
 /// ```
 /// use fairfit::io::cad_read::curve_kind;

@@ -1,8 +1,8 @@
 //! IGES reader for entity 126 (rational B-spline curve) and 128 (rational B-spline surface), and for
-//! the conics 100 (circular arc) and 104 (conic arc: ellipses; parabolas and hyperbolas are named, not
-//! read) as exact rational quadratic B-splines ([`super::cad_conic`]): counter-clockwise in their
+//! the conics 100 (circular arc) and 104 (conic arc: ellipse, parabola, hyperbola) as exact rational
+//! quadratic B-splines ([`super::cad_conic`]): circles and ellipses counter-clockwise in their
 //! definition plane `z = ZT` from the start to the end point (the whole conic when they coincide),
-//! then moved by their 124 as OpenCASCADE moves a conic (centre mapped, plane normal the matrix's third
+//! parabola and hyperbola arcs from the start to the end point, then moved by their 124 as OpenCASCADE moves a conic (centre mapped, plane normal the matrix's third
 //! column, semi-axes kept), alone and as members of a 102.
 //!
 //! Hand-written, like the writer ([`super::iges`]): no maintained small Rust crate parses IGES (the
@@ -19,7 +19,7 @@
 //! 102 composite curve) are skipped. Errors
 //! ([`Error::Cad`]) name the section line or the DE.
 
-use super::cad_conic::{arc_between, Conic};
+use super::cad_conic::{arc_between, bezier_arc, Conic};
 use super::cad_read::{CadContents, CadUnit};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
@@ -481,14 +481,31 @@ fn moved(c: NurbsCurve, xf: &Option<Affine>) -> Result<NurbsCurve> {
 /// axis the mapped one made orthogonal to the normal, the semi-axes kept (a 124 matrix is a rotation,
 /// written to 10 digits or so: this keeps a circle a circle of the written radius).
 fn conic_moved(c: &Conic, xf: &Option<Affine>, de: usize) -> Result<Conic> {
-    let Some((r, _)) = xf else {
+    let Some((o, fx, fy, n)) = rigid_frame(xf, c.x, de)? else {
         return Ok(*c);
+    };
+    let _ = (o, fy, n);
+    Conic::new(apply(xf, c.centre), fx, n.cross(fx), c.a, c.b)
+        .map_err(|e| Error::Cad(format!("DE {de}: {e}")))
+}
+
+/// The rotation of the 124 `xf` made exactly rigid as OpenCASCADE makes it: the image of the origin,
+/// the unit image of the definition plane's direction `dx` made orthogonal to the plane's normal, that
+/// normal's partner `n × x`, and the normal (the matrix's third column, turned for a reflection).
+/// `None` without a matrix.
+fn rigid_frame(
+    xf: &Option<Affine>,
+    dx: Vec3,
+    de: usize,
+) -> Result<Option<(Vec3, Vec3, Vec3, Vec3)>> {
+    let Some((r, _)) = xf else {
+        return Ok(None);
     };
     let col = |k: usize| Vec3::new(r[0][k], r[1][k], r[2][k]);
     let det = col(0).dot(col(1).cross(col(2)));
     let n = col(2) * det.signum();
     let rx = Vec3(std::array::from_fn(|i| {
-        r[i][0] * c.x[0] + r[i][1] * c.x[1] + r[i][2] * c.x[2]
+        r[i][0] * dx[0] + r[i][1] * dx[1] + r[i][2] * dx[2]
     }));
     let fail = || {
         Error::Cad(format!(
@@ -506,8 +523,25 @@ fn conic_moved(c: &Conic, xf: &Option<Affine>, de: usize) -> Result<Conic> {
         return Err(fail());
     }
     let x = x * (1.0 / xn);
-    Conic::new(apply(xf, c.centre), x, n.cross(x), c.a, c.b)
-        .map_err(|e| Error::Cad(format!("DE {de}: {e}")))
+    Ok(Some((apply(xf, Vec3::ZERO), x, n.cross(x), n)))
+}
+
+/// `c` (in a definition space) moved rigidly by `xf` ([`rigid_frame`]).
+fn moved_rigidly(c: NurbsCurve, xf: &Option<Affine>, de: usize) -> Result<NurbsCurve> {
+    let Some((o, x, y, n)) = rigid_frame(xf, Vec3::new(1.0, 0.0, 0.0), de)? else {
+        return Ok(c);
+    };
+    let pts = c
+        .control_points()
+        .iter()
+        .map(|&q| o + x * q[0] + y * q[1] + n * q[2])
+        .collect();
+    NurbsCurve::new(
+        c.degree(),
+        c.knots().to_vec(),
+        pts,
+        c.is_rational().then(|| c.weights().to_vec()),
+    )
 }
 
 /// A circular arc (entity 100) as an exact rational quadratic B-spline, moved by its transformation
@@ -548,14 +582,12 @@ fn circular_arc(g: &Iges, de: usize) -> Result<(NurbsCurve, &'static str)> {
     Ok((c, conic.kind(full)))
 }
 
-/// What a conic arc (entity 104) gives: the arc and its kind, or (`Err`) the name it is listed under
-/// when fairfit does not read it.
-type ConicRead = std::result::Result<(NurbsCurve, &'static str), String>;
-
-/// A conic arc (entity 104): an ellipse arc (counter-clockwise from the start to the end point, the
-/// whole ellipse when they coincide) as an exact rational quadratic B-spline in its definition plane
-/// `z = ZT`, moved by its transformation matrix. Parabolas and hyperbolas are not read.
-fn conic_arc(g: &Iges, de: usize) -> Result<ConicRead> {
+/// A conic arc (entity 104) as an exact rational quadratic B-spline in its definition plane `z = ZT`,
+/// moved by its transformation matrix, and its kind: an ellipse arc counter-clockwise from the start to
+/// the end point (the whole ellipse when they coincide), or a parabola or hyperbola arc from the start
+/// to the end point as one rational quadratic Bezier ([`super::cad_conic::bezier_arc`]). The kind is
+/// told by the coefficients (`B² - 4AC`), not the form number.
+fn conic_arc(g: &Iges, de: usize) -> Result<(NurbsCurve, &'static str)> {
     let e = &g.entries[de / 2];
     let mut p = Params {
         f: g.params(de)?,
@@ -567,15 +599,36 @@ fn conic_arc(g: &Iges, de: usize) -> Result<ConicRead> {
     let (a, b, c, d, ee, f, zt) = (v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
     let disc = b * b - 4.0 * a * c;
     let scale = (b * b).max((4.0 * a * c).abs());
-    if disc.is_nan() || disc >= -1e-12 * scale {
+    if disc.is_nan() {
+        return Err(fail("the coefficients are not numbers".into()));
+    }
+    if disc >= -1e-12 * scale {
+        // a parabola or a hyperbola: one exact rational quadratic Bezier arc from start to end
         let kind = if disc.abs() <= 1e-12 * scale {
-            "parabola"
+            "parabolic arc"
         } else {
-            "hyperbola"
+            "hyperbolic arc"
         };
-        return Ok(Err(format!(
-            "104 ({kind}: not read, only elliptical conic arcs are)"
-        )));
+        let xf = transform(g, e.transform, 0)?;
+        // the ends as OpenCASCADE takes them: mapped by the matrix as written, then read in the rigid
+        // frame the conic is moved by
+        let end = |x: f64, y: f64| -> Result<(f64, f64)> {
+            Ok(match rigid_frame(&xf, Vec3::new(1.0, 0.0, 0.0), de)? {
+                None => (x, y),
+                Some((o, fx, fy, _)) => {
+                    let q = apply(&xf, Vec3::new(x, y, zt)) - o;
+                    (q.dot(fx), q.dot(fy))
+                }
+            })
+        };
+        let arc = bezier_arc(
+            &[a, b, c, d, ee, f],
+            end(v[7], v[8])?,
+            end(v[9], v[10])?,
+            zt,
+        )
+        .map_err(|e| fail(format!("{kind}: {e}")))?;
+        return Ok((moved_rigidly(arc, &xf, de)?, kind));
     }
     // centre: the gradient of A x² + B xy + C y² + D x + E y + F vanishes
     let det = 4.0 * a * c - b * b;
@@ -615,7 +668,7 @@ fn conic_arc(g: &Iges, de: usize) -> Result<ConicRead> {
         t[k] = ang;
     }
     let (arc, full) = arc_between(&conic, t[0], t[1], true).map_err(|e| fail(e.to_string()))?;
-    Ok(Ok((arc, conic.kind(full))))
+    Ok((arc, conic.kind(full)))
 }
 
 /// What a composite curve (entity 102) gives: its members as B-splines in order (126 curves, 110
@@ -652,14 +705,7 @@ fn composite(g: &Iges, de: usize, depth: usize) -> Result<Members> {
             126 => segments.push(curve(g, m)?),
             110 => segments.push(line(g, m)?),
             100 => segments.push(circular_arc(g, m)?.0),
-            104 => match conic_arc(g, m)? {
-                Ok((c, _)) => segments.push(c),
-                Err(name) => {
-                    return Ok(Members::Unsupported(format!(
-                        "102 (composite curve with a {name} member)"
-                    )))
-                }
-            },
+            104 => segments.push(conic_arc(g, m)?.0),
             102 => match composite(g, m, depth + 1)? {
                 Members::Read(s, inner) => {
                     segments.extend(s);
@@ -827,12 +873,10 @@ pub fn contents(text: &str) -> Result<CadContents> {
                 let (c, kind) = circular_arc(&g, de)?;
                 out.curves.push((format!("DE {de} ({kind})"), c));
             }
-            104 if e.use_flag != 5 && !param_curves.contains(&de) => match conic_arc(&g, de)? {
-                Ok((c, kind)) => out.curves.push((format!("DE {de} ({kind})"), c)),
-                Err(name) => {
-                    out.other_curves.insert(name);
-                }
-            },
+            104 if e.use_flag != 5 && !param_curves.contains(&de) => {
+                let (c, kind) = conic_arc(&g, de)?;
+                out.curves.push((format!("DE {de} ({kind})"), c));
+            }
             128 => {
                 out.surfaces.push((format!("DE {de}"), surface(&g, de)?));
             }

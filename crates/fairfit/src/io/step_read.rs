@@ -481,7 +481,8 @@ pub(super) fn trimmed_curve(
     let Some(c) = bspline else {
         return Ok(None);
     };
-    let projector = crate::diffgeo::CurveProjector::new(&c, 16);
+    // built only when a trim is taken by its point
+    let projector = std::cell::OnceCell::new();
     let size = extent(c.control_points());
     let mut u = [0.0; 2];
     for (k, e) in ends.iter().enumerate() {
@@ -502,7 +503,9 @@ pub(super) fn trimmed_curve(
                 v.clamp(a, b)
             }
             super::step_conic::TrimBy::Point(p) => {
-                let pr = projector.project(p);
+                let pr = projector
+                    .get_or_init(|| crate::diffgeo::CurveProjector::new(&c, 16))
+                    .project(p);
                 if pr.distance.is_nan() || pr.distance > 1e-6 * size {
                     return Err(err(
                         id,
