@@ -194,10 +194,12 @@ fn span_from(n: usize, p: usize, u: f64, knots: &[f64], hint: usize) -> usize {
 fn basis_const<const N: usize>(span: usize, u: f64, knots: &[f64]) -> [f64; N] {
     let mut out = [0.0; N];
     let (mut left, mut right) = ([0.0; N], [0.0; N]);
+    // the 2p knots the recursion reads, `knots[span + 1 − p ..= span + p]` (one bounds check)
+    let kw = &knots[span + 2 - N..span + N];
     out[0] = 1.0;
     for j in 1..N {
-        left[j] = u - knots[span + 1 - j];
-        right[j] = knots[span + j] - u;
+        left[j] = u - kw[N - 1 - j];
+        right[j] = kw[N - 2 + j] - u;
         let mut saved = 0.0;
         for r in 0..j {
             let temp = out[r] / (right[r + 1] + left[j - r]);

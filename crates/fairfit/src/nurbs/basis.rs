@@ -106,7 +106,14 @@ pub fn ders_basis_funs_into(
     ders: &mut [f64],
 ) {
     match p {
-        3 => ders_basis_funs_any(span, u, 3, nd, knots, left, right, ndu, a, ders),
+        3 => {
+            // the cubic on local arrays of known length (no bounds checks in the unrolled
+            // recursion; the same arithmetic): the scratch slices are not needed
+            let _ = (left, right, ndu, a);
+            let (mut l, mut r) = ([0.0; 4], [0.0; 4]);
+            let (mut n, mut aa) = ([0.0; 16], [0.0; 8]);
+            ders_basis_funs_any(span, u, 3, nd, knots, &mut l, &mut r, &mut n, &mut aa, ders)
+        }
         4 => ders_basis_funs_any(span, u, 4, nd, knots, left, right, ndu, a, ders),
         5 => ders_basis_funs_any(span, u, 5, nd, knots, left, right, ndu, a, ders),
         _ => ders_basis_funs_any(span, u, p, nd, knots, left, right, ndu, a, ders),
