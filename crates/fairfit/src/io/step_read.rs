@@ -483,7 +483,7 @@ pub(super) fn trimmed_curve(
     };
     // built only when a trim is taken by its point
     let projector = std::cell::OnceCell::new();
-    let size = extent(c.control_points());
+    let size = super::points::bounding_box_extent(c.control_points());
     let mut u = [0.0; 2];
     for (k, e) in ends.iter().enumerate() {
         u[k] = match e.by(points_first) {
@@ -533,18 +533,6 @@ pub(super) fn trimmed_curve(
         curve: if sense { c } else { c.reversed() },
         kind: "trimmed",
     }))
-}
-
-/// The largest side of the bounding box of `pts`.
-fn extent(pts: &[Vec3]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in pts {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max)
 }
 
 /// Reads every B-spline curve and surface of a parsed STEP file, in instance order, with the unit.
