@@ -130,7 +130,12 @@ pub(crate) fn raise_open(
     let reference_count = reference.curve.n_control_points();
     let attempt = |d: usize| {
         let a = match (d == p + 1)
-            .then(|| first.lock().expect("not poisoned").take())
+            .then(|| {
+                first
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner)
+                    .take()
+            })
             .flatten()
         {
             Some(a) => a,
