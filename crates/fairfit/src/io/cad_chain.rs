@@ -84,7 +84,8 @@ pub fn open_gaps(segments: &[NurbsCurve]) -> Vec<(usize, f64)> {
 }
 
 /// Dense points along the chain: every segment sampled as [`super::cad_read::sample_curve`] samples a
-/// curve, but with chords of at most [`MAX_CHORD`] of the chain's [`extent`], a joint point taken once when the segments meet within [`JOIN_TOLERANCE`] (else both ends are kept).
+/// curve, but with chords of at most [`MAX_CHORD`] of the chain's [`extent`]; a joint point taken once
+/// when the segments meet within [`JOIN_TOLERANCE`] (else both ends are kept).
 pub fn sample_chain(segments: &[NurbsCurve]) -> Vec<Vec3> {
     let ext = extent(segments);
     let tol = JOIN_TOLERANCE * ext;
