@@ -10,7 +10,7 @@
 //! stay corners). Segments must meet within [`JOIN_TOLERANCE`] of the composite's size; the start of
 //! a segment is then replaced by the end of the previous one.
 
-use super::cad_read::sample_curve;
+use super::cad_read::{sample_curve_chord, MAX_CHORD};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -30,7 +30,9 @@ pub struct CadComposite {
     pub after: usize,
 }
 
-fn extent(segments: &[NurbsCurve]) -> f64 {
+/// The largest side of the bounding box of all segments' control points (the scale of the join
+/// tolerance and of the sampling).
+pub fn extent(segments: &[NurbsCurve]) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for p in segments.iter().flat_map(|c| c.control_points()) {
         for k in 0..3 {
@@ -81,13 +83,15 @@ pub fn open_gaps(segments: &[NurbsCurve]) -> Vec<(usize, f64)> {
         .collect()
 }
 
-/// Dense points along the chain: every segment sampled as [`sample_curve`] samples a curve, a joint
-/// point taken once when the segments meet within [`JOIN_TOLERANCE`] (else both ends are kept).
+/// Dense points along the chain: every segment sampled as [`super::cad_read::sample_curve`] samples a
+/// curve, but with chords of at most [`MAX_CHORD`] of the chain's [`extent`]; a joint point taken once
+/// when the segments meet within [`JOIN_TOLERANCE`] (else both ends are kept).
 pub fn sample_chain(segments: &[NurbsCurve]) -> Vec<Vec3> {
-    let tol = JOIN_TOLERANCE * extent(segments);
+    let ext = extent(segments);
+    let tol = JOIN_TOLERANCE * ext;
     let mut out: Vec<Vec3> = Vec::new();
     for c in segments {
-        let pts = sample_curve(c);
+        let pts = sample_curve_chord(c, MAX_CHORD * ext);
         let skip = match (out.last(), pts.first()) {
             (Some(a), Some(b)) => usize::from((*a - *b).norm() <= tol),
             _ => 0,
@@ -217,8 +221,9 @@ mod tests {
         assert!((ends(&segs[0]).0 - Vec3::new(2.0, 0.0, 0.0)).norm() < 1e-15);
         assert!((ends(&segs[1]).1 - Vec3::new(-4.0, 3.0, 0.0)).norm() < 1e-15);
         let pts = sample_chain(&segs);
-        let n0 = sample_curve(&segs[0]).len();
-        assert_eq!(pts.len(), n0 + sample_curve(&segs[1]).len() - 1);
+        let cap = MAX_CHORD * extent(&segs);
+        let n0 = sample_curve_chord(&segs[0], cap).len();
+        assert_eq!(pts.len(), n0 + sample_curve_chord(&segs[1], cap).len() - 1);
         let apart = vec![quarter(Vec3::new(0.0, -0.01, 0.0), 2.0, 0.0), cubic()];
         let e = join_segments(&apart).unwrap_err().to_string();
         assert!(e.contains("segments 1 and 2 are 1.000e-2 apart"), "{e}");
