@@ -462,12 +462,9 @@ fn line(g: &Iges, de: usize) -> Result<NurbsCurve> {
         .map_err(|e| Error::Cad(format!("DE {de} (entity 110): {e}")))
 }
 
-/// `c` with its control points moved by `xf` (exact: B-splines are invariant under affine maps).
-fn moved(c: NurbsCurve, xf: &Option<Affine>) -> Result<NurbsCurve> {
-    if xf.is_none() {
-        return Ok(c);
-    }
-    let pts = c.control_points().iter().map(|&q| apply(xf, q)).collect();
+/// `c` with every control point mapped by `f` (knots and weights kept).
+fn mapped(c: NurbsCurve, f: impl Fn(Vec3) -> Vec3) -> Result<NurbsCurve> {
+    let pts = c.control_points().iter().map(|&q| f(q)).collect();
     NurbsCurve::new(
         c.degree(),
         c.knots().to_vec(),
@@ -476,28 +473,39 @@ fn moved(c: NurbsCurve, xf: &Option<Affine>) -> Result<NurbsCurve> {
     )
 }
 
+/// `c` with its control points moved by `xf` (exact: B-splines are invariant under affine maps).
+fn moved(c: NurbsCurve, xf: &Option<Affine>) -> Result<NurbsCurve> {
+    if xf.is_none() {
+        return Ok(c);
+    }
+    mapped(c, |q| apply(xf, q))
+}
+
 /// The conic `c` of a definition plane moved by the transformation `xf` as OpenCASCADE moves it: the
 /// centre mapped, the plane's normal the matrix's third column (turned for a reflection), the first
 /// axis the mapped one made orthogonal to the normal, the semi-axes kept (a 124 matrix is a rotation,
 /// written to 10 digits or so: this keeps a circle a circle of the written radius).
 fn conic_moved(c: &Conic, xf: &Option<Affine>, de: usize) -> Result<Conic> {
-    let Some((o, fx, fy, n)) = rigid_frame(xf, c.x, de)? else {
+    let Some(f) = rigid_frame(xf, c.x, de)? else {
         return Ok(*c);
     };
-    let _ = (o, fy, n);
-    Conic::new(apply(xf, c.centre), fx, n.cross(fx), c.a, c.b)
+    Conic::new(apply(xf, c.centre), f.x, f.y, c.a, c.b)
         .map_err(|e| Error::Cad(format!("DE {de}: {e}")))
+}
+
+/// A rigid frame ([`rigid_frame`]): an origin and three orthonormal axes.
+struct RigidFrame {
+    origin: Vec3,
+    x: Vec3,
+    y: Vec3,
+    n: Vec3,
 }
 
 /// The rotation of the 124 `xf` made exactly rigid as OpenCASCADE makes it: the image of the origin,
 /// the unit image of the definition plane's direction `dx` made orthogonal to the plane's normal, that
 /// normal's partner `n × x`, and the normal (the matrix's third column, turned for a reflection).
 /// `None` without a matrix.
-fn rigid_frame(
-    xf: &Option<Affine>,
-    dx: Vec3,
-    de: usize,
-) -> Result<Option<(Vec3, Vec3, Vec3, Vec3)>> {
+fn rigid_frame(xf: &Option<Affine>, dx: Vec3, de: usize) -> Result<Option<RigidFrame>> {
     let Some((r, _)) = xf else {
         return Ok(None);
     };
@@ -523,25 +531,20 @@ fn rigid_frame(
         return Err(fail());
     }
     let x = x * (1.0 / xn);
-    Ok(Some((apply(xf, Vec3::ZERO), x, n.cross(x), n)))
+    Ok(Some(RigidFrame {
+        origin: apply(xf, Vec3::ZERO),
+        x,
+        y: n.cross(x),
+        n,
+    }))
 }
 
-/// `c` (in a definition space) moved rigidly by `xf` ([`rigid_frame`]).
-fn moved_rigidly(c: NurbsCurve, xf: &Option<Affine>, de: usize) -> Result<NurbsCurve> {
-    let Some((o, x, y, n)) = rigid_frame(xf, Vec3::new(1.0, 0.0, 0.0), de)? else {
+/// `c` (in a definition space) moved rigidly into `frame` ([`rigid_frame`]; unmoved for `None`).
+fn moved_rigidly(c: NurbsCurve, frame: Option<&RigidFrame>) -> Result<NurbsCurve> {
+    let Some(f) = frame else {
         return Ok(c);
     };
-    let pts = c
-        .control_points()
-        .iter()
-        .map(|&q| o + x * q[0] + y * q[1] + n * q[2])
-        .collect();
-    NurbsCurve::new(
-        c.degree(),
-        c.knots().to_vec(),
-        pts,
-        c.is_rational().then(|| c.weights().to_vec()),
-    )
+    mapped(c, |q| f.origin + f.x * q[0] + f.y * q[1] + f.n * q[2])
 }
 
 /// A circular arc (entity 100) as an exact rational quadratic B-spline, moved by its transformation
@@ -612,23 +615,17 @@ fn conic_arc(g: &Iges, de: usize) -> Result<(NurbsCurve, &'static str)> {
         let xf = transform(g, e.transform, 0)?;
         // the ends as OpenCASCADE takes them: mapped by the matrix as written, then read in the rigid
         // frame the conic is moved by
-        let end = |x: f64, y: f64| -> Result<(f64, f64)> {
-            Ok(match rigid_frame(&xf, Vec3::new(1.0, 0.0, 0.0), de)? {
-                None => (x, y),
-                Some((o, fx, fy, _)) => {
-                    let q = apply(&xf, Vec3::new(x, y, zt)) - o;
-                    (q.dot(fx), q.dot(fy))
-                }
-            })
+        let frame = rigid_frame(&xf, Vec3::new(1.0, 0.0, 0.0), de)?;
+        let end = |x: f64, y: f64| match &frame {
+            None => (x, y),
+            Some(fr) => {
+                let q = apply(&xf, Vec3::new(x, y, zt)) - fr.origin;
+                (q.dot(fr.x), q.dot(fr.y))
+            }
         };
-        let arc = bezier_arc(
-            &[a, b, c, d, ee, f],
-            end(v[7], v[8])?,
-            end(v[9], v[10])?,
-            zt,
-        )
-        .map_err(|e| fail(format!("{kind}: {e}")))?;
-        return Ok((moved_rigidly(arc, &xf, de)?, kind));
+        let arc = bezier_arc(&[a, b, c, d, ee, f], end(v[7], v[8]), end(v[9], v[10]), zt)
+            .map_err(|e| fail(format!("{kind}: {e}")))?;
+        return Ok((moved_rigidly(arc, frame.as_ref())?, kind));
     }
     // centre: the gradient of A x² + B xy + C y² + D x + E y + F vanishes
     let det = 4.0 * a * c - b * b;
