@@ -12,6 +12,7 @@ mod python;
 
 use fairfit::diffgeo::{arc_length, CurveProjector};
 use fairfit::io::cad_read::{read_cad, read_cad_chain, read_contents, CadKind};
+use fairfit::io::points::bounding_box_extent;
 use fairfit::io::Geometry;
 use fairfit::{NurbsCurve, Vec3};
 use std::path::{Path, PathBuf};
@@ -32,17 +33,6 @@ fn vec3(p: &serde_json::Value) -> Vec3 {
     )
 }
 
-fn extent(pts: &[Vec3]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in pts {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max)
-}
-
 fn ends(c: &NurbsCurve) -> (Vec3, Vec3) {
     let (a, b) = c.domain();
     (c.point(a), c.point(b))
@@ -58,7 +48,7 @@ fn compare(file: &str, occ: &serde_json::Value) -> (f64, f64, f64) {
         .iter()
         .flat_map(|e| e.as_array().unwrap().iter().map(vec3))
         .collect();
-    let size = extent(&all);
+    let size = bounding_box_extent(&all);
     let (mut off, mut end) = (0.0f64, 0.0f64);
     for (seg, e) in chain.segments.iter().zip(edges) {
         let pts: Vec<Vec3> = e.as_array().unwrap().iter().map(vec3).collect();

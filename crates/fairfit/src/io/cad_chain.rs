@@ -33,14 +33,11 @@ pub struct CadComposite {
 /// The largest side of the bounding box of all segments' control points (the scale of the join
 /// tolerance and of the sampling).
 pub fn extent(segments: &[NurbsCurve]) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in segments.iter().flat_map(|c| c.control_points()) {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max)
+    let pts: Vec<Vec3> = segments
+        .iter()
+        .flat_map(|c| c.control_points().iter().copied())
+        .collect();
+    super::cad_read::control_extent(&pts)
 }
 
 fn ends(c: &NurbsCurve) -> (Vec3, Vec3) {

@@ -505,7 +505,10 @@ pub fn samples_per_span(degree: usize) -> usize {
 /// between samples without the cap, 1.005 with `1/50`, 0.9993 with `1/100`, 0.9981 with `1/200`.
 pub const MAX_CHORD: f64 = 5e-3;
 
-fn control_extent(pts: &[Vec3]) -> f64 {
+/// The largest side of the bounding box of `pts` (a CAD curve's control points: the scale of its
+/// sampling, join and trim tolerances). Unlike [`super::points::bounding_box_extent`] a side that
+/// overflows stays infinite.
+pub(crate) fn control_extent(pts: &[Vec3]) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
     for p in pts {
         for k in 0..3 {
@@ -524,13 +527,18 @@ fn control_extent(pts: &[Vec3]) -> f64 {
 /// (a stationary parameterisation) are merged. Both ends are included, so a closed curve gives a
 /// closed point set.
 pub fn sample_curve(c: &NurbsCurve) -> Vec<Vec3> {
-    sample_curve_chord(c, MAX_CHORD * control_extent(c.control_points()))
+    let extent = control_extent(c.control_points());
+    sample_within(c, extent, MAX_CHORD * extent)
 }
 
 /// [`sample_curve`] with the longest chord between consecutive samples given (a composite passes
 /// [`MAX_CHORD`] of the extent of all its segments, so that a short segment is not oversampled).
 pub fn sample_curve_chord(c: &NurbsCurve, max_chord: f64) -> Vec<Vec3> {
-    let extent = control_extent(c.control_points());
+    sample_within(c, control_extent(c.control_points()), max_chord)
+}
+
+/// [`sample_curve_chord`] with the extent of `c`'s control points given.
+fn sample_within(c: &NurbsCurve, extent: f64, max_chord: f64) -> Vec<Vec3> {
     let (sag_tol, dup_tol) = (1e-5 * extent, 1e-12 * extent);
     let max_chord = if max_chord > 0.0 {
         max_chord
