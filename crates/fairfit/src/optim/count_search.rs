@@ -282,7 +282,7 @@ pub(crate) fn extrema_cost(counts: &[usize], ranked: &[Ranked], best: usize) -> 
     let Some(lowest) = counts.iter().copied().min() else {
         return 1.0;
     };
-    let score = |i: usize| ranked[i].fairness * EXTRA_POINT_GAIN.powi((counts[i] - lowest) as i32);
+    let score = |i: usize| extra_point_score(ranked[i].fairness, counts[i], lowest);
     let fairest = (0..counts.len())
         .filter(|&i| ranked[i].fairness.is_finite())
         .map(score)
@@ -311,17 +311,21 @@ fn finish_draws<C: CountFamily>(family: &C, draws: &[&Draw]) -> Vec<Result<Integ
 /// How a finished curve ranks: F infinite when the tolerance or `F*` is missed.
 fn rank(r: &Result<IntegratedResult>) -> Ranked {
     match r {
-        Ok(r) => {
-            let m = curve_fairness(&r.curve);
-            Ranked {
-                fairness: if r.met { m.fairness } else { f64::INFINITY },
-                extrema: m.curvature_extrema,
-            }
-        }
+        Ok(r) => rank_fit(r),
         Err(_) => Ranked {
             fairness: f64::INFINITY,
             extrema: usize::MAX,
         },
+    }
+}
+
+/// How a finished fit ranks: its F ([`curve_fairness`]), infinite when the tolerance or `F*` is
+/// missed, and its curvature extrema.
+pub(crate) fn rank_fit(r: &IntegratedResult) -> Ranked {
+    let m = curve_fairness(&r.curve);
+    Ranked {
+        fairness: if r.met { m.fairness } else { f64::INFINITY },
+        extrema: m.curvature_extrema,
     }
 }
 
@@ -375,7 +379,7 @@ pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked]) -> usize {
         return 0;
     };
     let key = |i: usize| {
-        let score = ranked[i].fairness * EXTRA_POINT_GAIN.powi((counts[i] - lowest) as i32);
+        let score = extra_point_score(ranked[i].fairness, counts[i], lowest);
         (ranked[i].extrema, score, counts[i])
     };
     let mut best: Option<usize> = None;
@@ -389,6 +393,12 @@ pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked]) -> usize {
         }
     }
     best.unwrap_or(0)
+}
+
+/// `fairness` priced for its `count` control points above the smallest count `lowest`:
+/// `fairness · EXTRA_POINT_GAIN^(count − lowest)` (module doc).
+fn extra_point_score(fairness: f64, count: usize, lowest: usize) -> f64 {
+    fairness * EXTRA_POINT_GAIN.powi((count - lowest) as i32)
 }
 
 /// True when `f_next` is not at least [`WEAK_STEP_GAIN`] below `f_prev` (no gain from infinity).

@@ -40,7 +40,7 @@
 //! curves pay nothing but the cost's arithmetic.
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
-use super::count_search::{choose_count, pso_options, CountProblem, Ranked};
+use super::count_search::{choose_count, pso_options, rank_fit, CountProblem, Ranked};
 use super::degree_search::{
     keep_degree, Attempt, CANDIDATE_BAND_SOLVES, CANDIDATE_POLISH_EVALUATIONS,
 };
@@ -52,7 +52,6 @@ use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::pso::{run_pso, PsoOptions};
 use super::smoothing::tune_smoothing;
 use crate::errors::Result;
-use crate::fair::curve_fairness;
 use crate::nurbs::{NurbsCurve, Vec3};
 use rayon::prelude::*;
 
@@ -205,16 +204,7 @@ fn own_count_search(
         };
     }
     let counts: Vec<usize> = fits.iter().map(|r| r.curve.n_control_points()).collect();
-    let ranked: Vec<Ranked> = fits
-        .iter()
-        .map(|r| {
-            let m = curve_fairness(&r.curve);
-            Ranked {
-                fairness: if r.met { m.fairness } else { f64::INFINITY },
-                extrema: m.curvature_extrema,
-            }
-        })
-        .collect();
+    let ranked: Vec<Ranked> = fits.iter().map(rank_fit).collect();
     let best = choose_count(&counts, &ranked);
     // the work of the fits not kept
     for (i, r) in fits.iter().enumerate() {
