@@ -47,6 +47,49 @@ pub struct FitData {
     pub corrections: usize,
 }
 
+/// Runs `$body` with `$proj` bound to the projection of one data point onto the curve in `$ws`,
+/// chosen once per pass, not per point: [`project_planar_any`] with a constant degree 3, 4 or 5
+/// (a run-time degree above) when [`is_flat`], else [`project`]. Each arm compiles `$body` with its
+/// own closure (monomorphised loops); every arm gives the same feet and distances as [`project`].
+/// The one place the choice is made, so the passes that project ([`deviations_bounded`],
+/// [`measure_move_deviations`]) cannot pick different projections.
+macro_rules! with_projection {
+    ($data:expr, $ws:expr, |$proj:ident| $body:expr) => {{
+        let data: &FitData = $data;
+        match (is_flat(data, $ws), data.degree) {
+            (true, 3) => {
+                let $proj = |k, u, ws: &EvalWorkspace, hint: &mut usize| {
+                    project_planar_any(data, 3, k, u, ws, hint)
+                };
+                $body
+            }
+            (true, 4) => {
+                let $proj = |k, u, ws: &EvalWorkspace, hint: &mut usize| {
+                    project_planar_any(data, 4, k, u, ws, hint)
+                };
+                $body
+            }
+            (true, 5) => {
+                let $proj = |k, u, ws: &EvalWorkspace, hint: &mut usize| {
+                    project_planar_any(data, 5, k, u, ws, hint)
+                };
+                $body
+            }
+            (true, p) => {
+                let $proj = |k, u, ws: &EvalWorkspace, hint: &mut usize| {
+                    project_planar_any(data, p, k, u, ws, hint)
+                };
+                $body
+            }
+            (false, _) => {
+                let $proj =
+                    |k, u, ws: &EvalWorkspace, hint: &mut usize| project(data, k, u, ws, hint);
+                $body
+            }
+        }
+    }};
+}
+
 /// The measured quality of one candidate.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CandidateEval {
@@ -417,18 +460,15 @@ pub fn measure_move_deviations(
     let j1 = ws.break_knot.partition_point(|&s| s <= r + p);
     let a = ws.breaks[j0];
     let b = ws.breaks.get(j1).copied().unwrap_or(1.0);
-    // the projection chosen once, not per point (as in `deviations_bounded`)
-    let far = match (is_flat(data, ws), p) {
-        (true, 3) => move_pass(data, start, (a, b), j0, give_up, ws, |k, u, ws, hint| {
-            project_planar_any(data, 3, k, u, ws, hint)
-        }),
-        (true, _) => move_pass(data, start, (a, b), j0, give_up, ws, |k, u, ws, hint| {
-            project_planar(data, k, u, ws, hint)
-        }),
-        (false, _) => move_pass(data, start, (a, b), j0, give_up, ws, |k, u, ws, hint| {
-            project(data, k, u, ws, hint)
-        }),
-    };
+    let far = with_projection!(data, ws, |proj| move_pass(
+        data,
+        start,
+        (a, b),
+        j0,
+        give_up,
+        ws,
+        proj
+    ));
     if let Some(d) = far {
         return CandidateEval {
             max_deviation: d,
@@ -699,21 +739,9 @@ fn deviations_bounded(
     ws.foot_params.extend_from_slice(start);
     ws.dev2.clear();
     ws.dev2.resize(m, 0.0);
-    // the projection chosen once, not per point (the loop is compiled for each; same arithmetic)
-    match (is_flat(data, ws), data.degree) {
-        (true, 3) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
-            project_planar_any(data, 3, k, u, ws, hint)
-        }),
-        (true, 4) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
-            project_planar_any(data, 4, k, u, ws, hint)
-        }),
-        (true, p) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
-            project_planar_any(data, p, k, u, ws, hint)
-        }),
-        (false, _) => deviation_pass(data, start, floor, give_up, ws, |k, u, ws, hint| {
-            project(data, k, u, ws, hint)
-        }),
-    }
+    with_projection!(data, ws, |proj| deviation_pass(
+        data, start, floor, give_up, ws, proj
+    ))
 }
 
 /// The loop of [`deviations_bounded`] with the projection `proj(k, u, ws, hint)` of point `k` from
@@ -805,28 +833,9 @@ fn project(
 }
 
 /// Whether the curve in `ws` lies in the xy plane with the data (every power-form coefficient has
-/// `z = 0`), so that [`project_planar`] gives what [`project`] gives.
+/// `z = 0`), so that [`project_planar_any`] gives what [`project`] gives.
 fn is_flat(data: &FitData, ws: &EvalWorkspace) -> bool {
     data.planar && ws.coef.iter().all(|c| c[2] == 0.0)
-}
-
-/// [`project`] for a curve and data in the xy plane: the same Newton steps on two coordinates
-/// (the z terms it leaves out are exact zeros, so the feet and distances are the same). Degrees 3
-/// to 5 run with a constant degree (unrolled Horner loops, the same arithmetic).
-#[inline]
-fn project_planar(
-    data: &FitData,
-    k: usize,
-    u: f64,
-    ws: &EvalWorkspace,
-    hint: &mut usize,
-) -> (f64, f64) {
-    match data.degree {
-        3 => project_planar_any(data, 3, k, u, ws, hint),
-        4 => project_planar_any(data, 4, k, u, ws, hint),
-        5 => project_planar_any(data, 5, k, u, ws, hint),
-        p => project_planar_any(data, p, k, u, ws, hint),
-    }
 }
 
 /// Value, first and second derivative (x, y) at `u` of the planar power form by Horner, as
@@ -855,7 +864,10 @@ fn planar_eval2(
     v
 }
 
-/// [`project_planar`] for degree `p` (always inlined so a constant `p` unrolls the Horner loops).
+/// [`project`] for a curve and data in the xy plane: the same Newton steps on two coordinates (the
+/// z terms it leaves out are exact zeros, so the feet and distances are the same), for degree `p`
+/// (always inlined, so a constant `p` unrolls the Horner loops; the arithmetic is the same for a
+/// constant and a run-time `p`).
 #[inline(always)]
 fn project_planar_any(
     data: &FitData,
@@ -1053,6 +1065,82 @@ mod tests {
         // per-span parts add up to F
         let s: f64 = ws.span_fairness.iter().sum();
         assert!((s - e2.fairness).abs() <= 1e-12 * e2.fairness);
+    }
+
+    #[test]
+    fn every_projection_arm_gives_the_feet_of_the_spatial_projection() {
+        // planar B-splines of degree 3 to 6 (each arm of `with_projection!`: constant degrees 3, 4,
+        // 5 and a run-time degree), fitted exactly from points on them; points offset by a known
+        // distance δ along the normal at known parameters must project back to that foot at
+        // distance δ, bit for bit as the spatial `project` does, from a start 0.01 off
+        let delta = 1e-3;
+        for p in 3..=6 {
+            let interior = [0.25, 0.5, 0.75];
+            let mut knots = vec![0.0; p + 1];
+            knots.extend_from_slice(&interior);
+            knots.extend(std::iter::repeat_n(1.0, p + 1));
+            let n = knots.len() - p - 1;
+            let ctrl: Vec<Vec3> = (0..n)
+                .map(|i| {
+                    let x = i as f64 / (n - 1) as f64;
+                    Vec3([x, 0.2 * (5.0 * x).sin(), 0.0])
+                })
+                .collect();
+            let params: Vec<f64> = (0..61).map(|i| i as f64 / 60.0).collect();
+            let mut d = [Vec3::default(); 4];
+            let on = |u: f64, d: &mut [Vec3; 4]| bspline_ders(&knots, &ctrl, p, u, 1, d);
+            let points = params
+                .iter()
+                .map(|&u| {
+                    on(u, &mut d);
+                    d[0]
+                })
+                .collect();
+            let data = FitData {
+                points,
+                params: params.clone(),
+                degree: p,
+                planar: true,
+                corrections: 0,
+            };
+            let mut ws = EvalWorkspace::default();
+            set_knots(p, &interior, &mut ws);
+            let ev = evaluate_candidate(&data, f64::NEG_INFINITY, &mut ws);
+            assert!(ev.solved && ev.max_deviation < 1e-12, "{p}: {ev:?}");
+            assert!(is_flat(&data, &ws));
+            // the offset points, alternating sides of the curve
+            let offset: Vec<Vec3> = params
+                .iter()
+                .enumerate()
+                .map(|(k, &u)| {
+                    on(u, &mut d);
+                    let t = d[1] / d[1].norm();
+                    let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+                    d[0] + Vec3([-t.y(), t.x(), 0.0]) * (side * delta)
+                })
+                .collect();
+            let query = FitData {
+                points: offset,
+                ..data
+            };
+            let start: Vec<f64> = params.iter().map(|&u| (u + 0.01).clamp(0.0, 1.0)).collect();
+            let feet = with_projection!(&query, &ws, |proj| {
+                let mut hint = 0;
+                (1..params.len() - 1)
+                    .map(|k| proj(k, start[k], &ws, &mut hint))
+                    .collect::<Vec<_>>()
+            });
+            let mut hint = 0;
+            for (k, &(d2, u)) in (1..params.len() - 1).zip(&feet) {
+                let spatial = project(&query, k, start[k], &ws, &mut hint);
+                assert_eq!(
+                    (d2.to_bits(), u.to_bits()),
+                    (spatial.0.to_bits(), spatial.1.to_bits())
+                );
+                assert!((d2.sqrt() - delta).abs() < 1e-9, "{p} {k}: {}", d2.sqrt());
+                assert!((u - params[k]).abs() < 1e-6, "{p} {k}: {u}");
+            }
+        }
     }
 
     #[test]
