@@ -8,10 +8,10 @@
 
 use super::CliError;
 use clap::{Args, ValueEnum};
-use fairfit::io::cad_chain::{open_gaps, sample_chain};
+use fairfit::io::cad_chain::{open_gaps, sample_chain_params, ChainSample};
 use fairfit::io::cad_read::{
-    curve_kind, read_cad, read_cad_chain, sample_curve, samples_per_span, CadFormat, CadGeometry,
-    CadKind, CadUnit,
+    curve_kind, read_cad, read_cad_chain, samples_per_span, CadFormat, CadGeometry, CadKind,
+    CadUnit,
 };
 use fairfit::io::cad_sections::read_cad_sections as read_sections;
 use fairfit::io::{read_geometry, read_points, Geometry, PointSet};
@@ -157,12 +157,24 @@ pub fn read_input_with_source(
     Ok((g.geometry, Some(source)))
 }
 
+/// A CAD curve `fairfit curve` re-fits: the exact segments (in mm) and their dense samples.
+pub struct CadCurve {
+    /// The segments of the chain (one for a single curve), oriented along it.
+    pub segments: Vec<fairfit::NurbsCurve>,
+    /// The samples, with their segments and parameters (`fairfit::io::cad_fit`).
+    pub samples: Vec<ChainSample>,
+}
+
 /// The points `fairfit curve` fits: a point file as it is, or a B-spline curve of a STEP or IGES file
-/// sampled densely (`fairfit::io::cad_read::sample_curve`), so that re-fitting it fairs it.
-pub fn read_curve_points(path: &Path, args: &CadInputArgs) -> Result<PointSet, CliError> {
+/// sampled densely (`fairfit::io::cad_chain::sample_chain_params`), so that re-fitting it fairs it; for
+/// a CAD file also the exact curve, which the fit is checked against.
+pub fn read_curve_points(
+    path: &Path,
+    args: &CadInputArgs,
+) -> Result<(PointSet, Option<CadCurve>), CliError> {
     if CadFormat::from_path(path).is_none() {
         args.check_not_cad(path)?;
-        return Ok(read_points(path)?);
+        return Ok((read_points(path)?, None));
     }
     if args.entity == Some(EntityArg::Surface) {
         return Err(CliError::usage(
@@ -181,19 +193,19 @@ pub fn read_curve_points(path: &Path, args: &CadInputArgs) -> Result<PointSet, C
             chain.count,
             &chain.unit,
         );
-        let points = sample_curve(c);
+        let samples = sample_chain_params(&chain.segments);
         eprintln!(
             "note: {}: fitting {} points sampled on {} (degree {}, {} control points; {} per knot span)",
             path.display(),
-            points.len(),
+            samples.len(),
             chain.source,
             c.degree(),
             c.n_control_points(),
             samples_per_span(c.degree())
         );
-        return Ok(cad_points(points, chain.source));
+        return Ok(cad_points(samples, chain.segments, chain.source));
     }
-    let points = sample_chain(&chain.segments);
+    let samples = sample_chain_params(&chain.segments);
     let degrees: Vec<String> = chain
         .segments
         .iter()
@@ -226,21 +238,26 @@ pub fn read_curve_points(path: &Path, args: &CadInputArgs) -> Result<PointSet, C
     eprintln!(
         "note: {}: fitting {} points sampled on the composite curve {}{choice}, segments of degree {} joined in order{unit}{gaps}",
         path.display(),
-        points.len(),
+        samples.len(),
         chain.source,
         degrees.join(", "),
     );
-    Ok(cad_points(points, chain.source))
+    Ok(cad_points(samples, chain.segments, chain.source))
 }
 
-fn cad_points(points: Vec<fairfit::Vec3>, source: String) -> PointSet {
-    PointSet {
-        points,
+fn cad_points(
+    samples: Vec<ChainSample>,
+    segments: Vec<fairfit::NurbsCurve>,
+    source: String,
+) -> (PointSet, Option<CadCurve>) {
+    let set = PointSet {
+        points: samples.iter().map(|s| s.point).collect(),
         dropped_duplicates: 0,
         columns: 3,
         name: Some(source),
         lednicer: false,
-    }
+    };
+    (set, Some(CadCurve { segments, samples }))
 }
 
 /// Sections with their names (`#12`, `DE 7`, `#30 at v = 0.25`).

@@ -18,6 +18,7 @@ use fairfit::fit::tolerance::{
 };
 use fairfit::fit::{Parameterization, SmoothingOrder};
 use fairfit::io::atomic::write_all_atomic;
+use fairfit::io::cad_fit::{fit_to_exact, Fitted};
 use fairfit::io::curve_to_json;
 use fairfit::Vec3;
 use serde_json::json;
@@ -146,7 +147,7 @@ fn parse_vector(s: &str) -> Result<Vec3, String> {
 }
 
 /// Arguments of `fairfit curve`.
-#[derive(Args, Debug)]
+#[derive(Args, Debug, Clone)]
 pub struct CurveArgs {
     /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file; or a
     /// STEP/IGES file whose B-spline curve is sampled densely and re-fitted (re-faired).
@@ -292,7 +293,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
     if args.ends == EndsArg::Free && args.method != Method::Integrated {
         return Err(CliError::usage("--ends free needs --method integrated"));
     }
-    let set = super::cad_input::read_curve_points(&args.input, &args.cad)?;
+    let (set, cad) = super::cad_input::read_curve_points(&args.input, &args.cad)?;
     if set.dropped_duplicates > 0 {
         eprintln!(
             "warning: {}: dropped {} consecutive duplicate point(s)",
@@ -335,48 +336,12 @@ pub fn run(args: CurveArgs) -> CmdResult {
         ..FitOptions::default()
     };
     let want_report = args.report.is_some() || args.outputs.html.is_some();
-    let (curve, report) = match args.method {
-        Method::Lsq => {
-            let fit = fit_to_tolerance(&set.points, &opts)?;
-            if fit.smoothing_used != opts.smoothing {
-                eprintln!(
-                    "warning: the smoothing {:e} kept the tolerance out of reach; used {:e}",
-                    opts.smoothing, fit.smoothing_used
-                );
-            }
-            let report =
-                want_report.then(|| report_json(&args, &fit, wall.elapsed().as_secs_f64()));
-            (fit.curve, report)
+    let (curve, report, points) = match cad {
+        None => {
+            let fit = fit_points(&args, &opts, &set.points, want_report, wall)?;
+            (fit.curve, fit.extra, set.points)
         }
-        Method::Integrated | Method::FitThenFair => {
-            let out = with_pool(args.threads, || match args.method {
-                Method::Integrated => run_integrated(&args, &set.points),
-                _ => run_fit_then_fair(&args, &set.points, &opts),
-            })?;
-            let report = want_report.then(|| {
-                let f = curve_fairness(&out.curve);
-                let mut r = json!({
-                    "input": args.input.display().to_string(),
-                    "degree": out.curve.degree(),
-                    "points": set.points.len(),
-                    "length": f.length,
-                    "fairness": f.fairness,
-                    "max_span_fairness": f.max_span_fairness,
-                    "curvature_extrema": f.curvature_extrema,
-                    "curvature_extrema_exact": exact_extrema_json(&out.curve, f.length),
-                    "inflections": f.inflections,
-                    "inflections_exact": exact_inflections_json(&out.curve, f.length),
-                    "wall_seconds": wall.elapsed().as_secs_f64(),
-                });
-                if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
-                    for (k, v) in extra {
-                        obj.insert(k.clone(), v.clone());
-                    }
-                }
-                r
-            });
-            (out.curve, report)
-        }
+        Some(cad) => fit_cad(&args, &opts, cad, want_report, wall)?,
     };
     // Every file is made in memory first and written all or none.
     let mut files = Vec::new();
@@ -396,7 +361,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
     if args.outputs.any() {
         files.extend(prepare_outputs(
             OutputGeometry::Curve(&curve),
-            Some(&set.points),
+            Some(&points),
             report.as_ref(),
             &args.outputs,
         )?);
@@ -407,6 +372,144 @@ pub fn run(args: CurveArgs) -> CmdResult {
     }
     Ok(())
 }
+
+/// One fit of `points` by the method asked for, with its report when `want_report`.
+fn fit_points(
+    args: &CurveArgs,
+    opts: &FitOptions,
+    points: &[Vec3],
+    want_report: bool,
+    wall: Instant,
+) -> Result<Fitted<Option<serde_json::Value>>, CliError> {
+    match args.method {
+        Method::Lsq => {
+            let fit = fit_to_tolerance(points, opts)?;
+            if fit.smoothing_used != opts.smoothing {
+                eprintln!(
+                    "warning: the smoothing {:e} kept the tolerance out of reach; used {:e}",
+                    opts.smoothing, fit.smoothing_used
+                );
+            }
+            let report = want_report.then(|| report_json(args, &fit, wall.elapsed().as_secs_f64()));
+            Ok(Fitted {
+                tolerance: fit.tolerance,
+                max_deviation: fit.deviation.max,
+                curve: fit.curve,
+                extra: report,
+            })
+        }
+        Method::Integrated | Method::FitThenFair => {
+            let out = with_pool(args.threads, || match args.method {
+                Method::Integrated => run_integrated(args, points),
+                _ => run_fit_then_fair(args, points, opts),
+            })?;
+            let field = |k: &str| out.report[k].as_f64().unwrap_or(f64::NAN);
+            let (tolerance, max_deviation) = (field("tolerance"), field("max_deviation"));
+            let report = want_report.then(|| {
+                let f = curve_fairness(&out.curve);
+                let mut r = json!({
+                    "input": args.input.display().to_string(),
+                    "degree": out.curve.degree(),
+                    "points": points.len(),
+                    "length": f.length,
+                    "fairness": f.fairness,
+                    "max_span_fairness": f.max_span_fairness,
+                    "curvature_extrema": f.curvature_extrema,
+                    "curvature_extrema_exact": exact_extrema_json(&out.curve, f.length),
+                    "inflections": f.inflections,
+                    "inflections_exact": exact_inflections_json(&out.curve, f.length),
+                    "wall_seconds": wall.elapsed().as_secs_f64(),
+                });
+                if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
+                    for (k, v) in extra {
+                        obj.insert(k.clone(), v.clone());
+                    }
+                }
+                r
+            });
+            Ok(Fitted {
+                curve: out.curve,
+                tolerance,
+                max_deviation,
+                extra: report,
+            })
+        }
+    }
+}
+
+/// The fit of a CAD curve, held to the tolerance of the exact curve (`fairfit::io::cad_fit`): refitted
+/// at a tighter tolerance, with points of the exact curve added, while the exact curve strays beyond
+/// the tolerance between the samples. A note on stderr says how far the exact curve is from the fit;
+/// the report gets `exact_curve` and keeps the tolerance asked for.
+fn fit_cad(
+    args: &CurveArgs,
+    opts: &FitOptions,
+    cad: super::cad_input::CadCurve,
+    want_report: bool,
+    wall: Instant,
+) -> Result<FitOutput, CliError> {
+    let r = fit_to_exact(&cad.segments, cad.samples, |points, tol| match tol {
+        None => fit_points(args, opts, points, want_report, wall),
+        Some(t) => {
+            let mut tighter = args.clone();
+            (tighter.tol, tighter.rel_tol) = (Some(t), None);
+            let opts = FitOptions {
+                tolerance: Tolerance::Absolute(t),
+                ..opts.clone()
+            };
+            fit_points(&tighter, &opts, points, want_report, wall)
+        }
+    })?;
+    let refits = if r.refits == 0 {
+        String::new()
+    } else {
+        format!(
+            "; {} refit(s) at tighter tolerances from {:.4} of it, the last fit at {:.3e} with {} \
+             points of the exact curve added",
+            r.refits,
+            r.first_max_deviation / r.tolerance,
+            r.fit.tolerance,
+            r.added
+        )
+    };
+    eprintln!(
+        "note: {}: the exact curve lies within {:.3e} of the fit ({:.4} of the tolerance; {} points \
+         of it checked){refits}",
+        args.input.display(),
+        r.max_deviation,
+        r.max_deviation / r.tolerance,
+        r.checked
+    );
+    if !r.met {
+        eprintln!(
+            "warning: the exact curve strays {:.3e} from the fit, beyond the tolerance {:.3e}",
+            r.max_deviation, r.tolerance
+        );
+    }
+    let mut report = r.fit.extra;
+    if let Some(obj) = report.as_mut().and_then(|v| v.as_object_mut()) {
+        obj.insert("tolerance".into(), json!(r.tolerance));
+        if let Some(met) = obj.get("tolerance_met").and_then(|v| v.as_bool()) {
+            obj.insert("tolerance_met".into(), json!(met && r.met));
+        }
+        obj.insert(
+            "exact_curve".into(),
+            json!({
+                "max_deviation": r.max_deviation,
+                "within_tolerance": r.met,
+                "checked_points": r.checked,
+                "first_max_deviation": r.first_max_deviation,
+                "refits": r.refits,
+                "fit_tolerance": r.fit.tolerance,
+                "added_points": r.added,
+            }),
+        );
+    }
+    Ok((r.fit.curve, report, r.points))
+}
+
+/// A fitted curve, its report and the points it fitted.
+type FitOutput = (fairfit::NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
 
 fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_json::Value {
     let f = curve_fairness(&fit.curve);

@@ -10,7 +10,9 @@
 //! stay corners). Segments must meet within [`JOIN_TOLERANCE`] of the composite's size; the start of
 //! a segment is then replaced by the end of the previous one.
 
-use super::cad_read::{sample_curve_chord, MAX_CHORD};
+#[cfg(test)]
+use super::cad_read::sample_curve_chord;
+use super::cad_read::{sample_curve_params, MAX_CHORD};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -84,16 +86,39 @@ pub fn open_gaps(segments: &[NurbsCurve]) -> Vec<(usize, f64)> {
 /// curve, but with chords of at most [`MAX_CHORD`] of the chain's [`extent`]; a joint point taken once
 /// when the segments meet within [`JOIN_TOLERANCE`] (else both ends are kept).
 pub fn sample_chain(segments: &[NurbsCurve]) -> Vec<Vec3> {
+    sample_chain_params(segments)
+        .into_iter()
+        .map(|s| s.point)
+        .collect()
+}
+
+/// One point of a chain's samples: which segment, at which parameter of it, and the point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainSample {
+    /// The segment (0-based).
+    pub segment: usize,
+    /// The segment's parameter.
+    pub u: f64,
+    /// The point on the segment at `u`.
+    pub point: Vec3,
+}
+
+/// [`sample_chain`] with every point's segment and parameter (in order along the chain).
+pub fn sample_chain_params(segments: &[NurbsCurve]) -> Vec<ChainSample> {
     let ext = extent(segments);
     let tol = JOIN_TOLERANCE * ext;
-    let mut out: Vec<Vec3> = Vec::new();
-    for c in segments {
-        let pts = sample_curve_chord(c, MAX_CHORD * ext);
+    let mut out: Vec<ChainSample> = Vec::new();
+    for (segment, c) in segments.iter().enumerate() {
+        let pts = sample_curve_params(c, MAX_CHORD * ext);
         let skip = match (out.last(), pts.first()) {
-            (Some(a), Some(b)) => usize::from((*a - *b).norm() <= tol),
+            (Some(a), Some(b)) => usize::from((a.point - b.1).norm() <= tol),
             _ => 0,
         };
-        out.extend_from_slice(&pts[skip..]);
+        out.extend(
+            pts[skip..]
+                .iter()
+                .map(|&(u, point)| ChainSample { segment, u, point }),
+        );
     }
     out
 }

@@ -528,17 +528,26 @@ pub(crate) fn control_extent(pts: &[Vec3]) -> f64 {
 /// closed point set.
 pub fn sample_curve(c: &NurbsCurve) -> Vec<Vec3> {
     let extent = control_extent(c.control_points());
-    sample_within(c, extent, MAX_CHORD * extent)
+    points_of(sample_within(c, extent, MAX_CHORD * extent))
 }
 
 /// [`sample_curve`] with the longest chord between consecutive samples given (a composite passes
 /// [`MAX_CHORD`] of the extent of all its segments, so that a short segment is not oversampled).
 pub fn sample_curve_chord(c: &NurbsCurve, max_chord: f64) -> Vec<Vec3> {
+    points_of(sample_curve_params(c, max_chord))
+}
+
+fn points_of(samples: Vec<(f64, Vec3)>) -> Vec<Vec3> {
+    samples.into_iter().map(|(_, p)| p).collect()
+}
+
+/// [`sample_curve_chord`] with the parameter of every sample: `(u, C(u))` in increasing `u`.
+pub fn sample_curve_params(c: &NurbsCurve, max_chord: f64) -> Vec<(f64, Vec3)> {
     sample_within(c, control_extent(c.control_points()), max_chord)
 }
 
-/// [`sample_curve_chord`] with the extent of `c`'s control points given.
-fn sample_within(c: &NurbsCurve, extent: f64, max_chord: f64) -> Vec<Vec3> {
+/// [`sample_curve_params`] with the extent of `c`'s control points given.
+fn sample_within(c: &NurbsCurve, extent: f64, max_chord: f64) -> Vec<(f64, Vec3)> {
     let (sag_tol, dup_tol) = (1e-5 * extent, 1e-12 * extent);
     let max_chord = if max_chord > 0.0 {
         max_chord
@@ -556,7 +565,7 @@ fn sample_within(c: &NurbsCurve, extent: f64, max_chord: f64) -> Vec<Vec3> {
         }
     }
     params.push(b);
-    let mut out = vec![c.point(params[0])];
+    let mut out = vec![(params[0], c.point(params[0]))];
     let limits = Limits {
         sag: sag_tol,
         chord: max_chord,
@@ -565,22 +574,22 @@ fn sample_within(c: &NurbsCurve, extent: f64, max_chord: f64) -> Vec<Vec3> {
         refine(
             c,
             (w[0], w[1]),
-            (out[out.len() - 1], c.point(w[1])),
+            (out[out.len() - 1].1, c.point(w[1])),
             &limits,
             SAG_HALVINGS,
             &mut out,
         );
     }
-    let mut merged: Vec<Vec3> = Vec::with_capacity(out.len());
-    for p in out {
+    let mut merged: Vec<(f64, Vec3)> = Vec::with_capacity(out.len());
+    for (u, p) in out {
         match merged.last() {
-            Some(q) if (p - *q).norm() <= dup_tol => {}
-            _ => merged.push(p),
+            Some((_, q)) if (p - *q).norm() <= dup_tol => {}
+            _ => merged.push((u, p)),
         }
     }
     // keep the exact end point (a closed curve must end where it starts)
-    if let (Some(last), Some(end)) = (merged.last_mut(), Some(c.point(b))) {
-        *last = end;
+    if let Some(last) = merged.last_mut() {
+        *last = (b, c.point(b));
     }
     merged
 }
@@ -603,7 +612,7 @@ fn refine(
     (p0, p1): (Vec3, Vec3),
     lim: &Limits,
     depth: i32,
-    out: &mut Vec<Vec3>,
+    out: &mut Vec<(f64, Vec3)>,
 ) {
     let um = 0.5 * (u0 + u1);
     let pm = c.point(um);
@@ -613,7 +622,7 @@ fn refine(
         refine(c, (u0, um), (p0, pm), lim, depth - 1, out);
         refine(c, (um, u1), (pm, p1), lim, depth - 1, out);
     } else {
-        out.push(p1);
+        out.push((u1, p1));
     }
 }
 

@@ -6,6 +6,7 @@ pub mod cad_chain;
 pub mod cad_check;
 pub mod cad_common;
 pub mod cad_conic;
+pub mod cad_fit;
 pub mod cad_read;
 pub mod cad_sections;
 pub mod iges;

@@ -1,0 +1,306 @@
+//! Re-fitting a CAD curve within the tolerance of the exact curve, not only of its samples.
+//!
+//! `fairfit curve part.step` fits dense samples of the exact curve ([`sample_chain_params`]); a fit
+//! that uses the whole tolerance on the samples can stray a little farther from the exact curve
+//! between them (up to 1.06 of the tolerance was measured before the samples' chords were capped,
+//! 1.0002 after). [`exact_deviation`] measures the exact curve against a fit: the samples and the
+//! points of the exact curve at [`CHECK_FRACTIONS`] of every sample interval's parameter range,
+//! each projected onto the fit (global closest point). [`fit_to_exact`] runs any fitting method on
+//! the samples and, while the exact curve lies farther than the tolerance from the fit, adds the
+//! offending checked points to the samples and fits again at a tolerance tightened by the measured
+//! excess, at most [`MAX_REFITS`] times; it returns the fit with the smallest exact deviation (the
+//! first one that meets the tolerance, so a fit that met it at once is returned unchanged).
+
+pub use super::cad_chain::{sample_chain_params, ChainSample};
+use crate::diffgeo::projection::CurveProjector;
+use crate::errors::{Error, Result};
+use crate::nurbs::{NurbsCurve, Vec3};
+
+/// Where in every interval between consecutive samples (as a fraction of its parameter range) the
+/// exact curve is checked: the quarter points and the midpoint.
+pub const CHECK_FRACTIONS: [f64; 3] = [0.25, 0.5, 0.75];
+
+/// Most refits [`fit_to_exact`] runs after the first fit.
+pub const MAX_REFITS: usize = 4;
+
+/// Each tightened fitting tolerance is this much below the one the measured excess asks for (the
+/// refit's own excess between the new samples is not known in advance).
+pub const TIGHTENING_MARGIN: f64 = 1e-3;
+
+/// Samples per knot span of the fit's projector.
+const PROJECTOR_PER_SPAN: usize = 16;
+
+/// How far an exact curve lies from a fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactDeviation {
+    /// The largest distance from the fit of the samples and the checked points of the exact curve.
+    pub max: f64,
+    /// The exact point where it is largest.
+    pub at: Vec3,
+    /// How many points were measured (samples and checked points).
+    pub checked: usize,
+    /// The checked points (not the samples) farther than the limit given, with the index of the
+    /// sample they follow, in chain order.
+    pub beyond: Vec<(usize, ChainSample)>,
+}
+
+/// The distance of the exact chain `segments` from `fit`: at every sample and at [`CHECK_FRACTIONS`]
+/// of every interval between consecutive samples of one segment (see the module documentation).
+/// Checked points farther than `limit` (or whose distance is not a number) are listed in
+/// [`ExactDeviation::beyond`]. Errors when a sample names a segment that is not there.
+pub fn exact_deviation(
+    segments: &[NurbsCurve],
+    samples: &[ChainSample],
+    fit: &NurbsCurve,
+    limit: f64,
+) -> Result<ExactDeviation> {
+    let proj = CurveProjector::new(fit, PROJECTOR_PER_SPAN);
+    let mut out = ExactDeviation {
+        max: 0.0,
+        at: samples.first().map_or(Vec3::ZERO, |s| s.point),
+        checked: 0,
+        beyond: Vec::new(),
+    };
+    let note = |p: Vec3, out: &mut ExactDeviation| -> f64 {
+        let d = proj.project(p).distance;
+        out.checked += 1;
+        // a distance that is not a number counts as the largest
+        let d = if d.is_nan() { f64::INFINITY } else { d };
+        if d > out.max {
+            out.max = d;
+            out.at = p;
+        }
+        d
+    };
+    for (i, s) in samples.iter().enumerate() {
+        note(s.point, &mut out);
+        let Some(next) = samples.get(i + 1) else {
+            continue;
+        };
+        if next.segment != s.segment || next.u <= s.u {
+            continue;
+        }
+        let c = segments.get(s.segment).ok_or_else(|| {
+            Error::InvalidData(format!(
+                "a sample of segment {} of a chain of {}",
+                s.segment + 1,
+                segments.len()
+            ))
+        })?;
+        for f in CHECK_FRACTIONS {
+            let u = s.u + (next.u - s.u) * f;
+            let point = c.point(u);
+            if note(point, &mut out) > limit {
+                out.beyond.push((
+                    i,
+                    ChainSample {
+                        segment: s.segment,
+                        u,
+                        point,
+                    },
+                ));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One fit of points, as [`fit_to_exact`] needs it.
+#[derive(Clone, Debug)]
+pub struct Fitted<T> {
+    /// The fitted curve.
+    pub curve: NurbsCurve,
+    /// The absolute tolerance the fit was held to.
+    pub tolerance: f64,
+    /// The fit's largest deviation from the points it fitted.
+    pub max_deviation: f64,
+    /// Whatever else the fitting method gives (its report).
+    pub extra: T,
+}
+
+/// A fit of a CAD curve checked against the exact curve.
+#[derive(Clone, Debug)]
+pub struct ExactFit<T> {
+    /// The fit kept.
+    pub fit: Fitted<T>,
+    /// The points it fitted: the samples and the checked points added.
+    pub points: Vec<Vec3>,
+    /// The tolerance asked for (the first fit's, absolute).
+    pub tolerance: f64,
+    /// The exact curve's largest distance from the fit kept (see [`exact_deviation`]).
+    pub max_deviation: f64,
+    /// Whether that is within [`ExactFit::tolerance`].
+    pub met: bool,
+    /// How many points of the exact curve were measured against the fit kept.
+    pub checked: usize,
+    /// How many refits ran after the first fit.
+    pub refits: usize,
+    /// How many checked points the fit kept has among its points beyond the first samples.
+    pub added: usize,
+    /// The exact deviation of the first fit (before any refit).
+    pub first_max_deviation: f64,
+}
+
+/// Fits the chain `segments`, sampled as `samples` ([`sample_chain_params`]), with `fit` within the
+/// tolerance of the exact curve (see the module documentation). `fit(points, None)` is the first fit, held to the tolerance as the caller asked for
+/// it (absolute or relative to the points); it returns the absolute tolerance it used, which the exact
+/// curve is then held to. `fit(points, Some(t))` refits at the absolute tolerance `t`. The first fit
+/// is returned unchanged when the exact curve is within its tolerance, or when it did not meet the
+/// tolerance on its own points (refitting tighter cannot help). Errors of `fit` are returned as they
+/// are.
+pub fn fit_to_exact<T, E: From<Error>>(
+    segments: &[NurbsCurve],
+    samples: Vec<ChainSample>,
+    mut fit: impl FnMut(&[Vec3], Option<f64>) -> std::result::Result<Fitted<T>, E>,
+) -> std::result::Result<ExactFit<T>, E> {
+    let mut samples = samples;
+    let first_points: Vec<Vec3> = samples.iter().map(|s| s.point).collect();
+    let first = fit(&first_points, None)?;
+    let tol = first.tolerance;
+    let dev = exact_deviation(segments, &samples, &first.curve, tol)?;
+    let n0 = samples.len();
+    let mut best = ExactFit {
+        met: dev.max <= tol,
+        max_deviation: dev.max,
+        first_max_deviation: dev.max,
+        checked: dev.checked,
+        fit: first,
+        points: first_points,
+        tolerance: tol,
+        refits: 0,
+        added: 0,
+    };
+    let reachable = best.fit.max_deviation <= tol && tol > 0.0;
+    if best.met || !reachable {
+        return Ok(best);
+    }
+    let (mut dev, mut fit_tol) = (dev, best.fit.tolerance);
+    for refit in 1..=MAX_REFITS {
+        samples = with_added(&samples, &dev.beyond);
+        // the exact curve strayed dev.max / fit_tol of the fitting tolerance: ask that much less
+        fit_tol *= (tol / dev.max).min(1.0) * (1.0 - TIGHTENING_MARGIN);
+        if fit_tol.is_nan() || fit_tol <= 0.0 {
+            break;
+        }
+        let points: Vec<Vec3> = samples.iter().map(|s| s.point).collect();
+        let next = fit(&points, Some(fit_tol))?;
+        dev = exact_deviation(segments, &samples, &next.curve, tol)?;
+        if dev.max < best.max_deviation {
+            best = ExactFit {
+                met: dev.max <= tol,
+                max_deviation: dev.max,
+                checked: dev.checked,
+                fit: next,
+                points,
+                refits: refit,
+                added: samples.len() - n0,
+                ..best
+            };
+        }
+        best.refits = refit;
+        if best.met {
+            break;
+        }
+    }
+    Ok(best)
+}
+
+/// `samples` with the points `added` (each after the sample of its index, in chain order) inserted.
+fn with_added(samples: &[ChainSample], added: &[(usize, ChainSample)]) -> Vec<ChainSample> {
+    let mut out = Vec::with_capacity(samples.len() + added.len());
+    let mut extra = added.iter().peekable();
+    for (i, s) in samples.iter().enumerate() {
+        out.push(*s);
+        while let Some((_, a)) = extra.next_if(|(k, _)| *k == i) {
+            out.push(*a);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn circle() -> NurbsCurve {
+        NurbsCurve::circle(Vec3::ZERO, 10.0).unwrap()
+    }
+
+    #[test]
+    fn a_chord_polygon_is_measured_between_its_vertices() {
+        // the samples of a circle of radius 10 joined by a polyline: the polyline passes through every
+        // sample, and between them the exact circle lies the sagitta 10 (1 - cos(theta / 2)) away
+        let c = circle();
+        let samples = sample_chain_params(std::slice::from_ref(&c));
+        let pts: Vec<Vec3> = samples.iter().map(|s| s.point).collect();
+        let n = pts.len();
+        let knots: Vec<f64> = std::iter::once(0.0)
+            .chain((0..n).map(|i| i as f64))
+            .chain(std::iter::once((n - 1) as f64))
+            .collect();
+        let poly = NurbsCurve::bspline(1, knots, pts.clone()).unwrap();
+        let d = exact_deviation(std::slice::from_ref(&c), &samples, &poly, 0.0).unwrap();
+        let widest = pts
+            .windows(2)
+            .map(|w| 2.0 * ((w[1] - w[0]).norm() / 20.0).asin())
+            .fold(0.0f64, f64::max);
+        let sagitta = 10.0 * (1.0 - (0.5 * widest).cos());
+        assert!(
+            (d.max - sagitta).abs() < 1e-3 * sagitta,
+            "{} vs {sagitta}",
+            d.max
+        );
+        assert_eq!(d.checked, n + 3 * (n - 1));
+        assert_eq!(d.beyond.len(), 3 * (n - 1));
+        // every checked point is on the circle, after the sample it is listed with
+        for (i, s) in &d.beyond {
+            assert!((s.point.norm() - 10.0).abs() < 1e-12);
+            assert!(s.u > samples[*i].u && s.u < samples[*i + 1].u);
+        }
+        let more = with_added(&samples, &d.beyond);
+        assert_eq!(more.len(), 4 * n - 3);
+        assert!(more.windows(2).all(|w| w[1].u > w[0].u));
+    }
+
+    #[test]
+    fn refits_until_the_exact_curve_is_within() {
+        // a "fit" that is the polyline through its points: the exact circle strays the sagitta from
+        // it; each refit adds the checked points beyond the tolerance, which shrinks the sagitta
+        let c = circle();
+        let polyline = |pts: &[Vec3], t: Option<f64>| -> Result<Fitted<Option<f64>>> {
+            let n = pts.len();
+            let knots: Vec<f64> = std::iter::once(0.0)
+                .chain((0..n).map(|i| i as f64))
+                .chain(std::iter::once((n - 1) as f64))
+                .collect();
+            Ok(Fitted {
+                curve: NurbsCurve::bspline(1, knots, pts.to_vec())?,
+                tolerance: t.unwrap_or(1e-5),
+                max_deviation: 0.0,
+                extra: t,
+            })
+        };
+        let samples = || sample_chain_params(std::slice::from_ref(&c));
+        let r = fit_to_exact(std::slice::from_ref(&c), samples(), polyline).unwrap();
+        assert_eq!(r.tolerance, 1e-5);
+        assert!(r.first_max_deviation > 1e-5, "{}", r.first_max_deviation);
+        assert!(r.met && r.max_deviation <= 1e-5, "{}", r.max_deviation);
+        assert!(r.refits >= 1 && r.refits <= MAX_REFITS);
+        assert!(r.added > 0 && r.points.len() > r.added);
+        // the refit was asked for a tighter tolerance
+        assert!(r.fit.extra.is_some_and(|t| t < 1e-5));
+        // a fit already within is kept as it is
+        let loose = |pts: &[Vec3], t: Option<f64>| -> Result<Fitted<()>> {
+            let mut f = polyline(pts, t)?;
+            f.tolerance = 1.0;
+            Ok(Fitted {
+                curve: f.curve,
+                tolerance: 1.0,
+                max_deviation: 0.0,
+                extra: (),
+            })
+        };
+        let r = fit_to_exact(std::slice::from_ref(&c), samples(), loose).unwrap();
+        assert_eq!((r.refits, r.added, r.met), (0, 0, true));
+    }
+}
