@@ -8,7 +8,9 @@
 use fairfit::diffgeo::arc_length;
 use fairfit::fair::exact_extrema::{extremum_boundaries, SignInterval};
 use fairfit::fair::exact_nurbs::{sign_intervals_nurbs, Signal};
-use fairfit::fair::{count_extrema_exact, count_extrema_sampled, count_inflections_exact};
+use fairfit::fair::{
+    count_extrema_exact, count_extrema_sampled, count_inflections_exact, count_shape_exact,
+};
 use fairfit::{NurbsCurve, Vec3};
 
 const DENSE: usize = 20_000;
@@ -212,6 +214,46 @@ fn a_reparametrised_cubic_graph_has_its_extrema_and_inflection_at_the_same_point
         let k = fairfit::fair::exact_extrema::alternations(&iv, l);
         assert_eq!(k.len(), 1);
         assert!(c.point(iv[k[0]].u0).x().abs() < 1e-12);
+    }
+}
+
+#[test]
+fn the_one_pass_counts_are_the_single_counts_and_the_closed_forms() {
+    // (curve, extrema, inflections, inflections exact) with the truths of the tests above: the
+    // ellipse's four vertices and no inflection (rational, also tilted: the spatial hodographs
+    // of a planar curve), the graph y = x³ (extrema at ±45^(−1/4), inflection at 0) as a
+    // polynomial curve and reparametrised as a rational one, and the space cubic (t, t², 3t³)
+    // (three closed-form extrema; κ > 0, so no binormal reversal, counted by sampling)
+    let e = ellipse(3.0, 1.0, 1.0);
+    let graph = NurbsCurve::bspline(
+        3,
+        vec![0., 0., 0., 0., 1., 1., 1., 1.],
+        cubic_graph_rational(1.0).control_points().to_vec(),
+    )
+    .unwrap();
+    let cases = [
+        (e.clone(), 4, 0, true),
+        (ellipse(3.0, 1.0, 7.0), 4, 0, true),
+        (tilted(&e, 1000.0), 4, 0, true),
+        (graph, 2, 1, true),
+        (cubic_graph_rational(2.5), 2, 1, true),
+        (space_cubic(), 3, 0, false),
+    ];
+    for (k, (c, extrema, inflections, exact)) in cases.into_iter().enumerate() {
+        let l = arc_length(&c);
+        let s = count_shape_exact(&c, l);
+        assert_eq!(s.extrema, count_extrema_exact(&c, l), "{k}");
+        assert_eq!(s.inflections, count_inflections_exact(&c, l), "{k}");
+        assert_eq!(
+            (s.extrema.curvature_extrema, s.extrema.exact),
+            (extrema, true),
+            "{k}"
+        );
+        assert_eq!(
+            (s.inflections.inflections, s.inflections.exact),
+            (inflections, exact),
+            "{k}"
+        );
     }
 }
 
