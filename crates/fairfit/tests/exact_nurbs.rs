@@ -8,7 +8,9 @@
 use fairfit::diffgeo::arc_length;
 use fairfit::fair::exact_extrema::{extremum_boundaries, SignInterval};
 use fairfit::fair::exact_nurbs::{sign_intervals_nurbs, Signal};
-use fairfit::fair::{count_extrema_exact, count_extrema_sampled, count_inflections_exact};
+use fairfit::fair::{
+    count_extrema_exact, count_extrema_sampled, count_inflections_exact, count_shape_exact,
+};
 use fairfit::{NurbsCurve, Vec3};
 
 const DENSE: usize = 20_000;
@@ -213,6 +215,106 @@ fn a_reparametrised_cubic_graph_has_its_extrema_and_inflection_at_the_same_point
         assert_eq!(k.len(), 1);
         assert!(c.point(iv[k[0]].u0).x().abs() < 1e-12);
     }
+}
+
+#[test]
+fn the_one_pass_counts_are_the_single_counts_and_the_closed_forms() {
+    // (curve, extrema, inflections, inflections exact) with the truths of the tests above: the
+    // ellipse's four vertices and no inflection (rational, also tilted: the spatial hodographs
+    // of a planar curve), the graph y = x³ (extrema at ±45^(−1/4), inflection at 0) as a
+    // polynomial curve and reparametrised as a rational one, and the space cubic (t, t², 3t³)
+    // (three closed-form extrema; κ > 0, so no binormal reversal, counted by sampling)
+    let e = ellipse(3.0, 1.0, 1.0);
+    let graph = NurbsCurve::bspline(
+        3,
+        vec![0., 0., 0., 0., 1., 1., 1., 1.],
+        cubic_graph_rational(1.0).control_points().to_vec(),
+    )
+    .unwrap();
+    let cases = [
+        (e.clone(), 4, 0, true),
+        (ellipse(3.0, 1.0, 7.0), 4, 0, true),
+        (tilted(&e, 1000.0), 4, 0, true),
+        (graph, 2, 1, true),
+        (cubic_graph_rational(2.5), 2, 1, true),
+        (space_cubic(), 3, 0, false),
+    ];
+    for (k, (c, extrema, inflections, exact)) in cases.into_iter().enumerate() {
+        let l = arc_length(&c);
+        let s = count_shape_exact(&c, l);
+        assert_eq!(s.extrema, count_extrema_exact(&c, l), "{k}");
+        assert_eq!(s.inflections, count_inflections_exact(&c, l), "{k}");
+        assert_eq!(
+            (s.extrema.curvature_extrema, s.extrema.exact),
+            (extrema, true),
+            "{k}"
+        );
+        assert_eq!(
+            (s.inflections.inflections, s.inflections.exact),
+            (inflections, exact),
+            "{k}"
+        );
+    }
+}
+
+#[test]
+fn a_fitted_helix_has_real_curvature_extrema_and_counts_them_as_the_measurer_does() {
+    // a helix has constant curvature r / (r² + c²), but no polynomial curve does: a cubic
+    // least-squares fit of 200 points of (cos t, sin t, 0.3 t), t in [0, 4π], on 24 equal spans
+    // has a curvature that ripples around it. The ripples are real extrema of the fitted curve
+    // (κ varies by far more than rounding), and the counts are the measurer's semantics
+    // (`bench/measure.py`, no floor relative to the mean curvature): every local extremum of κ,
+    // found here on κ itself (no dκ/ds formula) at 4000 samples per span, counts
+    use fairfit::fit::lsq::{fit_fixed_knots, LsqOptions};
+    let m = 200;
+    let t: Vec<f64> = (0..m)
+        .map(|i| 4.0 * std::f64::consts::PI * i as f64 / (m - 1) as f64)
+        .collect();
+    let pts: Vec<Vec3> = t
+        .iter()
+        .map(|&t| Vec3::new(t.cos(), t.sin(), 0.3 * t))
+        .collect();
+    let params: Vec<f64> = t.iter().map(|&x| x / t[m - 1]).collect();
+    let spans = 24;
+    let mut knots = vec![0.0; 4];
+    knots.extend((1..spans).map(|j| j as f64 / spans as f64));
+    knots.extend([1.0; 4]);
+    let c = fit_fixed_knots(&pts, &params, 3, &knots, &LsqOptions::default()).unwrap();
+    let per_span = 4000;
+    let kappa: Vec<f64> = (0..spans * per_span)
+        .map(|i| {
+            let d = c.derivatives((i as f64 + 0.5) / (spans * per_span) as f64, 2);
+            d[1].cross(d[2]).norm() / d[1].norm().powi(3)
+        })
+        .collect();
+    let (lo, hi) = kappa
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(a, b), &k| (a.min(k), b.max(k)));
+    let helix = 1.0 / 1.09;
+    assert!(
+        (lo - helix).abs() < 0.05 * helix && (hi - helix).abs() < 0.05 * helix,
+        "{lo} {hi}"
+    );
+    // a ripple of at least 1e-3 of the curvature: 1e10 times rounding
+    assert!(hi - lo > 1e-3 * helix, "{lo} {hi}");
+    // local extrema of the sampled κ: sign changes of its steps (steps within rounding skipped)
+    let mut last = 0.0f64;
+    let mut truth = 0;
+    for w in kappa.windows(2) {
+        let step = w[1] - w[0];
+        if step.abs() <= 1e-13 * helix {
+            continue;
+        }
+        if last != 0.0 && (step > 0.0) != (last > 0.0) {
+            truth += 1;
+        }
+        last = step;
+    }
+    eprintln!("fitted helix: κ in [{lo}, {hi}] (helix {helix}), {truth} extrema");
+    assert!(truth >= spans, "{truth}");
+    let l = arc_length(&c);
+    assert_eq!(count_extrema_exact(&c, l).curvature_extrema, truth);
+    assert_eq!(fairfit::fair::count_extrema(&c, l).curvature_extrema, truth);
 }
 
 /// A deterministic pseudo-random sequence in `[0, 1)`.

@@ -4,7 +4,8 @@
 //! `curvature_extrema_exact` is `fairfit::fair::count_extrema_exact`, from the roots of `dκ/ds`, which
 //! also sees wiggles narrower than the samples, for rational and spatial curves too; `inflections_exact`
 //! likewise counts the sign changes of a planar curve's signed curvature from the roots of its
-//! numerator, `fairfit::fair::count_inflections_exact`); surfaces: net
+//! numerator, `fairfit::fair::count_inflections_exact`; both made in one pass by
+//! `fairfit::fair::count_shape_exact`); surfaces: net
 //! size, degrees, domains and the fairness of iso-parametric curves in both directions: `along_u` holds
 //! the curves `u ↦ S(u, v_k)` (the section curves of a skinned surface), `along_v` the curves
 //! `v ↦ S(u_k, v)`, as in the `iso_fairness` of the `fairfit surface` report (same count by default).
@@ -14,8 +15,8 @@
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
 use fairfit::fair::{
-    count_extrema_exact, count_inflections_exact, curve_fairness, surface_fairness,
-    DEFAULT_ISO_CURVES,
+    count_extrema_exact, count_inflections_exact, count_shape_exact, curve_fairness,
+    surface_fairness, ExactExtrema, ExactInflections, DEFAULT_ISO_CURVES,
 };
 use fairfit::io::Geometry;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface};
@@ -68,6 +69,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
         super::warn_unrepresentable("a fairness integral");
     }
     let (a, b) = c.domain();
+    let exact = count_shape_exact(c, f.length);
     json!({
         "kind": "curve",
         "degree": c.degree(),
@@ -83,15 +85,25 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "span_fairness": f.span_fairness,
         "bending_energy": f.bending_energy,
         "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": exact_extrema_json(c, f.length),
+        "curvature_extrema_exact": extrema_value(exact.extrema),
         "inflections": f.inflections,
-        "inflections_exact": exact_inflections_json(c, f.length),
+        "inflections_exact": inflections_value(exact.inflections),
     })
 }
 
 /// The exact curvature-extrema count, or `null` where only the sampled fallback exists.
 pub(crate) fn exact_extrema_json(c: &NurbsCurve, length: f64) -> Value {
-    let e = count_extrema_exact(c, length);
+    extrema_value(count_extrema_exact(c, length))
+}
+
+/// The exact inflection count, or `null` where only the sampled fallback exists (spatial curves:
+/// inflections are binormal reversals, counted only by sampling).
+pub(crate) fn exact_inflections_json(c: &NurbsCurve, length: f64) -> Value {
+    inflections_value(count_inflections_exact(c, length))
+}
+
+/// An exact extrema count as JSON (`null` for the sampled fallback).
+fn extrema_value(e: ExactExtrema) -> Value {
     if e.exact {
         json!(e.curvature_extrema)
     } else {
@@ -99,10 +111,8 @@ pub(crate) fn exact_extrema_json(c: &NurbsCurve, length: f64) -> Value {
     }
 }
 
-/// The exact inflection count, or `null` where only the sampled fallback exists (spatial curves:
-/// inflections are binormal reversals, counted only by sampling).
-pub(crate) fn exact_inflections_json(c: &NurbsCurve, length: f64) -> Value {
-    let e = count_inflections_exact(c, length);
+/// An exact inflection count as JSON (`null` for the sampled fallback).
+fn inflections_value(e: ExactInflections) -> Value {
     if e.exact {
         json!(e.inflections)
     } else {

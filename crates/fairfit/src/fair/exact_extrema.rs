@@ -50,9 +50,8 @@
 //! count was made.
 
 use super::bernstein;
-use super::energy::plane_normal;
-use super::exact_nurbs::{push_intervals, sign_intervals_nurbs, Signal};
-use super::extrema::{count_extrema_sampled, NOISE_ABS, NOISE_FLOOR};
+use super::exact_nurbs::push_intervals;
+use super::extrema::{NOISE_ABS, NOISE_FLOOR};
 use super::span_hodograph::{origin_and_extent, plane_frame};
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -101,32 +100,7 @@ pub struct SignInterval {
 /// assert_eq!(count_extrema_exact(&c, l).curvature_extrema, 2);
 /// ```
 pub fn count_extrema_exact(curve: &NurbsCurve, length: f64) -> ExactExtrema {
-    let normal = plane_normal(curve);
-    let iv = match normal.filter(|_| !curve.is_rational()) {
-        Some(n) => {
-            let mut iv = Vec::new();
-            sign_intervals(
-                curve.degree(),
-                curve.knots(),
-                curve.control_points(),
-                n,
-                &mut iv,
-            );
-            Some(iv)
-        }
-        None => sign_intervals_nurbs(curve, normal, Signal::DkappaDs),
-    };
-    match iv {
-        Some(iv) => ExactExtrema {
-            curvature_extrema: count_intervals(&iv, length),
-            exact: true,
-        },
-        None => ExactExtrema {
-            curvature_extrema: count_extrema_sampled(curve, length, DENSE_SAMPLES)
-                .curvature_extrema,
-            exact: false,
-        },
-    }
+    super::exact_inflections::shape_exact(curve, length, [true, false]).extrema
 }
 
 /// The sign intervals of `dκ/ds` (in parameter order) of the planar polynomial B-spline of degree

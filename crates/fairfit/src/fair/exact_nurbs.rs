@@ -48,41 +48,68 @@ pub fn sign_intervals_nurbs(
     normal: Option<Vec3>,
     signal: Signal,
 ) -> Option<Vec<SignInterval>> {
-    if signal == Signal::Kappa && normal.is_none() {
-        return None;
+    let want = [signal == Signal::DkappaDs, signal == Signal::Kappa];
+    let [dkds, kappa] = sign_intervals_nurbs_both(curve, normal, want);
+    match signal {
+        Signal::DkappaDs => dkds,
+        Signal::Kappa => kappa,
     }
-    let hod = curve_hodographs(curve, normal)?;
-    let unit = match signal {
+}
+
+/// [`sign_intervals_nurbs`] of [`Signal::DkappaDs`] and of [`Signal::Kappa`] (those `want`ed, in
+/// this order) from one construction of the span hodographs and curvature numerators: each entry
+/// is what [`sign_intervals_nurbs`] gives for its signal, `None` for a signal not wanted.
+pub fn sign_intervals_nurbs_both(
+    curve: &NurbsCurve,
+    normal: Option<Vec3>,
+    want: [bool; 2],
+) -> [Option<Vec<SignInterval>>; 2] {
+    let signals = [Signal::DkappaDs, Signal::Kappa];
+    // a signal stays `Some` while every span's numerator could be formed
+    let mut out = [0, 1]
+        .map(|i| (want[i] && !(signals[i] == Signal::Kappa && normal.is_none())).then(Vec::new));
+    if out.iter().all(Option::is_none) {
+        return out;
+    }
+    let Some(hod) = curve_hodographs(curve, normal) else {
+        return [None, None];
+    };
+    let unit = |signal: Signal| match signal {
         Signal::DkappaDs => 1.0 / (hod.extent * hod.extent),
         Signal::Kappa => 1.0 / hod.extent,
     };
-    let mut out = Vec::new();
     let mut roots = Vec::new();
     for h in &hod.spans {
         let sc = span_curvature(h);
-        let num = match signal {
-            Signal::DkappaDs => sc.dkds.clone(),
-            Signal::Kappa => sc.kappa_numerator()?,
-        };
-        if num.coeffs.len() > MAX_NUMERATOR_DEGREE + 1 {
-            return None;
+        for (signal, slot) in signals.into_iter().zip(out.iter_mut()) {
+            let Some(iv) = slot else {
+                continue;
+            };
+            let num = match signal {
+                Signal::DkappaDs => Some(sc.dkds.clone()),
+                Signal::Kappa => sc.kappa_numerator(),
+            };
+            let Some(num) = num.filter(|n| n.coeffs.len() <= MAX_NUMERATOR_DEGREE + 1) else {
+                *slot = None;
+                continue;
+            };
+            let value = |t: f64| match signal {
+                Signal::DkappaDs => sc.dkappa_ds(t),
+                Signal::Kappa => sc.kappa(t),
+            };
+            push_intervals(
+                &num.coeffs,
+                0.0,
+                h.a,
+                h.b,
+                value,
+                unit(signal),
+                &mut roots,
+                iv,
+            );
         }
-        let value = |t: f64| match signal {
-            Signal::DkappaDs => sc.dkappa_ds(t),
-            Signal::Kappa => sc.kappa(t),
-        };
-        push_intervals(
-            &num.coeffs,
-            0.0,
-            h.a,
-            h.b,
-            value,
-            unit,
-            &mut roots,
-            &mut out,
-        );
     }
-    Some(out)
+    out
 }
 
 /// Appends the sign intervals of the span `[a, b]` whose numerator has the Bernstein coefficients

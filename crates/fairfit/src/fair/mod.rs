@@ -9,7 +9,8 @@
 //! - [`exact_extrema`]: the exact count of curvature extrema (the real roots of the `dκ/du`
 //!   numerator per span, no sampling), on [`bernstein`] polynomials; rational and spatial curves
 //!   through [`exact_nurbs`] on the numerators of [`curvature_numerators`] and the span
-//!   hodographs of [`span_hodograph`]; [`exact_inflections`]: the same for planar inflections;
+//!   hodographs of [`span_hodograph`]; [`exact_inflections`]: the same for planar inflections, and
+//!   both counts in one pass ([`count_shape_exact`]);
 //! - [`metrics`]: [`curve_fairness`], the full [`CurveFairness`] summary;
 //! - [`surface`]: [`surface_fairness`], the metrics on iso-parametric curves in both directions;
 //! - [`gram`]: Gram matrices of basis derivatives (parametric energies as quadratic forms);
@@ -32,7 +33,9 @@ pub mod surface;
 
 pub use evaluator::{EvaluatorOptions, FairnessEvaluator, SpanIntegrals};
 pub use exact_extrema::{count_extrema_exact, ExactExtrema};
-pub use exact_inflections::{count_inflections_exact, ExactInflections};
+pub use exact_inflections::{
+    count_inflections_exact, count_shape_exact, ExactInflections, ExactShape,
+};
 pub use extrema::{count_extrema, count_extrema_sampled, ExtremaCounts};
 pub use fairing::{fair_curve, FairingOptions, FairingResult};
 pub use metrics::{curve_fairness, CurveFairness};
