@@ -295,6 +295,62 @@ fn trimmed_lines_and_polylines_are_straight_segments() {
     assert!((c.point(3.5) - Vec3::new(62.5, 5.0, 1.0)).norm() < 1e-12);
 }
 
+/// A trimmed `LINE` reads its `DIRECTION` and trims with the conics' code: `.CARTESIAN.` prefers the
+/// trimming points over the parameters, and a zero or one-ratio `DIRECTION` or a non-finite parameter
+/// is a one-line error naming the instance.
+#[test]
+fn trimmed_lines_share_the_conic_direction_and_trims() {
+    let text = std::fs::read_to_string(fixture()).unwrap();
+    let with = |dir: &str, line: &str| {
+        let t = text.replace(
+            "REPARAMETRISED_COMPOSITE_CURVE_SEGMENT(.DISCONTINUOUS.,.T.,#31,2.)",
+            "REPARAMETRISED_COMPOSITE_CURVE_SEGMENT(.DISCONTINUOUS.,.T.,#906,2.)",
+        );
+        let t = t.replace(
+            "ENDSEC;\nEND-ISO-10303-21;",
+            &format!(
+                "#900 = CARTESIAN_POINT('',(40.,10.,5.));#901 = CARTESIAN_POINT('',(70.,0.,0.));\
+                 #902 = DIRECTION('',{dir});#903 = VECTOR('',#902,15.);\
+                 #904 = LINE('',#900,#903);\n{line}\nENDSEC;\nEND-ISO-10303-21;"
+            ),
+        );
+        parse_cad(&t, CadFormat::Step)
+            .and_then(|c| select(c, CadKind::Curve, 1, "x"))
+            .map(|g| match g.geometry {
+                Geometry::Curve(c) => c,
+                other => panic!("{other:?}"),
+            })
+    };
+    // both trims given, the parameters pointing elsewhere: the points win under .CARTESIAN.
+    let both = "#906 = TRIMMED_CURVE('',#904,(#900,PARAMETER_VALUE(0.)),(#901,PARAMETER_VALUE(2.)),.T.,.CARTESIAN.);";
+    let c = with("(6.,-2.,-1.)", both).unwrap();
+    assert!((c.point(3.0) - Vec3::new(70.0, 0.0, 0.0)).norm() < 1e-12);
+    assert!((c.point(2.5) - Vec3::new(55.0, 5.0, 2.5)).norm() < 1e-12);
+    // ... and the parameters under .PARAMETER.: 15 (6, -2, -1) / sqrt(41) per unit from (40, 10, 5)
+    let c = with("(6.,-2.,-1.)", &both.replace("CARTESIAN.)", "PARAMETER.)")).unwrap();
+    let step = Vec3::new(6.0, -2.0, -1.0) * (15.0 / 41f64.sqrt());
+    assert!((c.point(3.0) - (Vec3::new(40.0, 10.0, 5.0) + step * 2.0)).norm() < 1e-12);
+    let by_params = "#906 = TRIMMED_CURVE('',#904,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.)),.T.,.PARAMETER.);";
+    for (dir, line, want) in [
+        ("(0.,0.,0.)", by_params, "the DIRECTION #902 is zero or not finite"),
+        ("(1.)", by_params, "the DIRECTION #902 needs 2 or 3 ratios"),
+        (
+            "(6.,-2.,-1.)",
+            "#906 = TRIMMED_CURVE('',#904,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.E999)),.T.,.PARAMETER.);",
+            "a PARAMETER_VALUE trim is not a finite number",
+        ),
+        (
+            "(6.,-2.,-1.)",
+            "#906 = TRIMMED_CURVE('',#904,(PARAMETER_VALUE(0.)),(),.T.,.PARAMETER.);",
+            "neither a PARAMETER_VALUE nor a CARTESIAN_POINT",
+        ),
+    ] {
+        let e = with(dir, line).unwrap_err().to_string();
+        assert!(e.contains(want) && e.contains("(#906)"), "{dir} {line}: {e}");
+        assert_eq!(e.lines().count(), 1);
+    }
+}
+
 /// Every prefix (200 cut points), 400 single-character corruptions and 100 deletions of the composite
 /// fixture give a curve or a typed one-line error: never a panic.
 #[test]

@@ -5,7 +5,9 @@
 //! `fairfit::fit` (parameterisation, knots added where the orthogonal error is largest, parameter
 //! correction, knot removal, corners and closed curves); `--method fit-then-fair` fairs the
 //! least-squares fit afterwards within the same tolerance. Writes the curve JSON (`-o`, else stdout) and an optional JSON report with
-//! deviation, fairness and timing.
+//! deviation, fairness and timing. A STEP or IGES curve is fitted through its dense samples and held to
+//! the tolerance of the exact curve (`fairfit::io::cad_fit`: refitted with points of it added while it
+//! strays between the samples; a note and the report's `exact_curve` say how far it is).
 
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
 use super::info::{exact_extrema_json, exact_inflections_json};
@@ -464,12 +466,12 @@ fn fit_cad(
         String::new()
     } else {
         format!(
-            "; {} refit(s) at tighter tolerances from {:.4} of it, the last fit at {:.3e} with {} \
-             points of the exact curve added",
-            r.refits,
+            "; the first fit let it stray {:.4} of the tolerance: {} refit(s) with {} points of the \
+             exact curve added, the last at the tolerance {:.3e}",
             r.first_max_deviation / r.tolerance,
+            r.refits,
+            r.added,
             r.fit.tolerance,
-            r.added
         )
     };
     eprintln!(

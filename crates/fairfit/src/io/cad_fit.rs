@@ -5,7 +5,11 @@
 //! between them (up to 1.06 of the tolerance was measured before the samples' chords were capped,
 //! 1.0002 after). [`exact_deviation`] measures the exact curve against a fit: the samples and the
 //! points of the exact curve at [`CHECK_FRACTIONS`] of every sample interval's parameter range,
-//! each projected onto the fit (global closest point). [`fit_to_exact`] runs any fitting method on
+//! each projected onto the fit (the samples globally, the points between them near their sample's
+//! closest point, which can only overstate the distance), and in every interval one more point where
+//! the parabola through the largest of those distances and its neighbours peaks (so the largest
+//! distance is found to third order in the checks' spacing: quarter points alone missed 2.6e-4 of
+//! it on the wiggly cubic at `1e-4` of its extent). [`fit_to_exact`] runs any fitting method on
 //! the samples and, while the exact curve lies farther than the tolerance from the fit, adds the
 //! offending checked points to the samples and fits again at a tolerance tightened by the measured
 //! excess, at most [`MAX_REFITS`] times; it returns the fit with the smallest exact deviation (the
@@ -44,8 +48,9 @@ pub struct ExactDeviation {
     pub beyond: Vec<(usize, ChainSample)>,
 }
 
-/// The distance of the exact chain `segments` from `fit`: at every sample and at [`CHECK_FRACTIONS`]
-/// of every interval between consecutive samples of one segment (see the module documentation).
+/// The distance of the exact chain `segments` from `fit`: at every sample, at [`CHECK_FRACTIONS`] of
+/// every interval between consecutive samples of one segment, and at the peak of the parabola through
+/// the interval's largest distance and its neighbours (see the module documentation).
 /// Checked points farther than `limit` (or whose distance is not a number) are listed in
 /// [`ExactDeviation::beyond`]. Errors when a sample names a segment that is not there.
 pub fn exact_deviation(
@@ -61,8 +66,7 @@ pub fn exact_deviation(
         checked: 0,
         beyond: Vec::new(),
     };
-    let note = |p: Vec3, out: &mut ExactDeviation| -> f64 {
-        let d = proj.project(p).distance;
+    let note = |d: f64, p: Vec3, out: &mut ExactDeviation| -> f64 {
         out.checked += 1;
         // a distance that is not a number counts as the largest
         let d = if d.is_nan() { f64::INFINITY } else { d };
@@ -72,11 +76,16 @@ pub fn exact_deviation(
         }
         d
     };
-    for (i, s) in samples.iter().enumerate() {
-        note(s.point, &mut out);
-        let Some(next) = samples.get(i + 1) else {
-            continue;
-        };
+    // the samples are projected onto the whole fit, the checked points near their sample's foot (a
+    // local closest point: never nearer than the global one, so the measure errs on the safe side)
+    let feet: Vec<(f64, f64)> = samples
+        .iter()
+        .map(|s| {
+            let f = proj.project(s.point);
+            (f.u, note(f.distance, s.point, &mut out))
+        })
+        .collect();
+    for (i, (s, next)) in samples.iter().zip(samples.iter().skip(1)).enumerate() {
         if next.segment != s.segment || next.u <= s.u {
             continue;
         }
@@ -87,20 +96,57 @@ pub fn exact_deviation(
                 segments.len()
             ))
         })?;
-        for f in CHECK_FRACTIONS {
+        let hint = feet[i].0;
+        let at = |f: f64| {
             let u = s.u + (next.u - s.u) * f;
-            let point = c.point(u);
-            if note(point, &mut out) > limit {
-                out.beyond.push((
-                    i,
-                    ChainSample {
-                        segment: s.segment,
-                        u,
-                        point,
-                    },
-                ));
+            (u, c.point(u))
+        };
+        let measure = |p: Vec3| proj.project_near(p, hint).distance;
+        // the distances at 0, 1/4, 1/2, 3/4 and 1 of the interval
+        let mut checks: Vec<(f64, Vec3, f64)> = CHECK_FRACTIONS
+            .iter()
+            .map(|&f| {
+                let (u, p) = at(f);
+                (u, p, note(measure(p), p, &mut out))
+            })
+            .collect();
+        let d = [
+            feet[i].1,
+            checks[0].2,
+            checks[1].2,
+            checks[2].2,
+            feet[i + 1].1,
+        ];
+        // the peak of the parabola through the largest distance and its neighbours (the largest
+        // distance between the checked points, to third order in their spacing)
+        let m = (0..5).fold(0, |m, k| if d[k] > d[m] { k } else { m });
+        let k = m.clamp(1, 3);
+        let (l, c0, r) = (d[k - 1], d[k], d[k + 1]);
+        let curv = l - 2.0 * c0 + r;
+        if curv < 0.0 && c0.is_finite() {
+            let x = (k as f64 + 0.5 * (l - r) / curv) / 4.0;
+            if x > 0.0 && x < 1.0 && CHECK_FRACTIONS.iter().all(|&f| (x - f).abs() > 1e-3) {
+                let (u, p) = at(x);
+                checks.push((u, p, note(measure(p), p, &mut out)));
+                checks.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
         }
+        out.beyond
+            .extend(
+                checks
+                    .into_iter()
+                    .filter(|&(_, _, d)| d > limit)
+                    .map(|(u, point, _)| {
+                        (
+                            i,
+                            ChainSample {
+                                segment: s.segment,
+                                u,
+                                point,
+                            },
+                        )
+                    }),
+            );
     }
     Ok(out)
 }
@@ -177,8 +223,10 @@ pub fn fit_to_exact<T, E: From<Error>>(
     let (mut dev, mut fit_tol) = (dev, best.fit.tolerance);
     for refit in 1..=MAX_REFITS {
         samples = with_added(&samples, &dev.beyond);
-        // the exact curve strayed dev.max / fit_tol of the fitting tolerance: ask that much less
-        fit_tol *= (tol / dev.max).min(1.0) * (1.0 - TIGHTENING_MARGIN);
+        if refit > 1 {
+            // the exact curve strayed dev.max / fit_tol of the fitting tolerance: ask that much less
+            fit_tol *= (tol / dev.max).min(1.0) * (1.0 - TIGHTENING_MARGIN);
+        }
         if fit_tol.is_nan() || fit_tol <= 0.0 {
             break;
         }
@@ -275,20 +323,37 @@ mod tests {
                 .collect();
             Ok(Fitted {
                 curve: NurbsCurve::bspline(1, knots, pts.to_vec())?,
-                tolerance: t.unwrap_or(1e-5),
+                tolerance: t.unwrap_or(1e-4),
                 max_deviation: 0.0,
                 extra: t,
             })
         };
-        let samples = || sample_chain_params(std::slice::from_ref(&c));
+        // 41 samples, equally spaced in parameter: sagittas up to about 0.015, then 1/16 of it per
+        // refit where it is added: two refits or more
+        let (a, b) = c.domain();
+        let samples = || -> Vec<ChainSample> {
+            (0..=40)
+                .map(|k| {
+                    let u = a + (b - a) * k as f64 / 40.0;
+                    ChainSample {
+                        segment: 0,
+                        u,
+                        point: c.point(u),
+                    }
+                })
+                .collect()
+        };
         let r = fit_to_exact(std::slice::from_ref(&c), samples(), polyline).unwrap();
-        assert_eq!(r.tolerance, 1e-5);
-        assert!(r.first_max_deviation > 1e-5, "{}", r.first_max_deviation);
-        assert!(r.met && r.max_deviation <= 1e-5, "{}", r.max_deviation);
-        assert!(r.refits >= 1 && r.refits <= MAX_REFITS);
+        assert_eq!(r.tolerance, 1e-4);
+        assert!(r.first_max_deviation > 1e-2, "{}", r.first_max_deviation);
+        assert!(r.met && r.max_deviation <= 1e-4, "{}", r.max_deviation);
+        assert!(r.refits >= 2 && r.refits <= MAX_REFITS, "{}", r.refits);
         assert!(r.added > 0 && r.points.len() > r.added);
-        // the refit was asked for a tighter tolerance
-        assert!(r.fit.extra.is_some_and(|t| t < 1e-5));
+        // the refits were asked for the tolerance, then (from the second on) a tighter one
+        assert!(r
+            .fit
+            .extra
+            .is_some_and(|t| t < 1e-4 * (1.0 - TIGHTENING_MARGIN)));
         // a fit already within is kept as it is
         let loose = |pts: &[Vec3], t: Option<f64>| -> Result<Fitted<()>> {
             let mut f = polyline(pts, t)?;

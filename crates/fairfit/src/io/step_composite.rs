@@ -6,10 +6,15 @@
 //! Composite curves on surfaces and boundary curves (subtypes that bound a face in its parameter space
 //! or on it) are not read; a composite with any other segment (an untrimmed `LINE`, a `PARABOLA`, ...)
 //! is named in the "found:" list of errors instead.
+//!
+//! A trimmed `LINE` reads its `DIRECTION` and its trims with the conics' code ([`super::step_conic`]):
+//! 2 or 3 ratios, not zero; trims by `PARAMETER_VALUE` (finite) and/or `CARTESIAN_POINT`, the points
+//! taken when `master_representation` is `.CARTESIAN.`.
 
 use super::p21::{Exchange, Instance, Value};
 use super::step_conic::conic;
-use super::step_read::{curve, point, trim_parameter, trimmed_curve};
+use super::step_conic::{direction, points_are_master, trim, TrimBy};
+use super::step_read::{curve, point, trimmed_curve};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::collections::{BTreeMap, BTreeSet};
@@ -81,50 +86,35 @@ fn straight(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<NurbsCurve>
         return Ok(None);
     };
     let origin = point(x, line.params.get(1).unwrap_or(&Value::Unset), id, inst)?;
-    let dir = line
+    let no_vector = || {
+        err(
+            id,
+            inst,
+            "the LINE has no VECTOR with a DIRECTION and a magnitude",
+        )
+    };
+    let vector = line
         .params
         .get(2)
         .and_then(Value::as_ref_id)
         .and_then(|v| x.data.get(&v))
         .and_then(|v| v.part("VECTOR"))
-        .and_then(|v| {
-            let magnitude = v.params.get(2)?.as_f64()?;
-            let d = x
-                .data
-                .get(&v.params.get(1)?.as_ref_id()?)?
-                .part("DIRECTION")?;
-            let r = d.params.get(1)?.as_list()?;
-            let c: Vec<f64> = r.iter().map(Value::as_f64).collect::<Option<_>>()?;
-            let v = Vec3::new(
-                *c.first()?,
-                c.get(1).copied().unwrap_or(0.0),
-                c.get(2).copied().unwrap_or(0.0),
-            );
-            let n = v.norm();
-            (n > 0.0 && n.is_finite() && magnitude.is_finite()).then(|| v * (magnitude / n))
+        .ok_or_else(no_vector)?;
+    let magnitude = vector
+        .params
+        .get(2)
+        .and_then(Value::as_f64)
+        .filter(|m| m.is_finite())
+        .ok_or_else(no_vector)?;
+    // the DIRECTION as a circle's placement reads it: 2 or 3 ratios, not zero, normalised
+    let dir = direction(x, vector.params.get(1), id, inst)?.ok_or_else(no_vector)? * magnitude;
+    // the trims as a conic's: parameters and/or points, `.CARTESIAN.` preferring the points
+    let points_first = points_are_master(t.params.get(5));
+    let end = |v: Option<&Value>| -> Result<Vec3> {
+        Ok(match trim(x, v, id, inst)?.by(points_first) {
+            TrimBy::Param(u) => origin + dir * u,
+            TrimBy::Point(p) => p,
         })
-        .ok_or_else(|| {
-            err(
-                id,
-                inst,
-                "the LINE has no VECTOR with a DIRECTION and a magnitude",
-            )
-        })?;
-    let end = |trim: Option<&Value>| -> Result<Vec3> {
-        if let Some(u) = trim_parameter(trim) {
-            return Ok(origin + dir * u);
-        }
-        let p = trim
-            .and_then(Value::as_list)
-            .and_then(|l| l.iter().find(|v| v.as_ref_id().is_some()))
-            .ok_or_else(|| {
-                err(
-                    id,
-                    inst,
-                    "a trim of the LINE is neither a parameter nor a point",
-                )
-            })?;
-        point(x, p, id, inst)
     };
     let (a, b) = (end(t.params.get(2))?, end(t.params.get(3))?);
     to_curve(vec![a, b]).map(Some)

@@ -17,8 +17,14 @@ use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::f64::consts::PI;
 
-/// The unit vector of the `DIRECTION` `v` refers to; `None` for `$`.
-fn direction(x: &Exchange, v: Option<&Value>, id: u64, inst: &Instance) -> Result<Option<Vec3>> {
+/// The unit vector of the `DIRECTION` `v` refers to; `None` for `$`. Shared with the trimmed `LINE`s
+/// of composite curves ([`super::step_composite`]).
+pub(super) fn direction(
+    x: &Exchange,
+    v: Option<&Value>,
+    id: u64,
+    inst: &Instance,
+) -> Result<Option<Vec3>> {
     let Some(r) = v.and_then(Value::as_ref_id) else {
         return Ok(None);
     };

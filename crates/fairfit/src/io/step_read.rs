@@ -423,14 +423,6 @@ fn parameter_space_items(x: &Exchange) -> BTreeSet<u64> {
     out
 }
 
-/// The parameter of a trimming select list (`(#5, PARAMETER_VALUE(0.2))`), if it has one.
-pub(super) fn trim_parameter(v: Option<&Value>) -> Option<f64> {
-    v?.as_list()?.iter().find_map(|t| match t {
-        Value::Typed(name, inner) if name == "PARAMETER_VALUE" => inner.as_f64(),
-        _ => None,
-    })
-}
-
 /// A `TRIMMED_CURVE` read: its basis curve's id, the trimmed curve, and its kind (`trimmed` for a
 /// B-spline basis, `circular arc`, `circle`, `elliptical arc`, `ellipse` for a conic).
 pub(super) struct Trimmed {
