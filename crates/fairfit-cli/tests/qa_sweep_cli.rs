@@ -124,3 +124,60 @@ fn sections_and_meshes_at_extreme_scales_ask_for_rescaling() {
         String::from_utf8_lossy(&ok.stderr)
     );
 }
+
+/// The surface JSON and report of `fairfit surface ARGS --threads T` for T = 1, 2 and the default.
+fn surface_outputs_per_thread_count(args: &[&str], dir: &Path) -> Vec<(Vec<u8>, Vec<u8>)> {
+    [Some("1"), Some("2"), None]
+        .iter()
+        .map(|t| {
+            let name = t.unwrap_or("default");
+            let (o, r) = (
+                dir.join(format!("s{name}.json")),
+                dir.join(format!("r{name}.json")),
+            );
+            let mut cmd = fairfit();
+            cmd.arg("surface")
+                .args(args)
+                .arg("-o")
+                .arg(&o)
+                .arg("--report")
+                .arg(&r);
+            if let Some(t) = t {
+                cmd.args(["--threads", t]);
+            }
+            let out = cmd.output().unwrap();
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            (std::fs::read(&o).unwrap(), std::fs::read(&r).unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn surface_output_is_the_same_for_any_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let blade = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data/iea15mw_sections");
+    let mesh = dir.path().join("tube.obj");
+    tube_obj(&mesh, 1.0);
+    for args in [
+        vec![blade.to_str().unwrap()],
+        vec![mesh.to_str().unwrap(), "--slices", "5"],
+    ] {
+        let runs = surface_outputs_per_thread_count(&args, dir.path());
+        let net = serde_json::from_slice::<serde_json::Value>(&runs[0].1).unwrap()["net"].clone();
+        assert!(net[0].as_u64().unwrap() >= 4, "{net}");
+        for r in &runs[1..] {
+            assert!(
+                r.0 == runs[0].0,
+                "{args:?}: surface JSON differs between thread counts"
+            );
+            assert!(
+                r.1 == runs[0].1,
+                "{args:?}: report differs between thread counts"
+            );
+        }
+    }
+}
