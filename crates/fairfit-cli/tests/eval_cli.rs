@@ -128,10 +128,23 @@ fn negative_parameter_is_parsed_and_rejected_as_outside_domain() {
     assert_one_line_error(&eval(f.path(), "-0.5"), "outside the domain");
     assert_one_line_error(
         &eval(f.path(), "0.5,1.2"),
-        "parameter 1.2 is outside the domain [0, 1]",
+        "--at: parameter u = 1.2 is outside the domain [0, 1] of u",
     );
     let s = file_with(SADDLE.as_bytes());
     assert_one_line_error(&eval(s.path(), "0.5:1.5"), "outside the domain");
+    // the surface message names the direction; huge values print in exponent form, not 301 digits
+    assert_one_line_error(
+        &eval(s.path(), "0.5:1.5"),
+        "parameter v = 1.5 is outside the domain [0, 1] of v",
+    );
+    assert_one_line_error(
+        &eval(s.path(), "-1e300:0.5"),
+        "parameter u = -1e300 is outside the domain [0, 1] of u",
+    );
+    assert_one_line_error(
+        &eval(f.path(), "1e300"),
+        "parameter u = 1e300 is outside the domain [0, 1] of u",
+    );
 }
 
 #[test]
@@ -147,6 +160,8 @@ fn malformed_at_lists_are_errors() {
     assert_usage_error(&eval(s.path(), "0.5"), "not a U:V pair");
     assert_usage_error(&eval(s.path(), "0.1:0.2:0.3"), "not a U:V pair");
     assert_usage_error(&eval(s.path(), "0.1:x"), "`x` is not a finite number");
+    assert_usage_error(&eval(s.path(), "0.5:"), "`0.5:` lacks its V value");
+    assert_usage_error(&eval(s.path(), " :0.5"), "lacks its U value");
 }
 
 #[test]

@@ -77,12 +77,46 @@ fn parse_surface_params(at: &str) -> Result<Vec<(f64, f64)>, CliError> {
     entries(at)?
         .into_iter()
         .map(|s| match s.split_once(':') {
-            Some((u, v)) if !v.contains(':') => Ok((parse_number(u)?, parse_number(v)?)),
+            Some((u, v)) if !v.contains(':') => {
+                if u.trim().is_empty() || v.trim().is_empty() {
+                    return Err(CliError::usage(format!(
+                        "--at: `{s}` lacks its {} value (expected U:V pairs like 0.2:0.3)",
+                        if u.trim().is_empty() { "U" } else { "V" }
+                    )));
+                }
+                Ok((parse_number(u)?, parse_number(v)?))
+            }
             _ => Err(CliError::usage(format!(
                 "--at: `{s}` is not a U:V pair (the file holds a surface)"
             ))),
         })
         .collect()
+}
+
+/// A number as the user would write it: plain when short, else in exponent form (`1e300`, not 301
+/// digits).
+fn short(x: f64) -> String {
+    let plain = x.to_string();
+    if plain.len() <= 12 {
+        plain
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// Fails with a one-line message when `x` lies outside `[a, b]` (with the library's 1e-12 relative
+/// slack): `name` is the parameter's name (`u` or `v`).
+fn check_in_domain(name: &str, x: f64, (a, b): (f64, f64)) -> Result<(), CliError> {
+    let slack = 1e-12 * (b - a);
+    if x < a - slack || x > b + slack {
+        return Err(CliError::new(format!(
+            "--at: parameter {name} = {} is outside the domain [{}, {}] of {name}",
+            short(x),
+            short(a),
+            short(b)
+        )));
+    }
+    Ok(())
 }
 
 fn arr(v: Vec3) -> Value {
@@ -92,6 +126,7 @@ fn arr(v: Vec3) -> Value {
 fn eval_curve(c: &NurbsCurve, us: &[f64]) -> Result<Vec<Value>, CliError> {
     us.iter()
         .map(|&u| {
+            check_in_domain("u", u, c.domain())?;
             c.check_parameter(u)?;
             let d = differentials(c, u);
             if ![d.curvature, d.torsion, d.dkappa_ds]
@@ -122,6 +157,8 @@ fn eval_surface(s: &NurbsSurface, uv: &[(f64, f64)]) -> Result<Vec<Value>, CliEr
     let mut e = [Vec3::ZERO; 9];
     uv.iter()
         .map(|&(u, v)| {
+            check_in_domain("u", u, s.domain_u())?;
+            check_in_domain("v", v, s.domain_v())?;
             s.check_parameter(u, v)?;
             s.derivatives_with(u, v, 2, &mut ws, &mut d);
             // null curvatures where the normal is degenerate (poles, collapsed edges)

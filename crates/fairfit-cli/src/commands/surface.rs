@@ -103,6 +103,9 @@ pub struct SurfaceArgs {
     /// A chain edge longer than this many median spacings is reported as a gap (slicing).
     #[arg(long, default_value_t = 5.0, value_parser = super::finite_positive)]
     pub gap_factor: f64,
+    /// Worker threads (0 = all cores; capped at 4 per core; the output does not depend on it).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
     /// Write a JSON report of the measures here.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -296,13 +299,22 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
     let pb = crate::progress::bar(3, "surface");
     pb.set_message("fitting sections");
-    let result = reconstruct_surface_with_progress(input.sections, &opts, &mut |st| match st {
-        Stage::Compatible(n) => pb.set_message(format!("knot vectors {n}")),
-        Stage::Skinned => {
-            pb.inc(1);
-            pb.set_message("measuring");
-        }
-        Stage::Measured => pb.inc(1),
+    let threads = args
+        .threads
+        .min(4 * std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| CliError::new(format!("cannot start {threads} worker threads: {e}")))?;
+    let result = pool.install(|| {
+        reconstruct_surface_with_progress(input.sections, &opts, &mut |st| match st {
+            Stage::Compatible(n) => pb.set_message(format!("knot vectors {n}")),
+            Stage::Skinned => {
+                pb.inc(1);
+                pb.set_message("measuring");
+            }
+            Stage::Measured => pb.inc(1),
+        })
     });
     pb.finish_and_clear();
     let r = result?;

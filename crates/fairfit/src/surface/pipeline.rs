@@ -93,9 +93,30 @@ pub fn validate_sections(sections: &[Section], degree: usize) -> Result<()> {
                 "section {k} has all its points at one place"
             )));
         }
+        // squared distances must neither overflow nor underflow: beyond these sizes the fit reads
+        // points as coincident or returns deviations of 0
+        let size = extent(&s.points);
+        let reach = s
+            .points
+            .iter()
+            .flat_map(|p| [p.x().abs(), p.y().abs(), p.z().abs()])
+            .fold(0.0, f64::max);
+        if !(MIN_SECTION_SIZE..=MAX_COORDINATE).contains(&size) || reach > MAX_COORDINATE {
+            return Err(Error::InvalidData(format!(
+                "section {k} is {size:.3e} across with coordinates up to {reach:.3e}; sections must be \
+                 at least {MIN_SECTION_SIZE:e} across with coordinates up to {MAX_COORDINATE:e}: \
+                 rescale the points (e.g. change their unit)"
+            )));
+        }
     }
     Ok(())
 }
+
+/// The smallest section size (largest bounding-box extent) [`validate_sections`] accepts.
+pub const MIN_SECTION_SIZE: f64 = 1e-150;
+
+/// The largest coordinate magnitude [`validate_sections`] accepts.
+pub const MAX_COORDINATE: f64 = 1e150;
 
 /// Sections to a fair skinned surface (see the module documentation).
 pub fn reconstruct_surface(
@@ -154,4 +175,53 @@ pub fn reconstruct_surface_with_progress(
         fairness,
         seam,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nurbs::Vec3;
+
+    /// Three ellipses 2s wide and s apart, scaled by `s`.
+    fn ellipses(s: f64) -> Vec<Section> {
+        (0..3)
+            .map(|k| {
+                Section::from_points(
+                    (0..20)
+                        .map(|i| {
+                            let t = std::f64::consts::TAU * i as f64 / 20.0;
+                            Vec3::new(s * t.cos(), 0.5 * s * t.sin(), s * k as f64)
+                        })
+                        .collect(),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn sections_beyond_the_fittable_sizes_ask_for_rescaling() {
+        for s in [1e-300, 1e-160, 1e160, 1e300] {
+            let e = validate_sections(&ellipses(s), 3).unwrap_err().to_string();
+            assert!(e.contains("section 0") && e.contains("rescale"), "{s}: {e}");
+        }
+        for s in [1e-140, 1.0, 1e140] {
+            validate_sections(&ellipses(s), 3).unwrap();
+        }
+        // inside the range the fit is the unit fit scaled: deviation / size agrees to 1e-7 (the scaled
+        // points round differently)
+        let opts = SurfaceOptions::default();
+        let fit = |s: f64| {
+            let mut o = opts.clone();
+            o.sections.tolerance = 1e-3 * s;
+            reconstruct_surface(ellipses(s), &o).unwrap().deviation.max / s
+        };
+        let unit = fit(1.0);
+        for s in [1e-140, 1e140] {
+            assert!(
+                (fit(s) - unit).abs() <= 1e-7 * unit,
+                "{s:e}: {} vs {unit}",
+                fit(s)
+            );
+        }
+    }
 }

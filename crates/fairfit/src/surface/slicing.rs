@@ -12,6 +12,7 @@
 
 use super::chain::{break_at_gaps, median_spacing, order_points, Gap};
 use super::orient::Section;
+use super::pipeline::{MAX_COORDINATE, MIN_SECTION_SIZE};
 use crate::errors::{Error, Result};
 use crate::io::mesh_read::Mesh;
 use crate::nurbs::Vec3;
@@ -128,6 +129,21 @@ pub fn slice_mesh(mesh: &Mesh, opts: &SliceOptions) -> Result<Slices> {
                 if min > 0.0 { "> 0" } else { ">= 0" }
             )));
         }
+    }
+    // the sections must be fittable (see validate_sections); slicing a mesh beyond these sizes would
+    // read every plane as empty or every chain as one point
+    let size = crate::surface::orient::extent(&mesh.vertices);
+    let reach = mesh
+        .vertices
+        .iter()
+        .flat_map(|p| [p.x().abs(), p.y().abs(), p.z().abs()])
+        .fold(0.0, f64::max);
+    if size > 0.0 && (size < MIN_SECTION_SIZE || reach > MAX_COORDINATE) {
+        return Err(Error::InvalidData(format!(
+            "the mesh is {size:.3e} across with coordinates up to {reach:.3e}; meshes must be at least \
+             {MIN_SECTION_SIZE:e} across with coordinates up to {MAX_COORDINATE:e}: rescale the \
+             points (e.g. change their unit)"
+        )));
     }
     let offsets = plane_offsets(&mesh.vertices, n, opts.slices)?;
     let dir = in_plane_dir(n);
