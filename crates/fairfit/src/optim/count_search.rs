@@ -103,6 +103,10 @@ pub(crate) trait CountFamily: Sync {
     fn problem(&self, n: usize) -> Self::Problem;
     /// Interior knots spread over the data for `n` control points (a seed at every count).
     fn spread_knots(&self, n: usize) -> Vec<f64>;
+    /// Residual-driven knots for `n` control points ([`super::residual_knots`]), if any.
+    fn residual_knots(&self, _n: usize) -> Option<Vec<f64>> {
+        None
+    }
     /// `knots` with one knot more where it helps most (smoothing `log10 λ`).
     fn insertion(&self, knots: &[f64], log_lambda: f64) -> Vec<f64>;
     /// The final curve (band fairing, polish) of interior knots and smoothing.
@@ -178,17 +182,29 @@ pub(crate) fn search_counts<C: CountFamily>(
     search_counts_costed(family, start, opts, progress, stats).map(|(r, _)| r)
 }
 
+/// How the count search's choice went, for the next degree ([`super::degree_candidates`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct CountChoice {
+    /// The extrema cost ([`search_counts_costed`]).
+    pub extrema_cost: f64,
+    /// The **count gain**: the kept candidate's F over the fairest finished F at the smallest
+    /// count, when the kept count is above the smallest and the highest finished count (the
+    /// extra points were still paying where the search stopped); 1 otherwise.
+    pub count_gain: f64,
+}
+
 /// [`search_counts`], with the **extrema cost** of the choice: the chosen candidate's score
 /// `F · EXTRA_POINT_GAIN^extra` over the lowest score of all finished candidates within the
 /// tolerance (1 when the fairest candidate was kept; above 1 when the fewest-extrema rule kept a
-/// less fair curve). The degree search reads it ([`super::degree_candidates`]).
+/// less fair curve), and the count gain ([`CountChoice`]). The degree search reads both
+/// ([`super::degree_candidates`]).
 pub(crate) fn search_counts_costed<C: CountFamily>(
     family: &C,
     start: CountStart<'_>,
     opts: &IntegratedOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
     stats: &mut OptimStats,
-) -> Result<(IntegratedResult, f64)> {
+) -> Result<(IntegratedResult, CountChoice)> {
     let CountStart {
         n,
         knots,
@@ -267,13 +283,54 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
             best = choose_count(&counts, &ranked);
         }
     }
-    let cost = extrema_cost(&counts, &ranked, best);
+    if std::env::var("FAIRFIT_DIAG").is_ok() {
+        for i in 0..counts.len() {
+            eprintln!(
+                "DIAG p={} n={} limit={} cand count={} F={:.6e} ext={} best={}",
+                opts.degree,
+                n,
+                limit,
+                counts[i],
+                ranked[i].fairness,
+                ranked[i].extrema,
+                i == best
+            );
+        }
+    }
+    let choice = CountChoice {
+        extrema_cost: extrema_cost(&counts, &ranked, best),
+        count_gain: count_gain(&counts, &ranked, best),
+    };
     let chosen = finished.into_iter().nth(best).unwrap_or_else(|| {
         Err(Error::Fit(
             "no valid knot vector for the data (too few points?)".into(),
         ))
     })?;
-    Ok((chosen, cost))
+    Ok((chosen, choice))
+}
+
+/// The count gain of choosing candidate `best` ([`CountChoice::count_gain`]): its F over the
+/// fairest F at the smallest count, when it has the highest count of all candidates and more
+/// than the smallest; else 1.
+pub(crate) fn count_gain(counts: &[usize], ranked: &[Ranked], best: usize) -> f64 {
+    let (Some(lowest), Some(highest)) =
+        (counts.iter().copied().min(), counts.iter().copied().max())
+    else {
+        return 1.0;
+    };
+    if counts[best] == lowest || counts[best] != highest {
+        return 1.0;
+    }
+    let at_lowest = (0..counts.len())
+        .filter(|&i| counts[i] == lowest)
+        .map(|i| ranked[i].fairness)
+        .fold(f64::INFINITY, f64::min);
+    let kept = ranked[best].fairness;
+    if kept.is_finite() && at_lowest.is_finite() && at_lowest > 0.0 {
+        kept / at_lowest
+    } else {
+        1.0
+    }
 }
 
 /// The extrema cost of choosing candidate `best` ([`search_counts_costed`]): its score over the
@@ -434,6 +491,14 @@ fn full_search<C: CountFamily>(
         x0.push(pr.position(k));
     }
     x0.push(pr.position(&family.spread_knots(n)));
+    if std::env::var("FAIRFIT_EXP")
+        .unwrap_or_default()
+        .contains("seed")
+    {
+        if let Some(k) = family.residual_knots(n) {
+            x0.push(pr.position(&k));
+        }
+    }
     let po = pso_options(opts, opts.max_iterations, false, n as u64 + salt);
     let mut r = run_pso(&pr, &x0, &po, &|it| progress(n, it));
     stats.evaluations += r.evaluations;

@@ -107,7 +107,24 @@ pub(crate) struct CountsSeen<'a> {
     pub limit: usize,
     /// The extrema cost of the reference's count choice.
     pub extrema_cost: f64,
+    /// The count gain of the reference's count choice ([`super::count_search::CountChoice`]).
+    pub count_gain: f64,
 }
+
+impl CountsSeen<'_> {
+    /// Whether the next degree gets a count search of its own (module doc, "Own count search").
+    fn own_count_search(&self) -> bool {
+        let steep: f64 = std::env::var("FAIRFIT_STEEP")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(STEEP_COUNT_GAIN);
+        self.extrema_cost >= OWN_COUNT_SEARCH_COST || self.count_gain <= steep
+    }
+}
+
+/// The count gain ([`super::count_search::CountChoice::count_gain`]) at or below which the next
+/// degree gets a count search of its own (module doc, "Own count search").
+pub const STEEP_COUNT_GAIN: f64 = 0.8;
 
 /// The degree search after the reference's count search on open data: `reference` is the
 /// finished fit at `opts.degree` of the prepared data `prep`; `first` the next degree's attempt
@@ -141,7 +158,7 @@ pub(crate) fn raise_open(
             None => open_attempt(&preps[d - p], p, interior, tol, opts, d),
         };
         match seen {
-            Some(s) if d == p + 1 && s.extrema_cost >= OWN_COUNT_SEARCH_COST => {
+            Some(s) if d == p + 1 && s.own_count_search() => {
                 let counts = (reference_count + 1).max(s.n)..=s.limit;
                 own_count_search(&preps[d - p], p, s, counts, tol, opts, d, a)
             }
@@ -166,7 +183,12 @@ fn own_count_search(
     d: usize,
     at_n: Attempt,
 ) -> Attempt {
-    let o = candidate_options(opts, d);
+    let exp = std::env::var("FAIRFIT_EXP").unwrap_or_default();
+    let o = if exp.contains("fullown") {
+        opts.at_degree(d)
+    } else {
+        candidate_options(opts, d)
+    };
     let searched: Vec<(Option<Candidate>, Option<IntegratedResult>)> = counts
         .into_par_iter()
         .filter_map(|c| seen.descent.iter().find(|(k, _)| *k == c))

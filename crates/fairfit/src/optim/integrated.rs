@@ -308,12 +308,31 @@ pub fn fit_integrated_with_progress(
         }
     }
 
+    if std::env::var("FAIRFIT_DIAG").is_ok() {
+        let mut rc = 0;
+        for n in p + 1..=m1.min(60) {
+            if let Some(k) = super::residual_knots::residual_knots(data, n) {
+                set_knots(p, &k, &mut ws);
+                let e = evaluate_candidate(data, f64::NEG_INFINITY, &mut ws);
+                if e.solved && e.max_deviation <= tol {
+                    rc = n;
+                    break;
+                }
+            }
+        }
+        eprintln!("RCOUNT baseline={baseline} residual={rc}");
+    }
     // 3. count search downwards from the baseline: greedy knot removal, then a swarm probe
     // a fixed count descends from the baseline to it (feasible seeds), or starts above it
     let fixed = opts.control_points;
     let best_n = fixed.map_or(baseline, |n| n.max(baseline));
     let lowest = fixed.unwrap_or(p + 1).max(p + 1).max(4);
+    let exp = std::env::var("FAIRFIT_EXP").unwrap_or_default();
     let best_knots = match lsq_start {
+        _ if exp.contains("fixed") && fixed.is_some_and(|n| n > baseline) => {
+            super::residual_knots::residual_knots(data, best_n)
+                .unwrap_or_else(|| averaging_interior_knots(&data.params, p, best_n))
+        }
         Some((n, k)) if n == best_n => k,
         Some((n, mut k)) if n < best_n => {
             // a fixed count above the least-squares one: add knots where they help most
@@ -373,14 +392,15 @@ pub fn fit_integrated_with_progress(
                 .then(|| super::degree_candidates::open_next(&prep, &best_knots, tol, opts))
         },
     );
-    let (result, extrema_cost) = result?;
+    let (result, choice) = result?;
     let mut result = if opts.searches_degree() {
         // a fixed count, or no extra points, leaves the next degree no counts of its own
         let seen = (fixed.is_none() && opts.max_extra_control_points > 0).then_some(CountsSeen {
             n: best_n,
             descent: &descent,
             limit: start_at.limit,
-            extrema_cost,
+            extrema_cost: choice.extrema_cost,
+            count_gain: choice.count_gain,
         });
         super::degree_candidates::raise_open(&prep, result, tol, opts, first, seen)?
     } else {
@@ -429,6 +449,10 @@ impl<'a> CountFamily for OpenFamily<'a> {
 
     fn spread_knots(&self, n: usize) -> Vec<f64> {
         averaging_interior_knots(&self.prep.data.params, self.opts.degree, n)
+    }
+
+    fn residual_knots(&self, n: usize) -> Option<Vec<f64>> {
+        super::residual_knots::residual_knots(&self.prep.data, n)
     }
 
     fn insertion(&self, knots: &[f64], log_lambda: f64) -> Vec<f64> {
