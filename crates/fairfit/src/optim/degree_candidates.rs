@@ -50,6 +50,7 @@ use super::integrated::{
 use super::periodic::ClosedData;
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::pso::{run_pso, PsoOptions};
+use super::residual_knots::residual_knots;
 use super::smoothing::tune_smoothing;
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -112,14 +113,27 @@ pub(crate) struct CountsSeen<'a> {
 }
 
 impl CountsSeen<'_> {
-    /// Whether the next degree gets a count search of its own (module doc, "Own count search").
-    fn own_count_search(&self) -> bool {
-        let steep: f64 = std::env::var("FAIRFIT_STEEP")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(STEEP_COUNT_GAIN);
-        self.extrema_cost >= OWN_COUNT_SEARCH_COST || self.count_gain <= steep
+    /// Whether the next degree gets a count search of its own, and why (module doc, "Own count
+    /// search"): `None` for no own search.
+    fn own_count_search(&self) -> Option<OwnTrigger> {
+        if self.extrema_cost >= OWN_COUNT_SEARCH_COST {
+            Some(OwnTrigger::ExtremaCost)
+        } else if self.count_gain <= STEEP_COUNT_GAIN {
+            Some(OwnTrigger::CountGain)
+        } else {
+            None
+        }
     }
+}
+
+/// Why the next degree gets a count search of its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum OwnTrigger {
+    /// The reference's fewest-extrema choice was costly ([`OWN_COUNT_SEARCH_COST`]).
+    ExtremaCost,
+    /// The reference's extra points were still paying where its count search stopped
+    /// ([`STEEP_COUNT_GAIN`]); the counts are also seeded with residual-driven knots.
+    CountGain,
 }
 
 /// The count gain ([`super::count_search::CountChoice::count_gain`]) at or below which the next
@@ -158,10 +172,13 @@ pub(crate) fn raise_open(
             None => open_attempt(&preps[d - p], p, interior, tol, opts, d),
         };
         match seen {
-            Some(s) if d == p + 1 && s.own_count_search() => {
-                let counts = (reference_count + 1).max(s.n)..=s.limit;
-                own_count_search(&preps[d - p], p, s, counts, tol, opts, d, a)
-            }
+            Some(s) if d == p + 1 => match s.own_count_search() {
+                Some(trigger) => {
+                    let counts = (reference_count + 1).max(s.n)..=s.limit;
+                    own_count_search(&preps[d - p], p, s, counts, trigger, tol, opts, d, a)
+                }
+                None => a,
+            },
             _ => a,
         }
     };
@@ -178,22 +195,27 @@ fn own_count_search(
     p: usize,
     seen: CountsSeen<'_>,
     counts: std::ops::RangeInclusive<usize>,
+    trigger: OwnTrigger,
     tol: f64,
     opts: &IntegratedOptions,
     d: usize,
     at_n: Attempt,
 ) -> Attempt {
-    let exp = std::env::var("FAIRFIT_EXP").unwrap_or_default();
-    let o = if exp.contains("fullown") {
-        opts.at_degree(d)
-    } else {
-        candidate_options(opts, d)
-    };
+    let o = candidate_options(opts, d);
     let searched: Vec<(Option<Candidate>, Option<IntegratedResult>)> = counts
         .into_par_iter()
-        .filter_map(|c| seen.descent.iter().find(|(k, _)| *k == c))
-        .map(|(_, knots)| {
-            let cand = open_candidate(q, p, knots, tol, opts, d, opts.max_iterations);
+        .filter_map(|c| {
+            let (_, knots) = seen.descent.iter().find(|(k, _)| *k == c)?;
+            // the count-gain trigger also seeds every count with the residual-driven knots of
+            // degree d there (module doc)
+            let extra: Vec<Vec<f64>> = match trigger {
+                OwnTrigger::CountGain => residual_knots(&q.data, c).into_iter().collect(),
+                OwnTrigger::ExtremaCost => Vec::new(),
+            };
+            Some((knots, extra))
+        })
+        .map(|(knots, extra)| {
+            let cand = open_candidate_with(q, p, knots, &extra, tol, opts, d, opts.max_iterations);
             let fit = cand.as_ref().filter(|c| c.feasible).and_then(|c| {
                 finish(
                     q,
@@ -293,6 +315,21 @@ fn open_candidate(
     d: usize,
     iterations: usize,
 ) -> Option<Candidate> {
+    open_candidate_with(q, p, interior, &[], tol, opts, d, iterations)
+}
+
+/// [`open_candidate`] with `extra` seeds (interior knots of degree `d` at that count).
+#[allow(clippy::too_many_arguments)]
+fn open_candidate_with(
+    q: &Prepared,
+    p: usize,
+    interior: &[f64],
+    extra: &[Vec<f64>],
+    tol: f64,
+    opts: &IntegratedOptions,
+    d: usize,
+    iterations: usize,
+) -> Option<Candidate> {
     let n = interior.len() + p + 1;
     // at least d + 1 control points, and a data parameter inside every span
     if n < d + 1 || q.data.points.len() < n + 1 {
@@ -311,6 +348,7 @@ fn open_candidate(
         seeds.push(k);
     }
     seeds.push(averaging_interior_knots(&q.data.params, d, n));
+    seeds.extend(extra.iter().cloned());
     short_search(
         &open_problem(&q.data, n, tol, &o),
         d,

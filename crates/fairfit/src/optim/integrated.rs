@@ -308,31 +308,12 @@ pub fn fit_integrated_with_progress(
         }
     }
 
-    if std::env::var("FAIRFIT_DIAG").is_ok() {
-        let mut rc = 0;
-        for n in p + 1..=m1.min(60) {
-            if let Some(k) = super::residual_knots::residual_knots(data, n) {
-                set_knots(p, &k, &mut ws);
-                let e = evaluate_candidate(data, f64::NEG_INFINITY, &mut ws);
-                if e.solved && e.max_deviation <= tol {
-                    rc = n;
-                    break;
-                }
-            }
-        }
-        eprintln!("RCOUNT baseline={baseline} residual={rc}");
-    }
     // 3. count search downwards from the baseline: greedy knot removal, then a swarm probe
     // a fixed count descends from the baseline to it (feasible seeds), or starts above it
     let fixed = opts.control_points;
     let best_n = fixed.map_or(baseline, |n| n.max(baseline));
     let lowest = fixed.unwrap_or(p + 1).max(p + 1).max(4);
-    let exp = std::env::var("FAIRFIT_EXP").unwrap_or_default();
     let best_knots = match lsq_start {
-        _ if exp.contains("fixed") && fixed.is_some_and(|n| n > baseline) => {
-            super::residual_knots::residual_knots(data, best_n)
-                .unwrap_or_else(|| averaging_interior_knots(&data.params, p, best_n))
-        }
         Some((n, k)) if n == best_n => k,
         Some((n, mut k)) if n < best_n => {
             // a fixed count above the least-squares one: add knots where they help most
@@ -449,10 +430,6 @@ impl<'a> CountFamily for OpenFamily<'a> {
 
     fn spread_knots(&self, n: usize) -> Vec<f64> {
         averaging_interior_knots(&self.prep.data.params, self.opts.degree, n)
-    }
-
-    fn residual_knots(&self, n: usize) -> Option<Vec<f64>> {
-        super::residual_knots::residual_knots(&self.prep.data, n)
     }
 
     fn insertion(&self, knots: &[f64], log_lambda: f64) -> Vec<f64> {

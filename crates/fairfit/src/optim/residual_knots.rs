@@ -60,3 +60,56 @@ pub(crate) fn residual_knots(data: &FitData, n: usize) -> Option<Vec<f64>> {
     }
     Some(interior)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::residual_knots;
+    use crate::nurbs::Vec3;
+    use crate::optim::objective::FitData;
+
+    /// 101 uniform parameters on [0, 1]; points `(x, f(x))` with `x` the parameter.
+    fn data(f: impl Fn(f64) -> f64) -> FitData {
+        let params: Vec<f64> = (0..=100).map(|i| i as f64 / 100.0).collect();
+        FitData {
+            points: params.iter().map(|&x| Vec3([x, f(x), 0.0])).collect(),
+            params,
+            degree: 3,
+            planar: true,
+            corrections: 0,
+        }
+    }
+
+    #[test]
+    fn knots_go_to_the_middle_parameter_of_the_worst_span() {
+        // flat on [0, 0.5], a quartic on the right: (x - 0.5)^4 for x > 0.5 (slope at most 0.5,
+        // so the orthogonal residuals are close to the vertical misfit)
+        let d = data(|x: f64| (x - 0.5).max(0.0).powi(4));
+        // one span holds all 101 parameters: its middle one, 0.5, is the first knot
+        assert_eq!(residual_knots(&d, 5), Some(vec![0.5]));
+        // with a knot at 0.5 the left half is nearly flat (its residuals are the C2 join's small
+        // spill-over), so the second knot splits the right span (0.5, 1] at its middle parameter: the 49
+        // parameters strictly inside are 0.51 ... 0.99, the middle one 0.75
+        assert_eq!(residual_knots(&d, 6), Some(vec![0.5, 0.75]));
+        // no interior knot at the cubic's smallest count
+        assert_eq!(residual_knots(&d, 4), Some(vec![]));
+    }
+
+    #[test]
+    fn knots_are_data_parameters_with_one_strictly_inside_every_span() {
+        // a cubic polynomial is fitted exactly by the Bezier segment: every residual is rounding
+        // noise, but the knots still come from data parameters and keep a parameter in every span
+        let d = data(|x: f64| x * x * x - x);
+        let k = residual_knots(&d, 10).unwrap();
+        assert_eq!(k.len(), 6);
+        let mut edges = vec![0.0];
+        edges.extend(&k);
+        edges.push(1.0);
+        for w in edges.windows(2) {
+            assert!(d.params.iter().any(|&u| u > w[0] && u < w[1]), "{k:?}");
+            assert!(w[0] < w[1]);
+        }
+        for x in &k {
+            assert!(d.params.contains(x));
+        }
+    }
+}
