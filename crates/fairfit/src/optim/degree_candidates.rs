@@ -38,6 +38,19 @@
 //! 0.258-0.266x. It also fires on sc20714 at seed 4, where the cubic's count is the baseline's
 //! (nothing to search). Every other curve and seed does the same work as before, so the 200-point
 //! curves pay nothing but the cost's arithmetic.
+//!
+//! **Second trigger: the count gain** ([`STEEP_COUNT_GAIN`], session 13). The cubic's count search
+//! tries at most one point above its smallest feasible count; where its kept curve has the highest
+//! finished count and its F is at most 0.8 of the fairest F at the smallest count
+//! ([`super::count_search::CountChoice::count_gain`]), the extra point was still paying where the
+//! search stopped, and the quartic gets the same own count search (counts above the cubic's kept
+//! count up to the least-squares baseline). Its counts are then also seeded with the
+//! residual-driven knots of degree `p + 1` ([`super::residual_knots`], as FITPACK's `fpcurf` places
+//! them): clarky's quartic at 11-13 points finishes at 0.48-0.49x splprep's F with them and at
+//! 0.52x without (seed 0). The extrema-cost trigger keeps its seeds (with the residual seeds hq17's
+//! quartic lost its target at seed 2). Measured (quick targets, 33 curves, seeds 0-5, main d6ef3ef):
+//! clarky 0.614 / 0.563 / 0.609 -> 0.482 / 0.482 / 0.488 at seeds 0 / 2 / 4 (quartic, 13 / 11 / 12
+//! points, 1 extremum), s1223 0.390 -> 0.308 at seed 0; every other curve and seed unchanged.
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{choose_count, pso_options, rank_fit, CountProblem, Ranked};
@@ -175,6 +188,10 @@ pub(crate) fn raise_open(
             Some(s) if d == p + 1 => match s.own_count_search() {
                 Some(trigger) => {
                     let counts = (reference_count + 1).max(s.n)..=s.limit;
+                    if counts.is_empty() {
+                        // the reference kept the baseline's count: nothing above it to search
+                        return a;
+                    }
                     own_count_search(&preps[d - p], p, s, counts, trigger, tol, opts, d, a)
                 }
                 None => a,
