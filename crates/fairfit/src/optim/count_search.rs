@@ -178,17 +178,29 @@ pub(crate) fn search_counts<C: CountFamily>(
     search_counts_costed(family, start, opts, progress, stats).map(|(r, _)| r)
 }
 
+/// How the count search's choice went, for the next degree ([`super::degree_candidates`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct CountChoice {
+    /// The extrema cost ([`search_counts_costed`]).
+    pub extrema_cost: f64,
+    /// The **count gain**: the kept candidate's F over the fairest finished F at the smallest
+    /// count, when the kept count is above the smallest and the highest finished count (the
+    /// extra points were still paying where the search stopped); 1 otherwise.
+    pub count_gain: f64,
+}
+
 /// [`search_counts`], with the **extrema cost** of the choice: the chosen candidate's score
 /// `F · EXTRA_POINT_GAIN^extra` over the lowest score of all finished candidates within the
 /// tolerance (1 when the fairest candidate was kept; above 1 when the fewest-extrema rule kept a
-/// less fair curve). The degree search reads it ([`super::degree_candidates`]).
+/// less fair curve), and the count gain ([`CountChoice`]). The degree search reads both
+/// ([`super::degree_candidates`]).
 pub(crate) fn search_counts_costed<C: CountFamily>(
     family: &C,
     start: CountStart<'_>,
     opts: &IntegratedOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
     stats: &mut OptimStats,
-) -> Result<(IntegratedResult, f64)> {
+) -> Result<(IntegratedResult, CountChoice)> {
     let CountStart {
         n,
         knots,
@@ -267,13 +279,40 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
             best = choose_count(&counts, &ranked);
         }
     }
-    let cost = extrema_cost(&counts, &ranked, best);
+    let choice = CountChoice {
+        extrema_cost: extrema_cost(&counts, &ranked, best),
+        count_gain: count_gain(&counts, &ranked, best),
+    };
     let chosen = finished.into_iter().nth(best).unwrap_or_else(|| {
         Err(Error::Fit(
             "no valid knot vector for the data (too few points?)".into(),
         ))
     })?;
-    Ok((chosen, cost))
+    Ok((chosen, choice))
+}
+
+/// The count gain of choosing candidate `best` ([`CountChoice::count_gain`]): its F over the
+/// fairest F at the smallest count, when it has the highest count of all candidates and more
+/// than the smallest; else 1.
+pub(crate) fn count_gain(counts: &[usize], ranked: &[Ranked], best: usize) -> f64 {
+    let (Some(lowest), Some(highest)) =
+        (counts.iter().copied().min(), counts.iter().copied().max())
+    else {
+        return 1.0;
+    };
+    if counts[best] == lowest || counts[best] != highest {
+        return 1.0;
+    }
+    let at_lowest = (0..counts.len())
+        .filter(|&i| counts[i] == lowest)
+        .map(|i| ranked[i].fairness)
+        .fold(f64::INFINITY, f64::min);
+    let kept = ranked[best].fairness;
+    if kept.is_finite() && at_lowest.is_finite() && at_lowest > 0.0 {
+        kept / at_lowest
+    } else {
+        1.0
+    }
 }
 
 /// The extrema cost of choosing candidate `best` ([`search_counts_costed`]): its score over the
@@ -457,7 +496,7 @@ fn full_search<C: CountFamily>(
 
 #[cfg(test)]
 mod tests {
-    use super::{candidate_draws, choose_count, restart_seed, weak_step, Draw, Ranked};
+    use super::{candidate_draws, choose_count, count_gain, restart_seed, weak_step, Draw, Ranked};
     use crate::optim::integrated::OptimStats;
 
     fn draw(count: usize, knot: f64, fairness: f64) -> Draw {
@@ -547,6 +586,30 @@ mod tests {
         assert_eq!(
             choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(f64::INFINITY, 0)]),
             0
+        );
+    }
+
+    #[test]
+    fn the_count_gain_is_the_kept_top_counts_drop_from_the_smallest() {
+        // clarky, seed 0 (finished F over splprep's): 9 points 0.827, 10 points 0.621 (kept) and
+        // 0.645: the kept curve has the highest count, 0.621 / 0.827 = 0.751
+        let g = count_gain(&[9, 10, 10], &[r(0.827, 1), r(0.621, 1), r(0.645, 1)], 1);
+        assert!((g - 0.621 / 0.827).abs() < 1e-15, "{g}");
+        // the fairest candidate at the smallest count is the reference (du84132v_noise1e-4-like:
+        // two finishes at 12)
+        let g = count_gain(&[12, 13, 12], &[r(0.5, 3), r(0.4, 3), r(0.45, 3)], 1);
+        assert!((g - 0.4 / 0.45).abs() < 1e-15, "{g}");
+        // the smallest count kept, a kept count below the highest, or one count only: 1
+        assert_eq!(count_gain(&[9, 10], &[r(0.8, 1), r(0.9, 1)], 0), 1.0);
+        assert_eq!(
+            count_gain(&[9, 10, 11], &[r(0.8, 1), r(0.6, 1), r(0.7, 2)], 1),
+            1.0
+        );
+        assert_eq!(count_gain(&[11, 11], &[r(0.8, 1), r(0.6, 1)], 1), 1.0);
+        // nothing within the tolerance at the smallest count: no gain to measure
+        assert_eq!(
+            count_gain(&[9, 10], &[r(f64::INFINITY, 0), r(0.6, 1)], 1),
+            1.0
         );
     }
 

@@ -38,6 +38,19 @@
 //! 0.258-0.266x. It also fires on sc20714 at seed 4, where the cubic's count is the baseline's
 //! (nothing to search). Every other curve and seed does the same work as before, so the 200-point
 //! curves pay nothing but the cost's arithmetic.
+//!
+//! **Second trigger: the count gain** ([`STEEP_COUNT_GAIN`], session 13). The cubic's count search
+//! tries at most one point above its smallest feasible count; where its kept curve has the highest
+//! finished count and its F is at most 0.8 of the fairest F at the smallest count
+//! ([`super::count_search::CountChoice::count_gain`]), the extra point was still paying where the
+//! search stopped, and the quartic gets the same own count search (counts above the cubic's kept
+//! count up to the least-squares baseline). Its counts are then also seeded with the
+//! residual-driven knots of degree `p + 1` ([`super::residual_knots`], as FITPACK's `fpcurf` places
+//! them): clarky's quartic at 11-13 points finishes at 0.48-0.49x splprep's F with them and at
+//! 0.52x without (seed 0). The extrema-cost trigger keeps its seeds (with the residual seeds hq17's
+//! quartic lost its target at seed 2). Measured (quick targets, 33 curves, seeds 0-5, main d6ef3ef):
+//! clarky 0.614 / 0.563 / 0.609 -> 0.482 / 0.482 / 0.488 at seeds 0 / 2 / 4 (quartic, 13 / 11 / 12
+//! points, 1 extremum), s1223 0.390 -> 0.308 at seed 0; every other curve and seed unchanged.
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{choose_count, pso_options, rank_fit, CountProblem, Ranked};
@@ -50,6 +63,7 @@ use super::integrated::{
 use super::periodic::ClosedData;
 use super::prepare::{averaging_interior_knots, prepare, Prepared};
 use super::pso::{run_pso, PsoOptions};
+use super::residual_knots::residual_knots;
 use super::smoothing::tune_smoothing;
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -107,7 +121,37 @@ pub(crate) struct CountsSeen<'a> {
     pub limit: usize,
     /// The extrema cost of the reference's count choice.
     pub extrema_cost: f64,
+    /// The count gain of the reference's count choice ([`super::count_search::CountChoice`]).
+    pub count_gain: f64,
 }
+
+impl CountsSeen<'_> {
+    /// Whether the next degree gets a count search of its own, and why (module doc, "Own count
+    /// search"): `None` for no own search.
+    fn own_count_search(&self) -> Option<OwnTrigger> {
+        if self.extrema_cost >= OWN_COUNT_SEARCH_COST {
+            Some(OwnTrigger::ExtremaCost)
+        } else if self.count_gain <= STEEP_COUNT_GAIN {
+            Some(OwnTrigger::CountGain)
+        } else {
+            None
+        }
+    }
+}
+
+/// Why the next degree gets a count search of its own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum OwnTrigger {
+    /// The reference's fewest-extrema choice was costly ([`OWN_COUNT_SEARCH_COST`]).
+    ExtremaCost,
+    /// The reference's extra points were still paying where its count search stopped
+    /// ([`STEEP_COUNT_GAIN`]); the counts are also seeded with residual-driven knots.
+    CountGain,
+}
+
+/// The count gain ([`super::count_search::CountChoice::count_gain`]) at or below which the next
+/// degree gets a count search of its own (module doc, "Own count search").
+pub const STEEP_COUNT_GAIN: f64 = 0.8;
 
 /// The degree search after the reference's count search on open data: `reference` is the
 /// finished fit at `opts.degree` of the prepared data `prep`; `first` the next degree's attempt
@@ -141,10 +185,17 @@ pub(crate) fn raise_open(
             None => open_attempt(&preps[d - p], p, interior, tol, opts, d),
         };
         match seen {
-            Some(s) if d == p + 1 && s.extrema_cost >= OWN_COUNT_SEARCH_COST => {
-                let counts = (reference_count + 1).max(s.n)..=s.limit;
-                own_count_search(&preps[d - p], p, s, counts, tol, opts, d, a)
-            }
+            Some(s) if d == p + 1 => match s.own_count_search() {
+                Some(trigger) => {
+                    let counts = (reference_count + 1).max(s.n)..=s.limit;
+                    if counts.is_empty() {
+                        // the reference kept the baseline's count: nothing above it to search
+                        return a;
+                    }
+                    own_count_search(&preps[d - p], p, s, counts, trigger, tol, opts, d, a)
+                }
+                None => a,
+            },
             _ => a,
         }
     };
@@ -161,6 +212,7 @@ fn own_count_search(
     p: usize,
     seen: CountsSeen<'_>,
     counts: std::ops::RangeInclusive<usize>,
+    trigger: OwnTrigger,
     tol: f64,
     opts: &IntegratedOptions,
     d: usize,
@@ -169,9 +221,18 @@ fn own_count_search(
     let o = candidate_options(opts, d);
     let searched: Vec<(Option<Candidate>, Option<IntegratedResult>)> = counts
         .into_par_iter()
-        .filter_map(|c| seen.descent.iter().find(|(k, _)| *k == c))
-        .map(|(_, knots)| {
-            let cand = open_candidate(q, p, knots, tol, opts, d, opts.max_iterations);
+        .filter_map(|c| {
+            let (_, knots) = seen.descent.iter().find(|(k, _)| *k == c)?;
+            // the count-gain trigger also seeds every count with the residual-driven knots of
+            // degree d there (module doc)
+            let extra: Vec<Vec<f64>> = match trigger {
+                OwnTrigger::CountGain => residual_knots(&q.data, c).into_iter().collect(),
+                OwnTrigger::ExtremaCost => Vec::new(),
+            };
+            Some((knots, extra))
+        })
+        .map(|(knots, extra)| {
+            let cand = open_candidate_with(q, p, knots, &extra, tol, opts, d, opts.max_iterations);
             let fit = cand.as_ref().filter(|c| c.feasible).and_then(|c| {
                 finish(
                     q,
@@ -271,6 +332,21 @@ fn open_candidate(
     d: usize,
     iterations: usize,
 ) -> Option<Candidate> {
+    open_candidate_with(q, p, interior, &[], tol, opts, d, iterations)
+}
+
+/// [`open_candidate`] with `extra` seeds (interior knots of degree `d` at that count).
+#[allow(clippy::too_many_arguments)]
+fn open_candidate_with(
+    q: &Prepared,
+    p: usize,
+    interior: &[f64],
+    extra: &[Vec<f64>],
+    tol: f64,
+    opts: &IntegratedOptions,
+    d: usize,
+    iterations: usize,
+) -> Option<Candidate> {
     let n = interior.len() + p + 1;
     // at least d + 1 control points, and a data parameter inside every span
     if n < d + 1 || q.data.points.len() < n + 1 {
@@ -289,6 +365,7 @@ fn open_candidate(
         seeds.push(k);
     }
     seeds.push(averaging_interior_knots(&q.data.params, d, n));
+    seeds.extend(extra.iter().cloned());
     short_search(
         &open_problem(&q.data, n, tol, &o),
         d,

@@ -373,14 +373,15 @@ pub fn fit_integrated_with_progress(
                 .then(|| super::degree_candidates::open_next(&prep, &best_knots, tol, opts))
         },
     );
-    let (result, extrema_cost) = result?;
+    let (result, choice) = result?;
     let mut result = if opts.searches_degree() {
         // a fixed count, or no extra points, leaves the next degree no counts of its own
         let seen = (fixed.is_none() && opts.max_extra_control_points > 0).then_some(CountsSeen {
             n: best_n,
             descent: &descent,
             limit: start_at.limit,
-            extrema_cost,
+            extrema_cost: choice.extrema_cost,
+            count_gain: choice.count_gain,
         });
         super::degree_candidates::raise_open(&prep, result, tol, opts, first, seen)?
     } else {

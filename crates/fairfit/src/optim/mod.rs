@@ -21,6 +21,7 @@
 //! - [`cone_algebra`]: the second-order cone's Jordan algebra, NT scaling, a small Cholesky;
 //! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
 //!   extrema removed);
+//! - [`residual_knots`]: FITPACK-style knots where the least-squares residuals are largest;
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
@@ -66,4 +67,5 @@ pub mod polish;
 pub mod prepare;
 pub mod problem;
 pub mod pso;
+pub(crate) mod residual_knots;
 pub mod smoothing;
