@@ -16,6 +16,9 @@ then edited as text, as noted):
   ellipse_arc.step, ellipse_arc.igs  ellipse with semi-axes 9 and 4 from 1 to 4 rad (IGES 104 with a 124)
   parabola_arc.igs                 parabola of focal length 2 (same placement) from -3 to 2 (IGES 104)
   hyperbola_arc.igs                hyperbola with semi-axes 6 and 3 (same placement) from -1 to 1.5 (IGES 104)
+  parabola_arc.step, hyperbola_arc.step  the same two arcs in STEP (PARABOLA, HYPERBOLA trimmed by
+                                   parameters and points); `occ_conics.py write-pq DIR` writes only these
+                                   two and adds them to DIR/occ_truth.json
   bspline_points.step              a cubic B-spline edge on [0.15, 0.85] of its [0, 1], its trims
                                    changed by text to points only (.CARTESIAN.)
   section.step, section.igs        an airfoil-like section: an upper cubic B-spline from the trailing
@@ -115,6 +118,12 @@ def edit(path, text):
         f.write(text)
 
 
+def write_pq_step(d):
+    """parabola_arc.step, hyperbola_arc.step: the IGES fixtures' parabola and hyperbola arcs in STEP."""
+    write_step(BRepBuilderAPI_MakeEdge(Geom_Parabola(AX, 2.0), -3.0, 2.0).Edge(), f"{d}/parabola_arc.step")
+    write_step(BRepBuilderAPI_MakeEdge(Geom_Hyperbola(AX, 6.0, 3.0), -1.0, 1.5).Edge(), f"{d}/hyperbola_arc.step")
+
+
 def write(d):
     os.makedirs(d, exist_ok=True)
     circle = Geom_Circle(AX, 7.5)
@@ -129,6 +138,7 @@ def write(d):
     write_iges(ell, f"{d}/ellipse_arc.igs")
     write_iges(BRepBuilderAPI_MakeEdge(Geom_Parabola(AX, 2.0), -3.0, 2.0).Edge(), f"{d}/parabola_arc.igs")
     write_iges(BRepBuilderAPI_MakeEdge(Geom_Hyperbola(AX, 6.0, 3.0), -1.0, 1.5).Edge(), f"{d}/hyperbola_arc.igs")
+    write_pq_step(d)
     # trims by points only, in both senses
     m = TRIM.search(text)
     basis, p1, _, p2, _ = m.groups()
@@ -237,5 +247,14 @@ def read_file(path):
 if __name__ == "__main__":
     if sys.argv[1] == "write":
         write(sys.argv[2])
+    elif sys.argv[1] == "write-pq":
+        write_pq_step(sys.argv[2])
+        with open(f"{sys.argv[2]}/occ_truth.json") as f:
+            truth = json.load(f)
+        for name in ("parabola_arc.step", "hyperbola_arc.step"):
+            truth[name] = read_file(f"{sys.argv[2]}/{name}")
+        with open(f"{sys.argv[2]}/occ_truth.json", "w") as f:
+            json.dump(dict(sorted(truth.items())), f, separators=(",", ":"))
+            f.write("\n")
     else:
         print(json.dumps(read_file(sys.argv[2])))

@@ -73,7 +73,7 @@ fn compare(file: &str, occ: &serde_json::Value) -> (f64, f64, f64) {
 fn every_fixture_agrees_with_opencascade() {
     let t = truth();
     let files = t.as_object().unwrap();
-    assert_eq!(files.len(), 14);
+    assert_eq!(files.len(), 16);
     let mut bad = Vec::new();
     for (file, occ) in files {
         let (off, end, len) = compare(file, occ);
@@ -218,6 +218,111 @@ fn the_arc_is_the_same_however_it_is_trimmed() {
         read("ellipse_arc.step").source,
         "#16 (elliptical arc, trimmed #17)"
     );
+    assert_eq!(
+        read("parabola_arc.step").source,
+        "#16 (parabolic arc, trimmed #17)"
+    );
+    assert_eq!(
+        read("hyperbola_arc.step").source,
+        "#16 (hyperbolic arc, trimmed #17)"
+    );
+}
+
+/// STEP `PARABOLA` and `HYPERBOLA` arcs (OpenCASCADE's, placed at (1, 2, 3) with axis (0.2, 0.3, 1)):
+/// one exact rational quadratic Bezier each, on the analytic conic `y² = 4 f x` (f = 2) and
+/// `x²/36 - y²/9 = 1` in the placement's frame to 1e-10 (the file's 12 digits) at 1001 parameters, from the first trim to the
+/// second; trimmed by ISO parameters alone (`f (t² x + 2 t y)`, `(a cosh t, b sinh t)`), by points
+/// alone and reversed, and OpenCASCADE's reading (every fixture above) within 1e-12.
+#[test]
+fn parabola_and_hyperbola_arcs_read_exactly() {
+    let origin = Vec3::new(1.0, 2.0, 3.0);
+    let z = Vec3::new(0.2, 0.3, 1.0);
+    let z = z * (1.0 / z.norm());
+    // the placement's ref_direction: (5, 0, -1), across the axis
+    let x0 = Vec3::new(5.0, 0.0, -1.0);
+    let x = x0 - z * x0.dot(z);
+    let x = x * (1.0 / x.norm());
+    let y = z.cross(x);
+    let local = |p: Vec3| {
+        let d = p - origin;
+        (d.dot(x), d.dot(y), d.dot(z))
+    };
+    let text = |f: &str| std::fs::read_to_string(data().join(f)).unwrap();
+    let parse = |t: &str| {
+        let g = fairfit::io::cad_read::select(
+            fairfit::io::cad_read::parse_cad(t, fairfit::io::cad_read::CadFormat::Step).unwrap(),
+            CadKind::Curve,
+            0,
+            "x",
+        )
+        .unwrap();
+        match g.geometry {
+            fairfit::io::Geometry::Curve(c) => c,
+            other => panic!("{other:?}"),
+        }
+    };
+    for (file, on, at) in [
+        (
+            "parabola_arc.step",
+            Box::new(|u: f64, v: f64| (v * v - 8.0 * u) / 8.0) as Box<dyn Fn(f64, f64) -> f64>,
+            Box::new(|t: f64| (2.0 * t * t, 4.0 * t)) as Box<dyn Fn(f64) -> (f64, f64)>,
+        ),
+        (
+            "hyperbola_arc.step",
+            Box::new(|u: f64, v: f64| u * u / 36.0 - v * v / 9.0 - 1.0),
+            Box::new(|t: f64| (6.0 * t.cosh(), 3.0 * t.sinh())),
+        ),
+    ] {
+        let t = text(file);
+        let c = parse(&t);
+        assert_eq!((c.degree(), c.n_control_points()), (2, 3), "{file}");
+        let (a, b) = c.domain();
+        for i in 0..=1000 {
+            let (u, v, w) = local(c.point(a + (b - a) * i as f64 / 1000.0));
+            // the file's placement has 12 digits
+            assert!(
+                on(u, v).abs() < 1e-10 && w.abs() < 1e-10,
+                "{file}: {i}: {} {w}",
+                on(u, v)
+            );
+        }
+        // OpenCASCADE's trims: its parabola parameter U = 2 f t from -3 to 2, its hyperbola t from
+        // -1 to 1.5 (the points given with them)
+        let (t0, t1) = if file.starts_with("parabola") {
+            (-0.75, 0.5)
+        } else {
+            (-1.0, 1.5)
+        };
+        let (s, e) = ends(&c);
+        let want = |t: f64| {
+            let (u, v) = at(t);
+            origin + x * u + y * v
+        };
+        assert!(
+            (s - want(t0)).norm() < 1e-10 && (e - want(t1)).norm() < 1e-10,
+            "{file}"
+        );
+        // ISO parameters alone, the points dropped: the same arc
+        let m = regex_lite_trims(&t);
+        let iso = t.replace(
+            &m,
+            &format!("(PARAMETER_VALUE({t0:?})),(PARAMETER_VALUE({t1:?})),.T.,.PARAMETER.)"),
+        );
+        let c2 = parse(&iso);
+        let (s2, e2) = ends(&c2);
+        assert!((s2 - s).norm() < 1e-10 && (e2 - e).norm() < 1e-10, "{file}");
+        // points alone, reversed
+        let back = t.replace(&m, "(#23),(#22),.F.,.CARTESIAN.)");
+        let (s3, e3) = ends(&parse(&back));
+        assert!((s3 - e).norm() < 1e-10 && (e3 - s).norm() < 1e-10, "{file}");
+    }
+}
+
+/// The trims of the fixture's one `TRIMMED_CURVE`, from the first `(` after the basis to `);`.
+fn regex_lite_trims(text: &str) -> String {
+    let start = text.find("TRIMMED_CURVE('',#17,").unwrap() + "TRIMMED_CURVE('',#17,".len();
+    let end = start + text[start..].find(");").unwrap() + 1;
+    text[start..end].to_string()
 }
 
 /// A B-spline trimmed by points only is cut at their projections: its ends are the trimming points,
@@ -294,6 +399,8 @@ fn corrupted_conic_files_never_panic() {
         "arc_deg.step",
         "arc_points_reversed.step",
         "ellipse_arc.step",
+        "parabola_arc.step",
+        "hyperbola_arc.step",
         "section.step",
         "arc.igs",
         "ellipse_arc.igs",

@@ -8,7 +8,9 @@
 //! followed through its `PLANE_ANGLE_MEASURE_WITH_UNIT`). The placement's `axis` defaults to
 //! `(0, 0, 1)`, its `ref_direction` to `(1, 0, 0)` (or `(0, 1, 0)` when the axis is x), and only the
 //! part of `ref_direction` across the axis counts. The curves become exact rational quadratic
-//! B-splines ([`super::cad_conic`]).
+//! B-splines ([`super::cad_conic`]). A `PARABOLA` (`location + f (t² x + 2 t y)`) or `HYPERBOLA`
+//! (`location + a cosh t x + b sinh t y`) is read only trimmed ([`trimmed_open_conic`]): one rational
+//! quadratic Bezier between its trims.
 
 use super::cad_conic::{arc_between, Conic};
 use super::p21::{Exchange, Instance, Value};
@@ -307,4 +309,177 @@ pub(super) fn trimmed_conic(
     }
     let (curve, full) = arc_between(c, t[0], t[1], forward).map_err(|e| err(id, inst, e))?;
     Ok((curve, c.kind(full)))
+}
+
+/// The shape of a STEP `PARABOLA` or `HYPERBOLA` in its placement's plane.
+#[derive(Clone, Copy, Debug)]
+enum OpenShape {
+    /// `PARABOLA(focal_dist)`: `(f t², 2 f t)` (ISO 10303-42).
+    Parabola(f64),
+    /// `HYPERBOLA(semi_axis, semi_imag_axis)`: `(a cosh t, b sinh t)`.
+    Hyperbola(f64, f64),
+}
+
+/// A STEP `PARABOLA` or `HYPERBOLA`: unbounded, so read only as the basis of a `TRIMMED_CURVE`, whose
+/// arc becomes one exact rational quadratic Bezier ([`super::cad_conic::bezier_arc`] in the
+/// placement's plane, its control points then placed in 3D: an affine map, exact for a rational curve).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct OpenConic {
+    origin: Vec3,
+    x: Vec3,
+    y: Vec3,
+    shape: OpenShape,
+}
+
+impl OpenConic {
+    /// The point at the ISO parameter `t`, in the placement's plane coordinates.
+    fn local(&self, t: f64) -> (f64, f64) {
+        match self.shape {
+            OpenShape::Parabola(f) => (f * t * t, 2.0 * f * t),
+            OpenShape::Hyperbola(a, b) => (a * t.cosh(), b * t.sinh()),
+        }
+    }
+
+    fn at(&self, t: f64) -> Vec3 {
+        let (u, v) = self.local(t);
+        self.origin + self.x * u + self.y * v
+    }
+
+    /// The parameter of the point of the conic nearest `p` along the placement's y (exact for a point
+    /// on the conic), and the distance of `p` from the conic's point there.
+    fn param_of(&self, p: Vec3) -> (f64, f64) {
+        let v = (p - self.origin).dot(self.y);
+        let t = match self.shape {
+            OpenShape::Parabola(f) => v / (2.0 * f),
+            OpenShape::Hyperbola(_, b) => (v / b).asinh(),
+        };
+        (t, (self.at(t) - p).norm())
+    }
+
+    fn implicit(&self) -> super::cad_conic::Implicit {
+        match self.shape {
+            // y² = 4 f x
+            OpenShape::Parabola(f) => [0.0, 0.0, 1.0, -4.0 * f, 0.0, 0.0],
+            // x² / a² - y² / b² = 1
+            OpenShape::Hyperbola(a, b) => [1.0 / (a * a), 0.0, -1.0 / (b * b), 0.0, 0.0, -1.0],
+        }
+    }
+
+    fn size(&self) -> f64 {
+        match self.shape {
+            OpenShape::Parabola(f) => f,
+            OpenShape::Hyperbola(a, b) => a.max(b),
+        }
+    }
+
+    fn kind(&self) -> &'static str {
+        match self.shape {
+            OpenShape::Parabola(_) => "parabolic arc",
+            OpenShape::Hyperbola(..) => "hyperbolic arc",
+        }
+    }
+}
+
+/// The `PARABOLA` or `HYPERBOLA` of instance `#id`, or `None` when it is neither.
+pub(super) fn open_conic(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<OpenConic>> {
+    let num = |part: &super::p21::Part, k: usize| {
+        part.params
+            .get(k)
+            .and_then(Value::as_f64)
+            .unwrap_or(f64::NAN)
+    };
+    let (part, shape) = if let Some(p) = inst.part("PARABOLA") {
+        (p, OpenShape::Parabola(num(p, 2)))
+    } else if let Some(h) = inst.part("HYPERBOLA") {
+        (h, OpenShape::Hyperbola(num(h, 2), num(h, 3)))
+    } else {
+        return Ok(None);
+    };
+    let good = |v: f64| v.is_finite() && v > 0.0;
+    let ok = match shape {
+        OpenShape::Parabola(f) => good(f),
+        OpenShape::Hyperbola(a, b) => good(a) && good(b),
+    };
+    if !ok {
+        return Err(err(
+            id,
+            inst,
+            format!(
+                "{}: the focal distance or a semi-axis is not a finite positive length",
+                part.name
+            ),
+        ));
+    }
+    let (origin, xa, ya) = placement(x, part.params.get(1), id, inst)?;
+    Ok(Some(OpenConic {
+        origin,
+        x: xa,
+        y: ya,
+        shape,
+    }))
+}
+
+/// A `TRIMMED_CURVE` `#id` of the parabola or hyperbola `c`: the arc from its first trim to its second
+/// (ISO parameters as written, no angle unit; or the parameters of the trimming points, also when a
+/// trim's parameter does not give its point), and its kind. The
+/// arc between two points of an open conic is one, so the sense only says which way the trims are
+/// ordered along it.
+pub(super) fn trimmed_open_conic(
+    c: &OpenConic,
+    ends: [Trim; 2],
+    points_first: bool,
+    id: u64,
+    inst: &Instance,
+) -> Result<(NurbsCurve, &'static str)> {
+    let mut t = [0.0; 2];
+    for (k, e) in ends.iter().enumerate() {
+        // a parameter whose point is not the trimming point given with it: the point wins (OpenCASCADE
+        // writes a parabola's own parameter, 2 f t, as the PARAMETER_VALUE)
+        let by = match (e.by(points_first), e.point) {
+            (TrimBy::Param(u), Some(p))
+                if (c.at(u) - p).norm() > 1e-6 * c.size().max(p.max_abs()) =>
+            {
+                TrimBy::Point(p)
+            }
+            (by, _) => by,
+        };
+        t[k] = match by {
+            TrimBy::Param(u) => u,
+            TrimBy::Point(p) => {
+                let (u, d) = c.param_of(p);
+                if d.is_nan() || d > 1e-6 * c.size().max(p.max_abs()) {
+                    return Err(err(
+                        id,
+                        inst,
+                        format!(
+                            "trimming point {} lies {d:.3e} off the {} (more than 1e-6 of its size)",
+                            k + 1,
+                            c.kind()
+                        ),
+                    ));
+                }
+                u
+            }
+        };
+    }
+    let bad = |why: String| err(id, inst, format!("the {}: {why}", c.kind()));
+    if !(t[0].is_finite() && t[1].is_finite()) || t[0] == t[1] {
+        return Err(bad(format!("the trims {} and {} give no arc", t[0], t[1])));
+    }
+    let (p0, p2) = (c.local(t[0]), c.local(t[1]));
+    let local =
+        super::cad_conic::bezier_arc(&c.implicit(), p0, p2, 0.0).map_err(|e| bad(e.to_string()))?;
+    let pts: Vec<Vec3> = local
+        .control_points()
+        .iter()
+        .map(|q| c.origin + c.x * q.x() + c.y * q.y())
+        .collect();
+    let curve = NurbsCurve::new(
+        2,
+        local.knots().to_vec(),
+        pts,
+        Some(local.weights().to_vec()),
+    )
+    .map_err(|e| bad(e.to_string()))?;
+    Ok((curve, c.kind()))
 }

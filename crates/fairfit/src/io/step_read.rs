@@ -452,11 +452,15 @@ pub(super) fn trimmed_curve(
         return Ok(None);
     };
     let conic = super::step_conic::conic(x, basis, b)?;
-    let bspline = match conic {
+    let open = match conic {
         Some(_) => None,
-        None => curve(x, basis, b)?,
+        None => super::step_conic::open_conic(x, basis, b)?,
     };
-    if conic.is_none() && bspline.is_none() {
+    let bspline = match (conic, open) {
+        (None, None) => curve(x, basis, b)?,
+        _ => None,
+    };
+    if conic.is_none() && open.is_none() && bspline.is_none() {
         return Ok(None);
     }
     let ends = [
@@ -465,6 +469,11 @@ pub(super) fn trimmed_curve(
     ];
     let sense = !matches!(t.params.get(4), Some(Value::Enum(e)) if e == "F");
     let points_first = super::step_conic::points_are_master(t.params.get(5));
+    if let Some(c) = open {
+        let (curve, kind) =
+            super::step_conic::trimmed_open_conic(&c, ends, points_first, id, inst)?;
+        return Ok(Some(Trimmed { basis, curve, kind }));
+    }
     if let Some(c) = conic {
         let (curve, kind) =
             super::step_conic::trimmed_conic(&c, ends, sense, points_first, rad, id, inst)?;
