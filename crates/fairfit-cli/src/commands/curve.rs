@@ -10,7 +10,7 @@
 //! strays between the samples; a note and the report's `exact_curve` say how far it is).
 
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
-use super::info::{exact_extrema_json, exact_inflections_json};
+use super::info::exact_shape_json;
 use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
@@ -169,9 +169,9 @@ pub struct CurveArgs {
     pub rel_tol: Option<f64>,
     /// Degree of the curve (1 to 15), or `auto` (integrated method, its default): the cubic's count
     /// search, then degrees 4 and 5 at the cubic's control points (the quartic also at more points,
-    /// up to the least-squares count, where the cubic's fewest-extrema choice cost much F), keeping
-    /// the fairest with no more curvature extrema than the cubic's [default: auto for integrated, 3
-    /// for lsq and fit-then-fair]
+    /// up to the least-squares count, where the cubic's fewest-extrema choice cost much F or its
+    /// extra points still paid), keeping the fairest with no more curvature extrema than the cubic's
+    /// [default: auto for integrated, 3 for lsq and fit-then-fair]
     #[arg(long, value_parser = parse_degree)]
     pub degree: Option<DegreeArg>,
     /// Parameterisation of the points.
@@ -409,6 +409,7 @@ fn fit_points(
             let (tolerance, max_deviation) = (field("tolerance"), field("max_deviation"));
             let report = want_report.then(|| {
                 let f = curve_fairness(&out.curve);
+                let (extrema_exact, inflections_exact) = exact_shape_json(&out.curve, f.length);
                 let mut r = json!({
                     "input": args.input.display().to_string(),
                     "degree": out.curve.degree(),
@@ -417,9 +418,9 @@ fn fit_points(
                     "fairness": f.fairness,
                     "max_span_fairness": f.max_span_fairness,
                     "curvature_extrema": f.curvature_extrema,
-                    "curvature_extrema_exact": exact_extrema_json(&out.curve, f.length),
+                    "curvature_extrema_exact": extrema_exact,
                     "inflections": f.inflections,
-                    "inflections_exact": exact_inflections_json(&out.curve, f.length),
+                    "inflections_exact": inflections_exact,
                     "wall_seconds": wall.elapsed().as_secs_f64(),
                 });
                 if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
@@ -515,6 +516,7 @@ type FitOutput = (fairfit::NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
 
 fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_json::Value {
     let f = curve_fairness(&fit.curve);
+    let (extrema_exact, inflections_exact) = exact_shape_json(&fit.curve, f.length);
     json!({
         "input": args.input.display().to_string(),
         "method": "lsq",
@@ -531,9 +533,9 @@ fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_js
         "fairness": f.fairness,
         "max_span_fairness": f.max_span_fairness,
         "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": exact_extrema_json(&fit.curve, f.length),
+        "curvature_extrema_exact": extrema_exact,
         "inflections": f.inflections,
-        "inflections_exact": exact_inflections_json(&fit.curve, f.length),
+        "inflections_exact": inflections_exact,
         "solves": fit.solves,
         "smoothing_used": fit.smoothing_used,
         "fit_seconds": fit.fit_seconds,

@@ -15,8 +15,8 @@
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
 use fairfit::fair::{
-    count_extrema_exact, count_inflections_exact, count_shape_exact, curve_fairness,
-    surface_fairness, ExactExtrema, ExactInflections, DEFAULT_ISO_CURVES,
+    count_shape_exact, curve_fairness, surface_fairness, ExactExtrema, ExactInflections,
+    DEFAULT_ISO_CURVES,
 };
 use fairfit::io::Geometry;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface};
@@ -69,7 +69,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
         super::warn_unrepresentable("a fairness integral");
     }
     let (a, b) = c.domain();
-    let exact = count_shape_exact(c, f.length);
+    let (extrema_exact, inflections_exact) = exact_shape_json(c, f.length);
     json!({
         "kind": "curve",
         "degree": c.degree(),
@@ -85,21 +85,21 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "span_fairness": f.span_fairness,
         "bending_energy": f.bending_energy,
         "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": extrema_value(exact.extrema),
+        "curvature_extrema_exact": extrema_exact,
         "inflections": f.inflections,
-        "inflections_exact": inflections_value(exact.inflections),
+        "inflections_exact": inflections_exact,
     })
 }
 
-/// The exact curvature-extrema count, or `null` where only the sampled fallback exists.
-pub(crate) fn exact_extrema_json(c: &NurbsCurve, length: f64) -> Value {
-    extrema_value(count_extrema_exact(c, length))
-}
-
-/// The exact inflection count, or `null` where only the sampled fallback exists (spatial curves:
-/// inflections are binormal reversals, counted only by sampling).
-pub(crate) fn exact_inflections_json(c: &NurbsCurve, length: f64) -> Value {
-    inflections_value(count_inflections_exact(c, length))
+/// The exact curvature-extrema and inflection counts, each `null` where only the sampled fallback
+/// exists (spatial curves: inflections are binormal reversals, counted only by sampling), made in
+/// one pass ([`count_shape_exact`]).
+pub(crate) fn exact_shape_json(c: &NurbsCurve, length: f64) -> (Value, Value) {
+    let exact = count_shape_exact(c, length);
+    (
+        extrema_value(exact.extrema),
+        inflections_value(exact.inflections),
+    )
 }
 
 /// An exact extrema count as JSON (`null` for the sampled fallback).
