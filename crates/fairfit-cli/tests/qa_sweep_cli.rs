@@ -181,3 +181,38 @@ fn surface_output_is_the_same_for_any_thread_count() {
         }
     }
 }
+
+#[test]
+fn outputs_naming_folders_or_pipes_fail_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let curve = dir.path().join("c.json");
+    std::fs::write(
+        &curve,
+        r#"{"kind":"curve","degree":2,"knots":[0,0,0,0.5,1,1,1],
+            "control_points":[[0,0,0],[1,1,0],[2,0,0],[3,1,0]]}"#,
+    )
+    .unwrap();
+    let pts = dir.path().join("p.csv");
+    std::fs::write(&pts, "0,0\n1,0.8\n2,0.1\n3,0.9\n4,0.2\n5,0.7\n6,0\n").unwrap();
+    // a named pipe stands in for /dev/null (which the atomic rename would replace, as root, by a file)
+    let fifo = dir.path().join("pipe.svg");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    let folder = dir.path().join("folder.svg");
+    std::fs::create_dir(&folder).unwrap();
+    let (c, p) = (curve.to_str().unwrap(), pts.to_str().unwrap());
+    let mut targets = vec![(folder.to_str().unwrap(), "names the folder")];
+    if made.is_ok_and(|s| s.success()) {
+        targets.push((fifo.to_str().unwrap(), "not a regular file"));
+    }
+    for (target, needle) in targets {
+        one_line_failure(&["plot", c, "-o", target], 1, &[needle, "-o"]);
+        one_line_failure(&["export", c, "--plot", target], 1, &[needle, "--plot"]);
+        one_line_failure(&["export", c, "--samples", target], 1, &[needle]);
+        one_line_failure(&["curve", p, "-o", target], 1, &[needle]);
+        one_line_failure(&["curve", p, "--plot", target], 1, &[needle]);
+    }
+    // nothing was created beside them, and both are still what they were
+    assert!(folder.is_dir());
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(names.len(), 3 + fifo.exists() as usize, "{names:?}");
+}
