@@ -216,3 +216,26 @@ fn outputs_naming_folders_or_pipes_fail_before_any_work() {
     let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert_eq!(names.len(), 3 + fifo.exists() as usize, "{names:?}");
 }
+
+#[test]
+fn a_surface_without_area_has_no_mesh_to_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = dir.path().join("point.json");
+    std::fs::write(
+        &s,
+        r#"{"kind":"surface","degree_u":1,"degree_v":1,"knots_u":[0,0,1,1],"knots_v":[0,0,1,1],
+            "control_points":[[[1,2,3],[1,2,3]],[[1,2,3],[1,2,3]]]}"#,
+    )
+    .unwrap();
+    // was: "invalid option: STL holds triangles only: write a curve as .obj or .ply" (exit 2) for .stl,
+    // and an OBJ of bare vertices for .obj
+    for ext in ["stl", "obj", "ply"] {
+        let m = dir.path().join(format!("m.{ext}"));
+        one_line_failure(
+            &["export", s.to_str().unwrap(), "--mesh", m.to_str().unwrap()],
+            1,
+            &["the surface has no area", "no mesh to write"],
+        );
+        assert!(!m.exists());
+    }
+}

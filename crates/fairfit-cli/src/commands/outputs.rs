@@ -295,6 +295,13 @@ pub fn prepare_outputs(
             OutputGeometry::Curve(c) => tessellate_curve(c, &opts)?,
             OutputGeometry::Surface(s) => tessellate_surface(s, &opts)?,
         };
+        if matches!(geometry, OutputGeometry::Surface(_)) && mesh.triangles.is_empty() {
+            return Err(CliError::new(format!(
+                "{}: the surface has no area (every triangle of its mesh is degenerate, e.g. all \
+                 control points at one place), so there is no mesh to write",
+                p.display()
+            )));
+        }
         files.push((p.clone(), mesh_bytes(&mesh, format)?));
     }
     if let Some(p) = &args.plot {
