@@ -239,3 +239,29 @@ fn a_surface_without_area_has_no_mesh_to_write() {
         assert!(!m.exists());
     }
 }
+
+#[test]
+fn negative_or_non_finite_surface_tolerances_name_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    ellipse_sections(dir.path(), 1.0);
+    let out = dir.path().join("o.json");
+    let (d, o) = (dir.path().to_str().unwrap(), out.to_str().unwrap());
+    // was: "unexpected argument '-1' found"
+    for (flag, v) in [
+        ("--tol", "-1"),
+        ("--rel-tol", "-1e-3"),
+        ("--tol", "nan"),
+        ("--rel-tol", "0"),
+    ] {
+        one_line_failure(
+            &["surface", d, "-o", o, flag, v],
+            2,
+            &[
+                flag,
+                "expected a finite number > 0",
+                "fairfit surface --help",
+            ],
+        );
+    }
+    assert!(!out.exists());
+}
