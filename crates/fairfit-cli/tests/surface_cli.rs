@@ -262,7 +262,7 @@ fn unusable_inputs_are_clear_errors() {
             .arg("--tol=-1")
             .arg("-o")
             .arg(&o),
-        "tolerance",
+        "invalid value '-1' for '--tol <TOL>': expected a finite number > 0",
     );
     assert!(!o.exists());
 }

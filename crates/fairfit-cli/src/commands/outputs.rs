@@ -101,11 +101,30 @@ fn file_identity(path: &Path) -> PathBuf {
     }
 }
 
-/// Fails, before any work, when two outputs name the same file or an output names an input file:
+/// Fails, before any work, when two outputs name the same file, an output names an input file, or an
+/// output names something other than a regular file: a folder, or a device or pipe such as
+/// `/dev/null`, which the atomic write (a temporary file renamed into place) would replace by a file.
 /// `outputs` are (flag, path) pairs such as `("--step", a.out)`, `inputs` the files read.
 pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdResult {
     let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| file_identity(p)).collect();
     for (i, (flag, path)) in outputs.iter().enumerate() {
+        if let Ok(meta) = std::fs::metadata(path) {
+            if meta.is_dir() {
+                return Err(CliError::new(format!(
+                    "{flag} names the folder {}; name a file (e.g. {})",
+                    path.display(),
+                    path.join("out.json").display()
+                )));
+            }
+            if !meta.is_file() {
+                return Err(CliError::new(format!(
+                    "{flag} names {}, which is not a regular file (a device or pipe): outputs are \
+                     written to a temporary file renamed into place, which would replace it; name a \
+                     regular file, or leave the option out to skip that output",
+                    path.display()
+                )));
+            }
+        }
         if let Some(j) = ids[..i].iter().position(|id| *id == ids[i]) {
             return Err(CliError::new(format!(
                 "{} and {flag} both name the file {}; give each output its own file",
@@ -276,6 +295,13 @@ pub fn prepare_outputs(
             OutputGeometry::Curve(c) => tessellate_curve(c, &opts)?,
             OutputGeometry::Surface(s) => tessellate_surface(s, &opts)?,
         };
+        if matches!(geometry, OutputGeometry::Surface(_)) && mesh.triangles.is_empty() {
+            return Err(CliError::new(format!(
+                "{}: the surface has no area (every triangle of its mesh is degenerate, e.g. all \
+                 control points at one place), so there is no mesh to write",
+                p.display()
+            )));
+        }
         files.push((p.clone(), mesh_bytes(&mesh, format)?));
     }
     if let Some(p) = &args.plot {

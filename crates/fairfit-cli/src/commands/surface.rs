@@ -55,10 +55,11 @@ pub struct SurfaceArgs {
     #[arg(required = true)]
     pub input: Vec<PathBuf>,
     /// Absolute tolerance: largest allowed distance of a section point from the surface.
-    #[arg(long, conflicts_with = "rel_tol")]
+    #[arg(long, conflicts_with = "rel_tol", allow_hyphen_values = true,
+          value_parser = super::finite_positive)]
     pub tol: Option<f64>,
     /// Relative tolerance: R times the largest bounding-box extent of the largest section [default: 1e-3].
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = super::finite_positive)]
     pub rel_tol: Option<f64>,
     /// Output surface JSON.
     #[arg(short, long)]

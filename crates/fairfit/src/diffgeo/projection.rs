@@ -105,7 +105,7 @@ impl<'a> CurveProjector<'a> {
 
     /// Closest point on the whole curve. After the sampled search, every knot span whose control
     /// points' bounding box comes closer to `q` than the best point found is searched again at
-    /// [`DENSE_PER_SPAN`] intervals, so folds and near-touching branches are not missed.
+    /// `DENSE_PER_SPAN` intervals, so folds and near-touching branches are not missed.
     pub fn project(&self, q: Vec3) -> Projection {
         let mut out = self.project_in(q, 0, self.us.len() - 1);
         for (s, w) in self.breaks.windows(2).enumerate() {

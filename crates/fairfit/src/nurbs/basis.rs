@@ -1,7 +1,7 @@
 //! B-spline basis functions and their derivatives (NURBS Book A2.2 and A2.3).
 //!
 //! The functions write into caller-provided slices so batched evaluation allocates nothing per point.
-//! [`Scratch`] supplies stack buffers for degrees up to [`STACK_DEGREE`] and falls back to the heap
+//! The private `Scratch` supplies stack buffers for degrees up to [`STACK_DEGREE`] and falls back to the heap
 //! (once per batch, not per point) above that.
 
 /// Degrees up to this value evaluate entirely on the stack.

@@ -45,7 +45,7 @@ pub struct CompatibleOptions {
     /// Fit closed sections that are smooth at their seams periodically (one periodic knot vector,
     /// `C^(p−1)` across the seam, see [`super::seam`]); when some section is open the knot vector stays
     /// clamped and each smooth closed section gets its seam tied (`C^(p−1)`, at most `C^2`, see
-    /// [`super::seam_tie`]). `false` keeps the plain clamped fit (C0 seams).
+    /// the private `seam_tie` module). `false` keeps the plain clamped fit (C0 seams).
     pub periodic_closed: bool,
     /// Turning angle (degrees) above which a point next to a seam is a corner (the seam stays C0).
     pub corner_angle_deg: f64,

@@ -57,7 +57,7 @@ pub struct SurfaceReconstruction {
     /// When every section is closed: the surface's continuity across its u seam (tangent angle and
     /// curvature jump, ~0 when the sections were fitted periodically, see [`super::seam`]), over
     /// equally spaced iso-curves. When only some are closed: the same at those sections (~0 where their
-    /// seams were tied, see [`super::seam_tie`]). `None` when no section is closed.
+    /// seams were tied, see the private `seam_tie` module). `None` when no section is closed.
     pub seam: Option<SeamContinuity>,
 }
 

@@ -236,7 +236,7 @@ pub struct SectionFit {
 /// A clamped knot vector interpolates the first and last point; an unclamped one must be periodic (else
 /// [`Error::InvalidKnots`])
 /// ([`crate::fit::lsq::periodic_knots`]) and fits the closed section (last point = first) periodically
-/// ([`super::periodic_fit`]); its deviations are measured on the clamped copy (same geometry on
+/// (the private `periodic_fit` module); its deviations are measured on the clamped copy (same geometry on
 /// `[0, 1]`), the first and last parameters stay at the seam.
 pub fn fit_section(
     points: &[Vec3],
