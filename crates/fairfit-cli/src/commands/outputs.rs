@@ -102,9 +102,9 @@ fn file_identity(path: &Path) -> PathBuf {
 }
 
 /// Fails, before any work, when two outputs name the same file, an output names an input file, or an
-/// output names something other than a regular file: a folder, or a device or pipe such as
-/// `/dev/null`, which the atomic write (a temporary file renamed into place) would replace by a file.
-/// `outputs` are (flag, path) pairs such as `("--step", a.out)`, `inputs` the files read.
+/// output names a folder. A device or pipe (`-o /dev/null`, `/dev/stdout`) is fine: the library's
+/// atomic write writes into it directly instead of renaming a file over it, and several outputs may
+/// name the same one. `outputs` are (flag, path) pairs such as `("--step", a.out)`, `inputs` the files read.
 pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdResult {
     let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| file_identity(p)).collect();
     for (i, (flag, path)) in outputs.iter().enumerate() {
@@ -117,12 +117,8 @@ pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdRes
                 )));
             }
             if !meta.is_file() {
-                return Err(CliError::new(format!(
-                    "{flag} names {}, which is not a regular file (a device or pipe): outputs are \
-                     written to a temporary file renamed into place, which would replace it; name a \
-                     regular file, or leave the option out to skip that output",
-                    path.display()
-                )));
+                // a device or pipe: several outputs may share it (`/dev/null`)
+                continue;
             }
         }
         if let Some(j) = ids[..i].iter().position(|id| *id == ids[i]) {

@@ -1,6 +1,8 @@
 //! Atomic file writes: the bytes go to a temporary file beside the target, which is renamed into place,
 //! so a failed or interrupted write never leaves a partial file behind. [`write_all_atomic`] does the
 //! same for several files at once: all temporary files first, renamed only when every one was written.
+//! A target that exists and is neither a regular file nor a folder (a device such as `/dev/null` or
+//! `/dev/stdout`, a named pipe) is written directly: renaming a file over it would replace the device.
 
 use crate::errors::{Error, Result};
 use std::io::Write;
@@ -36,9 +38,26 @@ fn write_temporary(tmp: &Path, path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
-/// Writes `bytes` to `path` atomically. Errors name the path.
+/// Whether `path` exists and is neither a regular file nor a folder (a device, pipe or socket).
+fn is_special(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Writes `bytes` straight into the existing special file `path` (see the module documentation).
+fn write_direct(path: &Path, bytes: &[u8]) -> Result<()> {
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .and_then(|mut f| f.write_all(bytes))
+        .map_err(|e| Error::io(path, &e))
+}
+
+/// Writes `bytes` to `path` atomically (directly into a device or pipe). Errors name the path.
 pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
     let path = path.as_ref();
+    if is_special(path) {
+        return write_direct(path, bytes);
+    }
     let tmp = temporary_path(path)?;
     write_temporary(&tmp, path, bytes)?;
     std::fs::rename(&tmp, path).map_err(|e| {
@@ -51,30 +70,41 @@ pub fn write_atomic(path: impl AsRef<Path>, bytes: &[u8]) -> Result<()> {
 /// written are they renamed into place. A failure removes the temporaries and names the failing path
 /// (a rename failing after others succeeded, which needs a race, can still leave earlier files).
 pub fn write_all_atomic<P: AsRef<Path>>(files: &[(P, Vec<u8>)]) -> Result<()> {
-    let mut written: Vec<std::path::PathBuf> = Vec::with_capacity(files.len());
-    let cleanup = |written: &[std::path::PathBuf]| {
-        for t in written {
+    // `None` for a special file, written directly once every temporary is in place
+    let mut written: Vec<Option<std::path::PathBuf>> = Vec::with_capacity(files.len());
+    let cleanup = |written: &[Option<std::path::PathBuf>]| {
+        for t in written.iter().flatten() {
             let _ = std::fs::remove_file(t);
         }
     };
     for (path, bytes) in files {
         let path = path.as_ref();
+        if is_special(path) {
+            written.push(None);
+            continue;
+        }
         let step = temporary_path(path).and_then(|tmp| {
             write_temporary(&tmp, path, bytes)?;
             Ok(tmp)
         });
         match step {
-            Ok(tmp) => written.push(tmp),
+            Ok(tmp) => written.push(Some(tmp)),
             Err(e) => {
                 cleanup(&written);
                 return Err(e);
             }
         }
     }
-    for (k, ((path, _), tmp)) in files.iter().zip(&written).enumerate() {
-        if let Err(e) = std::fs::rename(tmp, path.as_ref()) {
+    for (k, ((path, bytes), tmp)) in files.iter().zip(&written).enumerate() {
+        let done = match tmp {
+            Some(tmp) => {
+                std::fs::rename(tmp, path.as_ref()).map_err(|e| Error::io(path.as_ref(), &e))
+            }
+            None => write_direct(path.as_ref(), bytes),
+        };
+        if let Err(e) = done {
             cleanup(&written[k..]);
-            return Err(Error::io(path.as_ref(), &e));
+            return Err(e);
         }
     }
     Ok(())
@@ -101,6 +131,27 @@ mod tests {
             "no temporary file left"
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    #[cfg(unix)]
+    fn devices_are_written_directly_not_replaced() {
+        let null = Path::new("/dev/null");
+        if !is_special(null) {
+            return; // no /dev/null here: nothing to check
+        }
+        write_atomic(null, b"discarded").unwrap();
+        write_all_atomic(&[(null, b"a".to_vec()), (null, b"b".to_vec())]).unwrap();
+        let meta = std::fs::metadata(null).unwrap();
+        assert!(
+            !meta.is_file() && !meta.is_dir(),
+            "/dev/null is still a device"
+        );
+        assert_eq!(
+            std::fs::read(null).unwrap(),
+            b"",
+            "/dev/null still reads empty"
+        );
     }
 
     #[test]
