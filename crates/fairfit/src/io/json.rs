@@ -133,6 +133,7 @@ fn field_context(e: Error) -> Error {
 
 /// Parses a curve or surface from JSON text.
 pub fn geometry_from_str(text: &str) -> Result<Geometry> {
+    let text = super::points::without_bom(text);
     let value: serde_json::Value =
         serde_json::from_str(text).map_err(|e| Error::Json(e.to_string()))?;
     let kind = value
@@ -185,7 +186,7 @@ pub fn read_geometry(path: impl AsRef<Path>) -> Result<Geometry> {
         path: path.display().to_string(),
         message: "not a UTF-8 text file (expected fairfit JSON)".into(),
     })?;
-    let start = text.trim_start();
+    let start = super::points::without_bom(text).trim_start();
     if !start.is_empty() && !start.starts_with('{') {
         return Err(Error::Json(format!(
             "{}: not a fairfit curve or surface (expected fairfit JSON, STEP .step/.stp or IGES \
@@ -236,6 +237,15 @@ mod tests {
         assert!((c.point(0.5) - Vec3::new(1.0, 0.5, 0.0)).norm() < 1e-15);
         let again = geometry_from_str(&curve_to_json(&c)).unwrap();
         assert_eq!(again, Geometry::Curve(c));
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_ignored() {
+        let with_bom = format!("\u{feff}{CURVE}");
+        assert_eq!(
+            geometry_from_str(&with_bom).unwrap(),
+            geometry_from_str(CURVE).unwrap()
+        );
     }
 
     #[test]

@@ -444,8 +444,18 @@ fn parse_obj(text: &str, name: &str) -> Result<Mesh> {
         match it.next() {
             Some("v") => {
                 let v: Vec<f64> = it.take(3).map(|s| s.parse().unwrap_or(f64::NAN)).collect();
-                if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+                if v.len() != 3 {
                     return Err(bad(name, format!("line {}: `v` needs 3 numbers", ln + 1)));
+                }
+                if v.iter().any(|x| !x.is_finite()) {
+                    return Err(bad(
+                        name,
+                        format!(
+                            "line {}: `v` needs 3 finite numbers, got `{}`",
+                            ln + 1,
+                            line.trim()
+                        ),
+                    ));
                 }
                 mesh.vertices.push(Vec3::new(v[0], v[1], v[2]));
             }
@@ -488,6 +498,19 @@ mod tests {
         ];
         let t = vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
         (v, t)
+    }
+
+    #[test]
+    fn obj_vertices_name_what_is_wrong() {
+        let e = parse_obj("v 0 0\n", "m.obj").unwrap_err().to_string();
+        assert!(e.contains("line 1") && e.contains("needs 3 numbers"), "{e}");
+        let e = parse_obj("v 0 0 0\nv nan 0 0\n", "m.obj")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 2") && e.contains("finite") && e.contains("v nan 0 0"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -50,8 +50,15 @@ pub fn read_points(path: impl AsRef<Path>) -> Result<PointSet> {
     parse_points(&text, &path.display().to_string())
 }
 
+/// `text` without a leading UTF-8 byte-order mark (spreadsheet exports write one; unstripped, it would
+/// make the first number unreadable).
+pub fn without_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
+}
+
 /// Parses point text; `source` names the origin in error messages.
 pub fn parse_points(text: &str, source: &str) -> Result<PointSet> {
+    let text = without_bom(text);
     if text.contains('\0') {
         return Err(bad(source, 0, "not a text file (contains NUL bytes)"));
     }
@@ -214,6 +221,18 @@ mod tests {
         assert_eq!(ps.columns, 3);
         assert_eq!(ps.points[1], Vec3::new(1.0, 2.0, 3.0));
         assert_eq!(ps.name.as_deref(), Some("x,y,z"));
+    }
+
+    #[test]
+    fn a_byte_order_mark_keeps_the_first_point() {
+        // spreadsheet exports start with U+FEFF; it once made the first point a silent "name" line
+        let ps = parse_points("\u{feff}0,0\n1,0.8\n2,0.1\n", "t").unwrap();
+        assert_eq!(ps.points.len(), 3);
+        assert_eq!(ps.points[0], Vec3::new(0.0, 0.0, 0.0));
+        assert_eq!(ps.name, None);
+        let ps = parse_points("\u{feff}x,y\n0,0\n1,1\n", "t").unwrap();
+        assert_eq!(ps.name.as_deref(), Some("x,y"));
+        assert_eq!(ps.points.len(), 2);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Reading section files: each file is one ordered curve, one point per line as 2 or 3 numbers separated
 //! by commas, semicolons or white space (2 columns mean z = 0). Lines starting with `#` and one header
-//! line of names before the data are skipped. A folder means all its `.csv`, `.txt`, `.dat` and `.xyz`
+//! line of names before the data are skipped; a leading byte-order mark is ignored. Every point line
+//! has as many numbers as the first (a file mixing 2 and 3 columns is refused). A folder means all its `.csv`, `.txt`, `.dat` and `.xyz`
 //! files, sorted by name.
 
 use crate::errors::{Error, Result};
@@ -12,8 +13,10 @@ pub const SECTION_EXTENSIONS: [&str; 4] = ["csv", "txt", "dat", "xyz"];
 
 /// Parses the text of one section file; `name` is used in error messages.
 pub fn parse_section_text(text: &str, name: &str) -> Result<Vec<Vec3>> {
+    let text = super::points::without_bom(text);
     let mut pts = Vec::new();
     let mut header_seen = false;
+    let mut columns = None;
     for (ln, line) in text.lines().enumerate() {
         let t = line.trim();
         if t.is_empty() || t.starts_with('#') || t.starts_with("//") {
@@ -32,6 +35,14 @@ pub fn parse_section_text(text: &str, name: &str) -> Result<Vec<Vec3>> {
             return Err(Error::InvalidData(format!(
                 "{name}:{}: expected 2 or 3 numbers, got `{t}`",
                 ln + 1
+            )));
+        }
+        let n = fields.len().min(3);
+        if *columns.get_or_insert(n) != n {
+            return Err(Error::InvalidData(format!(
+                "{name}:{}: expected {} numbers like the first point line, got `{t}`",
+                ln + 1,
+                columns.unwrap_or(n)
             )));
         }
         let x = nums[0].unwrap_or(0.0);
@@ -96,15 +107,26 @@ mod tests {
 
     #[test]
     fn parses_headers_comments_and_separators() {
-        let t = "# comment\nx,y,z\n1,2,3\n4 5 6\n7;8\n";
+        let t = "\u{feff}# comment\nx,y,z\n1,2,3\n4 5 6\n7;8;9\n";
         let p = parse_section_text(t, "t").unwrap();
         assert_eq!(
             p,
             vec![
                 Vec3::new(1.0, 2.0, 3.0),
                 Vec3::new(4.0, 5.0, 6.0),
-                Vec3::new(7.0, 8.0, 0.0)
+                Vec3::new(7.0, 8.0, 9.0)
             ]
+        );
+        // a byte-order mark before the first point keeps that point; 2 columns mean z = 0
+        let p = parse_section_text("\u{feff}1,2\n3,4\n", "t").unwrap();
+        assert_eq!(p, vec![Vec3::new(1.0, 2.0, 0.0), Vec3::new(3.0, 4.0, 0.0)]);
+        // a file mixing 2 and 3 columns is refused at the first odd line
+        let e = parse_section_text("1,2,3\n4,5,6\n7;8\n", "f.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("f.csv:3") && e.contains("expected 3 numbers"),
+            "{e}"
         );
         let e = parse_section_text("1,2,3\n1,a,3\n", "f.csv")
             .unwrap_err()
