@@ -292,23 +292,29 @@ pub(super) fn trimmed_conic(
             TrimBy::Param(u) => u * rad,
             TrimBy::Point(p) => {
                 let (a, d) = c.angle_of(p);
-                if d.is_nan() || d > 1e-6 * size {
-                    return Err(err(
-                        id,
-                        inst,
-                        format!(
-                            "trimming point {} lies {d:.3e} off the {} (more than 1e-6 of its size)",
-                            k + 1,
-                            c.kind(true)
-                        ),
-                    ));
-                }
+                on_conic(k, d, size, c.kind(true), id, inst)?;
                 a
             }
         };
     }
     let (curve, full) = arc_between(c, t[0], t[1], forward).map_err(|e| err(id, inst, e))?;
     Ok((curve, c.kind(full)))
+}
+
+/// Fails unless trimming point `k` (0 or 1) lies within 1e-6 of `size` of the conic `kind` (`d` is
+/// its distance from it; not a number fails too).
+fn on_conic(k: usize, d: f64, size: f64, kind: &str, id: u64, inst: &Instance) -> Result<()> {
+    if d.is_nan() || d > 1e-6 * size {
+        return Err(err(
+            id,
+            inst,
+            format!(
+                "trimming point {} lies {d:.3e} off the {kind} (more than 1e-6 of its size)",
+                k + 1
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The shape of a STEP `PARABOLA` or `HYPERBOLA` in its placement's plane.
@@ -447,17 +453,7 @@ pub(super) fn trimmed_open_conic(
             TrimBy::Param(u) => u,
             TrimBy::Point(p) => {
                 let (u, d) = c.param_of(p);
-                if d.is_nan() || d > 1e-6 * c.size().max(p.max_abs()) {
-                    return Err(err(
-                        id,
-                        inst,
-                        format!(
-                            "trimming point {} lies {d:.3e} off the {} (more than 1e-6 of its size)",
-                            k + 1,
-                            c.kind()
-                        ),
-                    ));
-                }
+                on_conic(k, d, c.size().max(p.max_abs()), c.kind(), id, inst)?;
                 u
             }
         };
