@@ -4,19 +4,19 @@
 //! the count chosen on the **finished** curves' F and curvature extrema.
 //!
 //! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the descent
-//! met at that count and the spread knots of [`CountFamily::spread_knots`]) is followed by the
+//! met at that count and the spread knots of `CountFamily::spread_knots`) is followed by the
 //! smoothing line search ([`tune_smoothing`]). At every count above `n` two such searches run, in
 //! effect two restarts of the same search (finished F 10-40 % apart at one count, either one
 //! better, and the swarm F does not tell which):
 //!
 //! - the *chain*: seeded with the previous count's best knots with one knot inserted
-//!   ([`CountFamily::insertion`]), so it runs after it;
+//!   (`CountFamily::insertion`), so it runs after it;
 //! - the *independent* search: seeded with the descent's knots at that count (what
 //!   `--control-points` at that count starts from), so it runs in parallel with the chain.
 //!
 //! Both searches at an extra count are candidates (one when they end at the same knots and
-//! smoothing) while the better swarm F of the two is [`WEAK_STEP_GAIN`] below the best swarm F at
-//! the count below ([`candidate_draws`]; naca633418: the chain's swarm F at 13 points is the lower,
+//! smoothing) while the better swarm F of the two is `WEAK_STEP_GAIN` below the best swarm F at
+//! the count below (`candidate_draws`; naca633418: the chain's swarm F at 13 points is the lower,
 //! its finished F 0.513 x splprep's, the independent search's 0.480 x).
 //! Extra counts stop at `limit` (never more than the least-squares baseline), at the first count
 //! where neither search meets the tolerance, and are skipped with a fixed count
@@ -32,12 +32,12 @@
 //! the end of band fairing and 6.1e6 after the polish. So every candidate is finished, in
 //! parallel (one serial band fairing per candidate; two or three candidates on most curves).
 //!
-//! **Rule** ([`choose_count`]), on the finished curves (F as [`curve_fairness`] measures it,
+//! **Rule** (`choose_count`), on the finished curves (F as [`curve_fairness`] measures it,
 //! infinite when the tolerance or `F*` is missed; its curvature extrema, counted as the benchmark's
 //! measurer counts them at [`crate::fair::extrema::SAMPLES_PER_SPAN`] samples per span, which finds
 //! shallow wiggles 32 samples step over, e.g. naca633418 at 12 points: 3 against 1): the fewest curvature extrema first, then the
 //! lowest `F · EXTRA_POINT_GAIN^extra` (`extra` points above the smallest count; ties: the fewer
-//! points), so an added point must buy [`EXTRA_POINT_GAIN`] and may not add a wiggle.
+//! points), so an added point must buy `EXTRA_POINT_GAIN` and may not add a wiggle.
 //!
 //! **Restart** (seed robustness). The searches stay near their seeds, and on an open curve the seeds
 //! below the first probe of the count descent depend on where that probe landed, i.e. on `--seed`:
@@ -46,13 +46,13 @@
 //! against 3) and seed 3 (whitcomb 9, FFA-W3-241 3 against 2). After the count is chosen, one more
 //! full search runs at the chosen count (another random stream, `RESTART_SALT`) and is finished as a candidate
 //! of the same rule: seeded with a second descent's knots at that count
-//! ([`super::descent::second_descent`], probes on other streams; [`CountStart::alt`]) when they
+//! (`super::descent::second_descent`, probes on other streams; `CountStart::alt`) when they
 //! differ from the first descent's, else with the first descent's knots on the other stream
 //! (periodic curves, and descents of greedy removals only). With it the extrema target holds at
 //! all six seeds (docs/optim.md, session 9).
 //!
-//! Only the problem type differs between open and periodic curves: [`CountProblem`] is the knot
-//! search at one count, [`CountFamily`] makes it for any count.
+//! Only the problem type differs between open and periodic curves: `CountProblem` is the knot
+//! search at one count, `CountFamily` makes it for any count.
 
 use super::integrated::{IntegratedOptions, IntegratedResult, OptimStats};
 use super::objective::CandidateEval;

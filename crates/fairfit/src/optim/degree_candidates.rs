@@ -1,13 +1,13 @@
 //! The higher degrees of the staged degree search ([`super::degree_search`], module doc "Staged
 //! search"): every higher degree keeps a control-point count of the reference degree's and starts
 //! from its knots (open curves: the first higher degree from the count descent's knots at the
-//! smallest feasible count, beside the count search, [`open_next`]; otherwise the reference's
+//! smallest feasible count, beside the count search, `open_next`; otherwise the reference's
 //! finished fit).
 //!
 //! - **Open curves**: degree `d` at `n` control points has `n − d − 1` interior knots, `d − p` fewer
 //!   than the reference's. Seeds: the reference's knots averaged over windows of `d − p + 1`
 //!   neighbours (the same knot density, one knot per window), the reference's knots after the
-//!   `d − p` least harmful removals (refitted at degree `d`, [`removal_candidates`]), and the
+//!   `d − p` least harmful removals (refitted at degree `d`, `removal_candidates`), and the
 //!   averaging knots of degree `d` (the NURBS Book's rule).
 //! - **Periodic curves**: a periodic curve has as many spans as distinct control points at any
 //!   degree, so the reference's breakpoints are the first seed as they are; equal index steps the
@@ -18,7 +18,7 @@
 //! swarm iterations kept the same degrees (geometric-mean F ratio 0.359 / 0.353 against 0.360 with
 //! none) at 1.5-2 times the search's cost.
 //!
-//! **Own count search** (open curves; [`raise_open`] with [`CountsSeen`]). The count search keeps
+//! **Own count search** (open curves; `raise_open` with `CountsSeen`). The count search keeps
 //! the fewest curvature extrema first; where that rule is costly — the kept curve's score
 //! (`F · 1.05^extra`) is at least [`OWN_COUNT_SEARCH_COST`] times the fairest finished candidate's —
 //! the cubic cannot remove the wiggles cheaply, and a quartic (one derivative smoother) may do it
@@ -27,7 +27,7 @@
 //! the reference's count and below, the staged attempt stands for it) a full knot search (the full swarm's iterations, seeded as above from the reference descent's
 //! knots at that count), every feasible one finished like a staged candidate (capped band fairing
 //! and polish), all counts in parallel; with the staged attempt at the smallest count, the count
-//! search's rule ([`choose_count`]: fewest extrema, then `F · 1.05^extra`) keeps one, which then
+//! search's rule (`choose_count`: fewest extrema, then `F · 1.05^extra`) keeps one, which then
 //! competes in the degree rule ([`super::degree_search`], where every control point above the
 //! reference's must buy 5 %). Not with a fixed count or `max_extra_control_points = 0` (no counts
 //! to search), nor on periodic curves or pieces between corners (no trigger measured there).
@@ -42,10 +42,10 @@
 //! **Second trigger: the count gain** ([`STEEP_COUNT_GAIN`], session 13). The cubic's count search
 //! tries at most one point above its smallest feasible count; where its kept curve has the highest
 //! finished count and its F is at most 0.8 of the fairest F at the smallest count
-//! ([`super::count_search::CountChoice::count_gain`]), the extra point was still paying where the
+//! (`super::count_search::CountChoice::count_gain`), the extra point was still paying where the
 //! search stopped, and the quartic gets the same own count search (counts above the cubic's kept
 //! count up to the least-squares baseline). Its counts are then also seeded with the
-//! residual-driven knots of degree `p + 1` ([`super::residual_knots`], as FITPACK's `fpcurf` places
+//! residual-driven knots of degree `p + 1` (`super::residual_knots`, as FITPACK's `fpcurf` places
 //! them): clarky's quartic at 11-13 points finishes at 0.48-0.49x splprep's F with them and at
 //! 0.52x without (seed 0). The extrema-cost trigger keeps its seeds (with the residual seeds hq17's
 //! quartic lost its target at seed 2). Measured (quick targets, 33 curves, seeds 0-5, main d6ef3ef):
@@ -99,7 +99,7 @@ impl Candidate {
     }
 }
 
-/// The extrema cost of the reference's count choice ([`super::count_search::search_counts_costed`]:
+/// The extrema cost of the reference's count choice (`super::count_search::search_counts_costed`:
 /// the kept curve's F over the fairest finished candidate's, both scored per added point) from
 /// which the next degree gets a count search of its own (module doc, "Own count search").
 ///
@@ -149,7 +149,7 @@ enum OwnTrigger {
     CountGain,
 }
 
-/// The count gain ([`super::count_search::CountChoice::count_gain`]) at or below which the next
+/// The count gain (`super::count_search::CountChoice::count_gain`) at or below which the next
 /// degree gets a count search of its own (module doc, "Own count search").
 pub const STEEP_COUNT_GAIN: f64 = 0.8;
 
