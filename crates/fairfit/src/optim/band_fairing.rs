@@ -33,7 +33,7 @@
 //!   a step kept only at `t < 1` grows `μ` by `1/t²` for the next subproblem.
 //!   A full step that fails only because it adds curvature extrema is not halved: the samples of
 //!   the extrema count whose `dκ/ds` it flipped are held on their side by linearised rows in every
-//!   later subproblem ([`SignGuard`]) and the subproblem is solved again, so the next step can be
+//!   later subproblem (`SignGuard`) and the subproblem is solved again, so the next step can be
 //!   a full one (halved steps along a direction that crosses `dκ/ds = 0` stopped the stage early at
 //!   airfoil leading edges: clarky F 0.908 → 0.762 × splprep's).
 //!
@@ -92,7 +92,7 @@ pub struct BandOptions {
     /// linearised `dκ/ds` at the nodes. 0: no targets.
     pub extrema_persistence: f64,
     /// Whether the sign targets also hold `dκ/ds` at both ends of every knot span (at
-    /// [`EDGE_OFFSET`] of the span from the knot, with the target of the span's nearest Gauss
+    /// `EDGE_OFFSET` (1e-6) of the span from the knot, with the target of the span's nearest Gauss
     /// node): `dκ/ds` jumps at a knot, and a wrong-signed sliver between the knot and the first
     /// Gauss node (0.5 % of the span in) is a pair of real curvature extrema that neither the nodes
     /// nor the measurer's 192 samples per span see ([`crate::fair::exact_extrema`]).
@@ -392,7 +392,7 @@ const EXTREMA_SAMPLES: usize = 96;
 const EXTREMA_EDGE: f64 = 1e-6;
 
 /// Counts curvature extrema: sign changes of `dκ/ds` with the measurer's hysteresis floor on
-/// [`EXTREMA_SAMPLES`] samples per knot span and one next to each knot; used by band fairing's
+/// `EXTREMA_SAMPLES` (96) samples per knot span and one next to each knot; used by band fairing's
 /// and the polish's guards. No allocation per count.
 pub struct ExtremaCount {
     nodes: Vec<Node>,

@@ -171,6 +171,12 @@ fn solve_d<const D: usize>(qp: &BandQp, w: &mut IpmWork) -> bool {
         pad(&mut dt.cwin, &mut dt.cvals, D, mw, nv);
         pad(&mut dt.rwin, &mut dt.rvals, 1, mw, nv);
     }
+    // every cone's first row of G zero (as +0.0): the kernels skip it (cone_newton::Data)
+    dt.head_zero = dt.cwin.iter().all(|w| {
+        dt.cvals[w.off..w.off + w.m]
+            .iter()
+            .all(|v| v.to_bits() == 0)
+    });
     let mut kappa = 0.0f64;
     for a in 0..nv {
         kappa = kappa

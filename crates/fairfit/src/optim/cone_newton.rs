@@ -33,6 +33,11 @@ pub(super) struct Data {
     /// Per linear row, its slack (`usize::MAX`: hard); per slack, its row.
     pub(super) slack_of: Vec<usize>,
     pub(super) row_of: Vec<usize>,
+    /// Whether every cone's first row of `G_k` is exactly `+0` (band fairing's cones: the radius
+    /// is a constant, `‖C(u_i) − Q_i‖ ≤ ρ_i`): the kernels then skip that row. The sums they form
+    /// are the same bit for bit: a product `+0 · x` (finite `x`) is `±0`, and `0.0 + (±0) = +0`
+    /// or `a − (+0) = a` leave every partial sum as it was.
+    pub(super) head_zero: bool,
 }
 
 impl Data {
@@ -122,7 +127,9 @@ pub(super) fn g_mul<const D: usize, const M: usize>(dt: &Data, x: &[f64], out: &
         if M > 0 && win.m == M {
             let xw: &[f64; M] = arr(&x[win.vars()]);
             let g = rows_of::<D, M>(g);
-            for r in 0..D {
+            let r0 = usize::from(dt.head_zero);
+            o[0] = 0.0;
+            for r in r0..D {
                 let mut t = 0.0;
                 for b in 0..M {
                     t += g[r][b] * xw[b];
@@ -194,12 +201,22 @@ pub(super) fn gt_mul_add<const D: usize, const M: usize>(dt: &Data, z: &[f64], x
         if M > 0 && win.m == M {
             let g = rows_of::<D, M>(g);
             let xw: &mut [f64; M] = arr_mut(&mut x[win.vars()]);
-            for b in 0..M {
-                let mut t = 0.0;
-                for r in 0..D {
-                    t += g[r][b] * zk[r];
+            if dt.head_zero {
+                for b in 0..M {
+                    let mut t = 0.0;
+                    for r in 1..D {
+                        t += g[r][b] * zk[r];
+                    }
+                    xw[b] += t;
                 }
-                xw[b] += t;
+            } else {
+                for b in 0..M {
+                    let mut t = 0.0;
+                    for r in 0..D {
+                        t += g[r][b] * zk[r];
+                    }
+                    xw[b] += t;
+                }
             }
         } else {
             for (&zr, gr) in zk.iter().zip(g.chunks_exact(win.m.max(1))) {
@@ -274,14 +291,27 @@ pub(super) fn factor<const D: usize, const M: usize>(dt: &Data, st: &mut State) 
             // B = W⁻¹ G_k, W⁻¹ = (2 J v vᵀ J − J) / η; H[c0 + a, c0 + b] += (BᵀB)_ab, b ≥ a
             let g = rows_of::<D, M>(g);
             let mut bm: [[f64; M]; D] = [[0.0; M]; D];
-            for c in 0..M {
-                let mut a = v[0] * g[0][c];
-                for r in 1..D {
-                    a -= v[r] * g[r][c];
+            if dt.head_zero {
+                for c in 0..M {
+                    let mut a = 0.0;
+                    for r in 1..D {
+                        a -= v[r] * g[r][c];
+                    }
+                    bm[0][c] = 2.0 * v[0] * a * e;
+                    for r in 1..D {
+                        bm[r][c] = (g[r][c] - 2.0 * v[r] * a) * e;
+                    }
                 }
-                bm[0][c] = (2.0 * v[0] * a - g[0][c]) * e;
-                for r in 1..D {
-                    bm[r][c] = (g[r][c] - 2.0 * v[r] * a) * e;
+            } else {
+                for c in 0..M {
+                    let mut a = v[0] * g[0][c];
+                    for r in 1..D {
+                        a -= v[r] * g[r][c];
+                    }
+                    bm[0][c] = (2.0 * v[0] * a - g[0][c]) * e;
+                    for r in 1..D {
+                        bm[r][c] = (g[r][c] - 2.0 * v[r] * a) * e;
+                    }
                 }
             }
             for a in 0..M {

@@ -14,7 +14,7 @@
 //! by a polish with free ends and a pass holding the extrema pattern ([`HOLD_PERSISTENCE`]).
 //!
 //! The pass is kept only when it lowers `F` with no new curvature extrema (by the passes' guard,
-//! then by the reports' sampled and exact counts: [`more_extrema`]) and every point within the
+//! then by the reports' sampled and exact counts: `more_extrema`) and every point within the
 //! tolerance ([`refair`]), so the free-ended result has the pinned result's knots, count and
 //! degree and is never less fair. Two other designs ended less fair on some of the 33 benchmark
 //! curves: every finishing stage free from the start took other paths through the sequential
