@@ -15,7 +15,8 @@ Builds, with known poles and knots:
             it as one IGES 102 composite curve of three 126 entities).
 For every file it prints one JSON line {"file", "kind", "curves": [[[x, y, z], ...], ...] in mm} with
 OpenCASCADE's own evaluation (Geom_BSplineCurve.Value, 41 equally spaced parameters per curve, or
-Geom_BSplineSurface.Value on a 9 x 9 grid for the face: one entry) in file order.
+Geom_BSplineSurface.Value on a 9 x 9 grid for the face: one entry) in file order; the line of
+sections_mm.step also has "dense": every section at 3001 equally spaced parameters.
 """
 
 import json
@@ -91,10 +92,10 @@ def wire_curves():
     return [c1, c2, c3]
 
 
-def samples(c):
+def samples(c, n=40):
     a, b = c.FirstParameter(), c.LastParameter()
-    return [[c.Value(a + (b - a) * k / 40.0).X(), c.Value(a + (b - a) * k / 40.0).Y(),
-             c.Value(a + (b - a) * k / 40.0).Z()] for k in range(41)]
+    pts = [c.Value(a + (b - a) * k / n) for k in range(n + 1)]
+    return [[p.X(), p.Y(), p.Z()] for p in pts]
 
 
 def compound(curves):
@@ -121,8 +122,11 @@ def write_iges(shape, path):
         raise RuntimeError(f"cannot write {path}")
 
 
-def emit(path, kind, curves):
-    print(json.dumps({"file": path, "kind": kind, "curves": curves}))
+def emit(path, kind, curves, dense=None):
+    line = {"file": path, "kind": kind, "curves": curves}
+    if dense is not None:
+        line["dense"] = dense
+    print(json.dumps(line))
 
 
 def main():
@@ -133,7 +137,8 @@ def main():
     for ext in ("step", "igs"):
         path = os.path.join(out, f"sections_mm.{ext}")
         (write_step if ext == "step" else write_iges)(compound(secs), path)
-        emit(path, "sections", [samples(c) for c in secs])
+        dense = [samples(c, 3000) for c in secs] if ext == "step" else None
+        emit(path, "sections", [samples(c) for c in secs], dense)
     order = [2, 0, 4, 1, 3]
     path = os.path.join(out, "shuffled_mm.step")
     write_step(compound([secs[i] for i in order]), path)

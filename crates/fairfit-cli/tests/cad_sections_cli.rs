@@ -1,10 +1,13 @@
 //! `fairfit surface` from a STEP or IGES file: OpenCASCADE writes blade-like B-spline sections (and a
 //! surface) with known poles (`tests/python/occ_make_sections.py`, run with `$FAIRFIT_PYTHON`); the
 //! skinned surface must pass within the tolerance of OpenCASCADE's own evaluation of every section (at
-//! 41 parameters each, not the sampled ones). Files with too few curves and misused options fail with
+//! 41 parameters each, not the sampled ones), and at a tight tolerance the surface's iso-curve at every
+//! section must hold OpenCASCADE's section at 3001 parameters within it (the exact-section check
+//! refits where the first surface strays). Files with too few curves and misused options fail with
 //! one line.
 
 use assert_cmd::Command;
+use fairfit::diffgeo::CurveProjector;
 use fairfit::io::{read_geometry, Geometry};
 use fairfit::nurbs::SurfaceWorkspace;
 use fairfit::surface::SurfaceProjector;
@@ -133,7 +136,63 @@ fn sections_written_by_opencascade_are_skinned_within_the_tolerance() {
             "{name}: worst OCC section point {worst:.3e} from the surface, tolerance {tol:.3e}"
         );
         assert!(worst <= tol, "{name}: {worst} > {tol}");
+        // the exact sections at the default tolerance: within at once
+        let e = &r["exact_sections"];
+        let exact = e["max_deviation"].as_f64().unwrap();
+        println!(
+            "{name}: exact sections within {:.4} of the tolerance",
+            exact / tol
+        );
+        assert_eq!(
+            (e["refits"].as_u64(), &e["within_tolerance"]),
+            (Some(0), &serde_json::json!(true))
+        );
+        assert!(exact >= worst && exact <= tol, "{exact} vs {worst}, {tol}");
     }
+    // held to the exact sections: at 1e-5 of the size the first surface lets OpenCASCADE's sections
+    // stray beyond the tolerance between the samples; the refit holds all 3001 x 5 of OpenCASCADE's
+    // points within it, measured from the surface's iso-curve at each section's v
+    let c = case("sections_mm.step");
+    let file = c["file"].as_str().unwrap();
+    let (s, r, stderr) = skin(file, &["--rel-tol", "1e-5"], d);
+    let tol = r["tolerance"].as_f64().unwrap();
+    let e = &r["exact_sections"];
+    let first = e["first_max_deviation"].as_f64().unwrap();
+    let kept = e["max_deviation"].as_f64().unwrap();
+    let mut truth = 0.0f64;
+    for (k, sec) in c["dense"].as_array().unwrap().iter().enumerate() {
+        let v = r["sections"][k]["v"].as_f64().unwrap();
+        let iso = s.iso_curve_v(v).unwrap();
+        let proj = CurveProjector::new(&iso, 64);
+        let worst = points(sec)
+            .iter()
+            .map(|&p| proj.project(p).distance)
+            .fold(0.0, f64::max);
+        let reported = r["sections"][k]["exact_max_deviation"].as_f64().unwrap();
+        assert!(
+            reported >= worst * (1.0 - 1e-4),
+            "{k}: {reported} < {worst}"
+        );
+        truth = truth.max(worst);
+    }
+    println!(
+        "--rel-tol 1e-5: exact sections first {:.4}, kept {:.4} of the tolerance ({} refits, {} points \
+         added); OpenCASCADE's 3001 points per section within {:.4}",
+        first / tol,
+        kept / tol,
+        e["refits"],
+        e["added_points"],
+        truth / tol
+    );
+    assert!(first > tol, "{first} <= {tol}: the case no longer strays");
+    assert!(e["refits"].as_u64().unwrap() >= 1);
+    assert_eq!(e["within_tolerance"], true);
+    assert_eq!(r["within_tolerance"], true);
+    assert!(kept <= tol && truth <= tol, "{kept} {truth} > {tol}");
+    assert!(
+        stderr.contains("the exact sections lie within") && stderr.contains("refit(s) with"),
+        "{stderr}"
+    );
     // the shuffled file in file order, and sorted along z
     let c = case("shuffled_mm.step");
     let file = c["file"].as_str().unwrap();
@@ -143,6 +202,12 @@ fn sections_written_by_opencascade_are_skinned_within_the_tolerance() {
     // written at z = 30, 0, 60, 12, 45
     let by_z: Vec<String> = [1, 3, 0, 4, 2].iter().map(|&i| names[i].clone()).collect();
     assert_eq!(section_names(&r), by_z);
+    // each exact section went along with its samples: measured against its own iso-curve
+    assert_eq!(r["exact_sections"]["within_tolerance"], true);
+    assert!(
+        r["exact_sections"]["max_deviation"].as_f64().unwrap()
+            < 0.8 * r["tolerance"].as_f64().unwrap()
+    );
     let tol = r["tolerance"].as_f64().unwrap();
     let all: Vec<Vec3> = c["curves"]
         .as_array()

@@ -14,6 +14,7 @@ use fairfit::io::cad_read::{
     CadUnit,
 };
 use fairfit::io::cad_sections::read_cad_sections as read_sections;
+use fairfit::io::cad_skin::ExactSection;
 use fairfit::io::{read_geometry, read_points, Geometry, PointSet};
 use fairfit::surface::Section;
 use std::path::{Path, PathBuf};
@@ -260,11 +261,13 @@ fn cad_points(
     (set, Some(CadCurve { segments, samples }))
 }
 
-/// Sections with their names (`#12`, `DE 7`, `#30 at v = 0.25`).
-pub type NamedSections = (Vec<Section>, Vec<String>);
+/// Sections with their names (`#12`, `DE 7`, `#30 at v = 0.25`) and their exact curves, in the same
+/// order.
+pub type NamedSections = (Vec<Section>, Vec<String>, Vec<ExactSection>);
 
 /// The sections `fairfit surface` skins from one STEP or IGES file (`fairfit::io::cad_sections`), with
-/// their names, or `None` when the input is no CAD file. One `note:` line says what was taken.
+/// their names and exact curves (which the surface is held to, `fairfit::io::cad_skin`), or `None` when
+/// the input is no CAD file. One `note:` line says what was taken.
 pub fn read_cad_sections(
     input: &[PathBuf],
     args: &CadInputArgs,
@@ -317,5 +320,5 @@ pub fn read_cad_sections(
         sections.push(Section::from_points(pts));
         names.push(name);
     }
-    Ok(Some((sections, names)))
+    Ok(Some((sections, names, s.exact)))
 }

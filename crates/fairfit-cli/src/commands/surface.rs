@@ -4,6 +4,7 @@
 use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
+use fairfit::io::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
 use fairfit::io::mesh_read::read_mesh;
 use fairfit::io::sections::{expand_section_inputs, read_section_file};
 use fairfit::io::{json::write_surface, write_atomic};
@@ -149,6 +150,8 @@ struct Input {
     gaps: Vec<Gap>,
     empty_planes: Vec<f64>,
     dropped_chains: Vec<usize>,
+    /// A CAD input's exact section curves, in the order of `sections`.
+    exact: Option<Vec<ExactSection>>,
 }
 
 /// The slicing / stacking direction from --normal or --axis.
@@ -197,6 +200,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
             gaps: s.gaps,
             empty_planes: s.empty_planes,
             dropped_chains: s.dropped_chains,
+            exact: None,
         });
     }
     if args.input.len() == 1 && is_mesh(&args.input[0]) {
@@ -205,24 +209,30 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
             args.input[0].display()
         )));
     }
-    let (mut sections, mut names) =
+    let (mut sections, mut names, mut exact) =
         match super::cad_input::read_cad_sections(&args.input, &args.cad)? {
-            Some(cad) => cad,
-            None => read_section_files(&args.input)?,
+            Some((s, n, e)) => (s, n, Some(e)),
+            None => {
+                let (s, n) = read_section_files(&args.input)?;
+                (s, n, None)
+            }
         };
     if args.order == Order::Axis {
         let n = stacking_normal(args)?;
         if n.norm() <= 0.0 {
             return Err(CliError::usage("--normal must be a non-zero vector"));
         }
-        let mut keyed: Vec<(f64, Section, String)> = sections
-            .into_iter()
-            .zip(names)
-            .map(|(s, name)| (s.centroid().dot(n), s, name))
+        let mut keyed: Vec<(f64, usize)> = sections
+            .iter()
+            .enumerate()
+            .map(|(k, s)| (s.centroid().dot(n), k))
             .collect();
         // stable: sections at the same position keep their name order
         keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
-        (sections, names) = keyed.into_iter().map(|(_, s, nm)| (s, nm)).unzip();
+        let order: Vec<usize> = keyed.into_iter().map(|(_, k)| k).collect();
+        sections = order.iter().map(|&k| sections[k].clone()).collect();
+        names = order.iter().map(|&k| names[k].clone()).collect();
+        exact = exact.map(|e| order.iter().map(|&k| e[k].clone()).collect());
     }
     if sections.len() < 2 {
         return Err(CliError::new(format!(
@@ -236,6 +246,7 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
         sections,
         gaps: Vec::new(),
         empty_planes: Vec::new(),
+        exact,
     })
 }
 
@@ -307,21 +318,29 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         .num_threads(threads)
         .build()
         .map_err(|e| CliError::new(format!("cannot start {threads} worker threads: {e}")))?;
-    let result = pool.install(|| {
-        reconstruct_surface_with_progress(input.sections, &opts, &mut |st| match st {
-            Stage::Compatible(n) => pb.set_message(format!("knot vectors {n}")),
-            Stage::Skinned => {
-                pb.inc(1);
-                pb.set_message("measuring");
-            }
-            Stage::Measured => pb.inc(1),
-        })
+    let mut progress = |st: Stage| match st {
+        Stage::Compatible(n) => pb.set_message(format!("knot vectors {n}")),
+        Stage::Skinned => {
+            pb.inc(1);
+            pb.set_message("measuring");
+        }
+        Stage::Measured => pb.inc(1),
+    };
+    let result = pool.install(|| match input.exact {
+        Some(exact) => {
+            skin_to_exact(exact, &opts, &mut progress).map(|e| (e.reconstruction.clone(), Some(e)))
+        }
+        None => reconstruct_surface_with_progress(input.sections, &opts, &mut progress)
+            .map(|r| (r, None)),
     });
     pb.finish_and_clear();
-    let r = result?;
+    let (r, exact) = result?;
+    if let Some(e) = &exact {
+        note_exact(&args.input[0], e);
+    }
     write_surface(&args.output, &r.surface)?;
     let (nu, nv) = r.surface.net_size();
-    let within = r.deviation.max <= tol;
+    let within = r.deviation.max <= tol && exact.as_ref().is_none_or(|e| e.met);
     let all_points: Vec<Vec3> = r
         .sections
         .iter()
@@ -341,6 +360,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
                     "seam_shift": r.alignment[k].1,
                     "v": r.v_params[k],
                     "max_deviation": r.section_deviation[k],
+                    "exact_max_deviation": exact.as_ref().map(|e| e.section_max_deviation[k]),
                     "dropped_chains": input.dropped_chains.get(k),
                 })
             })
@@ -362,6 +382,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             "sections": sections,
             "gaps": input.gaps,
             "empty_planes": input.empty_planes,
+            "exact_sections": exact.as_ref().map(exact_json),
         });
         if let Some(path) = &args.report {
             let text =
@@ -395,11 +416,55 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         r.fairness.max_fairness_u,
         input.gaps.len()
     ))?;
-    if !within {
+    if r.deviation.max > tol {
         eprintln!(
             "warning: the tolerance {tol:.3e} is not met (max deviation {:.3e}); raise --max-ctrl or the tolerance",
             r.deviation.max
         );
     }
     Ok(())
+}
+
+/// The note on how far the exact CAD sections are from the surface (and the warning when beyond the
+/// tolerance).
+fn note_exact(path: &std::path::Path, e: &ExactSkin) {
+    let refits = if e.refits == 0 {
+        String::new()
+    } else {
+        format!(
+            "; the first surface let them stray {:.4} of the tolerance: {} refit(s) with {} points of \
+             the exact sections added, the last at the tolerance {:.3e}",
+            e.first_max_deviation / e.tolerance,
+            e.refits,
+            e.added,
+            e.fit_tolerance,
+        )
+    };
+    eprintln!(
+        "note: {}: the exact sections lie within {:.3e} of the surface's iso-curves ({:.4} of the \
+         tolerance; {} points of them checked){refits}",
+        path.display(),
+        e.max_deviation,
+        e.max_deviation / e.tolerance,
+        e.checked
+    );
+    if !e.met {
+        eprintln!(
+            "warning: the exact sections stray {:.3e} from the surface, beyond the tolerance {:.3e}",
+            e.max_deviation, e.tolerance
+        );
+    }
+}
+
+/// The report's `exact_sections`.
+fn exact_json(e: &ExactSkin) -> serde_json::Value {
+    json!({
+        "max_deviation": e.max_deviation,
+        "within_tolerance": e.met,
+        "checked_points": e.checked,
+        "first_max_deviation": e.first_max_deviation,
+        "refits": e.refits,
+        "fit_tolerance": e.fit_tolerance,
+        "added_points": e.added,
+    })
 }

@@ -254,7 +254,10 @@ pub fn fit_to_exact<T, E: From<Error>>(
 }
 
 /// `samples` with the points `added` (each after the sample of its index, in chain order) inserted.
-fn with_added(samples: &[ChainSample], added: &[(usize, ChainSample)]) -> Vec<ChainSample> {
+pub(crate) fn with_added(
+    samples: &[ChainSample],
+    added: &[(usize, ChainSample)],
+) -> Vec<ChainSample> {
     let mut out = Vec::with_capacity(samples.len() + added.len());
     let mut extra = added.iter().peekable();
     for (i, s) in samples.iter().enumerate() {

@@ -3,16 +3,16 @@
 //! re-fairs the surface.
 //!
 //! Curves: every curve of the file (in file order, in millimetres, see [`super::cad_read`]) is sampled
-//! as `fairfit curve` samples a CAD curve for re-fitting ([`sample_curve`]); a composite curve is one
-//! section, its segments sampled in order ([`sample_chain`]). Surface: the sections are
+//! as `fairfit curve` samples a CAD curve for re-fitting ([`super::cad_read::sample_curve`]); a composite curve is one
+//! section, its segments sampled in order ([`super::cad_chain::sample_chain`]). Surface: the sections are
 //! the curves `u ↦ S(u, v_k)` at [`iso_section_count`] parameters `v_k` spread evenly over every
-//! non-empty v knot span, each sampled the same way.
+//! non-empty v knot span, each sampled the same way. Every section keeps its exact curve, which
+//! [`super::cad_skin::skin_to_exact`] holds the skinned surface to.
 
-use super::cad_chain::sample_chain;
 use super::cad_read::{
-    curve_chains, read_contents, sample_curve, segments_in_mm, select, CadContents, CadKind,
-    CadUnit,
+    curve_chains, read_contents, segments_in_mm, select, CadContents, CadKind, CadUnit,
 };
+use super::cad_skin::ExactSection;
 use super::json::Geometry;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsSurface, Vec3};
@@ -28,6 +28,10 @@ pub struct CadSections {
     pub unit: CadUnit,
     /// For a re-faired surface: its source (`#30`), index and the count of surfaces in the file.
     pub surface: Option<(String, usize, usize)>,
+    /// Every section's exact curve (in millimetres) and its samples (the points of
+    /// [`CadSections::sections`]), in the same order: what [`super::cad_skin::skin_to_exact`] holds the
+    /// surface to.
+    pub exact: Vec<ExactSection>,
 }
 
 /// How many v-iso-curves re-fair a surface: `q_v + 1` per non-empty v knot span, plus the last one
@@ -69,13 +73,35 @@ pub fn iso_section_params(s: &NurbsSurface) -> Vec<f64> {
 
 /// The sections of one B-spline surface: its v-iso-curves at [`iso_section_params`], sampled densely.
 pub fn surface_sections(s: &NurbsSurface, source: &str) -> Result<Vec<(String, Vec<Vec3>)>> {
+    Ok(exact_surface_sections(s, source)?
+        .into_iter()
+        .map(|(name, e)| (name, e.points()))
+        .collect())
+}
+
+/// [`surface_sections`] with every iso-curve, the exact section.
+pub fn exact_surface_sections(
+    s: &NurbsSurface,
+    source: &str,
+) -> Result<Vec<(String, ExactSection)>> {
     iso_section_params(s)
         .into_iter()
         .map(|v| {
             let c = s.iso_curve_v(v)?;
-            Ok((format!("{source} at v = {v}"), sample_curve(&c)))
+            Ok((
+                format!("{source} at v = {v}"),
+                ExactSection::sampled(vec![c]),
+            ))
         })
         .collect()
+}
+
+/// Names and points of `exact`, and the exact sections.
+fn split(named: Vec<(String, ExactSection)>) -> (Vec<(String, Vec<Vec3>)>, Vec<ExactSection>) {
+    named
+        .into_iter()
+        .map(|(name, e)| ((name, e.points()), e))
+        .unzip()
 }
 
 /// Takes the sections of `contents` (see the module documentation): `kind` [`CadKind::Any`] re-fairs a
@@ -100,10 +126,12 @@ pub fn cad_sections(
                 "{file}: internal: a surface was asked for"
             )));
         };
+        let (sections, exact) = split(exact_surface_sections(s, &g.source)?);
         return Ok(CadSections {
-            sections: surface_sections(s, &g.source)?,
+            sections,
             unit,
             surface: Some((g.source, g.index, g.count)),
+            exact,
         });
     }
     if index.is_some() {
@@ -125,17 +153,19 @@ pub fn cad_sections(
         )));
     }
     let f = unit.mm_per_unit;
-    let sections = curve_chains(contents.curves, contents.composites)
+    let named = curve_chains(contents.curves, contents.composites)
         .into_iter()
         .map(|(src, segments)| {
             let segments = segments_in_mm(segments, f, file)?;
-            Ok((src, sample_chain(&segments)))
+            Ok((src, ExactSection::sampled(segments)))
         })
         .collect::<Result<Vec<_>>>()?;
+    let (sections, exact) = split(named);
     Ok(CadSections {
         sections,
         unit,
         surface: None,
+        exact,
     })
 }
 

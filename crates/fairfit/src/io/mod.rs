@@ -9,6 +9,7 @@ pub mod cad_conic;
 pub mod cad_fit;
 pub mod cad_read;
 pub mod cad_sections;
+pub mod cad_skin;
 pub mod iges;
 pub mod iges_read;
 pub mod json;
