@@ -276,3 +276,34 @@ fn tiny_regular_circle_keeps_its_curvature() {
         assert!((k * 1e-300 - 0.5).abs() < 1e-9, "{k}");
     }
 }
+
+#[test]
+fn no_negative_zero_in_the_output() {
+    // a quarter cylinder of radius 1 whose normal points outward: K = 0 exactly, H = -1/2; the
+    // curvature formula gives K = 0·N − M² = −0.0 here, which printed as "-0.0"
+    let cyl = r#"{"kind": "surface", "degree_u": 1, "degree_v": 2, "knots_u": [0,0,1,1], "knots_v": [0,0,0,1,1,1],
+      "control_points": [[[1,0,1],[1,1,1],[0,1,1]],[[1,0,0],[1,1,0],[0,1,0]]],
+      "weights": [[1,0.7071067811865476,1],[1,0.7071067811865476,1]]}"#;
+    let f = file_with(cyl.as_bytes());
+    let out = eval(f.path(), "0:0,0.5:0.5");
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(!text.contains("-0.0"), "{text}");
+    let v: Vec<Value> = serde_json::from_str(&text).unwrap();
+    for o in &v {
+        let k = o["gaussian_curvature"].as_f64().unwrap();
+        assert!(k == 0.0 && k.is_sign_positive());
+        assert!((o["mean_curvature"].as_f64().unwrap() + 0.5).abs() < 1e-12);
+    }
+    // a planar curve's torsion (c·C''' with c along -z and C''' in the plane) was "-0.0" too
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+            "control_points": [[0,0,0],[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    let out = eval(f.path(), "0.3");
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(!text.contains("-0.0"), "{text}");
+    let v: Vec<Value> = serde_json::from_str(&text).unwrap();
+    assert!(v[0]["torsion"].as_f64().unwrap().is_sign_positive());
+    // negative numbers other than zero are kept
+    assert_eq!(v[0]["derivatives"][2][0].as_f64().unwrap(), -6.0);
+}
