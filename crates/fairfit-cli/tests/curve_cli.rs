@@ -203,6 +203,32 @@ fn ill_posed_inputs_fail_with_one_line() {
         &["curve", &ok, "--method", "lsq", "--smoothing=-1"],
         "smoothing",
     );
+    // negative numbers written as separate words reach the checks above (were: "unexpected argument
+    // '-1' found")
+    usage_fails(
+        &["curve", &ok, "--tol", "-1"],
+        "the tolerance must be positive, got -1",
+    );
+    usage_fails(
+        &["curve", &ok, "--smoothing", "-1", "--method", "lsq"],
+        "--smoothing must be a finite number >= 0, got -1",
+    );
+    usage_fails(
+        &["curve", &ok, "--corner-angle", "-5"],
+        "--corner-angle must be in (0, 180] degrees, got -5",
+    );
+    usage_fails(
+        &["curve", &ok, "--control-points", "-3"],
+        "expected a whole number >= 0, got -3",
+    );
+    usage_fails(
+        &["curve", &ok, "--seed", "-1"],
+        "expected a whole number from 0 to",
+    );
+    usage_fails(
+        &["curve", &ok, "--degree", "-2"],
+        "expected `auto` or a degree from 1 to 15, got `-2`",
+    );
 }
 
 /// Runs `fairfit curve FILE --method lsq EXTRA...`, returns the curve and the report.

@@ -219,3 +219,91 @@ fn degenerate_normal_gives_null_curvatures() {
     assert_eq!(out[1]["gaussian_curvature"].as_f64().unwrap(), 0.0);
     assert_eq!(out[1]["mean_curvature"].as_f64().unwrap(), 0.0);
 }
+
+/// A cubic Bézier `(P0, P1, P2, P3)` on [0, 1] as curve JSON, every coordinate times `s`.
+fn bezier_json(p: [[f64; 2]; 4], s: f64) -> String {
+    let pts: Vec<String> = p
+        .iter()
+        .map(|q| format!("[{:e},{:e},0]", q[0] * s, q[1] * s))
+        .collect();
+    format!(
+        r#"{{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1], "control_points": [{}]}}"#,
+        pts.join(",")
+    )
+}
+
+#[test]
+fn zero_speed_gives_null_curvature_with_a_note_at_any_scale() {
+    // P0 = P1: C'(0) = 3 (P1 - P0) = 0. At u = 1/2 (by hand): C' = (9/4, 3/4), C'' = (3, -3),
+    // κ = |C' × C''| / |C'|³ = 9 / (45/8)^(3/2).
+    let kappa_half = 9.0 / (45.0f64 / 8.0).powf(1.5);
+    for s in [1.0, 1e-300, 1e300] {
+        let f = file_with(bezier_json([[0., 0.], [0., 0.], [1., 1.], [2., 0.]], s).as_bytes());
+        let out = ok_json(f.path(), "0,0.5");
+        assert_eq!(out[0]["regular"], Value::Bool(false), "{s:e}");
+        for key in ["curvature", "torsion", "dkappa_ds"] {
+            assert!(out[0][key].is_null(), "{s:e} {key}: {}", out[0][key]);
+        }
+        assert!(out[0]["note"].as_str().unwrap().contains("not regular"));
+        // the point and derivatives are still there: C(0) = P0, C'(0) = 0
+        assert_eq!(vec3(&out[0]["point"]), [0.0, 0.0, 0.0]);
+        assert_eq!(vec3(&out[0]["derivatives"][0]), [0.0, 0.0, 0.0]);
+        assert_eq!(out[1]["regular"], Value::Bool(true));
+        assert!(out[1].get("note").is_none());
+        let k = out[1]["curvature"].as_f64().unwrap();
+        assert!((k * s / kappa_half - 1.0).abs() < 1e-12, "{s:e}: {k}");
+    }
+    // an interior cusp: P1 and P2 crossed, C'(1/2) = 3 [(P1-P0)/4 + (P2-P1)/2 + (P3-P2)/4] = 0
+    let f = file_with(bezier_json([[0., 0.], [1., 1.], [0., 1.], [1., 0.]], 1.0).as_bytes());
+    let out = ok_json(f.path(), "0.5,0.25");
+    assert!(out[0]["curvature"].is_null() && out[0]["regular"] == Value::Bool(false));
+    assert!(out[1]["curvature"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn tiny_regular_circle_keeps_its_curvature() {
+    // the exact circle of radius 2 scaled by 1e-300: κ = 0.5e300 at every u, regular everywhere
+    let mut v: Value = serde_json::from_str(CIRCLE).unwrap();
+    for p in v["control_points"].as_array_mut().unwrap() {
+        for x in p.as_array_mut().unwrap() {
+            *x = serde_json::json!(x.as_f64().unwrap() * 1e-300);
+        }
+    }
+    let f = file_with(v.to_string().as_bytes());
+    for o in ok_json(f.path(), "0,0.3,0.9") {
+        assert_eq!(o["regular"], Value::Bool(true));
+        let k = o["curvature"].as_f64().unwrap();
+        assert!((k * 1e-300 - 0.5).abs() < 1e-9, "{k}");
+    }
+}
+
+#[test]
+fn no_negative_zero_in_the_output() {
+    // a quarter cylinder of radius 1 whose normal points outward: K = 0 exactly, H = -1/2; the
+    // curvature formula gives K = 0·N − M² = −0.0 here, which printed as "-0.0"
+    let cyl = r#"{"kind": "surface", "degree_u": 1, "degree_v": 2, "knots_u": [0,0,1,1], "knots_v": [0,0,0,1,1,1],
+      "control_points": [[[1,0,1],[1,1,1],[0,1,1]],[[1,0,0],[1,1,0],[0,1,0]]],
+      "weights": [[1,0.7071067811865476,1],[1,0.7071067811865476,1]]}"#;
+    let f = file_with(cyl.as_bytes());
+    let out = eval(f.path(), "0:0,0.5:0.5");
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(!text.contains("-0.0"), "{text}");
+    let v: Vec<Value> = serde_json::from_str(&text).unwrap();
+    for o in &v {
+        let k = o["gaussian_curvature"].as_f64().unwrap();
+        assert!(k == 0.0 && k.is_sign_positive());
+        assert!((o["mean_curvature"].as_f64().unwrap() + 0.5).abs() < 1e-12);
+    }
+    // a planar curve's torsion (c·C''' with c along -z and C''' in the plane) was "-0.0" too
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+            "control_points": [[0,0,0],[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    let out = eval(f.path(), "0.3");
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(!text.contains("-0.0"), "{text}");
+    let v: Vec<Value> = serde_json::from_str(&text).unwrap();
+    assert!(v[0]["torsion"].as_f64().unwrap().is_sign_positive());
+    // negative numbers other than zero are kept
+    assert_eq!(v[0]["derivatives"][2][0].as_f64().unwrap(), -6.0);
+}

@@ -267,6 +267,56 @@ fn unusable_inputs_are_clear_errors() {
     assert!(!o.exists());
 }
 
+#[test]
+fn impossible_counts_and_negative_numbers_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("o.json");
+    let with = |extra: &[&str]| {
+        let mut c = fairfit();
+        c.arg("surface")
+            .arg(blade_dir())
+            .args(extra)
+            .arg("-o")
+            .arg(&o);
+        c
+    };
+    // was: accepted, the fit lifted the count to degree + 1 and only warned that the tolerance failed
+    for (n, p, need) in [("0", "3", "4"), ("3", "3", "4"), ("2", "2", "3")] {
+        usage_fails(
+            &mut with(&["--max-ctrl", n, "--degree", p]),
+            &format!(
+                "--max-ctrl {n} is below the {need} control points a degree-{p} section needs"
+            ),
+        );
+    }
+    usage_fails(
+        &mut with(&["--approximate-v", "1"]),
+        "at least 2 control points",
+    );
+    // was: "unexpected argument '-1' found" for every negative number
+    usage_fails(
+        &mut with(&["--max-ctrl", "-1"]),
+        "invalid value '-1' for '--max-ctrl <MAX_CTRL>': expected a whole number >= 0",
+    );
+    usage_fails(
+        &mut with(&["--threads", "-2"]),
+        "expected a whole number >= 0, got -2",
+    );
+    usage_fails(
+        &mut with(&["--degree", "2.5"]),
+        "expected a whole number >= 0, got 2.5",
+    );
+    usage_fails(
+        &mut with(&["--smooth-v", "-1"]),
+        "invalid value '-1' for '--smooth-v <SMOOTH_V>': expected a finite number >= 0",
+    );
+    usage_fails(
+        &mut with(&["--gap-factor", "-3"]),
+        "expected a finite number > 0, got -3",
+    );
+    assert!(!o.exists());
+}
+
 /// Four open half-ellipse sections at z = 0, 1, 2.5, 3 (semi-axes growing with z), as CSV files.
 fn half_ellipse_sections(dir: &Path) -> Vec<PathBuf> {
     [0.0f64, 1.0, 2.5, 3.0]

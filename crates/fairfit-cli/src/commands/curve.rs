@@ -162,17 +162,17 @@ pub struct CurveArgs {
     #[arg(long, value_enum, default_value_t = Method::Integrated)]
     pub method: Method,
     /// Absolute tolerance on the maximum orthogonal deviation.
-    #[arg(long, conflicts_with = "rel_tol")]
+    #[arg(long, conflicts_with = "rel_tol", allow_hyphen_values = true)]
     pub tol: Option<f64>,
     /// Tolerance relative to the largest side of the points' bounding box (default 1e-3).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub rel_tol: Option<f64>,
     /// Degree of the curve (1 to 15), or `auto` (integrated method, its default): the cubic's count
     /// search, then degrees 4 and 5 at the cubic's control points (the quartic also at more points,
     /// up to the least-squares count, where the cubic's fewest-extrema choice cost much F or its
     /// extra points still paid), keeping the fairest with no more curvature extrema than the cubic's
     /// [default: auto for integrated, 3 for lsq and fit-then-fair]
-    #[arg(long, value_parser = parse_degree)]
+    #[arg(long, value_parser = parse_degree, allow_hyphen_values = true)]
     pub degree: Option<DegreeArg>,
     /// Parameterisation of the points.
     #[arg(long = "param", value_enum, default_value_t = ParamArg::Centripetal)]
@@ -181,7 +181,7 @@ pub struct CurveArgs {
     #[arg(long)]
     pub closed: bool,
     /// Turning angle (degrees) above which a point is a corner kept as a C0 knot.
-    #[arg(long, default_value_t = fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG)]
+    #[arg(long, default_value_t = fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG, allow_hyphen_values = true)]
     pub corner_angle: f64,
     /// Do not detect corners.
     #[arg(long)]
@@ -197,13 +197,14 @@ pub struct CurveArgs {
     #[arg(long, value_enum, default_value_t = EndsArg::Pinned)]
     pub ends: EndsArg,
     /// Parameter-correction rounds per least-squares fit.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub correction_rounds: usize,
     /// Scale-free smoothing weight λ (0 = plain least squares).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub smoothing: f64,
     /// Derivative order of the smoothing term: 2 for ∫|C''|², 3 for ∫|C'''|².
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
+    #[arg(long, default_value_t = 2, allow_hyphen_values = true,
+          value_parser = clap::value_parser!(u8).range(2..=3))]
     pub smoothing_order: u8,
     /// Knot placement (lsq and fit-then-fair methods).
     #[arg(long, value_enum, default_value_t = KnotArg::Refine)]
@@ -215,10 +216,10 @@ pub struct CurveArgs {
     #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
     pub end_tangent: Option<Vec3>,
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub span_fairness: Option<f64>,
     /// Fixed number of control points instead of the fewest meeting the tolerance (integrated method).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub control_points: Option<usize>,
     /// Write the Pareto front of (max deviation, F) as CSV (integrated method).
     #[arg(long)]
@@ -227,10 +228,10 @@ pub struct CurveArgs {
     #[arg(long)]
     pub pareto_curves: Option<PathBuf>,
     /// Random seed (methods with a stochastic search).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number_u64)]
     pub seed: u64,
     /// Worker threads (0 = all cores; capped at 4 per core; results do not depend on it).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub threads: usize,
     /// Output curve JSON file (stdout when absent).
     #[arg(short, long)]
@@ -356,8 +357,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
         None => Some(text),
     };
     if let (Some(rp), Some(report)) = (&args.report, &report) {
-        let body = serde_json::to_string_pretty(report)
-            .map_err(|e| CliError::new(format!("internal: {e}")))?;
+        let body = super::json_pretty(report)?;
         files.push((rp.clone(), body.into_bytes()));
     }
     if args.outputs.any() {

@@ -129,6 +129,21 @@ fn eval_curve(c: &NurbsCurve, us: &[f64]) -> Result<Vec<Value>, CliError> {
             check_in_domain("u", u, c.domain())?;
             c.check_parameter(u)?;
             let d = differentials(c, u);
+            let point = arr(d.point);
+            let derivatives = json!([arr(d.d1), arr(d.d2), arr(d.d3)]);
+            if !d.regular {
+                // zero speed: κ, τ and dκ/ds are undefined, not 0
+                return Ok(json!({
+                    "u": u,
+                    "point": point,
+                    "derivatives": derivatives,
+                    "regular": false,
+                    "curvature": null,
+                    "torsion": null,
+                    "dkappa_ds": null,
+                    "note": "the curve is not regular at u: its speed |C'| vanishes (below 1e-10 of the control points' extent per unit of parameter, e.g. where control points coincide), so curvature, torsion and dkappa_ds are undefined",
+                }));
+            }
             if ![d.curvature, d.torsion, d.dkappa_ds]
                 .iter()
                 .all(|x| x.is_finite())
@@ -137,8 +152,9 @@ fn eval_curve(c: &NurbsCurve, us: &[f64]) -> Result<Vec<Value>, CliError> {
             }
             Ok(json!({
                 "u": u,
-                "point": arr(d.point),
-                "derivatives": [arr(d.d1), arr(d.d2), arr(d.d3)],
+                "point": point,
+                "derivatives": derivatives,
+                "regular": true,
                 "curvature": d.curvature,
                 "torsion": d.torsion,
                 "dkappa_ds": d.dkappa_ds,

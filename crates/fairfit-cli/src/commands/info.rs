@@ -34,7 +34,8 @@ pub struct InfoArgs {
     pub cad: super::cad_input::CadInputArgs,
     /// Number of iso-parametric curves per direction for surfaces (ends included; the default is the
     /// count of the `fairfit surface` report).
-    #[arg(long, default_value_t = DEFAULT_ISO_CURVES as u64, value_parser = clap::value_parser!(u64).range(1..=1000))]
+    #[arg(long, default_value_t = DEFAULT_ISO_CURVES as u64, allow_hyphen_values = true,
+          value_parser = clap::value_parser!(u64).range(1..=1000))]
     pub iso: u64,
 }
 

@@ -51,7 +51,7 @@ pub struct OutputArgs {
     #[arg(long, value_name = "FILE")]
     pub html: Option<PathBuf>,
     /// Maximum chord height of the mesh, in model units (default: 8 samples per knot span).
-    #[arg(long, value_name = "T", value_parser = super::finite_positive)]
+    #[arg(long, value_name = "T", allow_hyphen_values = true, value_parser = super::finite_positive)]
     pub chord_tol: Option<f64>,
     /// Length unit declared in STEP and IGES files.
     #[arg(long, default_value = "mm", value_parser = ["mm", "m"])]

@@ -40,16 +40,17 @@ pub struct PlotArgs {
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: PathBuf,
     /// Width in pixels.
-    #[arg(long, default_value_t = 900)]
+    #[arg(long, default_value_t = 900, allow_hyphen_values = true)]
     pub width: u32,
     /// Height in pixels.
-    #[arg(long, default_value_t = 600)]
+    #[arg(long, default_value_t = 600, allow_hyphen_values = true)]
     pub height: u32,
     /// Which plot.
     #[arg(long, value_enum, default_value_t = PlotKind::Auto)]
     pub kind: PlotKind,
     /// Number of iso-curves in iso plots.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=50))]
+    #[arg(long, default_value_t = 5, allow_hyphen_values = true,
+          value_parser = clap::value_parser!(u64).range(1..=50))]
     pub iso: u64,
 }
 

@@ -66,7 +66,7 @@ pub struct SurfaceArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Slice a mesh or point cloud into this many planar sections.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub slices: Option<usize>,
     /// Axis perpendicular to the slicing planes (and the stacking axis for --order axis).
     #[arg(long, value_enum, default_value = "z")]
@@ -79,34 +79,36 @@ pub struct SurfaceArgs {
     #[arg(long)]
     pub normal: Option<String>,
     /// Degree of the section curves (u).
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub degree: usize,
     /// Degree across the sections (v); lowered to sections - 1 when there are few sections.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub degree_v: usize,
-    /// Largest number of control points per section (the search stops at the fewest that meet the
-    /// tolerance; 120 lets the sliced Stanford bunny meet 1e-3 of its extent).
-    #[arg(long, default_value_t = 120)]
+    /// Largest number of control points per section, at least --degree + 1 (the search stops at the
+    /// fewest that meet the tolerance; 120 lets the sliced Stanford bunny meet 1e-3 of its extent).
+    #[arg(long, default_value_t = 120, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub max_ctrl: usize,
     /// Parameterisation of the sections across the surface.
     #[arg(long, value_enum, default_value = "chord")]
     pub v_params: VParam,
     /// Approximate across the sections with this many control points (for many or noisy sections)
     /// instead of interpolating every section.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub approximate_v: Option<usize>,
     /// Smoothing weight of the approximation across the sections (relative to the data term).
-    #[arg(long, default_value_t = 1e-3, value_parser = super::finite_non_negative)]
+    #[arg(long, default_value_t = 1e-3, allow_hyphen_values = true,
+          value_parser = super::finite_non_negative)]
     pub smooth_v: f64,
     /// Fit closed sections clamped, with a C0 edge at their aligned seam, even when they are smooth
     /// there (by default smooth closed sections are fitted and skinned periodically in u: no crease).
     #[arg(long)]
     pub clamped_seam: bool,
     /// A chain edge longer than this many median spacings is reported as a gap (slicing).
-    #[arg(long, default_value_t = 5.0, value_parser = super::finite_positive)]
+    #[arg(long, default_value_t = 5.0, allow_hyphen_values = true,
+          value_parser = super::finite_positive)]
     pub gap_factor: f64,
     /// Worker threads (0 = all cores; capped at 4 per core; the output does not depend on it).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub threads: usize,
     /// Write a JSON report of the measures here.
     #[arg(long)]
@@ -136,6 +138,31 @@ fn parse_normal(s: &str) -> Result<Vec3, CliError> {
         )));
     }
     Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+/// Refuses counts no surface can have (before any file is read): fewer control points per section
+/// than a degree-p section needs (p + 1; the fit had lifted such a --max-ctrl silently), fewer than 2
+/// control points across the sections, fewer than 2 slicing planes.
+fn check_counts(args: &SurfaceArgs) -> Result<(), CliError> {
+    let need = args.degree.saturating_add(1);
+    if args.degree >= 1 && args.max_ctrl < need {
+        return Err(CliError::usage(format!(
+            "--max-ctrl {} is below the {need} control points a degree-{} section needs; give --max-ctrl {need} or more",
+            args.max_ctrl, args.degree
+        )));
+    }
+    if let Some(n) = args.approximate_v.filter(|&n| n < 2) {
+        return Err(CliError::usage(format!(
+            "--approximate-v {n}: approximation across the sections needs at least 2 control points"
+        )));
+    }
+    if args.slices.is_some_and(|n| n < 2) {
+        return Err(CliError::usage(format!(
+            "--slices {}: a surface needs at least 2 slices (slicing planes)",
+            args.slices.unwrap_or(0)
+        )));
+    }
+    Ok(())
 }
 
 fn is_mesh(p: &std::path::Path) -> bool {
@@ -281,6 +308,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     if stacking_normal(&args)?.norm() <= 0.0 {
         return Err(CliError::usage("--normal must be a non-zero vector"));
     }
+    check_counts(&args)?;
     let input = read_input(&args)?;
     let largest = input
         .sections
@@ -385,8 +413,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             "exact_sections": exact.as_ref().map(exact_json),
         });
         if let Some(path) = &args.report {
-            let text =
-                serde_json::to_string_pretty(&rep).map_err(|e| CliError::new(e.to_string()))?;
+            let text = super::json_pretty(&rep)?;
             write_atomic(path, text.as_bytes())?;
         }
         if args.outputs.any() {

@@ -13,6 +13,12 @@ use crate::nurbs::{NurbsCurve, Vec3};
 /// `|c|` below this fraction of `v |a|` (and of `v³` times the inverse length scale) counts as zero.
 const PARALLEL_EPS: f64 = 1e-12;
 
+/// A speed below this fraction of the curve's reference speed (extent of the control points over the
+/// length of the parameter domain) counts as zero: the curve is not regular there. Rounding in the
+/// derivative is about `1e-16` of the reference speed, so above the threshold the speed (and with it
+/// `κ ∝ 1/v³`) keeps about six correct digits.
+pub const REGULAR_SPEED_EPS: f64 = 1e-10;
+
 /// The differential quantities of a curve at one parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CurveDifferentials {
@@ -38,11 +44,22 @@ pub struct CurveDifferentials {
     pub dkappa_ds: f64,
     /// dκ_s/ds of the signed planar curvature.
     pub dkappa_signed_ds: f64,
+    /// Whether the curve is regular at `u` (non-zero speed), so that the curvature quantities are
+    /// defined. Where it is `false` every curvature quantity above is 0 and means "undefined".
+    ///
+    /// [`differentials`] decides it scale-free: the speed is compared with
+    /// [`REGULAR_SPEED_EPS`] times the curve's extent over its parameter span, on the rescaled copy
+    /// it evaluates, so a regular curve 1e-300 long stays regular. [`differentials_from`] has no
+    /// reference scale and only flags a speed too small for `v³` (below `√f64::MIN_POSITIVE`) or not
+    /// finite.
+    pub regular: bool,
 }
 
 /// Differential quantities from `[C, C', C'', C''']` at `u`.
 ///
-/// Near-zero speed gives zeros for every curvature quantity (the curve is degenerate there).
+/// Near-zero speed (below `√f64::MIN_POSITIVE`, where `v³` underflows) gives zeros for every curvature
+/// quantity and `regular: false`. Without the curve there is no length or parameter scale to judge a
+/// small speed by: prefer [`differentials`], which decides regularity scale-free.
 pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
     let (r, a, b) = (d[1], d[2], d[3]);
     let v2 = r.norm_squared();
@@ -59,10 +76,12 @@ pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
         torsion: 0.0,
         dkappa_ds: 0.0,
         dkappa_signed_ds: 0.0,
+        regular: false,
     };
     if !v.is_finite() || v <= f64::MIN_POSITIVE.sqrt() {
         return out;
     }
+    out.regular = true;
     let c = r.cross(a);
     let cn = c.norm();
     let v3 = v2 * v;
@@ -92,6 +111,33 @@ pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
 ///
 /// Far outside unit size (coordinates around 1e±160 and beyond, where `|C'|³` over- or underflows) the
 /// quantities come from an exactly rescaled copy (see [`crate::nurbs::scale`]).
+///
+/// [`CurveDifferentials::regular`] is decided on that (rescaled) evaluation against the curve's own
+/// reference speed, so it does not depend on the curve's size: where the speed vanishes (e.g. at a
+/// clamped end whose first two control points coincide) the curve is not regular and the curvature
+/// quantities are 0 with `regular == false`.
+///
+/// ```
+/// use fairfit::diffgeo::differentials;
+/// use fairfit::nurbs::{NurbsCurve, Vec3};
+///
+/// // a cubic whose first two control points coincide: C'(0) = 0
+/// let pts = vec![
+///     Vec3::new(0.0, 0.0, 0.0),
+///     Vec3::new(0.0, 0.0, 0.0),
+///     Vec3::new(1.0, 1.0, 0.0),
+///     Vec3::new(2.0, 0.0, 0.0),
+/// ];
+/// let c = NurbsCurve::new(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], pts, None).unwrap();
+/// assert!(!differentials(&c, 0.0).regular);
+/// assert!(differentials(&c, 0.5).regular);
+///
+/// // an exact circle of radius 1e-300 is regular, with curvature 1e300
+/// let tiny = NurbsCurve::circle(Vec3::new(0.0, 0.0, 0.0), 1e-300).unwrap();
+/// let d = differentials(&tiny, 0.3);
+/// assert!(d.regular);
+/// assert!((d.curvature * 1e-300 - 1.0).abs() < 1e-12);
+/// ```
 pub fn differentials(curve: &NurbsCurve, u: f64) -> CurveDifferentials {
     let f = crate::nurbs::scale::normalising_factor(curve.control_points());
     if let Some(s) = (f != 1.0)
@@ -101,6 +147,7 @@ pub fn differentials(curve: &NurbsCurve, u: f64) -> CurveDifferentials {
         let mut d = [Vec3::ZERO; 4];
         s.derivatives_into(u, 3, &mut d);
         let m = differentials_from(u, &d);
+        let m = with_regularity(m, &s);
         let g = 1.0 / f;
         // evaluate C and its derivatives on the curve itself (exact enough, and no 1/f rounding)
         curve.derivatives_into(u, 3, &mut d);
@@ -116,11 +163,41 @@ pub fn differentials(curve: &NurbsCurve, u: f64) -> CurveDifferentials {
             torsion: m.torsion * f,
             dkappa_ds: m.dkappa_ds * f * f,
             dkappa_signed_ds: m.dkappa_signed_ds * f * f,
+            regular: m.regular,
         };
     }
     let mut d = [Vec3::ZERO; 4];
     curve.derivatives_into(u, 3, &mut d);
-    differentials_from(u, &d)
+    with_regularity(differentials_from(u, &d), curve)
+}
+
+/// `m` (evaluated on `curve`) with `regular` decided against `curve`'s reference speed: the largest
+/// coordinate range of its control points over the length of its parameter domain. A speed at or below
+/// [`REGULAR_SPEED_EPS`] of it makes every curvature quantity 0 and `regular` false.
+fn with_regularity(mut m: CurveDifferentials, curve: &NurbsCurve) -> CurveDifferentials {
+    let pts = curve.control_points();
+    let extent = (0..3)
+        .map(|k| {
+            let (lo, hi) = pts
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                    (l.min(p[k]), h.max(p[k]))
+                });
+            hi - lo
+        })
+        .fold(0.0f64, f64::max);
+    let (a, b) = curve.domain();
+    // compare v·span with eps·extent (no division: the span may be huge or tiny)
+    let regular = m.regular && m.speed * (b - a) > REGULAR_SPEED_EPS * extent;
+    if !regular {
+        m.curvature = 0.0;
+        m.signed_curvature = 0.0;
+        m.torsion = 0.0;
+        m.dkappa_ds = 0.0;
+        m.dkappa_signed_ds = 0.0;
+        m.regular = false;
+    }
+    m
 }
 
 /// Unsigned curvature of `curve` at `u`.
@@ -184,5 +261,48 @@ mod tests {
         let km = differentials_from(u - h, &f(u - h)).curvature;
         let fd = (kp - km) / (2.0 * h) / g.speed;
         assert!((fd - g.dkappa_ds).abs() < 1e-8, "{fd} vs {}", g.dkappa_ds);
+    }
+
+    /// A cubic Bézier with `P0 = P1` (so `C'(0) = 0`), every coordinate times `s`, on `[0, span]`.
+    fn degenerate_start(s: f64, span: f64) -> NurbsCurve {
+        let pts = [[0.0, 0.0], [0.0, 0.0], [1.0, 1.0], [2.0, 0.0]]
+            .iter()
+            .map(|q| Vec3::new(q[0] * s, q[1] * s, 0.0))
+            .collect();
+        let k = vec![0.0, 0.0, 0.0, 0.0, span, span, span, span];
+        NurbsCurve::new(3, k, pts, None).unwrap()
+    }
+
+    #[test]
+    fn regularity_does_not_depend_on_size_or_parameter_span() {
+        // at u = span/2 (by hand, for s = span = 1): C' = (9/4, 3/4), C'' = (3, -3),
+        // κ = 9 / (45/8)^(3/2); the curvature scales as 1/s and does not depend on the span
+        let kappa_half = 9.0 / (45.0f64 / 8.0).powf(1.5);
+        for s in [1.0, 1e-300, 1e-20, 1e20, 1e300] {
+            for span in [1.0, 1e-6, 1e6] {
+                let c = degenerate_start(s, span);
+                let d0 = differentials(&c, 0.0);
+                assert!(!d0.regular, "s {s:e} span {span:e}");
+                assert_eq!(d0.speed, 0.0);
+                assert_eq!((d0.curvature, d0.torsion, d0.dkappa_ds), (0.0, 0.0, 0.0));
+                let d = differentials(&c, 0.5 * span);
+                assert!(d.regular, "s {s:e} span {span:e}");
+                assert!((d.curvature * s / kappa_half - 1.0).abs() < 1e-12);
+                // just off the end the speed is 6 u (1 - u) √2 s/span: tiny but regular
+                let d = differentials(&c, 1e-6 * span);
+                assert!(d.regular, "s {s:e} span {span:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn differentials_from_flags_only_unrepresentable_speeds() {
+        let z = Vec3::ZERO;
+        let x = Vec3::new(1.0, 0.0, 0.0);
+        let y = Vec3::new(0.0, 1.0, 0.0);
+        assert!(!differentials_from(0.0, &[z, z, y, z]).regular);
+        assert!(!differentials_from(0.0, &[z, x * 1e-160, y, z]).regular);
+        let d = differentials_from(0.0, &[z, x, y, z]);
+        assert!(d.regular && d.curvature == 1.0);
     }
 }

@@ -11,6 +11,7 @@ pub mod surface_curvature;
 pub use arc_length::{arc_length, arc_length_between, span_arc_lengths};
 pub use curvature::{
     curvature, differentials, differentials_from, is_xy_planar, CurveDifferentials,
+    REGULAR_SPEED_EPS,
 };
 pub use projection::{project_point, CurveProjector, Projection};
 pub use surface_curvature::{surface_curvature, surface_curvature_from, SurfaceCurvature};
