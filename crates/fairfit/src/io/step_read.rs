@@ -15,7 +15,7 @@
 //! (taken at their projection onto the basis; `master_representation .CARTESIAN.` prefers them when
 //! both are given), `sense_agreement .F.` running from the first trim backwards to the second. An
 //! `EDGE_CURVE` whose vertices lie inside its curve stands for the piece between them
-//! ([`super::step_edge`]). The length unit is the one of the file's
+//! (`io/step_edge.rs`). The length unit is the one of the file's
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: an `SI_UNIT` metre with any prefix, or a `CONVERSION_BASED_UNIT`
 //! (inch, foot, ...) followed through its `LENGTH_MEASURE_WITH_UNIT` to the SI unit. Coordinates are
 //! returned as written; [`super::cad_read`] converts them.
@@ -539,7 +539,7 @@ pub(super) fn trimmed_curve(
 
 /// Reads every B-spline curve and surface of a parsed STEP file, in instance order, with the unit.
 /// A `TRIMMED_CURVE` of a B-spline by parameter values stands for its basis curve, cut to the trim. A
-/// `COMPOSITE_CURVE` of such curves ([`super::step_composite`]) stands for its segments (segments that
+/// `COMPOSITE_CURVE` of such curves (`io/step_composite.rs`) stands for its segments (segments that
 /// run against the chain are turned, [`super::cad_chain::orient_segments`]).
 pub fn contents(x: &Exchange) -> Result<CadContents> {
     let mut out = CadContents {
