@@ -40,7 +40,8 @@ fn bezier(p: &[Vec3; 4], t: f64) -> Vec3 {
 
 /// The STEP composite against analytic truths: the first segment (the arc's parameters [0.2, 1]) lies
 /// on the circle of radius 20 about (0, 20, 0) (to the 12 digits the file holds); the second runs the stored cubic backwards; the joined
-/// curve is C0 at the joints (knots of multiplicity 3 at 1 and 2) and its domain is [0.2, 3].
+/// curve is C0 at the joints (knots of multiplicity 3 at 1 and 2) and its domain is [0.2, 4] (the
+/// reparametrised last segment spans its param_length 2, ISO 10303-42, not its parent's range [0, 1]).
 #[test]
 fn step_composite_reads_to_analytic_values() {
     let g = read_cad(fixture(), CadKind::Any, 0).unwrap();
@@ -51,7 +52,7 @@ fn step_composite_reads_to_analytic_values() {
     let Geometry::Curve(c) = g.geometry else {
         panic!("a curve")
     };
-    assert_eq!((c.degree(), c.domain()), (3, (0.2, 3.0)));
+    assert_eq!((c.degree(), c.domain()), (3, (0.2, 4.0)));
     assert!(c.is_rational());
     for joint in [1.0, 2.0] {
         assert_eq!(c.knots().iter().filter(|&&k| k == joint).count(), 3);
@@ -73,7 +74,7 @@ fn step_composite_reads_to_analytic_values() {
         let want = bezier(&back, 1.0 - t);
         assert!((c.point(1.0 + t) - want).norm() < 1e-12, "{t}");
     }
-    assert!((c.point(3.0) - Vec3::new(70.0, 0.0, 0.0)).norm() < 1e-12);
+    assert!((c.point(4.0) - Vec3::new(70.0, 0.0, 0.0)).norm() < 1e-12);
     // the chain `fairfit curve` fits: every segment sampled, the two joint points once
     let chain = read_cad_chain(fixture(), 0).unwrap();
     assert_eq!(chain.segments.len(), 3);
@@ -95,7 +96,7 @@ fn step_composite_reads_to_analytic_values() {
         .fold(0.0, f64::max);
     assert!(off < 1e-11, "{off}");
     assert_eq!(pts[0], c.point(0.2));
-    assert_eq!(*pts.last().unwrap(), c.point(3.0));
+    assert_eq!(*pts.last().unwrap(), c.point(4.0));
 }
 
 /// OpenCASCADE reads the same file as a wire: its edges, sampled along their orientation, lie on
@@ -138,7 +139,7 @@ fn step_composite_agrees_with_opencascade() {
     println!("OCC edges: {worst:.2e} from the joined curve; length {length} vs {ours}");
     assert!(worst < 1e-12 * 70.0, "{worst}");
     assert!((all[0] - c.point(0.2)).norm() < 1e-12 * 70.0);
-    assert!((all[all.len() - 1] - c.point(3.0)).norm() < 1e-12 * 70.0);
+    assert!((all[all.len() - 1] - c.point(4.0)).norm() < 1e-12 * 70.0);
     assert!((length - ours).abs() < 1e-9 * length, "{length} {ours}");
 }
 
@@ -237,6 +238,19 @@ fn gaps_and_unsupported_segments_give_one_line_errors() {
         c.other_curves
     );
     assert_eq!(c.curves.len(), 3);
+    // a param_length that is no positive number
+    for bad in ["0.", "-2.", "$"] {
+        let t = text.replace(
+            "REPARAMETRISED_COMPOSITE_CURVE_SEGMENT(.DISCONTINUOUS.,.T.,#31,2.)",
+            &format!("REPARAMETRISED_COMPOSITE_CURVE_SEGMENT(.DISCONTINUOUS.,.T.,#31,{bad})"),
+        );
+        let e = parse_cad(&t, CadFormat::Step).unwrap_err().to_string();
+        assert!(
+            e.contains("(#48): the param_length of a REPARAMETRISED_COMPOSITE_CURVE_SEGMENT must be a positive number"),
+            "{bad}: {e}"
+        );
+        assert!(!e.contains('\n'));
+    }
     let _ = std::fs::remove_dir_all(&d);
 }
 
@@ -281,11 +295,14 @@ fn trimmed_lines_and_polylines_are_straight_segments() {
             "#906",
             &format!("#906 = TRIMMED_CURVE('',#904,{trims},.T.,.PARAMETER.);"),
         );
-        assert_eq!((c.degree(), c.domain()), (3, (0.2, 3.0)), "{trims}");
+        assert_eq!((c.degree(), c.domain()), (3, (0.2, 4.0)), "{trims}");
         for i in 0..=10 {
             let t = i as f64 / 10.0;
             let want = Vec3::new(40.0 + 30.0 * t, 10.0 - 10.0 * t, 5.0 - 5.0 * t);
-            assert!((c.point(2.0 + t) - want).norm() < 1e-12, "{trims} {t}");
+            assert!(
+                (c.point(2.0 + 2.0 * t) - want).norm() < 1e-12,
+                "{trims} {t}"
+            );
         }
     }
     let c = with("#906", "#906 = POLYLINE('',(#900,#905,#901));");
@@ -324,12 +341,12 @@ fn trimmed_lines_share_the_conic_direction_and_trims() {
     // both trims given, the parameters pointing elsewhere: the points win under .CARTESIAN.
     let both = "#906 = TRIMMED_CURVE('',#904,(#900,PARAMETER_VALUE(0.)),(#901,PARAMETER_VALUE(2.)),.T.,.CARTESIAN.);";
     let c = with("(6.,-2.,-1.)", both).unwrap();
-    assert!((c.point(3.0) - Vec3::new(70.0, 0.0, 0.0)).norm() < 1e-12);
-    assert!((c.point(2.5) - Vec3::new(55.0, 5.0, 2.5)).norm() < 1e-12);
+    assert!((c.point(4.0) - Vec3::new(70.0, 0.0, 0.0)).norm() < 1e-12);
+    assert!((c.point(3.0) - Vec3::new(55.0, 5.0, 2.5)).norm() < 1e-12);
     // ... and the parameters under .PARAMETER.: 15 (6, -2, -1) / sqrt(41) per unit from (40, 10, 5)
     let c = with("(6.,-2.,-1.)", &both.replace("CARTESIAN.)", "PARAMETER.)")).unwrap();
     let step = Vec3::new(6.0, -2.0, -1.0) * (15.0 / 41f64.sqrt());
-    assert!((c.point(3.0) - (Vec3::new(40.0, 10.0, 5.0) + step * 2.0)).norm() < 1e-12);
+    assert!((c.point(4.0) - (Vec3::new(40.0, 10.0, 5.0) + step * 2.0)).norm() < 1e-12);
     let by_params = "#906 = TRIMMED_CURVE('',#904,(PARAMETER_VALUE(0.)),(PARAMETER_VALUE(1.)),.T.,.PARAMETER.);";
     for (dir, line, want) in [
         ("(0.,0.,0.)", by_params, "the DIRECTION #902 is zero or not finite"),

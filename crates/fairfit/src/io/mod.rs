@@ -22,6 +22,7 @@ pub mod sections;
 pub mod step;
 mod step_composite;
 mod step_conic;
+mod step_edge;
 pub mod step_read;
 pub mod tessellate;
 

@@ -2,7 +2,10 @@
 //! `REPARAMETRISED_COMPOSITE_CURVE_SEGMENT`) in order, each parent curve a B-spline, a `CIRCLE` or an
 //! `ELLIPSE` (exact rational quadratics), a `TRIMMED_CURVE` of any of these (by parameters or points,
 //! `step_read::trimmed_curve`), a straight piece (a trimmed `LINE` or a `POLYLINE`, as a
-//! B-spline of degree 1), or a nested composite, reversed where `same_sense` is `.F.`.
+//! B-spline of degree 1), or a nested composite, reversed where `same_sense` is `.F.`. A
+//! `REPARAMETRISED_COMPOSITE_CURVE_SEGMENT` spans its `param_length` of the composite's parameter
+//! (ISO 10303-42): its parent's parameter range is stretched linearly to that length (the same curve,
+//! knots mapped affinely); a `param_length` that is not a positive number is refused.
 //! Composite curves on surfaces and boundary curves (subtypes that bound a face in its parameter space
 //! or on it) are not read; a composite with any other segment (an untrimmed `LINE`, a `PARABOLA`, ...)
 //! is named in the "found:" list of errors instead.
@@ -120,6 +123,15 @@ fn straight(x: &Exchange, id: u64, inst: &Instance) -> Result<Option<NurbsCurve>
     to_curve(vec![a, b]).map(Some)
 }
 
+/// `c` with its parameter range stretched by `factor` from its start (knots `a + (k - a) factor`): the
+/// same curve, linearly reparametrised.
+fn stretched(c: &NurbsCurve, factor: f64) -> Result<NurbsCurve> {
+    let a = c.domain().0;
+    let knots = c.knots().iter().map(|&k| a + (k - a) * factor).collect();
+    let w = c.is_rational().then(|| c.weights().to_vec());
+    NurbsCurve::new(c.degree(), knots, c.control_points().to_vec(), w)
+}
+
 /// Reads the composite `#id` (depth-limited for nested composites).
 fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize, rad: f64) -> Result<Composite> {
     if depth > 8 {
@@ -200,6 +212,29 @@ fn composite(x: &Exchange, id: u64, inst: &Instance, depth: usize, rad: f64) -> 
             part.reverse();
             for c in &mut part {
                 *c = c.reversed();
+            }
+        }
+        if let Some(r) = sinst.part("REPARAMETRISED_COMPOSITE_CURVE_SEGMENT") {
+            let length = r.params.get(3).and_then(Value::as_f64);
+            let Some(length) = length.filter(|l| l.is_finite() && *l > 0.0) else {
+                return Err(err(
+                    sid,
+                    sinst,
+                    "the param_length of a REPARAMETRISED_COMPOSITE_CURVE_SEGMENT must be a \
+                     positive number",
+                ));
+            };
+            let own: f64 = part.iter().map(|c| c.domain().1 - c.domain().0).sum();
+            let factor = length / own;
+            if !(factor.is_finite() && factor > 0.0) {
+                return Err(err(
+                    sid,
+                    sinst,
+                    format!("cannot give the parent #{pid} the param_length {length}"),
+                ));
+            }
+            for c in &mut part {
+                *c = stretched(c, factor).map_err(|e| err(sid, sinst, e))?;
             }
         }
         segments.extend(part);

@@ -13,8 +13,9 @@
 //! `TRIMMED_CURVE` as the arc between its trims. A `TRIMMED_CURVE` of a B-spline or a conic is cut at its
 //! trims, exactly: `PARAMETER_VALUE`s (conic angles in the file's plane-angle unit) or `CARTESIAN_POINT`s
 //! (taken at their projection onto the basis; `master_representation .CARTESIAN.` prefers them when
-//! both are given), `sense_agreement .F.` running from the first trim backwards to the second (an
-//! edge's sub-range given only by its vertices is not cut). The length unit is the one of the file's
+//! both are given), `sense_agreement .F.` running from the first trim backwards to the second. An
+//! `EDGE_CURVE` whose vertices lie inside its curve stands for the piece between them
+//! (`io/step_edge.rs`). The length unit is the one of the file's
 //! `GLOBAL_UNIT_ASSIGNED_CONTEXT`: an `SI_UNIT` metre with any prefix, or a `CONVERSION_BASED_UNIT`
 //! (inch, foot, ...) followed through its `LENGTH_MEASURE_WITH_UNIT` to the SI unit. Coordinates are
 //! returned as written; [`super::cad_read`] converts them.
@@ -538,7 +539,7 @@ pub(super) fn trimmed_curve(
 
 /// Reads every B-spline curve and surface of a parsed STEP file, in instance order, with the unit.
 /// A `TRIMMED_CURVE` of a B-spline by parameter values stands for its basis curve, cut to the trim. A
-/// `COMPOSITE_CURVE` of such curves ([`super::step_composite`]) stands for its segments (segments that
+/// `COMPOSITE_CURVE` of such curves (`io/step_composite.rs`) stands for its segments (segments that
 /// run against the chain are turned, [`super::cad_chain::orient_segments`]).
 pub fn contents(x: &Exchange) -> Result<CadContents> {
     let mut out = CadContents {
@@ -564,7 +565,26 @@ pub fn contents(x: &Exchange) -> Result<CadContents> {
         }
     }
     let cut: BTreeSet<u64> = trims.values().map(|t| t.basis).collect();
+    // curves that an edge cuts are listed as their edges, each in its place
+    let mut edges = super::step_edge::edges(x, &trims, &skip)?;
+    let by_edges: BTreeSet<u64> = edges
+        .values()
+        .filter(|e| !e.whole)
+        .map(|e| e.basis)
+        .collect();
+    edges.retain(|_, e| by_edges.contains(&e.basis));
     for (&id, inst) in &x.data {
+        if by_edges.contains(&id) {
+            continue;
+        }
+        if let Some(e) = edges.remove(&id) {
+            let label = match e.kind {
+                "edge" => format!("#{id} (edge of #{})", e.basis),
+                kind => format!("#{id} ({kind}, edge of #{})", e.basis),
+            };
+            out.curves.push((label, e.curve));
+            continue;
+        }
         if let Some(s) = surface(x, id, inst)? {
             out.surfaces.push((format!("#{id}"), s));
             continue;
