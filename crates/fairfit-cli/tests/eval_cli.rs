@@ -2,26 +2,15 @@
 //! (missing, malformed, truncated, binary file; bad `--at` list; parameter outside the domain) giving a
 //! one-line error with exit code 1 (2 for a usage error) and no panic.
 
+mod common;
+use common::{file_with, CIRCLE};
+
 use assert_cmd::Command;
 use serde_json::Value;
-use std::io::Write;
-use tempfile::NamedTempFile;
-
-/// The exact rational quadratic circle of radius 2 around (1, -1, 0.5).
-const CIRCLE: &str = r#"{"kind": "curve", "degree": 2,
-  "knots": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
-  "control_points": [[3,-1,0.5],[3,1,0.5],[1,1,0.5],[-1,1,0.5],[-1,-1,0.5],[-1,-3,0.5],[1,-3,0.5],[3,-3,0.5],[3,-1,0.5]],
-  "weights": [1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1]}"#;
 
 /// z = x y on [0,1]², bilinear.
 const SADDLE: &str = r#"{"kind": "surface", "degree_u": 1, "degree_v": 1, "knots_u": [0,0,1,1], "knots_v": [0,0,1,1],
   "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#;
-
-fn file_with(bytes: &[u8]) -> NamedTempFile {
-    let mut f = NamedTempFile::new().unwrap();
-    f.write_all(bytes).unwrap();
-    f
-}
 
 fn eval(file: &std::path::Path, at: &str) -> std::process::Output {
     Command::cargo_bin("fairfit")
