@@ -296,3 +296,30 @@ fn no_negative_zero_in_the_output() {
     // negative numbers other than zero are kept
     assert_eq!(v[0]["derivatives"][2][0].as_f64().unwrap(), -6.0);
 }
+
+#[test]
+fn knots_whose_range_overflows_are_refused() {
+    // finite knots from -1e308 to 1e308: the range is infinite in f64, every basis function came out
+    // 0 and eval printed the point (0, 0, 0) for a curve through (0,0,0)..(2,0,0)
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 2, "knots": [-1e308,-1e308,-1e308,1e308,1e308,1e308],
+            "control_points": [[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    assert_one_line_error(&eval(f.path(), "0"), "beyond the floating-point limit");
+    // a range of 1e308 is still fine: the midpoint of the quadratic Bézier is (1, 0.5, 0)
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 2, "knots": [0,0,0,1e308,1e308,1e308],
+            "control_points": [[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    let out = ok_json(f.path(), "5e307");
+    let p = vec3(&out[0]["point"]);
+    assert!(
+        (p[0] - 1.0).abs() < 1e-12 && (p[1] - 0.5).abs() < 1e-12,
+        "{p:?}"
+    );
+    // there the speed is about 2e-308 (|C'|³ underflows), yet the curve is regular with κ = |C'×C''|/|C'|³
+    // = 1 in the Bézier parameter t: C'(1/2) = (2, 0), C''(1/2) = (0, -4)
+    assert_eq!(out[0]["regular"], Value::Bool(true));
+    let k = out[0]["curvature"].as_f64().unwrap();
+    assert!((k - 1.0).abs() < 1e-12, "{k}");
+}
