@@ -2,41 +2,17 @@
 //! code 2, `--help`/`--version` print on stdout with exit 0, a closed stdout ends the run quietly with
 //! exit 0, and two outputs naming one file (or an output naming an input) fail up front with exit 1.
 
-use assert_cmd::Command;
+mod common;
+use common::{assert_success, fairfit, one_line_failure, CIRCLE};
+
 use std::io::Read;
 use std::path::Path;
 use std::process::Stdio;
-
-fn fairfit() -> Command {
-    Command::cargo_bin("fairfit").unwrap()
-}
-
-/// The exact rational quadratic circle of radius 2 (a small valid curve file).
-const CIRCLE: &str = r#"{"kind": "curve", "degree": 2,
-  "knots": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
-  "control_points": [[3,-1,0.5],[3,1,0.5],[1,1,0.5],[-1,1,0.5],[-1,-1,0.5],[-1,-3,0.5],[1,-3,0.5],[3,-3,0.5],[3,-1,0.5]],
-  "weights": [1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1]}"#;
 
 fn circle_file(dir: &Path) -> std::path::PathBuf {
     let p = dir.join("circle.json");
     std::fs::write(&p, CIRCLE).unwrap();
     p
-}
-
-/// Runs `args`, expects exit `code`, empty stdout and exactly one stderr line containing every needle;
-/// returns that line.
-fn one_line_failure(args: &[&str], code: i32, needles: &[&str]) -> String {
-    let out = fairfit().args(args).output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
-    assert!(out.stdout.is_empty(), "{args:?}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
-    assert!(err.starts_with("error: "), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "`{n}` not in {err}");
-    }
-    assert!(!err.contains("panicked") && !err.contains("internal error"));
-    err
 }
 
 #[test]
@@ -260,11 +236,7 @@ fn coordinates_near_the_ends_of_the_f64_range_give_numbers_or_clear_messages() {
             .arg(d.join(format!("c{s:e}.obj")))
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_success(&out);
         let text = std::fs::read_to_string(&step).unwrap();
         fairfit::io::cad_check::check_step(&text).unwrap();
     }

@@ -1,6 +1,9 @@
 //! `fairfit curve`: a tolerance fit with its report checked against an independent projection, and
 //! ill-posed inputs (one-line error, exit 1, no panic).
 
+mod common;
+use common::{data, file_with};
+
 #[path = "../../fairfit/tests/common/polyline.rs"]
 mod polyline;
 
@@ -8,19 +11,7 @@ use assert_cmd::Command;
 use fairfit::diffgeo::CurveProjector;
 use fairfit::io::{read_geometry, read_points, Geometry};
 use serde_json::Value;
-use std::io::Write;
 use tempfile::{NamedTempFile, TempDir};
-
-fn data(name: &str) -> String {
-    format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
-
-fn file_with(content: &[u8]) -> NamedTempFile {
-    let mut f = NamedTempFile::new().unwrap();
-    f.write_all(content).unwrap();
-    f.flush().unwrap();
-    f
-}
 
 /// A failure of the run (bad input): exit code 1, one `error:` line containing `needle`.
 fn fails_cleanly(args: &[&str], needle: &str) {

@@ -1,13 +1,12 @@
 //! `fairfit curve --method integrated` on closed data and on data with corners: periodic output,
 //! `--control-points` shared among pieces, `--pareto` of the joined and of the periodic curve.
 
+mod common;
+use common::data;
+
 use assert_cmd::Command;
 use serde_json::Value;
 use tempfile::TempDir;
-
-fn data(name: &str) -> String {
-    format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 fn run_report(args: &[&str], dir: &TempDir, tag: &str) -> (Value, Value) {
     let out = dir.path().join(format!("{tag}.json"));

@@ -3,13 +3,12 @@
 //! one within the cubic's control points, `--degree 3` the cubic search alone, and a fixed count a
 //! quintic cannot meet reported as a miss.
 
+mod common;
+use common::data;
+
 use assert_cmd::Command;
 use serde_json::Value;
 use tempfile::TempDir;
-
-fn data(name: &str) -> String {
-    format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 fn fairfit(args: &[&str]) -> std::process::Output {
     Command::cargo_bin("fairfit")

@@ -1,13 +1,12 @@
 //! `fairfit curve --ends pinned|free`: the report says which end condition was used, free ends
 //! give the same bytes with 1 and 2 threads, and `--ends free` needs the integrated method.
 
+mod common;
+use common::data;
+
 use assert_cmd::Command;
 use serde_json::Value;
 use tempfile::TempDir;
-
-fn data(name: &str) -> String {
-    format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 fn run(args: &[&str]) -> std::process::Output {
     Command::cargo_bin("fairfit")

@@ -1,13 +1,12 @@
 //! `fairfit curve --method integrated` (the default): byte-identical output for 1 and 2 threads, the
 //! report's optimiser statistics and tolerance, the Pareto CSV, and fit-then-fair.
 
+mod common;
+use common::data;
+
 use assert_cmd::Command;
 use serde_json::Value;
 use tempfile::TempDir;
-
-fn data(name: &str) -> String {
-    format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 fn run(args: &[&str]) {
     let out = Command::cargo_bin("fairfit")

@@ -2,13 +2,11 @@
 //! content a CAD system, a mesh viewer and a browser expect; bad input and unwritable paths fail before
 //! any file (the curve JSON included) is written.
 
-use assert_cmd::Command;
+mod common;
+use common::fairfit;
+
 use fairfit::io::cad_check::{check_iges, check_step};
 use std::path::{Path, PathBuf};
-
-fn fairfit() -> Command {
-    Command::cargo_bin("fairfit").unwrap()
-}
 
 fn naca() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data/naca4412.csv")

@@ -2,26 +2,15 @@
 //! (missing, malformed, truncated, binary file; bad `--at` list; parameter outside the domain) giving a
 //! one-line error with exit code 1 (2 for a usage error) and no panic.
 
+mod common;
+use common::{file_with, CIRCLE};
+
 use assert_cmd::Command;
 use serde_json::Value;
-use std::io::Write;
-use tempfile::NamedTempFile;
-
-/// The exact rational quadratic circle of radius 2 around (1, -1, 0.5).
-const CIRCLE: &str = r#"{"kind": "curve", "degree": 2,
-  "knots": [0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1],
-  "control_points": [[3,-1,0.5],[3,1,0.5],[1,1,0.5],[-1,1,0.5],[-1,-1,0.5],[-1,-3,0.5],[1,-3,0.5],[3,-3,0.5],[3,-1,0.5]],
-  "weights": [1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1, 0.7071067811865476, 1]}"#;
 
 /// z = x y on [0,1]², bilinear.
 const SADDLE: &str = r#"{"kind": "surface", "degree_u": 1, "degree_v": 1, "knots_u": [0,0,1,1], "knots_v": [0,0,1,1],
   "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#;
-
-fn file_with(bytes: &[u8]) -> NamedTempFile {
-    let mut f = NamedTempFile::new().unwrap();
-    f.write_all(bytes).unwrap();
-    f
-}
 
 fn eval(file: &std::path::Path, at: &str) -> std::process::Output {
     Command::cargo_bin("fairfit")
@@ -306,4 +295,31 @@ fn no_negative_zero_in_the_output() {
     assert!(v[0]["torsion"].as_f64().unwrap().is_sign_positive());
     // negative numbers other than zero are kept
     assert_eq!(v[0]["derivatives"][2][0].as_f64().unwrap(), -6.0);
+}
+
+#[test]
+fn knots_whose_range_overflows_are_refused() {
+    // finite knots from -1e308 to 1e308: the range is infinite in f64, every basis function came out
+    // 0 and eval printed the point (0, 0, 0) for a curve through (0,0,0)..(2,0,0)
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 2, "knots": [-1e308,-1e308,-1e308,1e308,1e308,1e308],
+            "control_points": [[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    assert_one_line_error(&eval(f.path(), "0"), "beyond the floating-point limit");
+    // a range of 1e308 is still fine: the midpoint of the quadratic Bézier is (1, 0.5, 0)
+    let f = file_with(
+        br#"{"kind": "curve", "degree": 2, "knots": [0,0,0,1e308,1e308,1e308],
+            "control_points": [[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    let out = ok_json(f.path(), "5e307");
+    let p = vec3(&out[0]["point"]);
+    assert!(
+        (p[0] - 1.0).abs() < 1e-12 && (p[1] - 0.5).abs() < 1e-12,
+        "{p:?}"
+    );
+    // there the speed is about 2e-308 (|C'|³ underflows), yet the curve is regular with κ = |C'×C''|/|C'|³
+    // = 1 in the Bézier parameter t: C'(1/2) = (2, 0), C''(1/2) = (0, -4)
+    assert_eq!(out[0]["regular"], Value::Bool(true));
+    let k = out[0]["curvature"].as_f64().unwrap();
+    assert!((k - 1.0).abs() < 1e-12, "{k}");
 }

@@ -1,7 +1,9 @@
 //! `fairfit export` and `fairfit plot` end to end: files written and checked (STEP/IGES structure, mesh
 //! counts, PNG size), and bad input refused before any file exists.
 
-use assert_cmd::Command;
+mod common;
+use common::fairfit;
+
 use fairfit::io::cad_check::{check_iges, check_step};
 use fairfit::plot::png::png_size;
 use std::path::Path;
@@ -29,10 +31,6 @@ fn surface_json() -> String {
         "control_points": net,
     })
     .to_string()
-}
-
-fn fairfit() -> Command {
-    Command::cargo_bin("fairfit").unwrap()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {

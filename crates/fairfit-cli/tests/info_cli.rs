@@ -1,17 +1,11 @@
 //! `fairfit info` on curves and surfaces with known fairness, and on bad input (one-line error, exit 1).
 
+mod common;
+use common::file_with;
+
 use assert_cmd::Command;
 use serde_json::Value;
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
-use std::io::Write;
-use tempfile::NamedTempFile;
-
-fn file_with(content: &[u8]) -> NamedTempFile {
-    let mut f = NamedTempFile::new().unwrap();
-    f.write_all(content).unwrap();
-    f.flush().unwrap();
-    f
-}
 
 fn circle_json(r: f64) -> String {
     let h = FRAC_1_SQRT_2;

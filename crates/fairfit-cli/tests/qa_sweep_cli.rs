@@ -2,26 +2,10 @@
 //! meshes at 1e±300 (misread as coincident points or empty planes), and the surface command's output
 //! being the same whatever `--threads`.
 
-use assert_cmd::Command;
+mod common;
+use common::{assert_success, fairfit, one_line_failure};
+
 use std::path::Path;
-
-fn fairfit() -> Command {
-    Command::cargo_bin("fairfit").unwrap()
-}
-
-/// Exit code `code`, exactly one stderr line, starting `error: ` and containing every needle.
-fn one_line_failure(args: &[&str], code: i32, needles: &[&str]) -> String {
-    let out = fairfit().args(args).output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
-    assert!(err.starts_with("error: "), "{err}");
-    for n in needles {
-        assert!(err.contains(n), "{args:?}: expected `{n}` in {err}");
-    }
-    assert!(!err.contains("panicked") && !err.contains("internal error"));
-    err
-}
 
 /// Three ellipse sections (20 points each) of size `s`, as files in `dir`.
 fn ellipse_sections(dir: &Path, s: f64) {
@@ -100,11 +84,7 @@ fn sections_and_meshes_at_extreme_scales_ask_for_rescaling() {
         .args(["surface", secs.to_str().unwrap(), "-o", out])
         .output()
         .unwrap();
-    assert!(
-        ok.status.success(),
-        "{}",
-        String::from_utf8_lossy(&ok.stderr)
-    );
+    assert_success(&ok);
     let mesh = dir.path().join("tube.obj");
     tube_obj(&mesh, 1.0);
     let ok = fairfit()
@@ -118,11 +98,7 @@ fn sections_and_meshes_at_extreme_scales_ask_for_rescaling() {
         ])
         .output()
         .unwrap();
-    assert!(
-        ok.status.success(),
-        "{}",
-        String::from_utf8_lossy(&ok.stderr)
-    );
+    assert_success(&ok);
 }
 
 /// The surface JSON and report of `fairfit surface ARGS --threads T` for T = 1, 2 and the default.
@@ -146,11 +122,7 @@ fn surface_outputs_per_thread_count(args: &[&str], dir: &Path) -> Vec<(Vec<u8>, 
                 cmd.args(["--threads", t]);
             }
             let out = cmd.output().unwrap();
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            assert_success(&out);
             (std::fs::read(&o).unwrap(), std::fs::read(&r).unwrap())
         })
         .collect()
@@ -222,11 +194,7 @@ fn outputs_naming_folders_fail_before_any_work_and_devices_are_written_into() {
             .args(["--report", "/dev/null"])
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_success(&out);
         let meta = std::fs::metadata(null).unwrap();
         assert!(
             !meta.is_file() && !meta.is_dir(),

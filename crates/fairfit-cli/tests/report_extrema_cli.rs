@@ -5,16 +5,15 @@
 //! former 32 samples per span stepped over (measured 2026-11-26: FFA-W3-241 7 against 9 extrema,
 //! du84132v_noise1e-4 10 against 12).
 
+mod common;
+use common::{assert_success, data};
+
 #[path = "../../fairfit/tests/common/python.rs"]
 mod python;
 
 use assert_cmd::Command;
 use serde_json::Value;
 use tempfile::TempDir;
-
-fn data(name: &str) -> String {
-    format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"))
-}
 
 /// `(extrema, inflections)` of the curve in `json` at `samples` per span, by bench/measure.py.
 fn measured(python: &str, json: &std::path::Path, samples: usize) -> (u64, u64) {
@@ -34,11 +33,7 @@ fn measured(python: &str, json: &std::path::Path, samples: usize) -> (u64, u64) 
         .args(["-c", &script])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let text = String::from_utf8(out.stdout).unwrap();
     let v: Vec<u64> = text
         .split_whitespace()

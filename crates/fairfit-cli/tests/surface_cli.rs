@@ -1,19 +1,14 @@
 //! `fairfit surface` end to end: blade sections, sliced meshes with and without holes, and clear errors
 //! (one line, exit code 1, no panic) for unusable inputs.
 
+mod common;
+use common::{fairfit, read_json};
+
 use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 
 fn blade_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data/iea15mw_sections")
-}
-
-fn fairfit() -> Command {
-    Command::cargo_bin("fairfit").unwrap()
-}
-
-fn read_json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
 
 /// A failure of the run (bad input): exit code 1, one `error:` line containing `needle`.

@@ -65,7 +65,7 @@ pub enum Error {
     Cad(String),
 }
 
-/// Shorthand for results carrying an [`Error`].
+/// Shorthand for results carrying an [`Error`](enum@Error).
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {

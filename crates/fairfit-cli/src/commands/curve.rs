@@ -209,10 +209,10 @@ pub struct CurveArgs {
     /// Knot placement (lsq and fit-then-fair methods).
     #[arg(long, value_enum, default_value_t = KnotArg::Refine)]
     pub knots: KnotArg,
-    /// Tangent direction X,Y[,Z] at the first point (open curves; lsq and fit-then-fair methods).
+    /// Tangent direction X,Y or X,Y,Z at the first point (open curves; lsq and fit-then-fair methods).
     #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
     pub start_tangent: Option<Vec3>,
-    /// Tangent direction X,Y[,Z] at the last point (open curves; lsq and fit-then-fair methods).
+    /// Tangent direction X,Y or X,Y,Z at the last point (open curves; lsq and fit-then-fair methods).
     #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
     pub end_tangent: Option<Vec3>,
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).

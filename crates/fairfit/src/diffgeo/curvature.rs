@@ -109,8 +109,10 @@ pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
 
 /// Differential quantities of `curve` at `u`.
 ///
-/// Far outside unit size (coordinates around 1e±160 and beyond, where `|C'|³` over- or underflows) the
-/// quantities come from an exactly rescaled copy (see [`crate::nurbs::scale`]).
+/// Far outside unit size (coordinates around 1e±160 and beyond, where `|C'|³` over- or underflows), or
+/// with knots far from unit range, the quantities come from an exactly rescaled copy (control points
+/// and knots times powers of two, see [`crate::nurbs::scale`]); curvature, torsion and dκ/ds do not
+/// depend on the parametrisation.
 ///
 /// [`CurveDifferentials::regular`] is decided on that (rescaled) evaluation against the curve's own
 /// reference speed, so it does not depend on the curve's size: where the speed vanishes (e.g. at a
@@ -139,25 +141,28 @@ pub fn differentials_from(u: f64, d: &[Vec3; 4]) -> CurveDifferentials {
 /// assert!((d.curvature * 1e-300 - 1.0).abs() < 1e-12);
 /// ```
 pub fn differentials(curve: &NurbsCurve, u: f64) -> CurveDifferentials {
-    let f = crate::nurbs::scale::normalising_factor(curve.control_points());
-    if let Some(s) = (f != 1.0)
-        .then(|| crate::nurbs::scale::scaled_curve(curve, f).ok())
+    use crate::nurbs::scale::{normalising_factor, parameter_factor, scaled_curve_and_parameter};
+    let f = normalising_factor(curve.control_points());
+    // the parameter too: with knots 1e200 apart the speed is about 1e-200 and |C'|³ underflows
+    let g = parameter_factor(curve.knots());
+    if let Some(s) = (f != 1.0 || g != 1.0)
+        .then(|| scaled_curve_and_parameter(curve, f, g).ok())
         .flatten()
     {
         let mut d = [Vec3::ZERO; 4];
-        s.derivatives_into(u, 3, &mut d);
-        let m = differentials_from(u, &d);
+        s.derivatives_into(u * g, 3, &mut d);
+        let m = differentials_from(u * g, &d);
         let m = with_regularity(m, &s);
-        let g = 1.0 / f;
         // evaluate C and its derivatives on the curve itself (exact enough, and no 1/f rounding)
         curve.derivatives_into(u, 3, &mut d);
+        // the geometric quantities scale with f only; |dC/du| = |dC_s/dt| g / f with t = g u
         return CurveDifferentials {
             u,
             point: d[0],
             d1: d[1],
             d2: d[2],
             d3: d[3],
-            speed: m.speed * g,
+            speed: m.speed * g / f,
             curvature: m.curvature * f,
             signed_curvature: m.signed_curvature * f,
             torsion: m.torsion * f,
@@ -279,7 +284,7 @@ mod tests {
         // κ = 9 / (45/8)^(3/2); the curvature scales as 1/s and does not depend on the span
         let kappa_half = 9.0 / (45.0f64 / 8.0).powf(1.5);
         for s in [1.0, 1e-300, 1e-20, 1e20, 1e300] {
-            for span in [1.0, 1e-6, 1e6] {
+            for span in [1.0, 1e-6, 1e6, 1e-250, 1e250] {
                 let c = degenerate_start(s, span);
                 let d0 = differentials(&c, 0.0);
                 assert!(!d0.regular, "s {s:e} span {span:e}");

@@ -14,7 +14,8 @@ pub const MAX_DEGREE: usize = 40;
 /// Checks a knot vector for a curve of `degree` with `n_ctrl` control points.
 ///
 /// Requires `1 <= degree <= MAX_DEGREE`, `len == n_ctrl + degree + 1`, finite values, non-decreasing
-/// order, interior multiplicities `<= degree + 1` and a non-empty domain `[U[p], U[n+1]]`. Clamped and unclamped vectors are accepted.
+/// order, a range `U[last] - U[0]` that is finite in `f64`, interior multiplicities `<= degree + 1`
+/// and a non-empty domain `[U[p], U[n+1]]`. Clamped and unclamped vectors are accepted.
 pub fn validate_knots(knots: &[f64], degree: usize, n_ctrl: usize, what: &str) -> Result<()> {
     if degree == 0 {
         return Err(Error::InvalidDegree {
@@ -57,6 +58,14 @@ pub fn validate_knots(knots: &[f64], degree: usize, n_ctrl: usize, what: &str) -
             knots[i],
             i + 1,
             knots[i + 1]
+        )));
+    }
+    // every basis function divides by knot differences: a range beyond f64 (e.g. -1e308 to 1e308)
+    // would make them infinite and every point 0
+    let (first, last) = (knots[0], knots[knots.len() - 1]);
+    if !(last - first).is_finite() {
+        return Err(Error::InvalidKnots(format!(
+            "{what}: the knots run from {first:e} to {last:e}, a range beyond the floating-point limit; rescale the parameters"
         )));
     }
     let (a, b) = (knots[degree], knots[n_ctrl]);
@@ -215,5 +224,12 @@ mod tests {
         let e = validate_knots(&[0.0, f64::NAN, 1.0, 1.0], 1, 2, "curve").unwrap_err();
         assert!(e.to_string().contains("not finite"), "{e}");
         assert!(validate_knots(&uniform_clamped(3, 7), 3, 7, "curve").is_ok());
+        // finite knots whose range overflows: every basis function would be 0
+        let e = validate_knots(&[-1e308, -1e308, 1e308, 1e308], 1, 2, "curve").unwrap_err();
+        assert!(
+            e.to_string().contains("beyond the floating-point limit"),
+            "{e}"
+        );
+        assert!(validate_knots(&[0.0, 0.0, 1e308, 1e308], 1, 2, "curve").is_ok());
     }
 }

@@ -42,6 +42,42 @@ pub fn normalising_factor(points: &[Vec3]) -> f64 {
     f
 }
 
+/// The power of two that brings the range `knots[last] - knots[0]` near 1, or 1 when the range is
+/// already within `[2^-64, 2^64]`, is zero or not finite. Multiplying knots (and parameters) by it is
+/// exact and changes no point of the curve, only the parametric derivatives (by powers of the factor);
+/// geometric quantities (curvature, torsion, dκ/ds) do not change at all.
+pub fn parameter_factor(knots: &[f64]) -> f64 {
+    let range = match (knots.first(), knots.last()) {
+        (Some(a), Some(b)) => b - a,
+        _ => return 1.0,
+    };
+    if !(range.is_finite() && range > 0.0) {
+        return 1.0;
+    }
+    let e = range.log2().round() as i32;
+    if e.abs() <= SAFE_EXPONENT {
+        return 1.0;
+    }
+    let g = 2f64.powi(-e);
+    let max_abs = knots.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+    if g == 0.0 || !(max_abs * g).is_finite() {
+        return 1.0;
+    }
+    g
+}
+
+/// `curve` with control points multiplied by `f` and knots by `g` (weights kept): the same shape
+/// scaled by `f`, at parameter `g u` for the original's `u`. Errors like [`scaled_curve`].
+pub fn scaled_curve_and_parameter(curve: &NurbsCurve, f: f64, g: f64) -> Result<NurbsCurve> {
+    let pts = curve.control_points().iter().map(|&p| p * f).collect();
+    NurbsCurve::new(
+        curve.degree(),
+        curve.knots().iter().map(|&k| k * g).collect(),
+        pts,
+        Some(curve.weights().to_vec()),
+    )
+}
+
 /// `curve` with control points multiplied by `f` (weights and knots kept). Errors when a scaled
 /// weighted control point would overflow (huge weights on a tiny curve); callers then measure the
 /// curve unscaled.
@@ -93,5 +129,16 @@ mod tests {
         let far = [Vec3::new(1e10, 0.0, 0.0), Vec3::new(1e10 + 1e-6, 0.0, 0.0)];
         assert_eq!(normalising_factor(&far), 1.0);
         assert_eq!(normalising_factor(&[Vec3::ZERO; 2]), 1.0);
+    }
+
+    #[test]
+    fn parameter_factors_bring_huge_and_tiny_knot_ranges_near_one() {
+        assert_eq!(parameter_factor(&[0.0, 0.0, 1.0, 1.0]), 1.0);
+        assert_eq!(parameter_factor(&[0.0, 0.0, 1e18, 1e18]), 1.0);
+        for range in [1e300, 1e-300, 1e30] {
+            let g = parameter_factor(&[0.0, 0.0, range, range]);
+            assert_eq!(g, 2f64.powi(-(range.log2().round() as i32)));
+            assert!((range * g - 1.0).abs() < 0.5, "{range:e}");
+        }
     }
 }

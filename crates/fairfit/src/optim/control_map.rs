@@ -184,7 +184,7 @@ impl ControlMap {
     /// For a periodic curve, `e` (an open measure of the curve in `ws`, which takes the first data
     /// point and its repeat as interpolated) with the first point's distance from the curve near the
     /// seam included; its foot goes to both ends of `ws.foot_params`. For an open curve with free
-    /// ends, `e` with the end points' distances from the curve's ends included ([`with_ends`]).
+    /// ends, `e` with the end points' distances from the curve's ends included (`with_ends`).
     /// Unchanged for an open curve with pinned ends or when `e` has no deviations.
     pub fn with_seam(
         &self,

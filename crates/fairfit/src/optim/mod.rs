@@ -7,7 +7,7 @@
 //!   budget;
 //! - [`corners`]: splitting at corner points and joining the pieces C0;
 //! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
-//! - [`descent`]: the second start of an open curve's count descent (the count search's restart seeds);
+//! - `descent`: the second start of an open curve's count descent (the count search's restart seeds);
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
@@ -21,11 +21,11 @@
 //! - [`cone_algebra`]: the second-order cone's Jordan algebra, NT scaling, a small Cholesky;
 //! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
 //!   extrema removed);
-//! - [`residual_knots`]: FITPACK-style knots where the least-squares residuals are largest;
+//! - `residual_knots`: FITPACK-style knots where the least-squares residuals are largest;
 //! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
 //! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
 //! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
-//! - [`knot_edits`]: knot removals and insertions, the least-squares method's knots and the
+//! - `knot_edits`: knot removals and insertions, the least-squares method's knots and the
 //!   descent's swarm probe, shared by open and periodic searches;
 //! - [`degree_search`]: the integrated fit at several degrees and the rule that keeps one
 //!   (`--degree auto`);

@@ -5,7 +5,7 @@
 //! the encoded breakpoints and smoothing weight, here of the periodic problem
 //! ([`super::periodic::ClosedProblem`]: seam fixed at the first point, periodic least squares, every
 //! point measured, F over the whole loop), seeded with the result's breakpoints and smoothing and
-//! with equal index steps; members deviating more than [`DEVIATION_CAP`] tolerances are left out.
+//! with equal index steps; members deviating more than [`DEVIATION_CAP`](super::pareto::DEVIATION_CAP) tolerances are left out.
 //! Every member is written like the fit's closed curves (unclamped periodic knots, `n_u + p`
 //! control points whose last `p` repeat the first), so it is `C^(p−1)` at the seam. Members are the
 //! least-squares curves of their knots (no band fairing or polish, as for open curves).
