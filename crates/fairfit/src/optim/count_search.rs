@@ -189,6 +189,8 @@ pub(crate) struct CountChoice {
     /// search stopped, in every search at the kept count, not only in the luckiest of its two or
     /// three); 1 otherwise.
     pub count_gain: f64,
+    /// The kept curve's curvature extrema (as [`rank_fit`] counts them).
+    pub extrema: usize,
 }
 
 /// [`search_counts`], with the **extrema cost** of the choice: the chosen candidate's score
@@ -284,6 +286,7 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
     let choice = CountChoice {
         extrema_cost: extrema_cost(&counts, &ranked, best),
         count_gain: count_gain(&counts, &ranked, best),
+        extrema: ranked[best].extrema,
     };
     let chosen = finished.into_iter().nth(best).unwrap_or_else(|| {
         Err(Error::Fit(

@@ -7,7 +7,7 @@
 //!    has no more curvature extrema than the reference's (the extrema count is never traded for F);
 //!    its control points are the reference's count or fewer, except after the next degree's own
 //!    count search ([`super::degree_candidates`], "Own count search"), which may go up to the
-//!    least-squares baseline;
+//!    least-squares baseline (one above it where the reference kept the baseline's count);
 //! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) ·
 //!    EXTRA_POINT_GAIN^extra` wins (`extra`: control points above the reference's; ties: the lower
 //!    degree). A higher degree must buy the same factor [`IntegratedOptions::fairness_gain`] per
@@ -40,8 +40,10 @@
 //!
 //! - open curves: when the reference's count choice was costly (its fewest-extrema rule kept a curve
 //!   at least [`super::degree_candidates::OWN_COUNT_SEARCH_COST`] times less fair than its fairest
-//!   candidate), the next degree also gets a count search of its own, above the reference's count
-//!   up to the least-squares baseline ([`super::degree_candidates`], "Own count search").
+//!   candidate) or its extra points still paid (the count gain), the next degree also gets a
+//!   count search of its own, above the reference's count up to the least-squares baseline, or
+//!   one above it where the reference kept the baseline's count ([`super::degree_candidates`],
+//!   "Own count search").
 //!
 //! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
 //! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:

@@ -56,8 +56,9 @@ pub struct IntegratedOptions {
     pub degree: usize,
     /// Degree search (`--degree auto`): also fit every degree from `degree + 1` up to this one and
     /// keep one by the rule of [`super::degree_search`] (never more curvature extrema than the fit
-    /// at `degree`; more control points only up to the least-squares baseline and at 5 % of F per
-    /// point). `None` fits `degree` only.
+    /// at `degree`; more control points only up to the least-squares baseline, or one above it
+    /// where the fit at `degree` kept the baseline's count, and at 5 % of F per point). `None`
+    /// fits `degree` only.
     pub max_degree: Option<usize>,
     /// The fitting tolerance.
     pub tolerance: Tolerance,
@@ -382,6 +383,7 @@ pub fn fit_integrated_with_progress(
             limit: start_at.limit,
             extrema_cost: choice.extrema_cost,
             count_gain: choice.count_gain,
+            extrema: choice.extrema,
         });
         super::degree_candidates::raise_open(&prep, result, tol, opts, first, seen)?
     } else {
@@ -573,7 +575,7 @@ pub(crate) fn removal_candidates(data: &FitData, knots: &[f64]) -> Vec<(f64, Vec
 /// two interior data parameters, the one whose refit (smoothing `log_lambda`) has the best
 /// feasibility-first fitness (violation of `tol`, then `F + max_j F_j`; ties by span index).
 /// Evaluated in parallel, chosen in span order.
-fn best_insertion(data: &FitData, knots: &[f64], log_lambda: f64, tol: f64) -> Vec<f64> {
+pub(crate) fn best_insertion(data: &FitData, knots: &[f64], log_lambda: f64, tol: f64) -> Vec<f64> {
     let inner = &data.params[1..data.params.len().saturating_sub(1)];
     let (edges, spans) = insertion_spans(knots, inner);
     let scored: Vec<(f64, f64, Vec<f64>)> = spans
