@@ -169,8 +169,8 @@ pub struct CurveArgs {
     pub rel_tol: Option<f64>,
     /// Degree of the curve (1 to 15), or `auto` (integrated method, its default): the cubic's count
     /// search, then degrees 4 and 5 at the cubic's control points (the quartic also at more points,
-    /// up to the least-squares count, where the cubic's fewest-extrema choice cost much F or its
-    /// extra points still paid), keeping the fairest with no more curvature extrema than the cubic's
+    /// up to the least-squares count, or one above it where the cubic kept that count, when the
+    /// cubic's fewest-extrema choice cost much F or its extra points still paid), keeping the fairest with no more curvature extrema than the cubic's
     /// [default: auto for integrated, 3 for lsq and fit-then-fair]
     #[arg(long, value_parser = parse_degree, allow_hyphen_values = true)]
     pub degree: Option<DegreeArg>,
