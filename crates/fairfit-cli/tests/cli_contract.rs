@@ -190,6 +190,53 @@ fn one_file_for_two_outputs_fails_up_front() {
 }
 
 #[test]
+fn unknown_plot_and_mesh_formats_are_usage_errors_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let pts = d.join("pts.csv");
+    std::fs::write(&pts, "0,0\n1,1\n2,0\n3,1\n4,0\n5,1\n").unwrap();
+    let pts = pts.to_str().unwrap();
+    let o = d.join("o.json");
+    let o = o.to_str().unwrap();
+    let jpg = d.join("p.jpg");
+    let jpg = jpg.to_str().unwrap();
+    // was: exit 1 after the fit ("unknown plot format")
+    one_line_failure(
+        &["curve", pts, "-o", o, "--plot", jpg],
+        2,
+        &[
+            "--plot",
+            "p.jpg: unknown format, expected a .svg or .png file name",
+        ],
+    );
+    one_line_failure(
+        &["curve", pts, "-o", o, "--mesh", "m.xyz"],
+        2,
+        &["--mesh m.xyz: unknown format, expected a .obj, .stl or .ply file name"],
+    );
+    // two copies of one section cannot make a surface, but the format is refused before they are read
+    one_line_failure(
+        &["surface", pts, pts, "-o", o, "--plot", "plot"],
+        2,
+        &[
+            "--plot plot: unknown format",
+            "see 'fairfit surface --help'",
+        ],
+    );
+    one_line_failure(
+        &[
+            "export",
+            &circle_file(d).to_string_lossy(),
+            "--mesh",
+            "m.STEP",
+        ],
+        2,
+        &["--mesh m.STEP: unknown format"],
+    );
+    assert!(!Path::new(o).exists());
+}
+
+#[test]
 fn coordinates_near_the_ends_of_the_f64_range_give_numbers_or_clear_messages() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -59,6 +59,7 @@ fn circle_summary() {
     assert_eq!(v["control_points"], 9);
     assert_eq!(v["knots"], 12);
     assert_eq!(v["rational"], true);
+    assert_eq!(v["regular"], true);
     assert_eq!(v["domain"], serde_json::json!([0.0, 1.0]));
     assert!((v["length"].as_f64().unwrap() - 2.0 * PI * r).abs() < 1e-10);
     assert!(v["fairness"].as_f64().unwrap() < 1e-12);
@@ -359,4 +360,50 @@ fn a_space_curve_has_exact_extrema_and_no_exact_inflection_count() {
     assert_eq!(v["curvature_extrema_exact"], 3, "{stdout}");
     assert!(v["inflections_exact"].is_null(), "{stdout}");
     assert!(v["inflections"].is_u64(), "{stdout}");
+}
+
+#[test]
+fn zero_speed_with_unbounded_curvature_gives_null_fairness() {
+    // interior cusp: P1 and P2 crossed, C'(1/2) = 0 while C''(1/2) = (0, -6) and C''' = (24, 0) are
+    // not parallel, so κ → ∞ there (F had printed as 5.1e23, a quadrature artefact)
+    let cusp = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+            "control_points": [[0,0,0],[1,1,0],[0,1,0],[1,0,0]]}"#,
+    );
+    // coinciding first two control points: C'(0) = 0 and κ ~ u^-1 near the start (F had been 1.0e22)
+    let start = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+            "control_points": [[0,0,0],[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    for (f, u) in [(&cusp, 0.5), (&start, 0.0)] {
+        let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+        assert!(ok && stderr.is_empty(), "{stderr}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["regular"], false);
+        for key in [
+            "fairness",
+            "energy",
+            "max_span_fairness",
+            "span_fairness",
+            "bending_energy",
+        ] {
+            assert!(v[key].is_null(), "{key}: {}", v[key]);
+        }
+        let note = v["note"].as_str().unwrap();
+        assert!(note.contains(&format!("not regular at u = {u}")), "{note}");
+        assert!(v["length"].as_f64().unwrap() > 1.0);
+    }
+    // a straight line with a repeated control point is not regular at its start either, but its
+    // curvature is 0 everywhere: F = 0 as before
+    let line = file_with(
+        br#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+            "control_points": [[0,0,0],[0,0,0],[1,1,0],[3,3,0]]}"#,
+    );
+    let (ok, stdout, stderr) = info(&[line.path().to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let v: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["regular"], false);
+    assert!(v.get("note").is_none());
+    assert_eq!(v["fairness"].as_f64(), Some(0.0));
+    assert!((v["length"].as_f64().unwrap() - 3.0 * 2f64.sqrt()).abs() < 1e-12);
 }

@@ -14,6 +14,7 @@
 
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
+use fairfit::diffgeo::differentials;
 use fairfit::fair::{
     count_shape_exact, curve_fairness, surface_fairness, ExactExtrema, ExactInflections,
     DEFAULT_ISO_CURVES,
@@ -64,13 +65,90 @@ pub fn run(args: InfoArgs) -> CmdResult {
     }
 }
 
+/// Samples per knot span (besides the knots) at which [`curve_info`] looks for a vanishing speed.
+const REGULARITY_SAMPLES: usize = 64;
+
+/// The first parameter found where `c` is not regular (its speed vanishes, see
+/// [`fairfit::diffgeo::CurveDifferentials::regular`]), with an unbounded curvature when `unbounded`
+/// (see [`unbounded_curvature_at`]), searched at the knots (where coinciding control points
+/// put such points) and [`REGULARITY_SAMPLES`] uniform samples per span. An interior cusp between
+/// samples is not found; its F is then huge but finite, as for a near-cusp.
+fn first_irregular_parameter(c: &NurbsCurve, unbounded: bool) -> Option<f64> {
+    let (a, b) = c.domain();
+    let mut knots: Vec<f64> = c
+        .knots()
+        .iter()
+        .copied()
+        .filter(|&k| (a..=b).contains(&k))
+        .collect();
+    knots.dedup();
+    knots.windows(2).find_map(|w| {
+        (0..REGULARITY_SAMPLES)
+            .map(|i| w[0] + (w[1] - w[0]) * i as f64 / REGULARITY_SAMPLES as f64)
+            .chain((w[1] == b).then_some(b))
+            .find(|&u| {
+                if unbounded {
+                    unbounded_curvature_at(c, u)
+                } else {
+                    !differentials(c, u).regular
+                }
+            })
+    })
+}
+
+/// True where `c` is not regular at `u` and its curvature grows without bound there: near a zero of
+/// `C'`, `C' ≈ C'' h` and `κ ≈ |C'' × C'''| / (2 |C''|³ h²)`, unbounded unless `C''` is parallel to
+/// `C'''` (a straight piece with a repeated control point keeps κ = 0) or `C''` vanishes too (then
+/// left as it was: not decided here).
+fn unbounded_curvature_at(c: &NurbsCurve, u: f64) -> bool {
+    let d = differentials(c, u);
+    if d.regular {
+        return false;
+    }
+    let (a, b) = (d.d2, d.d3);
+    let cross = a.cross(b).norm();
+    let scale = a.norm() * b.norm();
+    scale > 0.0 && cross > 1e-9 * scale
+}
+
 fn curve_info(c: &NurbsCurve) -> Value {
     let f = curve_fairness(c);
-    if !(f.length.is_finite() && f.energy.is_finite() && f.bending_energy.is_finite()) {
+    let (a, b) = c.domain();
+    // with zero speed somewhere the curvature is unbounded there and F, the energies are undefined
+    // (the quadrature gives a huge, meaningless number); a curve of length 0 is left as it was
+    let irregular = (f.length > 0.0)
+        .then(|| first_irregular_parameter(c, true))
+        .flatten();
+    let regular = first_irregular_parameter(c, false).is_none();
+    if irregular.is_none()
+        && !(f.length.is_finite() && f.energy.is_finite() && f.bending_energy.is_finite())
+    {
         super::warn_unrepresentable("a fairness integral");
     }
-    let (a, b) = c.domain();
     let (extrema_exact, inflections_exact) = exact_shape_json(c, f.length);
+    if let Some(u) = irregular {
+        return json!({
+            "kind": "curve",
+            "degree": c.degree(),
+            "control_points": c.n_control_points(),
+            "knots": c.knots().len(),
+            "spans": f.span_fairness.len(),
+            "rational": c.is_rational(),
+            "domain": [a, b],
+            "length": f.length,
+            "regular": false,
+            "note": format!("the curve is not regular at u = {u} (its speed |C'| vanishes, e.g. where control points coincide): its curvature is unbounded there, so energy, fairness, span_fairness and bending_energy are undefined"),
+            "energy": null,
+            "fairness": null,
+            "max_span_fairness": null,
+            "span_fairness": null,
+            "bending_energy": null,
+            "curvature_extrema": f.curvature_extrema,
+            "curvature_extrema_exact": extrema_exact,
+            "inflections": f.inflections,
+            "inflections_exact": inflections_exact,
+        });
+    }
     json!({
         "kind": "curve",
         "degree": c.degree(),
@@ -80,6 +158,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "rational": c.is_rational(),
         "domain": [a, b],
         "length": f.length,
+        "regular": regular,
         "energy": f.energy,
         "fairness": f.fairness,
         "max_span_fairness": f.max_span_fairness,

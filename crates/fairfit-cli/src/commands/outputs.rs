@@ -101,8 +101,28 @@ fn file_identity(path: &Path) -> PathBuf {
     }
 }
 
-/// Fails, before any work, when two outputs name the same file, an output names an input file, or an
-/// output names a folder. A device or pipe (`-o /dev/null`, `/dev/stdout`) is fine: the library's
+/// Fails (a usage error) when the file name of a `--plot` or `--mesh` output has no extension the
+/// writer knows, so a long fit does not end with that error. The writers check again.
+fn check_format(flag: &str, path: &Path) -> CmdResult {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let (known, expected): (&[&str], &str) = match flag {
+        "--plot" => (&["svg", "png"], "a .svg or .png file name"),
+        "--mesh" => (&["obj", "stl", "ply"], "a .obj, .stl or .ply file name"),
+        _ => return Ok(()),
+    };
+    if ext.as_deref().is_some_and(|e| known.contains(&e)) {
+        return Ok(());
+    }
+    Err(CliError::usage(format!(
+        "{flag} {}: unknown format, expected {expected}",
+        path.display()
+    )))
+}
+
+/// Fails, before any work, when two outputs name the same file, an output names an input file, an
+/// output names a folder, or a `--plot`/`--mesh` file name has an unknown extension. A device or pipe (`-o /dev/null`, `/dev/stdout`) is fine: the library's
 /// atomic write writes into it directly instead of renaming a file over it, and several outputs may
 /// name the same one. `outputs` are (flag, path) pairs such as `("--step", a.out)`, `inputs` the files read.
 pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdResult {
@@ -134,6 +154,9 @@ pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdRes
                 path.display()
             )));
         }
+    }
+    for (flag, path) in outputs {
+        check_format(flag, path)?;
     }
     Ok(())
 }
