@@ -49,7 +49,8 @@
 //!   stops by small gains with `μ` grown and guard rows piled up (whitcomb 0.629 → 0.573 ×
 //!   splprep's `F`; docs/f-target-study.md, "Band fairing against the sign-constrained optimum");
 //!   when it is kept, a third one holding the present extrema pattern ([`HOLD_PERSISTENCE`];
-//!   whitcomb → 0.527).
+//!   whitcomb → 0.527). After a first pass that stalled the second one runs too, giving up sooner
+//!   when it cannot start ([`later_passes`], [`STALL_FIRST_TRIES`]).
 //!
 //! Minimising `F` also removes curvature wiggles (each costs `∫(dκ/ds)²`), so curvature extrema
 //! usually fall with it.
@@ -100,6 +101,11 @@ pub struct BandOptions {
     /// Whether an open curve's end points stay on the data's end points or move within the band
     /// ([`EndCondition`]; [`band_fair`] only, a mapped call takes its map's).
     pub ends: EndCondition,
+    /// Most solves of a subproblem (each after the one before grew `μ` or drew in cones) while
+    /// the stage has not accepted a step yet (at most 3; every later subproblem gets 3): the
+    /// second pass after a stalled first pass ([`STALL_FIRST_TRIES`]) gives up early where it
+    /// cannot start either.
+    pub first_tries: usize,
 }
 
 impl Default for BandOptions {
@@ -114,6 +120,7 @@ impl Default for BandOptions {
             extrema_persistence: 0.03,
             edge_signs: true,
             ends: EndCondition::Pinned,
+            first_tries: 3,
         }
     }
 }
@@ -135,6 +142,45 @@ pub struct BandFaired {
 /// Subproblem budget of [`refair`]: on the 33 benchmark curves its pass gains the same as with
 /// the full 60 (geometric mean of `F / splprep's F` 0.336 either way), 4 lose a third of the gain.
 pub const REFAIR_SOLVES: usize = 15;
+
+/// Subproblem budget of the second pass ([`refair`], and of its holding pass) after a first pass
+/// that stalled ([`BandFaired::stalled`]; 0: no second pass after a stall, the rule before
+/// session 14). A second pass after a stall often stalls as well, in its first subproblem
+/// (FFA-W3-211: three candidates, no step), but where it does not it gains a lot
+/// (SNL-FFA-W3-500's 13-point candidate 1.62e7 → 7.21e6; sc20714 0.639 → 0.589 × splprep's `F`
+/// at seed 0; naca4412_noise1e-4 0.262 → 0.256 at seed 2, `tests/band_stall.rs`). Budgets 3 and 5 made sc20714_noise1e-4 worse at seed 0
+/// (0.814 → 0.877, 0.843), 15 did not.
+pub const STALL_REFAIR_SOLVES: usize = REFAIR_SOLVES;
+
+/// [`BandOptions::first_tries`] of the second pass after a stalled first pass: with 2 it keeps
+/// the gains of 3 (quick_targets seeds 0-5) at 6 % instead of 10 % more instructions on
+/// FFA-W3-211; with 1 it loses them all.
+pub const STALL_FIRST_TRIES: usize = 2;
+
+/// The passes after the first band fairing pass (options `bo`, outcome `first`) and a polish: the
+/// second pass ([`refair`]; [`REFAIR_SOLVES`] subproblems, [`STALL_REFAIR_SOLVES`] and
+/// [`STALL_FIRST_TRIES`] after a stall) and, when it is kept, the pass holding the extrema
+/// pattern ([`HOLD_PERSISTENCE`], the same budget); `None` when no second pass runs.
+pub fn later_passes(bo: &BandOptions, first: &BandFaired) -> Option<(BandOptions, BandOptions)> {
+    let (solves, tries) = if first.stalled {
+        (bo.max_solves.min(STALL_REFAIR_SOLVES), STALL_FIRST_TRIES)
+    } else {
+        (bo.max_solves.min(REFAIR_SOLVES), bo.first_tries)
+    };
+    if solves == 0 {
+        return None;
+    }
+    let second = BandOptions {
+        max_solves: solves,
+        first_tries: tries,
+        ..bo.clone()
+    };
+    let hold = BandOptions {
+        extrema_persistence: HOLD_PERSISTENCE,
+        ..second.clone()
+    };
+    Some((second, hold))
+}
 
 /// [`BandOptions::extrema_persistence`] of a pass that holds the present curvature-extrema pattern
 /// (merges no run, but keeps the sign targets on): the persistence-simplified targets (3 %) can ask
@@ -160,7 +206,8 @@ pub fn refair(
     let extrema = counter.count(&ws.ctrl);
     let saved = ws.clone();
     let start = ws.foot_params.clone();
-    let r = band_fair(data, ws, &start, tol, opts);
+    let map = ControlMap::open_ends(ws.ctrl.len(), data.points.len(), opts.ends);
+    let r = band_fair_counted(data, ws, &start, tol, opts, &map, Some(&mut counter));
     if r.steps > 0
         && r.eval.solved
         && r.eval.fairness < before.fairness
@@ -326,6 +373,52 @@ fn node_fairness(nodes: &[Node], ctrl: &[Vec3], p: usize, planar: bool) -> (f64,
         (f, l3 * fmax, extrema)
     } else {
         (f64::INFINITY, f64::INFINITY, usize::MAX)
+    }
+}
+
+/// `(F, max_j F_j)` of [`node_fairness`] (the same sums) without the extrema count, and, when
+/// `res` is not empty, the residuals of [`node_residuals`] (scale `c`) into it, from the same
+/// node derivatives: the line search's measure of a trial step.
+fn node_fairness_residuals(
+    nodes: &[Node],
+    ctrl: &[Vec3],
+    p: usize,
+    planar: bool,
+    c: f64,
+    res: &mut [f64],
+) -> (f64, f64) {
+    let (mut length, mut total, mut fmax) = (0.0, 0.0, 0.0f64);
+    let (mut span, mut part) = (usize::MAX, 0.0);
+    let with_res = !res.is_empty();
+    for (g, nd) in nodes.iter().enumerate() {
+        if nd.span != span {
+            fmax = fmax.max(part);
+            (span, part) = (nd.span, 0.0);
+        }
+        let d = node_derivatives(nd, ctrl, p);
+        let (v, dk) = speed_and_dkappa_du(&d, planar);
+        length += nd.weight * v;
+        if v > 0.0 {
+            let e = nd.weight * dk * dk / v;
+            total += e;
+            part += e;
+        }
+        if with_res {
+            // as `residual` with `c_w = c w_g`
+            res[g] = if v > 0.0 {
+                (c * nd.weight / v).sqrt() * dk
+            } else {
+                0.0
+            };
+        }
+    }
+    fmax = fmax.max(part);
+    let l3 = length * length * length;
+    let f = l3 * total;
+    if f.is_finite() {
+        (f, l3 * fmax)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
     }
 }
 
@@ -623,6 +716,20 @@ pub fn band_fair_mapped(
     opts: &BandOptions,
     map: &ControlMap,
 ) -> BandFaired {
+    band_fair_counted(data, ws, start, tol, opts, map, None)
+}
+
+/// [`band_fair_mapped`] with the extrema counter of the curve's knots, degree and count when the
+/// caller has one ([`refair`]: one node rule instead of two).
+fn band_fair_counted(
+    data: &FitData,
+    ws: &mut EvalWorkspace,
+    start: &[f64],
+    tol: f64,
+    opts: &BandOptions,
+    map: &ControlMap,
+    counter: Option<&mut ExtremaCount>,
+) -> BandFaired {
     let p = data.degree;
     let n = ws.ctrl.len();
     let m = data.points.len();
@@ -647,7 +754,14 @@ pub fn band_fair_mapped(
         .map_or(f64::INFINITY, |c| c.max(cur.max_span_fairness));
     let nodes = gauss_nodes(&ws.knots, p, n);
     let (mut cur_f, start_fmax, _) = node_fairness(&nodes, &ws.ctrl, p, data.planar);
-    let mut extrema = ExtremaCount::new(&ws.knots, p, n, data.planar);
+    let mut own;
+    let extrema = match counter {
+        Some(c) => c,
+        None => {
+            own = ExtremaCount::new(&ws.knots, p, n, data.planar);
+            &mut own
+        }
+    };
     let mut cur_ext = extrema.count(&ws.ctrl);
     let span_cap = span_cap.max(start_fmax);
     if !cur_f.is_finite() {
@@ -821,7 +935,7 @@ pub fn band_fair_mapped(
             );
         }
         qp.end_group();
-        let guard_rows = guard.rows(&extrema, &ctrl, p, data.planar, map, dims, c, rmax);
+        let guard_rows = guard.rows(extrema, &ctrl, p, data.planar, map, dims, c, rmax);
         for (bj, coef) in &guard_rows {
             qp.push_row(
                 *bj,
@@ -837,8 +951,8 @@ pub fn band_fair_mapped(
         let mut accepted = false;
         let mut guarded = false;
         let mut converged = false;
-        for _ in 0..3 {
-            if out.solves >= opts.max_solves {
+        for attempt in 0..3 {
+            if out.solves >= opts.max_solves || (out.steps == 0 && attempt >= opts.first_tries) {
                 break;
             }
             // P = JᵀJ + μ (diag(JᵀJ) + 1e-6 max diag)
@@ -895,11 +1009,15 @@ pub fn band_fair_mapped(
                     }
                 }
                 let e = map.measure(data, &feet, ws);
-                let (f, fmax, _) = node_fairness(&nodes, &ws.ctrl, p, data.planar);
+                let trial = if targets.is_empty() {
+                    &mut trial_res[..0]
+                } else {
+                    &mut trial_res[..]
+                };
+                let (f, fmax) = node_fairness_residuals(&nodes, &ws.ctrl, p, data.planar, c, trial);
                 let mut merit = 0.5 * f / cur_f;
                 let mut viol = 0.0;
                 if !targets.is_empty() {
-                    node_residuals(&nodes, &ws.ctrl, p, data.planar, c, &mut trial_res);
                     viol = violation(&trial_res, &targets, sign_margin);
                     if !edges.is_empty() {
                         node_residuals(&edges, &ws.ctrl, p, data.planar, c, &mut trial_edge);
@@ -957,7 +1075,7 @@ pub fn band_fair_mapped(
                     && e.max_deviation <= allowed
                     && fmax <= span_cap
                     && merit < cur_merit * (1.0 - 1e-9)
-                    && guard.hold(&mut extrema, &ctrl, &ws.ctrl)
+                    && guard.hold(extrema, &ctrl, &ws.ctrl)
                 {
                     // only new extrema spoilt the full step: solve again with the flipped
                     // samples held on their side

@@ -38,6 +38,7 @@ use crate::diffgeo::CurveProjector;
 use crate::errors::Result;
 use crate::fair::{count_extrema_exact, curve_fairness};
 use crate::nurbs::{NurbsCurve, Vec3};
+use rayon::prelude::*;
 
 /// [`release_ends`] on the chosen open result `r` of the integrated method on `prep`'s data
 /// (tolerance `tol` in its normalised units), with the budgets of `opts`; `r` unchanged without
@@ -64,9 +65,10 @@ pub(crate) fn release_result(
     let normalised = NurbsCurve::bspline(p, r.curve.knots().to_vec(), ctrl.clone())?;
     // the feet by a global projection (the finishing stages' feet are not kept with the result)
     let projector = CurveProjector::new(&normalised, 16);
+    // (in parallel: each point's projection alone, collected in order, the same for any threads)
     let start: Vec<f64> = data
         .points
-        .iter()
+        .par_iter()
         .map(|&q| projector.project(q).u)
         .collect();
     let mut ws = EvalWorkspace::default();
@@ -105,11 +107,16 @@ pub(crate) fn release_result(
 /// ([`super::band_fairing::ExtremaCount`], 96 samples per knot span) can miss a flat ripple in a
 /// long span: naca4412 at seed 1 got two extrema 0.005 apart in a span of 0.4 (`κ` 0.31422 and
 /// 0.31421), seen by both of these counts.
+/// The two curves are measured in parallel (each alone, so the same for any thread count).
 fn more_extrema(curve: &NurbsCurve, before: &NurbsCurve) -> bool {
-    let (a, b) = (curve_fairness(curve), curve_fairness(before));
-    a.curvature_extrema > b.curvature_extrema
-        || count_extrema_exact(curve, a.length).curvature_extrema
-            > count_extrema_exact(before, b.length).curvature_extrema
+    let (a, b) = rayon::join(|| curve_fairness(curve), || curve_fairness(before));
+    a.curvature_extrema > b.curvature_extrema || {
+        let (x, y) = rayon::join(
+            || count_extrema_exact(curve, a.length).curvature_extrema,
+            || count_extrema_exact(before, b.length).curvature_extrema,
+        );
+        x > y
+    }
 }
 
 /// Budgets and targets of [`release_ends`] (those of the pinned stages).

@@ -22,7 +22,7 @@
 //! stops there, or knots are inserted where they help most above the baseline; step 5 is skipped), which is how the benchmark compares
 //! methods at equal control points.
 
-use super::band_fairing::{band_fair, refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
+use super::band_fairing::{band_fair, later_passes, refair, BandOptions};
 pub use super::control_map::EndCondition;
 use super::count_search::{search_counts_costed, CountFamily, CountStart};
 use super::degree_candidates::CountsSeen;
@@ -692,13 +692,7 @@ pub(crate) fn finish_curve(
                 max_solves: band,
                 ..BandOptions::default()
             };
-            // a stalled first pass: a second one would stall too (3 wasted solves)
-            if !band_fair(&prep.data, &mut ws, &start, tol, &bo).stalled {
-                refair_from = Some(BandOptions {
-                    max_solves: band.min(REFAIR_SOLVES),
-                    ..bo
-                });
-            }
+            refair_from = later_passes(&bo, &band_fair(&prep.data, &mut ws, &start, tol, &bo));
         }
         let start = ws.foot_params.clone();
         let po = PolishOptions {
@@ -708,14 +702,10 @@ pub(crate) fn finish_curve(
         };
         let pol = polish(&prep.data, &mut ws, &start, tol, &po);
         e = pol.eval;
-        if let Some(bo) = refair_from {
+        if let Some((bo, hold)) = refair_from {
             if let Some(kept) = refair(&prep.data, &mut ws, &e, tol, &bo) {
                 // then once more holding the present extrema pattern (targets the band does not
                 // allow stop the pass early)
-                let hold = BandOptions {
-                    extrema_persistence: HOLD_PERSISTENCE,
-                    ..bo
-                };
                 e = refair(&prep.data, &mut ws, &kept, tol, &hold).unwrap_or(kept);
             }
         }
