@@ -7,8 +7,10 @@
 //! `curve_3d` is taken. The edge runs from its start vertex to its end vertex: along the curve when
 //! `same_sense` is `.T.`, against it when `.F.` (the piece of the curve from the end vertex to the
 //! start vertex, reversed), across the seam of a closed curve when the vertices ask for it. The
-//! vertices are taken at their projections onto the curve (within 1e-6 of its size, else the file is
-//! refused with one line); a vertex within 1e-7 of the size of an end of the curve is that end. A
+//! vertices are taken at their projections onto the curve (CAD vertices carry a tolerance: within
+//! 1e-3 of the curve's size, else the file is refused with one line naming the edge); a vertex whose
+//! distance from an end of the curve is within 1e-7 of the size plus twice its distance from the curve
+//! is that end. A
 //! B-spline (or a `TRIMMED_CURVE`, read as in [`super::step_read`]) is cut exactly by knot insertion,
 //! two pieces joined at the seam ([`super::cad_chain::join_segments`]) for a closed curve; a `CIRCLE`
 //! or `ELLIPSE` gives the exact arc between the vertices' angles; an untrimmed `PARABOLA` or `HYPERBOLA`
@@ -23,8 +25,21 @@ use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::collections::BTreeMap;
 
-/// Largest distance of a vertex from its curve, relative to the curve's size.
-const ON_CURVE: f64 = 1e-6;
+/// Largest distance of a vertex from its curve, relative to the curve's size (CAD systems write
+/// vertices with their own tolerance, up to about 1e-4 of a part's size).
+const ON_CURVE: f64 = 1e-3;
+
+/// The error for a vertex `d` off the curve `#basis`.
+fn off_curve(k: usize, d: f64, basis: u64, id: u64, inst: &Instance) -> crate::errors::Error {
+    err(
+        id,
+        inst,
+        format!(
+            "its {} vertex lies {d:.3e} off its curve #{basis} (more than 1e-3 of the curve's size)",
+            if k == 0 { "start" } else { "end" },
+        ),
+    )
+}
 
 /// Distance, relative to the curve's size, within which a vertex is an end of the curve.
 const AT_END: f64 = 1e-7;
@@ -119,9 +134,17 @@ pub(super) fn edges(
                 None => whole(&c, "edge"),
             }
         } else if let Some(c) = super::step_conic::conic(x, basis, b)? {
-            let trims = by_points(ends()?);
+            // the vertices moved onto the conic (within their tolerance)
+            let mut on = ends()?;
+            for (k, p) in on.iter_mut().enumerate() {
+                let (t, d) = c.angle_of(*p);
+                if d.is_nan() || d > ON_CURVE * c.a.max(c.b) {
+                    return Err(off_curve(k, d, basis, id, inst));
+                }
+                *p = c.at(t);
+            }
             let (arc, kind) =
-                super::step_conic::trimmed_conic(&c, trims, sense, true, 1.0, id, inst)?;
+                super::step_conic::trimmed_conic(&c, by_points(on), sense, true, 1.0, id, inst)?;
             if kind == c.kind(true) {
                 let full = c.full(0.0).map_err(|e| err(id, inst, e))?;
                 (full, kind, true)
@@ -163,37 +186,29 @@ fn cut_bspline(
     let (ca, cb) = (c.point(a), c.point(b));
     let closed = (ca - cb).norm() <= AT_END * size;
     let proj = CurveProjector::new(c, 16);
-    let mut u = [0.0; 2];
+    let mut u = [(0.0, 0.0); 2];
     for (k, &p) in ends.iter().enumerate() {
         let pr = proj.project(p);
         if pr.distance.is_nan() || pr.distance > ON_CURVE * size {
-            return Err(err(
-                id,
-                inst,
-                format!(
-                    "its {} vertex lies {:.3e} off its curve #{basis} (more than 1e-6 of its size)",
-                    if k == 0 { "start" } else { "end" },
-                    pr.distance
-                ),
-            ));
+            return Err(off_curve(k, pr.distance, basis, id, inst));
         }
-        u[k] = pr.u;
+        u[k] = (pr.u, pr.distance);
     }
     // the piece runs forward along the curve from lo to hi
-    let (lo_p, hi_p, mut lo, mut hi) = if sense {
-        (ends[0], ends[1], u[0], u[1])
+    let (lo_p, hi_p, [(mut lo, lo_d), (mut hi, hi_d)]) = if sense {
+        (ends[0], ends[1], u)
     } else {
-        (ends[1], ends[0], u[1], u[0])
+        (ends[1], ends[0], [u[1], u[0]])
     };
-    let near = |p: Vec3, q: Vec3| (p - q).norm() <= AT_END * size;
-    if near(lo_p, ca) {
+    let near = |p: Vec3, q: Vec3, d: f64| (p - q).norm() <= AT_END * size + 2.0 * d;
+    if near(lo_p, ca, lo_d) {
         lo = a;
-    } else if near(lo_p, cb) {
+    } else if near(lo_p, cb, lo_d) {
         lo = b;
     }
-    if near(hi_p, cb) {
+    if near(hi_p, cb, hi_d) {
         hi = b;
-    } else if near(hi_p, ca) {
+    } else if near(hi_p, ca, hi_d) {
         hi = a;
     }
     if closed && lo == b {
@@ -322,6 +337,13 @@ mod tests {
             e.contains("start vertex lies") && e.contains("off its curve #4"),
             "{e}"
         );
+        // a vertex 1e-5 off the curve's start (a CAD vertex tolerance) is that end: the whole curve
+        let c = read(
+            "#20=CARTESIAN_POINT('',(0.,0.00001,0.));#21=VERTEX_POINT('',#20);\
+                      #9=EDGE_CURVE('',#21,#11,#4,.T.);",
+        )
+        .unwrap();
+        assert_eq!(c.curves[0].0, "#4");
         // a vertex that is no VERTEX_POINT
         let e = read("#9=EDGE_CURVE('',#1,#11,#4,.T.);")
             .unwrap_err()
