@@ -135,21 +135,22 @@ const SPLPREP_SC20714: (f64, usize, usize) = (442_735.0, 17, 11);
 
 #[test]
 fn sc20714_gets_a_quartic_one_point_above_the_baseline_where_the_cubic_kept_it() {
-    // seed 3: the cubic keeps the least-squares baseline's 12 points with 4 curvature extrema at
-    // 2.99e5 (0.677 x splprep's F), every search at 12 points at most 0.67 of the fairest at 11:
-    // its count search stopped at the baseline while extra points still paid. The quartic's own
-    // count search had no count to search (before: the cubic kept); now it also tries 13 points,
-    // seeded from the cubic's baseline knots with the best insertion, and finishes at 0.546 x with
-    // 4 extrema: 0.546 · 1.1 · 1.05 = 0.631 < 0.677 wins the degree rule.
+    // seed 4: the cubic keeps the least-squares baseline's 12 points with 4 curvature extrema at
+    // 3.85e5 (0.869 x splprep's F): its count search stopped at the baseline while extra points
+    // still paid. The quartic's own count search had no count to search (before: the cubic kept);
+    // now it also tries 13 points, seeded from the cubic's baseline knots with the best insertion,
+    // and finishes at 0.541 x with 4 extrema: 0.541 · 1.1 · 1.05 = 0.625 < 0.869 wins the degree
+    // rule. (Seed 3 did the same until the band fairing's second pass after a stall, session 14,
+    // made the cubic's smaller counts fairer: its count gain is now above the trigger.)
     let pts = read_csv("sc20714.csv");
-    let opts = IntegratedOptions { seed: 3, ..auto() };
+    let opts = IntegratedOptions { seed: 4, ..auto() };
     let r = fit_integrated(&pts, &opts).unwrap();
     assert!(r.met);
     let tried = &r.stats.degrees_tried;
     assert_eq!((tried[0].degree, tried[0].control_points), (3, 12));
     assert_eq!(r.baseline_control_points, 12);
     assert!(
-        tried[0].fairness > 0.65 * SPLPREP_SC20714.0,
+        tried[0].fairness > 0.8 * SPLPREP_SC20714.0,
         "{}",
         tried[0].fairness
     );
