@@ -140,8 +140,9 @@ fn sc20714_gets_a_quartic_one_point_above_the_baseline_where_the_cubic_kept_it()
     // still paid. The quartic's own count search had no count to search (before: the cubic kept);
     // now it also tries 13 points, seeded from the cubic's baseline knots with the best insertion,
     // and finishes at 0.541 x with 4 extrema: 0.541 · 1.1 · 1.05 = 0.625 < 0.869 wins the degree
-    // rule. (Seed 3 did the same until the band fairing's second pass after a stall, session 14,
-    // made the cubic's smaller counts fairer: its count gain is now above the trigger.)
+    // rule. (Seed 3 does the same; with the band fairing's second pass after a stall, measured in
+    // session 14 but off by default, the cubic's smaller counts got fairer and seed 3 no longer
+    // triggered, seed 4 still did.)
     let pts = read_csv("sc20714.csv");
     let opts = IntegratedOptions { seed: 4, ..auto() };
     let r = fit_integrated(&pts, &opts).unwrap();

@@ -149,8 +149,12 @@ pub const REFAIR_SOLVES: usize = 15;
 /// (FFA-W3-211: three candidates, no step), but where it does not it gains a lot
 /// (SNL-FFA-W3-500's 13-point candidate 1.62e7 → 7.21e6; sc20714 0.639 → 0.589 × splprep's `F`
 /// at seed 0; naca4412_noise1e-4 0.262 → 0.256 at seed 2, `tests/band_stall.rs`). Budgets 3 and 5 made sc20714_noise1e-4 worse at seed 0
-/// (0.814 → 0.877, 0.843), 15 did not.
-pub const STALL_REFAIR_SOLVES: usize = REFAIR_SOLVES;
+/// (0.814 → 0.877, 0.843), 15 did not. **Off (0) by default:** with 15 the benchmark's slowest
+/// 200-point curve at fairfit's default threads, SNL-FFA-W3-500, went from 0.122 s to 0.21 s
+/// (docs/benchmarks.md run on e1ef80d; the extra passes run after the parallel swarms, and its
+/// instructions rose 1.42e9 → 1.81e9), past issue 4's 0.2 s target, for a geometric-mean gain of
+/// 0-1.4 % per seed with no curve crossing the F target.
+pub const STALL_REFAIR_SOLVES: usize = 0;
 
 /// [`BandOptions::first_tries`] of the second pass after a stalled first pass: with 2 it keeps
 /// the gains of 3 (quick_targets seeds 0-5) at 6 % instead of 10 % more instructions on
@@ -161,6 +165,8 @@ pub const STALL_FIRST_TRIES: usize = 2;
 /// second pass ([`refair`]; [`REFAIR_SOLVES`] subproblems, [`STALL_REFAIR_SOLVES`] and
 /// [`STALL_FIRST_TRIES`] after a stall) and, when it is kept, the pass holding the extrema
 /// pattern ([`HOLD_PERSISTENCE`], the same budget); `None` when no second pass runs.
+// `STALL_REFAIR_SOLVES` is a measured setting that is 0 for now; the `min` stays for other values.
+#[allow(clippy::unnecessary_min_or_max)]
 pub fn later_passes(bo: &BandOptions, first: &BandFaired) -> Option<(BandOptions, BandOptions)> {
     let (solves, tries) = if first.stalled {
         (bo.max_solves.min(STALL_REFAIR_SOLVES), STALL_FIRST_TRIES)
