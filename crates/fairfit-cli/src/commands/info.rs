@@ -126,30 +126,7 @@ fn curve_info(c: &NurbsCurve) -> Value {
         super::warn_unrepresentable("a fairness integral");
     }
     let (extrema_exact, inflections_exact) = exact_shape_json(c, f.length);
-    if let Some(u) = irregular {
-        return json!({
-            "kind": "curve",
-            "degree": c.degree(),
-            "control_points": c.n_control_points(),
-            "knots": c.knots().len(),
-            "spans": f.span_fairness.len(),
-            "rational": c.is_rational(),
-            "domain": [a, b],
-            "length": f.length,
-            "regular": false,
-            "note": format!("the curve is not regular at u = {u} (its speed |C'| vanishes, e.g. where control points coincide): its curvature is unbounded there, so energy, fairness, span_fairness and bending_energy are undefined"),
-            "energy": null,
-            "fairness": null,
-            "max_span_fairness": null,
-            "span_fairness": null,
-            "bending_energy": null,
-            "curvature_extrema": f.curvature_extrema,
-            "curvature_extrema_exact": extrema_exact,
-            "inflections": f.inflections,
-            "inflections_exact": inflections_exact,
-        });
-    }
-    json!({
+    let mut info = json!({
         "kind": "curve",
         "degree": c.degree(),
         "control_points": c.n_control_points(),
@@ -168,7 +145,21 @@ fn curve_info(c: &NurbsCurve) -> Value {
         "curvature_extrema_exact": extrema_exact,
         "inflections": f.inflections,
         "inflections_exact": inflections_exact,
-    })
+    });
+    if let (Some(u), Some(fields)) = (irregular, info.as_object_mut()) {
+        fields.insert("regular".into(), Value::Bool(false));
+        fields.insert("note".into(), json!(format!("the curve is not regular at u = {u} (its speed |C'| vanishes, e.g. where control points coincide): its curvature is unbounded there, so energy, fairness, span_fairness and bending_energy are undefined")));
+        for key in [
+            "energy",
+            "fairness",
+            "max_span_fairness",
+            "span_fairness",
+            "bending_energy",
+        ] {
+            fields.insert(key.into(), Value::Null);
+        }
+    }
+    info
 }
 
 /// The exact curvature-extrema and inflection counts, each `null` where only the sampled fallback
