@@ -172,7 +172,7 @@ fn bad_files_are_errors() {
     );
     assert_one_line_error(&eval(zero_weight.path(), "0.5"), "weights");
     let empty = file_with(b"");
-    assert_one_line_error(&eval(empty.path(), "0.5"), "EOF");
+    assert_one_line_error(&eval(empty.path(), "0.5"), "the file is empty");
 }
 
 #[test]

@@ -134,6 +134,12 @@ fn field_context(e: Error) -> Error {
 /// Parses a curve or surface from JSON text.
 pub fn geometry_from_str(text: &str) -> Result<Geometry> {
     let text = super::points::without_bom(text);
+    if text.trim().is_empty() {
+        return Err(Error::Json(
+            "the file is empty (expected a fairfit curve or surface, e.g. written by `fairfit curve -o`)"
+                .into(),
+        ));
+    }
     let value: serde_json::Value =
         serde_json::from_str(text).map_err(|e| Error::Json(e.to_string()))?;
     let kind = value
@@ -261,6 +267,10 @@ mod tests {
         assert!(e.contains("control_points[1]"), "{e}");
         let e = geometry_from_str(&CURVE[..40]).unwrap_err().to_string();
         assert!(e.contains("EOF"), "{e}");
+        for empty in ["", "  \n", "\u{feff}"] {
+            let e = geometry_from_str(empty).unwrap_err().to_string();
+            assert!(e.contains("the file is empty"), "{e}");
+        }
         let e = geometry_from_str(r#"{"kind": "cone"}"#)
             .unwrap_err()
             .to_string();
