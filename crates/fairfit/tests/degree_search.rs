@@ -10,6 +10,10 @@ use fairfit::optim::degree_search::choose_degree;
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::Vec3;
 
+#[path = "common/degree_auto.rs"]
+mod degree_auto;
+use degree_auto::auto;
+
 #[path = "common/sampled.rs"]
 mod sampled;
 use sampled::brute_force_deviation;
@@ -17,14 +21,6 @@ use sampled::brute_force_deviation;
 fn data(name: &str) -> Vec<Vec3> {
     let path = format!("{}/../../examples/data/{name}", env!("CARGO_MANIFEST_DIR"));
     read_points(std::path::Path::new(&path)).unwrap().points
-}
-
-fn auto() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        max_degree: Some(5),
-        ..IntegratedOptions::default()
-    }
 }
 
 #[test]

@@ -11,8 +11,11 @@
 use fairfit::fair::curve_fairness;
 use fairfit::optim::closed::distinct_control_points;
 use fairfit::optim::degree_candidates::STEEP_COUNT_GAIN;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
-use fairfit::Vec3;
+use fairfit::optim::integrated::{fit_integrated, IntegratedOptions};
+
+#[path = "common/degree_auto.rs"]
+mod degree_auto;
+use degree_auto::{auto, fit_with_threads};
 
 #[path = "common/example_data.rs"]
 mod example_data;
@@ -25,22 +28,6 @@ use sampled::brute_force_deviation;
 /// scipy splprep's curve on clarky at `--rel-tol 1e-3` (docs/benchmarks.md, bench/compare.py):
 /// F, control points, curvature extrema.
 const SPLPREP: (f64, usize, usize) = (2.789_158_5e6, 13, 4);
-
-fn auto() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        max_degree: Some(5),
-        ..IntegratedOptions::default()
-    }
-}
-
-fn fit_with_threads(pts: &[Vec3], opts: &IntegratedOptions, threads: usize) -> IntegratedResult {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    pool.install(|| fit_integrated(pts, opts).unwrap())
-}
 
 #[test]
 fn clarky_gets_a_quartic_at_more_points_below_half_of_splpreps_fairness() {

@@ -8,8 +8,11 @@
 
 use fairfit::fair::curve_fairness;
 use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
-use fairfit::Vec3;
+use fairfit::optim::integrated::{fit_integrated, IntegratedOptions};
+
+#[path = "common/degree_auto.rs"]
+mod degree_auto;
+use degree_auto::{auto, fit_with_threads};
 
 #[path = "common/example_data.rs"]
 mod example_data;
@@ -18,22 +21,6 @@ use example_data::read_csv;
 #[path = "common/sampled.rs"]
 mod sampled;
 use sampled::brute_force_deviation;
-
-fn auto() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        max_degree: Some(5),
-        ..IntegratedOptions::default()
-    }
-}
-
-fn fit_with_threads(pts: &[Vec3], opts: &IntegratedOptions, threads: usize) -> IntegratedResult {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    pool.install(|| fit_integrated(pts, opts).unwrap())
-}
 
 #[test]
 fn hq17_gets_a_quartic_at_more_points_that_halves_the_cubics_fairness() {
