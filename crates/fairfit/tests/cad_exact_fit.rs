@@ -12,32 +12,14 @@ use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance as
 use fairfit::{NurbsCurve, Vec3};
 use std::path::{Path, PathBuf};
 
+#[path = "common/cad_fixtures.rs"]
+mod cad_fixtures;
+use cad_fixtures::wiggly;
+
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data")
         .join(name)
-}
-
-/// The wiggly spatial cubic of the CLI tests (7 poles, a double interior knot), in mm.
-fn wiggly() -> NurbsCurve {
-    let pts = [
-        [0.0, 0.0, 0.0],
-        [10.0, 25.0, 2.0],
-        [30.0, 32.0, -4.0],
-        [55.0, 5.0, 3.0],
-        [70.0, -10.0, 0.0],
-        [90.0, 15.0, 6.0],
-        [110.0, 30.0, 1.0],
-    ]
-    .iter()
-    .map(|p| Vec3::new(p[0], p[1], p[2]))
-    .collect();
-    NurbsCurve::bspline(
-        3,
-        vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.45, 0.45, 1.0, 1.0, 1.0, 1.0],
-        pts,
-    )
-    .unwrap()
 }
 
 /// The least-squares fit at `rel` of the extent, or at the absolute tolerance asked for.
@@ -104,17 +86,17 @@ fn fits_hold_the_exact_curve_within_the_tolerance() {
     let cases: Vec<(&str, Vec<NurbsCurve>, Fitter)> = vec![
         (
             "wiggly cubic, lsq 1e-3",
-            vec![wiggly()],
+            vec![wiggly(1.0, 0.0)],
             Box::new(lsq(1e-3)),
         ),
         (
             "wiggly cubic, lsq 1e-4",
-            vec![wiggly()],
+            vec![wiggly(1.0, 0.0)],
             Box::new(lsq(1e-4)),
         ),
         (
             "wiggly cubic, integrated 1e-3",
-            vec![wiggly()],
+            vec![wiggly(1.0, 0.0)],
             Box::new(integrated(1e-3)),
         ),
         (
@@ -175,7 +157,7 @@ fn fits_hold_the_exact_curve_within_the_tolerance() {
 fn hostile_fits_do_not_panic() {
     // a fit that errs, a fit that never meets the tolerance on its own points, and a fit whose curve
     // is far away: errors come back, the others are returned as they are
-    let segs = vec![wiggly()];
+    let segs = vec![wiggly(1.0, 0.0)];
     let err = fit_to_exact(&segs, sample_chain_params(&segs), |_, _| {
         Err::<Fitted<()>, _>(fairfit::Error::Fit("no".into()))
     });

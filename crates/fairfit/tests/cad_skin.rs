@@ -7,30 +7,11 @@
 use fairfit::diffgeo::CurveProjector;
 use fairfit::io::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
 use fairfit::surface::{Stage, SurfaceOptions};
-use fairfit::{NurbsCurve, Vec3};
+use fairfit::NurbsCurve;
 
-/// The wiggly spatial cubic of the CLI tests (7 poles, a double interior knot), scaled by `s` about
-/// the origin and lifted to height `z`, in mm.
-fn wiggly(s: f64, z: f64) -> NurbsCurve {
-    let pts = [
-        [0.0, 0.0, 0.0],
-        [10.0, 25.0, 2.0],
-        [30.0, 32.0, -4.0],
-        [55.0, 5.0, 3.0],
-        [70.0, -10.0, 0.0],
-        [90.0, 15.0, 6.0],
-        [110.0, 30.0, 1.0],
-    ]
-    .iter()
-    .map(|p| Vec3::new(s * p[0], s * p[1], s * p[2] + z))
-    .collect();
-    NurbsCurve::bspline(
-        3,
-        vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.45, 0.45, 1.0, 1.0, 1.0, 1.0],
-        pts,
-    )
-    .unwrap()
-}
+#[path = "common/cad_fixtures.rs"]
+mod cad_fixtures;
+use cad_fixtures::wiggly;
 
 /// The largest distance of every exact section, at 3001 parameters, from the surface's iso-curve at
 /// its `v`.

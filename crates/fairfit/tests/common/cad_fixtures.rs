@@ -1,5 +1,7 @@
-//! Geometry shared by the CAD file tests (`cad_read`, `cad_roundtrip`): a rational space cubic and a
-//! rational surface, both with non-uniform knots and weights, sized in millimetres.
+//! Geometry shared by the CAD file tests (`cad_read`, `cad_roundtrip`, `cad_exact_fit`, `cad_skin`):
+//! a rational space cubic and a rational surface, both with non-uniform knots and weights, and the
+//! wiggly space cubic of the CLI tests, sized in millimetres.
+#![allow(dead_code)] // each test crate uses some of them
 
 use fairfit::{NurbsCurve, NurbsSurface, Vec3};
 
@@ -39,4 +41,27 @@ pub fn rational_surface(degree_v: usize) -> NurbsSurface {
         .map(|i| (0..n_v).map(|j| 1.0 + 0.2 * ((i + j) % 3) as f64).collect())
         .collect();
     NurbsSurface::new(3, degree_v, ku, kv, net, Some(w)).unwrap()
+}
+
+/// The wiggly spatial cubic of the CLI tests (7 poles, a double interior knot), scaled by `s` about
+/// the origin and lifted to height `z`, in mm.
+pub fn wiggly(s: f64, z: f64) -> NurbsCurve {
+    let pts = [
+        [0.0, 0.0, 0.0],
+        [10.0, 25.0, 2.0],
+        [30.0, 32.0, -4.0],
+        [55.0, 5.0, 3.0],
+        [70.0, -10.0, 0.0],
+        [90.0, 15.0, 6.0],
+        [110.0, 30.0, 1.0],
+    ]
+    .iter()
+    .map(|p| Vec3::new(s * p[0], s * p[1], s * p[2] + z))
+    .collect();
+    NurbsCurve::bspline(
+        3,
+        vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.45, 0.45, 1.0, 1.0, 1.0, 1.0],
+        pts,
+    )
+    .unwrap()
 }
