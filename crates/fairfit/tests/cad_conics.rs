@@ -25,14 +25,6 @@ fn truth() -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(data().join("occ_truth.json")).unwrap()).unwrap()
 }
 
-fn vec3(p: &serde_json::Value) -> Vec3 {
-    Vec3::new(
-        p[0].as_f64().unwrap(),
-        p[1].as_f64().unwrap(),
-        p[2].as_f64().unwrap(),
-    )
-}
-
 fn ends(c: &NurbsCurve) -> (Vec3, Vec3) {
     let (a, b) = c.domain();
     (c.point(a), c.point(b))
@@ -44,14 +36,11 @@ fn compare(file: &str, occ: &serde_json::Value) -> (f64, f64, f64) {
     let chain = read_cad_chain(data().join(file), 0).unwrap();
     let edges = occ["points"].as_array().unwrap();
     assert_eq!(chain.segments.len(), edges.len(), "{file}");
-    let all: Vec<Vec3> = edges
-        .iter()
-        .flat_map(|e| e.as_array().unwrap().iter().map(vec3))
-        .collect();
+    let all: Vec<Vec3> = edges.iter().flat_map(python::json_points).collect();
     let size = bounding_box_extent(&all);
     let (mut off, mut end) = (0.0f64, 0.0f64);
     for (seg, e) in chain.segments.iter().zip(edges) {
-        let pts: Vec<Vec3> = e.as_array().unwrap().iter().map(vec3).collect();
+        let pts = python::json_points(e);
         let proj = CurveProjector::new(seg, 16);
         for &p in &pts {
             off = off.max(proj.project(p).distance);
@@ -114,7 +103,10 @@ fn truth_file_is_current() {
         let (a, b) = (&now["points"], &t[file]["points"]);
         for (ea, eb) in a.as_array().unwrap().iter().zip(b.as_array().unwrap()) {
             for (p, q) in ea.as_array().unwrap().iter().zip(eb.as_array().unwrap()) {
-                assert!((vec3(p) - vec3(q)).norm() < 1e-13 * 100.0, "{file}");
+                assert!(
+                    (python::json_point(p) - python::json_point(q)).norm() < 1e-13 * 100.0,
+                    "{file}"
+                );
             }
         }
     }
@@ -356,7 +348,7 @@ fn a_bspline_trimmed_by_points_is_cut() {
         (e - cubic.point(0.85)).norm(),
     );
     let occ = truth()["bspline_points.step"]["points"][0].clone();
-    let occ_end = vec3(&occ[occ.as_array().unwrap().len() - 1]);
+    let occ_end = python::json_point(&occ[occ.as_array().unwrap().len() - 1]);
     println!(
         "ends off the generator's C(0.15), C(0.85): {ds:.2e}, {de:.2e}; OpenCASCADE's end: {:.2e}",
         (occ_end - cubic.point(0.85)).norm()

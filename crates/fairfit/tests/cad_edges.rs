@@ -141,18 +141,7 @@ fn opencascade_reads_the_same_edges() {
         assert!(out.status.success(), "{name}: {stdout}");
         let v: serde_json::Value =
             serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
-        let pts: Vec<Vec3> = v["points"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|p| {
-                Vec3::new(
-                    p[0].as_f64().unwrap(),
-                    p[1].as_f64().unwrap(),
-                    p[2].as_f64().unwrap(),
-                )
-            })
-            .collect();
+        let pts = python::json_points(&v["points"]);
         let (c, _) = edge(name);
         let size = fairfit::io::cad_chain::extent(std::slice::from_ref(&c));
         let proj = CurveProjector::new(&c, 16);

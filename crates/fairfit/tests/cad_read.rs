@@ -255,18 +255,7 @@ fn opencascade_files_read_as_opencascade_evaluates_them() {
         let g = read_cad(file, CadKind::Any, 0).unwrap_or_else(|e| panic!("{e}"));
         let want_mm = if case["unit"] == "inch" { 25.4 } else { 1.0 };
         assert_eq!(g.unit.mm_per_unit, want_mm, "{file}");
-        let pts: Vec<Vec3> = case["points"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|p| {
-                Vec3::new(
-                    p[0].as_f64().unwrap(),
-                    p[1].as_f64().unwrap(),
-                    p[2].as_f64().unwrap(),
-                )
-            })
-            .collect();
+        let pts = python::json_points(&case["points"]);
         let size = pts.iter().map(|p| p.max_abs()).fold(0.0, f64::max);
         if file.contains("trimmed") {
             // the edge's sub-range [0.2, 0.7] of the cubic is cut out exactly

@@ -1,4 +1,7 @@
-//! The Python used by tests that run scripts of the repository (`$FAIRFIT_PYTHON`).
+//! The Python used by tests that run scripts of the repository (`$FAIRFIT_PYTHON`), and the points
+//! those scripts print as JSON.
+
+use fairfit::Vec3;
 
 /// `$FAIRFIT_PYTHON`, or `None` (with a note) when it is unset outside CI, so that a plain `cargo test`
 /// on a machine without the Python peers still passes. Under `CI=true` an unset variable fails the test:
@@ -17,4 +20,20 @@ pub fn python_or_skip(what: &str) -> Option<String> {
             None
         }
     }
+}
+
+/// A point written by a script as the JSON array `[x, y, z]`.
+#[allow(dead_code)] // not every test crate reads points
+pub fn json_point(p: &serde_json::Value) -> Vec3 {
+    Vec3::new(
+        p[0].as_f64().unwrap(),
+        p[1].as_f64().unwrap(),
+        p[2].as_f64().unwrap(),
+    )
+}
+
+/// The points of a JSON array of `[x, y, z]` arrays.
+#[allow(dead_code)] // not every test crate reads points
+pub fn json_points(v: &serde_json::Value) -> Vec<Vec3> {
+    v.as_array().unwrap().iter().map(json_point).collect()
 }
