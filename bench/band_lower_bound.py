@@ -1,0 +1,457 @@
+"""A global lower bound on F over every curve in the tolerance band of an ellipse arc (numpy/scipy only).
+
+Question (issue 4, docs/f-target-study.md): can ANY curve (any count, degree, rational or not) within tol of
+every data point of ``synthetic/quarter_ellipse_200*.csv`` have F <= 0.5 x splprep's F, where
+F = L^3 int (dkappa/ds)^2 ds?  A local optimiser found 0.683 x; this script bounds F from BELOW, globally.
+
+Setting
+-------
+E(sigma) is the exact ellipse (x, y) = (a cos t, b sin t) by arc length sigma (sigma'(t) = g(t) = |E'(t)|),
+T its unit tangent, N = left normal (towards the centre), k > 0 its curvature, ' = d/dsigma.  Every data
+point is written P_i = E(sigma_i) + d_i N(sigma_i) (foot sigma_i, signed offset d_i; d_i = 0 up to 1e-10 on
+the exact file).  A curve C in the band is written as a normal offset of E over the data span
+[sigma_0, sigma_N]:  C(sigma) = E(sigma) + w(sigma) N(sigma).
+
+Assumptions (the class of curves bounded; checked a posteriori on the optimum, see the docs):
+  (A1) C is such a normal graph over [sigma_0, sigma_N] (with ``--interior`` only over [sigma_1, sigma_{N-1}],
+       which every curve whose ends are within tol of P_0 and P_N covers), w in H^3;
+  (A2) |w| <= W, |w'| <= delta1, |w''| <= delta2 there (defaults W = max|d_i| + 2 tol, delta1 = 0.05,
+       delta2 = 2: the curve's direction within 2.9 deg and its curvature within +-2 of the ellipse's).
+
+Exact curvature of C (derived in the docs, checked by finite differences in the test): with a = 1 - k w,
+p = w', q = w'', S = sqrt(a^2 + p^2) = |dC/dsigma|,
+    kappa_C = (a^2 k + a q + p (k' w + 2 k p)) / S^3 = kappa_lin + R,   kappa_lin = k + w'' + k^2 w,
+    |R| <= rho(sigma) := R1 + 1.5 (delta1/a)^2 (k + k^2 W + delta2 + R1),
+    R1 = k^3 W^2 / a + delta2 (2 k W + k^2 W^2) / a^2 + delta1 (|k'| W + 2 k delta1) / a^3,  a = 1 - k W.
+
+Band at the data: dist(P_i, C) <= tol and (A2) give |w(sigma_i) - d_i| <= tau' = tol sqrt(1 + (delta1/a_0)^2),
+a_0 = 1 - k_max (max|d| + tol) (the segment from P_i to its nearest curve point, in the flat metric
+(1 - k w)^2 dsigma^2 + dw^2 of the normal coordinates, plus the slope bound).
+
+Dual certificate (the lower bound; no discretisation of w at all)
+------------------------------------------------------------------
+Let phi be continuous with phi' continuous, phi''' + k^2 phi' = 0 between data points, phi'' jumping by J_i at
+sigma_i (J_0 = phi''(sigma_0+), J_N = -phi''(sigma_N-)), phi = phi' = 0 at both ends.  Three integrations by
+parts give, for every w in H^3,
+    int kappa_lin' phi dsigma = int k' phi dsigma - sum_i J_i w(sigma_i),
+and with kappa_C' = kappa_lin' + R' (one more integration by parts, |R| <= rho):
+    int kappa_C' phi >= A(J) := int k' phi - sum J_i d_i - tau' sum |J_i| - int rho |phi'|.
+Cauchy-Schwarz with ds = S dsigma and the length L >= L_sub >= int (1 - k W) dsigma give, for EVERY curve of
+the class in the band,
+    F >= (L_E,sub - W int k dsigma)^3  max(A(J), 0)^2 / int phi^2 S_max dsigma,   S_max = sqrt((1+kW)^2 + delta1^2).
+Any J meeting the three end conditions is a certificate.  phi is built exactly from J: the 3x3 fundamental
+matrix Y of (phi, phi', phi'')' = (phi', phi'', -k^2 phi') is integrated once (DOP853, rtol 1e-13), so
+phi = e1^T Y(t) sum_{j <= i} Y(t_j)^-1 e3 J_j in interval i, and the end conditions are sum_j Y(t_j)^-1 e3 J_j = 0.
+With W = delta1 = delta2 = 0 and tau' = tol this is the dual of the LINEARISED problem
+    min int (k' + (w'' + k^2 w)')^2 dsigma   s.t.  |w(sigma_i) - d_i| <= tol,
+a convex QP whose minimum is global; by weak duality every certificate bounds it from below.
+
+Primal (the matching upper bound and the certificate's J)
+---------------------------------------------------------
+The QP above on clamped quintic B-splines in t with knots at the data parameters, each interval split
+``refine`` times (for k = 0 the continuous optimum is a quintic spline with these knots), solved exactly by
+bounded least squares (scipy.optimize.lsq_linear, BVLS) in the variables v_i = w(t_i) (the null space of the
+collocation matrix eliminated by QR).  Its value is an UPPER bound of the continuous linearised minimum; its
+multipliers (J_i = -d(1/2 int f^2)/dv_i) give the certificate, projected onto the three end conditions.
+The curve E + w* N of the primal optimum is a real curve in the band (|w*(t_i) - d_i| <= tol, so its distance
+to P_i is <= tol); its TRUE (nonlinear) F and deviations are measured with measure.py's own code (a
+measure.Curve whose derivatives are the exact ones of E + w N).  So the band's minimum F is pinned between the
+certificate's bound and that curve's F.
+
+CLI: ``python bench/band_lower_bound.py [--refine 1,2,4] [--interior] [--delta1 0.05 --delta2 2]`` prints a
+table for both quarter-ellipse files (F in the benchmark's units; target = 0.5 x splprep's F, splprep run
+through bench/compare.py's own s search and measured by measure.py).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+import numpy as np
+from numpy.polynomial.legendre import leggauss
+from scipy.integrate import solve_ivp
+from scipy.interpolate import BSpline
+from scipy.linalg import null_space, qr
+from scipy.optimize import lsq_linear
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+import measure  # noqa: E402
+
+CURVES = ["synthetic/quarter_ellipse_200.csv", "synthetic/quarter_ellipse_200_noise1e-4.csv"]
+
+
+# ----------------------------------------------------------------------------- the ellipse
+
+
+class Ellipse:
+    """(a cos t, b sin t): metric g = |E'|, its square G and their t-derivatives, curvature k and k_t."""
+
+    def __init__(self, a=1.0, b=0.5):
+        self.a, self.b = float(a), float(b)
+
+    def point(self, t):
+        return np.c_[self.a * np.cos(t), self.b * np.sin(t)]
+
+    def G(self, t):
+        """G = g^2 and its first three t-derivatives."""
+        a2, b2 = self.a**2, self.b**2
+        c = 0.5 * (a2 - b2)
+        return (0.5 * (a2 + b2) - c * np.cos(2 * t), 2 * c * np.sin(2 * t), 4 * c * np.cos(2 * t),
+                -8 * c * np.sin(2 * t))
+
+    def g(self, t):
+        return np.sqrt(self.G(t)[0])
+
+    def k(self, t):
+        """Curvature k and dk/dt."""
+        G, Gt, _, _ = self.G(t)
+        ab = self.a * self.b
+        return ab * G**-1.5, -1.5 * ab * Gt * G**-2.5
+
+    def normal_raw(self, t, order):
+        """n(t) = (-b cos t, -a sin t) (N = n / g) and its t-derivatives up to `order`."""
+        out = []
+        for m in range(order + 1):
+            c = np.cos(t + m * np.pi / 2)
+            s = np.sin(t + m * np.pi / 2)
+            out.append(np.c_[-self.b * c, -self.a * s])
+        return out
+
+    def point_derivs(self, t, order):
+        out = []
+        for m in range(order + 1):
+            out.append(np.c_[self.a * np.cos(t + m * np.pi / 2), self.b * np.sin(t + m * np.pi / 2)])
+        return out
+
+    def h_derivs(self, t):
+        """h = 1/g = G^-1/2 and its first three t-derivatives."""
+        G, G1, G2, G3 = self.G(t)
+        h0 = G**-0.5
+        h1 = -0.5 * G**-1.5 * G1
+        h2 = 0.75 * G**-2.5 * G1**2 - 0.5 * G**-1.5 * G2
+        h3 = -1.875 * G**-3.5 * G1**3 + 2.25 * G**-2.5 * G1 * G2 - 0.5 * G**-1.5 * G3
+        return [h0, h1, h2, h3]
+
+    def arc(self, t0, t1, n=64):
+        """Arc length and total turning int k dsigma between t0 and t1 (Gauss-Legendre, n nodes x 16 cells)."""
+        x, w = leggauss(n)
+        edges = np.linspace(t0, t1, 17)
+        L = K = 0.0
+        for c0, c1 in zip(edges[:-1], edges[1:]):
+            h = 0.5 * (c1 - c0)
+            tt = c0 + h * (x + 1)
+            g = self.g(tt)
+            L += h * np.sum(w * g)
+            K += h * np.sum(w * g * self.k(tt)[0])
+        return L, K
+
+    def feet(self, P):
+        """Foot parameters t_i and signed offsets d_i along N (Newton on (E(t) - P).E'(t) = 0)."""
+        P = np.asarray(P, dtype=float)
+        t = np.arctan2(P[:, 1] / self.b, P[:, 0] / self.a)
+        for _ in range(50):
+            E0, E1, E2 = self.point_derivs(t, 2)
+            r = E0 - P
+            f = np.sum(r * E1, axis=1)
+            fp = np.sum(E1 * E1, axis=1) + np.sum(r * E2, axis=1)
+            step = f / fp
+            t = t - step
+            if np.max(np.abs(step)) < 1e-16:
+                break
+        n = self.normal_raw(t, 0)[0] / self.g(t)[:, None]
+        d = np.sum((P - self.point(t)) * n, axis=1)
+        return t, d
+
+
+# ----------------------------------------------------------------------------- the offset curve E + w N
+
+
+def exact_kappa(ell: Ellipse, t, w_t):
+    """Exact signed curvature of C = E + w N and the linearised k + w'' + k^2 w (derivatives in sigma), from
+    w and its t-derivatives w_t = [w, w_t, w_tt]: returns (kappa_C, kappa_lin, w', w'')."""
+    G, Gt, Gtt, _ = ell.G(t)
+    g = np.sqrt(G)
+    w0, w1, w2 = w_t
+    ws = w1 / g
+    wss = w2 / G - w1 * Gt / (2 * G**2)
+    k = ell.k(t)[0]
+    C = offset_derivs(ell, t, [w0, w1, w2], 2)
+    d1, d2 = C[1], C[2]
+    kap = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.linalg.norm(d1, axis=1) ** 3
+    return kap, k + wss + k**2 * w0, ws, wss
+
+
+def offset_derivs(ell: Ellipse, t, w_derivs, order):
+    """C = E + m n with m = w h (h = 1/g): C and its t-derivatives up to `order` (Leibniz)."""
+    from math import comb
+
+    h = ell.h_derivs(t)
+    m = []
+    for j in range(order + 1):
+        m.append(sum(comb(j, i) * w_derivs[i] * h[j - i] for i in range(j + 1)))
+    n = ell.normal_raw(t, order)
+    E = ell.point_derivs(t, order)
+    out = []
+    for j in range(order + 1):
+        out.append(E[j] + sum(comb(j, i) * m[i][:, None] * n[j - i] for i in range(j + 1)))
+    return out
+
+
+class OffsetCurve(measure.Curve):
+    """E + w N, w a scipy BSpline in t, presented to measure.py's fairness() / deviations() with EXACT
+    derivatives (spans = w's distinct knot spans)."""
+
+    def __init__(self, ell: Ellipse, w: BSpline):
+        self.ell = ell
+        self.w = w
+        self.k = w.k
+        self.t = w.t
+        self.n = len(w.t) - w.k - 1
+        self.dim = 2
+        self.n_independent = self.n
+        self.rational = True
+        self.lo = w.t[w.k]
+        self.hi = w.t[self.n]
+        self.breaks = np.unique(w.t[w.k : self.n + 1])
+
+    def derivs(self, u, order):
+        u = np.clip(np.asarray(u, dtype=float), self.lo, self.hi)
+        wd = [self.w(u, nu) for nu in range(order + 1)]
+        return offset_derivs(self.ell, u, wd, order)
+
+
+# ----------------------------------------------------------------------------- problem data
+
+
+class Band:
+    """The data as feet on the ellipse: t_i, d_i, tol; `interior` drops the two end points."""
+
+    def __init__(self, P, ell: Ellipse, tol=None, interior=False):
+        self.ell = ell
+        self.P = np.asarray(P, dtype=float)
+        self.tol = measure.tolerance(self.P) if tol is None else float(tol)
+        t, d = ell.feet(self.P)
+        if np.any(np.diff(t) <= 0):
+            raise ValueError("data feet are not increasing along the ellipse")
+        if interior:
+            t, d = t[1:-1], d[1:-1]
+        self.ti, self.di = t, d
+        self.L_sub, self.K_sub = ell.arc(t[0], t[-1])
+
+
+def quintic_basis(ti, refine):
+    k = 5
+    fine = np.concatenate([np.linspace(a, b, refine + 1)[:-1] for a, b in zip(ti[:-1], ti[1:])] + [ti[-1:]])
+    knots = np.r_[[fine[0]] * k, fine, [fine[-1]] * k]
+    return k, knots, fine
+
+
+def span_gauss(breaks, n):
+    x, w = leggauss(n)
+    a, b = breaks[:-1, None], breaks[1:, None]
+    h = 0.5 * (b - a)
+    return (a + h * (x + 1)).ravel(), (h * w).ravel()
+
+
+def design(ell: Ellipse, k, knots, tq):
+    """Rows: v_sigma(w) = (w'' + k^2 w)' (sigma-derivative) at tq for every basis function, and k_sigma."""
+    n = len(knots) - k - 1
+    B = [BSpline.design_matrix(tq, knots, k).toarray()]
+    for nu in (1, 2, 3):
+        B.append(BSpline(knots, np.eye(n), k)(tq, nu))
+    G, G1, G2, _ = ell.G(tq)
+    g = np.sqrt(G)
+    kk, kt = ell.k(tq)
+    alpha = 1 / G
+    beta = -G1 / (2 * G**2)
+    alpha_t = -G1 / G**2
+    beta_t = -G2 / (2 * G**2) + G1**2 / G**3
+    vt = (alpha[:, None] * B[3] + (alpha_t + beta)[:, None] * B[2] + (beta_t + kk**2)[:, None] * B[1]
+          + (2 * kk * kt)[:, None] * B[0])
+    return vt / g[:, None], kt / g, g
+
+
+def solve_primal(band: Band, refine=1, tau=None, gauss=6):
+    """The linearised QP on quintic B-splines: returns dict(value = int (kappa_lin')^2 dsigma, w BSpline,
+    J multipliers (certificate direction), v = w(t_i))."""
+    ell = band.ell
+    tau = band.tol if tau is None else tau
+    k, knots, fine = quintic_basis(band.ti, refine)
+    tq, wq = span_gauss(fine, gauss)
+    Vs, ks, g = design(ell, k, knots, tq)
+    sw = np.sqrt(wq * g)
+    M = Vs * sw[:, None]
+    rhs = -ks * sw
+    A = BSpline.design_matrix(band.ti, knots, k).toarray()
+    Ap = np.linalg.pinv(A)
+    Zn = null_space(A)
+    Mv, My = M @ Ap, M @ Zn
+    Q, _ = qr(My, mode="economic")
+    Rv = Mv - Q @ (Q.T @ Mv)
+    rv = rhs - Q @ (Q.T @ rhs)
+    Q2, R2 = qr(np.column_stack([Rv, rv]), mode="economic")
+    nv = A.shape[0]
+    R, r = R2[:nv, :nv], R2[:nv, nv]
+    lo, hi = band.di - tau, band.di + tau
+    res = lsq_linear(R, r, bounds=(lo, hi), method="bvls", tol=1e-14, max_iter=10000)
+    v = res.x
+    y = np.linalg.lstsq(My, rhs - Mv @ v, rcond=None)[0]
+    c = Ap @ v + Zn @ y
+    f = M @ c - rhs
+    grad = R.T @ (R @ v - r)
+    return {"value": float(f @ f), "w": BSpline(knots, c, k), "J": -grad, "v": v, "status": res.status}
+
+
+# ----------------------------------------------------------------------------- the dual certificate
+
+
+class Certificate:
+    """phi from jumps J (exact ODE propagation) and the bound it certifies."""
+
+    def __init__(self, band: Band, gauss=10):
+        ell = band.ell
+        self.band = band
+        ti = band.ti
+        tq, wq = span_gauss(ti, gauss)
+        self.tq, self.wq = tq, wq
+        self.iq = np.repeat(np.arange(len(ti) - 1), gauss)
+
+        def rhs(t, y):
+            Y = y.reshape(3, 3)
+            kk = ell.k(t)[0]
+            A = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, -kk * kk, 0.0]])
+            return (ell.g(t) * (A @ Y)).ravel()
+
+        ts = np.unique(np.r_[ti, tq])
+        sol = solve_ivp(rhs, (ti[0], ti[-1]), np.eye(3).ravel(), method="DOP853", t_eval=ts,
+                        rtol=1e-13, atol=1e-15)
+        Y = sol.y.T.reshape(-1, 3, 3)
+        pos = {t: i for i, t in enumerate(ts)}
+        Yi = Y[[pos[t] for t in ti]]
+        Yq = Y[[pos[t] for t in tq]]
+        self.z = np.linalg.solve(Yi, np.broadcast_to(np.array([0.0, 0.0, 1.0]), (len(ti), 3))[..., None])[..., 0]
+        # phi, phi' at the nodes: rows of e1^T Y(tq) z_j (j <= interval index), e2^T likewise
+        n = len(ti)
+        mask = (np.arange(n)[None, :] <= self.iq[:, None]).astype(float)
+        self.B0 = (Yq[:, 0, :] @ self.z.T) * mask
+        self.B1 = (Yq[:, 1, :] @ self.z.T) * mask
+        G = ell.G(tq)[0]
+        self.g = np.sqrt(G)
+        self.k, self.kt = ell.k(tq)
+
+    def close(self, J):
+        """Least change of J meeting the end conditions sum_j z_j J_j = 0."""
+        Z = self.z.T
+        return J - Z.T @ np.linalg.solve(Z @ Z.T, Z @ J)
+
+    def bound(self, J, W=0.0, delta1=0.0, delta2=0.0):
+        """(F lower bound, details) certified by J (closed first) for the class (A2) with W, delta1, delta2."""
+        band = self.band
+        J = self.close(np.asarray(J, dtype=float))
+        phi = self.B0 @ J
+        dphi = self.B1 @ J
+        wq, g, k, kt = self.wq, self.g, self.k, self.kt
+        ks = kt / g
+        a = 1 - k * W
+        kmax = float(np.max(self.band.ell.k(np.linspace(band.ti[0], band.ti[-1], 2001))[0]))
+        a0 = 1 - kmax * (np.max(np.abs(band.di)) + band.tol)
+        tau = band.tol * np.sqrt(1 + (delta1 / a0) ** 2)
+        R1 = k**3 * W**2 / a + delta2 * (2 * k * W + k**2 * W**2) / a**2 + delta1 * (np.abs(ks) * W + 2 * k * delta1) / a**3
+        rho = R1 + 1.5 * (delta1 / a) ** 2 * (k + k**2 * W + delta2 + R1)
+        Smax = np.sqrt((1 + k * W) ** 2 + delta1**2)
+        best = None
+        for sgn in (1.0, -1.0):
+            Js, ph, dph = sgn * J, sgn * phi, sgn * dphi
+            lin = float(np.sum(wq * kt * ph))  # int k_sigma phi dsigma = int k_t phi dt
+            data = float(Js @ band.di)
+            l1 = float(np.sum(np.abs(Js)))
+            rem = float(np.sum(wq * g * rho * np.abs(dph)))
+            A = lin - data - tau * l1 - rem
+            den = float(np.sum(wq * g * ph**2 * Smax))
+            L = band.L_sub - W * band.K_sub
+            val = L**3 * max(A, 0.0) ** 2 / den
+            if best is None or val > best[0]:
+                best = (val, {"lin": lin, "data": data, "tau": tau, "l1": l1, "rem": rem, "den": den, "L": L})
+        return best
+
+
+# ----------------------------------------------------------------------------- the study
+
+
+def target_of(P, tol):
+    """0.5 x splprep's F: bench/compare.py's own s search, measured by measure.py."""
+    import compare
+
+    curve, _, _ = compare.splprep_search(np.asarray(P, dtype=float), tol)
+    k, t, ctrl = curve
+    m = measure.measure(k, t, ctrl, None, P)
+    return m.F, m.n_ctrl
+
+
+def verify(band: Band, w: BSpline, P):
+    """TRUE F (measure.py's fairness on the exact E + w N) and max orthogonal deviation / tol."""
+    c = OffsetCurve(band.ell, w)
+    F, L = measure.fairness(c, True)
+    dev = measure.deviations(c, P)
+    return F, L, float(np.max(dev)) / band.tol
+
+
+def study(path, refines=(1, 2, 4), interior=False, delta1=0.05, delta2=2.0, W_tols=2.0, splprep=True, out=print):
+    P = measure.read_points(path)
+    ell = Ellipse()
+    band = Band(P, ell, interior=interior)
+    full = Band(P, ell)
+    W = float(np.max(np.abs(band.di))) + W_tols * band.tol
+    cert = Certificate(band)
+    target = None
+    if splprep:
+        Fs, ns = target_of(P, full.tol)
+        target = 0.5 * Fs
+        out(f"{os.path.basename(path)}: tol {band.tol:.6g}, splprep F {Fs:.6g} ({ns} ctrl pts), target 0.5x = {target:.6g}")
+    Le = band.L_sub
+    out(f"  span: {len(band.ti)} points, t in [{band.ti[0]:.6f}, {band.ti[-1]:.6f}], L_E,sub {Le:.6f}; "
+        f"class: W = {W:.3g}, delta1 = {delta1}, delta2 = {delta2}")
+    out("| refine | quintic coeffs | primal (linearised, upper) | certificate (linearised, lower) | gap | "
+        "certified bound with (A2) | true F of E + w* N (dev/tol) |")
+    out("|---:|---:|---:|---:|---:|---:|---:|")
+    rows = []
+    for r in refines:
+        pr = solve_primal(band, refine=r)
+        up = Le**3 * pr["value"]
+        lo_lin, _ = cert.bound(pr["J"])
+        lo, det = cert.bound(pr["J"], W=W, delta1=delta1, delta2=delta2)
+        Ft, Lt, dev = verify(full if not interior else band, pr["w"], P)
+        rows.append({"refine": r, "upper": up, "lower_lin": lo_lin, "lower": lo, "F_true": Ft, "dev": dev,
+                     "target": target, "det": det, "w": pr["w"]})
+        out(f"| {r} | {len(pr['w'].c)} | {up:.5f} | {lo_lin:.5f} | {(up - lo_lin) / up:.2e} | {lo:.4f} | "
+            f"{Ft:.5f} ({dev:.5f}) |")
+    return rows, target
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", default=None, help="data directory (default: bench/compare.py's ../shared/data)")
+    ap.add_argument("--refine", default="1,2,4")
+    ap.add_argument("--interior", action="store_true", help="drop the end points (no end-coverage assumption)")
+    ap.add_argument("--delta1", type=float, default=0.05)
+    ap.add_argument("--delta2", type=float, default=2.0)
+    ap.add_argument("--W-tols", type=float, default=2.0, help="W = max|d_i| + this x tol")
+    a = ap.parse_args(argv)
+    refines = [int(x) for x in a.refine.split(",")]
+    if a.data is None:
+        import compare
+
+        a.data = compare.default_data_dir()
+    for c in CURVES:
+        rows, target = study(os.path.join(a.data, c), refines, a.interior, a.delta1, a.delta2, a.W_tols)
+        lo = rows[-1]["lower"]
+        print(f"  => certified F >= {lo:.4f} = {lo / (2 * target):.4f} x splprep's F; target {target:.4f}: "
+              f"{'INFEASIBLE (bound > target)' if lo > target else 'not excluded'}\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
