@@ -21,8 +21,11 @@ Assumptions (the class of curves bounded; checked a posteriori on the optimum, s
 Exact curvature of C (derived in the docs, checked by finite differences in the test): with a = 1 - k w,
 p = w', q = w'', S = sqrt(a^2 + p^2) = |dC/dsigma|,
     kappa_C = (a^2 k + a q + p (k' w + 2 k p)) / S^3 = kappa_lin + R,   kappa_lin = k + w'' + k^2 w,
-    |R| <= rho(sigma) := R1 + 1.5 (delta1/a)^2 (k + k^2 W + delta2 + R1),
-    R1 = k^3 W^2 / a + delta2 (2 k W + k^2 W^2) / a^2 + delta1 (|k'| W + 2 k delta1) / a^3,  a = 1 - k W.
+and with x = p^2 / a^2, f(x) = (1 + 2x)(1 + x)^-3/2 (f - 1 in [0, x/2] for 0 <= x <= 1/2) exactly
+    R = k^3 w^2 / a + (k / a)(f(x) - 1) + q ((1 + x)^-3/2 / a^2 - 1) + p k' w (1 + x)^-3/2 / a^3,
+so with a in [a_lo, a_hi] = [1 - k W, 1 + k W] and x <= x_max = (delta1 / a_lo)^2 (`remainder_bound`)
+    |R| <= rho(sigma) := k^3 W^2 / a_lo + k x_max / (2 a_lo)
+                         + delta2 max(1/a_lo^2 - 1, 1 - (1 + x_max)^-3/2 / a_hi^2) + delta1 |k'| W / a_lo^3.
 
 Band at the data: dist(P_i, C) <= tol and (A2) give |w(sigma_i) - d_i| <= tau' = tol sqrt(1 + (delta1/a_0)^2),
 a_0 = 1 - k_max (max|d| + tol) (the segment from P_i to its nearest curve point, in the flat metric
@@ -200,6 +203,18 @@ def offset_derivs(ell: Ellipse, t, w_derivs, order):
     return out
 
 
+def remainder_bound(k, ks, W, delta1, delta2):
+    """rho >= |kappa_C - kappa_lin| for |w| <= W, |w'| <= delta1, |w''| <= delta2 (k, ks = dk/dsigma at the
+    point; module doc)."""
+    a_lo, a_hi = 1 - k * W, 1 + k * W
+    x = (delta1 / a_lo) ** 2
+    if np.any(a_lo <= 0) or np.any(x > 0.5):
+        raise ValueError("the class (W, delta1) is too wide for the remainder bound")
+    return (k**3 * W**2 / a_lo + 0.5 * k * x / a_lo
+            + delta2 * np.maximum(1 / a_lo**2 - 1, 1 - (1 + x) ** -1.5 / a_hi**2)
+            + delta1 * np.abs(ks) * W / a_lo**3)
+
+
 class OffsetCurve(measure.Curve):
     """E + w N, w a scipy BSpline in t, presented to measure.py's fairness() / deviations() with EXACT
     derivatives (spans = w's distinct knot spans)."""
@@ -297,12 +312,12 @@ def solve_primal(band: Band, refine=1, tau=None, gauss=6):
     R, r = R2[:nv, :nv], R2[:nv, nv]
     lo, hi = band.di - tau, band.di + tau
     res = lsq_linear(R, r, bounds=(lo, hi), method="bvls", tol=1e-14, max_iter=10000)
-    v = res.x
+    v, status = res.x, res.status
     y = np.linalg.lstsq(My, rhs - Mv @ v, rcond=None)[0]
     c = Ap @ v + Zn @ y
     f = M @ c - rhs
     grad = R.T @ (R @ v - r)
-    return {"value": float(f @ f), "w": BSpline(knots, c, k), "J": -grad, "v": v, "status": res.status}
+    return {"value": float(f @ f), "w": BSpline(knots, c, k), "J": -grad, "v": v, "status": status}
 
 
 # ----------------------------------------------------------------------------- the dual certificate
@@ -342,6 +357,19 @@ class Certificate:
         self.g = np.sqrt(G)
         self.k, self.kt = ell.k(tq)
 
+    @staticmethod
+    def arc_integral(band: Band, n=64):
+        """int (dk/dsigma)^2 dsigma of the exact ellipse over the span (w = 0)."""
+        x, wg = leggauss(n)
+        edges = np.linspace(band.ti[0], band.ti[-1], 33)
+        tot = 0.0
+        for c0, c1 in zip(edges[:-1], edges[1:]):
+            h = 0.5 * (c1 - c0)
+            tt = c0 + h * (x + 1)
+            kt = band.ell.k(tt)[1]
+            tot += h * np.sum(wg * kt**2 / band.ell.g(tt))
+        return tot
+
     def close(self, J):
         """Least change of J meeting the end conditions sum_j z_j J_j = 0."""
         Z = self.z.T
@@ -355,12 +383,10 @@ class Certificate:
         dphi = self.B1 @ J
         wq, g, k, kt = self.wq, self.g, self.k, self.kt
         ks = kt / g
-        a = 1 - k * W
         kmax = float(np.max(self.band.ell.k(np.linspace(band.ti[0], band.ti[-1], 2001))[0]))
         a0 = 1 - kmax * (np.max(np.abs(band.di)) + band.tol)
         tau = band.tol * np.sqrt(1 + (delta1 / a0) ** 2)
-        R1 = k**3 * W**2 / a + delta2 * (2 * k * W + k**2 * W**2) / a**2 + delta1 * (np.abs(ks) * W + 2 * k * delta1) / a**3
-        rho = R1 + 1.5 * (delta1 / a) ** 2 * (k + k**2 * W + delta2 + R1)
+        rho = remainder_bound(k, ks, W, delta1, delta2)
         Smax = np.sqrt((1 + k * W) ** 2 + delta1**2)
         best = None
         for sgn in (1.0, -1.0):
@@ -399,57 +425,106 @@ def verify(band: Band, w: BSpline, P):
     return F, L, float(np.max(dev)) / band.tol
 
 
-def study(path, refines=(1, 2, 4), interior=False, delta1=0.05, delta2=2.0, W_tols=2.0, splprep=True, out=print):
+def class_stats(band: Band, w: BSpline, n=20001):
+    """max |w|, |w'|, |w''| (sigma-derivatives) and max |kappa_C - kappa_lin| of E + w N over the span."""
+    tt = np.linspace(band.ti[0], band.ti[-1], n)
+    kap, klin, ws, wss = exact_kappa(band.ell, tt, [w(tt), w(tt, 1), w(tt, 2)])
+    return {"W": float(np.max(np.abs(w(tt)))), "d1": float(np.max(np.abs(ws))), "d2": float(np.max(np.abs(wss))),
+            "R": float(np.max(np.abs(kap - klin)))}
+
+
+def certified(P, ell, delta1, delta2, W_tols, refine=1):
+    """Certified bounds for the class (A2): over the full data span (times the end-extension factor, see the
+    docs) and over the interior span (points 1..N-1, no end assumption). Returns a dict."""
+    out = {}
+    for name, interior in (("full", False), ("interior", True)):
+        band = Band(P, ell, interior=interior)
+        W = float(np.max(np.abs(band.di))) + W_tols * band.tol
+        cert = Certificate(band)
+        pr = solve_primal(band, refine=refine)
+        val, det = cert.bound(pr["J"], W=W, delta1=delta1, delta2=delta2)
+        if not interior:
+            # a curve ending short of the end normals, extended by circular arcs (kappa' = 0) of length <= e
+            kmax = float(np.max(ell.k(np.linspace(band.ti[0], band.ti[-1], 2001))[0]))
+            a_lo = 1 - kmax * W
+            e = band.tol * np.sqrt((1 + kmax * W) ** 2 + delta1**2) / a_lo
+            Lmin = det["L"] - 2 * band.tol / a_lo
+            fac = (Lmin / (Lmin + 2 * e)) ** 3
+            val *= fac
+            det["extension_factor"] = fac
+        out[name] = (val, det, W, band, cert, pr)
+    return out
+
+
+def study(path, refines=(1, 2, 4), delta1=0.1, delta2=2.0, W_tols=2.0, splprep=True, grid=None, out=print):
+    """The CLI's table for one data file; returns a dict of the numbers."""
     P = measure.read_points(path)
     ell = Ellipse()
-    band = Band(P, ell, interior=interior)
-    full = Band(P, ell)
-    W = float(np.max(np.abs(band.di))) + W_tols * band.tol
+    band = Band(P, ell)
     cert = Certificate(band)
-    target = None
+    res = {"name": os.path.basename(path), "tol": band.tol}
     if splprep:
-        Fs, ns = target_of(P, full.tol)
-        target = 0.5 * Fs
-        out(f"{os.path.basename(path)}: tol {band.tol:.6g}, splprep F {Fs:.6g} ({ns} ctrl pts), target 0.5x = {target:.6g}")
-    Le = band.L_sub
-    out(f"  span: {len(band.ti)} points, t in [{band.ti[0]:.6f}, {band.ti[-1]:.6f}], L_E,sub {Le:.6f}; "
-        f"class: W = {W:.3g}, delta1 = {delta1}, delta2 = {delta2}")
-    out("| refine | quintic coeffs | primal (linearised, upper) | certificate (linearised, lower) | gap | "
-        "certified bound with (A2) | true F of E + w* N (dev/tol) |")
-    out("|---:|---:|---:|---:|---:|---:|---:|")
+        Fs, ns = target_of(P, band.tol)
+        res.update(splprep_F=Fs, splprep_n=ns, target=0.5 * Fs)
+        out(f"{res['name']}: tol {band.tol:.6g}, splprep F {Fs:.6g} ({ns} ctrl pts), target 0.5x = {0.5 * Fs:.6g}")
+    out(f"  full span: {len(band.ti)} points, t in [{band.ti[0]:.6f}, {band.ti[-1]:.6f}], L_E {band.L_sub:.6f}, "
+        f"F of the exact arc {band.L_sub**3 * Certificate.arc_integral(band):.4f}")
+    out("| refine | quintic coeffs | primal (linearised, upper) | certificate (linearised, lower) | rel. gap | "
+        "true F of E + w* N | its dev/tol | max abs w/tol, w', w'' | max abs kappa - kappa_lin |")
+    out("|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     rows = []
     for r in refines:
         pr = solve_primal(band, refine=r)
-        up = Le**3 * pr["value"]
-        lo_lin, _ = cert.bound(pr["J"])
-        lo, det = cert.bound(pr["J"], W=W, delta1=delta1, delta2=delta2)
-        Ft, Lt, dev = verify(full if not interior else band, pr["w"], P)
-        rows.append({"refine": r, "upper": up, "lower_lin": lo_lin, "lower": lo, "F_true": Ft, "dev": dev,
-                     "target": target, "det": det, "w": pr["w"]})
-        out(f"| {r} | {len(pr['w'].c)} | {up:.5f} | {lo_lin:.5f} | {(up - lo_lin) / up:.2e} | {lo:.4f} | "
-            f"{Ft:.5f} ({dev:.5f}) |")
-    return rows, target
+        up = band.L_sub**3 * pr["value"]
+        lo, _ = cert.bound(pr["J"])
+        Ft, _, dev = verify(band, pr["w"], P)
+        st = class_stats(band, pr["w"])
+        rows.append({"refine": r, "upper": up, "lower": lo, "F_true": Ft, "dev": dev, **st})
+        out(f"| {r} | {len(pr['w'].c)} | {up:.6f} | {lo:.6f} | {(up - lo) / up:.1e} | {Ft:.5f} | {dev:.7f} | "
+            f"{st['W'] / band.tol:.4f}, {st['d1']:.4f}, {st['d2']:.3f} | {st['R']:.4f} |")
+    res["rows"] = rows
+    cb = certified(P, ell, delta1, delta2, W_tols)
+    for name in ("full", "interior"):
+        val, det, W, _, _, _ = cb[name]
+        res[name] = val
+        extra = f", end-extension factor {det['extension_factor']:.5f}" if "extension_factor" in det else ""
+        ratio = f" = {val / res['splprep_F']:.4f} x splprep's F" if splprep else ""
+        out(f"  certified, {name} span, class W = {W:.3g}, |w'| <= {delta1}, |w''| <= {delta2}: "
+            f"F >= {val:.4f}{ratio}{extra}")
+    if grid:
+        d1s, d2s = grid
+        _, _, _, bi, ci, pi = cb["interior"]
+        Wi = cb["interior"][2]
+        out("  certified bound (interior span) by class: rows |w'| <= delta1, columns |w''| <= delta2")
+        out("| delta1 \\ delta2 | " + " | ".join(f"{d:g}" for d in d2s) + " |")
+        out("|---:|" + "---:|" * len(d2s))
+        for d1 in d1s:
+            out(f"| {d1:g} | " + " | ".join(f"{ci.bound(pi['J'], W=Wi, delta1=d1, delta2=d2)[0]:.3f}" for d2 in d2s)
+                + " |")
+    return res
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", default=None, help="data directory (default: bench/compare.py's ../shared/data)")
     ap.add_argument("--refine", default="1,2,4")
-    ap.add_argument("--interior", action="store_true", help="drop the end points (no end-coverage assumption)")
-    ap.add_argument("--delta1", type=float, default=0.05)
-    ap.add_argument("--delta2", type=float, default=2.0)
-    ap.add_argument("--W-tols", type=float, default=2.0, help="W = max|d_i| + this x tol")
+    ap.add_argument("--delta1", type=float, default=0.1, help="class bound on |w'| (slope against the ellipse)")
+    ap.add_argument("--delta2", type=float, default=2.0, help="class bound on |w''| (curvature change)")
+    ap.add_argument("--W-tols", type=float, default=2.0, help="class bound |w| <= max|d_i| + this x tol")
+    ap.add_argument("--grid", action="store_true", help="also print the bound over a (delta1, delta2) grid")
     a = ap.parse_args(argv)
     refines = [int(x) for x in a.refine.split(",")]
     if a.data is None:
         import compare
 
         a.data = compare.default_data_dir()
+    grid = ((0.0, 0.05, 0.1, 0.15, 0.2), (0.0, 1.0, 2.0, 3.0, 4.0)) if a.grid else None
     for c in CURVES:
-        rows, target = study(os.path.join(a.data, c), refines, a.interior, a.delta1, a.delta2, a.W_tols)
-        lo = rows[-1]["lower"]
-        print(f"  => certified F >= {lo:.4f} = {lo / (2 * target):.4f} x splprep's F; target {target:.4f}: "
-              f"{'INFEASIBLE (bound > target)' if lo > target else 'not excluded'}\n")
+        res = study(os.path.join(a.data, c), refines, a.delta1, a.delta2, a.W_tols, grid=grid)
+        lo = min(res["full"], res["interior"])
+        verdict = "EXCLUDED (bound > target)" if lo > res["target"] else "not excluded"
+        print(f"  => every curve of the class in the band has F >= {lo:.4f} = {lo / res['splprep_F']:.4f} x "
+              f"splprep's F; target {res['target']:.4f}: {verdict}\n")
     return 0
 
 
