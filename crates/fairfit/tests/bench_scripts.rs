@@ -47,3 +47,8 @@ fn benchmark_bookkeeping_tests_pass() {
 fn band_optimum_study_tests_pass() {
     run_bench_test("test_band_optimum.py");
 }
+
+#[test]
+fn band_lower_bound_tests_pass() {
+    run_bench_test("test_band_lower_bound.py");
+}
