@@ -98,22 +98,9 @@ pub fn print_json(v: &serde_json::Value) -> CmdResult {
 /// curvature `-(0 · x)` of a flat patch) means the same number and only confuses readers and `diff`.
 pub fn json_pretty(v: &serde_json::Value) -> Result<String, CliError> {
     let mut v = v.clone();
-    clear_negative_zeros(&mut v);
+    fairfit::io::numbers::clear_negative_zeros(&mut v);
     serde_json::to_string_pretty(&v)
         .map_err(|e| CliError::new(format!("internal: cannot format JSON: {e}")))
-}
-
-/// Replaces every number `-0.0` in `v` (at any depth) by `0.0`.
-pub fn clear_negative_zeros(v: &mut serde_json::Value) {
-    use serde_json::Value;
-    match v {
-        Value::Number(n) if n.as_f64().is_some_and(|x| x == 0.0 && x.is_sign_negative()) => {
-            *v = Value::from(0.0);
-        }
-        Value::Array(a) => a.iter_mut().for_each(clear_negative_zeros),
-        Value::Object(o) => o.values_mut().for_each(clear_negative_zeros),
-        _ => {}
-    }
 }
 
 /// Warns on stderr (once per run) that some quantity is beyond the range of f64 at the geometry's scale

@@ -31,7 +31,7 @@ impl std::str::FromStr for LengthUnit {
 /// A real number in the shortest form that reads back to the same `f64`, in the syntax STEP and IGES
 /// both accept: always a decimal point, exponent letter `E` (`1.`, `0.25`, `1.5E-7`, `-3.E20`).
 pub fn format_real(x: f64) -> String {
-    let s = format!("{x:?}");
+    let s = format!("{:?}", super::numbers::unsigned_zero(x));
     let (mantissa, exponent) = match s.split_once('e') {
         Some((m, e)) => (m.to_string(), Some(e.to_string())),
         None => (s, None),

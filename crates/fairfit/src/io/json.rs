@@ -6,6 +6,7 @@
 //!
 //! `weights` may be omitted (all 1). Reading validates the geometry; errors name the offending field.
 
+use super::numbers::{unsigned_zero, unsigned_zeros};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use serde::{Deserialize, Serialize};
@@ -65,8 +66,12 @@ impl From<&NurbsCurve> for CurveJson {
     fn from(c: &NurbsCurve) -> Self {
         CurveJson {
             degree: c.degree(),
-            knots: c.knots().to_vec(),
-            control_points: c.control_points().iter().map(|p| p.0).collect(),
+            knots: c.knots().iter().map(|&k| unsigned_zero(k)).collect(),
+            control_points: c
+                .control_points()
+                .iter()
+                .map(|p| unsigned_zeros(p.0))
+                .collect(),
             weights: Some(c.weights().to_vec()),
         }
     }
@@ -77,12 +82,12 @@ impl From<&NurbsSurface> for SurfaceJson {
         SurfaceJson {
             degree_u: s.degree_u(),
             degree_v: s.degree_v(),
-            knots_u: s.knots_u().to_vec(),
-            knots_v: s.knots_v().to_vec(),
+            knots_u: s.knots_u().iter().map(|&k| unsigned_zero(k)).collect(),
+            knots_v: s.knots_v().iter().map(|&k| unsigned_zero(k)).collect(),
             control_points: s
                 .control_net()
                 .into_iter()
-                .map(|r| r.into_iter().map(|p| p.0).collect())
+                .map(|r| r.into_iter().map(|p| unsigned_zeros(p.0)).collect())
                 .collect(),
             weights: Some(s.weight_net()),
         }

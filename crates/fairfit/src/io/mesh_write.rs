@@ -4,6 +4,7 @@
 //! Written by hand: each format is a few lines, and no dependency is needed. Coordinates in OBJ and
 //! PLY are written in shortest round-trip form; STL stores `f32` by definition.
 
+use super::numbers::unsigned_zeros;
 use super::tessellate::{tessellate_curve, tessellate_surface, Mesh, TessellationOptions};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
@@ -40,7 +41,8 @@ impl MeshFormat {
 }
 
 fn v3(p: Vec3) -> String {
-    format!("{:?} {:?} {:?}", p.x(), p.y(), p.z())
+    let [x, y, z] = unsigned_zeros(p.0);
+    format!("{x:?} {y:?} {z:?}")
 }
 
 /// OBJ text of a mesh (1-based indices, `f a//a b//b c//c` when normals are present).
@@ -88,7 +90,7 @@ pub fn to_stl(mesh: &Mesh) -> Result<Vec<u8>> {
         let n = (b - a).cross(c - a);
         let n = if n.norm() > 0.0 { n / n.norm() } else { n };
         for p in [n, a, b, c] {
-            for x in p.0 {
+            for x in unsigned_zeros(p.0) {
                 out.extend_from_slice(&(x as f32).to_le_bytes());
             }
         }

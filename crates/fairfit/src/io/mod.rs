@@ -15,6 +15,7 @@ pub mod iges_read;
 pub mod json;
 pub mod mesh_read;
 pub mod mesh_write;
+pub mod numbers;
 pub mod p21;
 pub mod points;
 pub mod samples;

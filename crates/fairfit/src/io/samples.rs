@@ -3,6 +3,7 @@
 //!
 //! Format: `{"kind": "curve"|"surface", "params": [[u] | [u, v], ...], "points": [[x, y, z], ...]}`.
 
+use super::numbers::{unsigned_zero, unsigned_zeros};
 use crate::nurbs::{NurbsCurve, NurbsSurface};
 use serde_json::json;
 
@@ -18,8 +19,11 @@ fn lerp(a: f64, b: f64, k: usize, n: usize) -> f64 {
 pub fn curve_samples_json(c: &NurbsCurve, n: usize) -> String {
     let n = n.max(1);
     let (a, b) = c.domain();
-    let params: Vec<[f64; 1]> = (0..=n).map(|k| [lerp(a, b, k, n)]).collect();
-    let points: Vec<[f64; 3]> = params.iter().map(|u| c.point(u[0]).0).collect();
+    let params: Vec<[f64; 1]> = (0..=n).map(|k| [unsigned_zero(lerp(a, b, k, n))]).collect();
+    let points: Vec<[f64; 3]> = params
+        .iter()
+        .map(|u| unsigned_zeros(c.point(u[0]).0))
+        .collect();
     json!({"kind": "curve", "params": params, "points": points}).to_string()
 }
 
@@ -28,9 +32,14 @@ pub fn surface_samples_json(s: &NurbsSurface, n_u: usize, n_v: usize) -> String 
     let (n_u, n_v) = (n_u.max(1), n_v.max(1));
     let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
     let params: Vec<[f64; 2]> = (0..=n_u)
-        .flat_map(|i| (0..=n_v).map(move |j| [lerp(u0, u1, i, n_u), lerp(v0, v1, j, n_v)]))
+        .flat_map(|i| {
+            (0..=n_v).map(move |j| unsigned_zeros([lerp(u0, u1, i, n_u), lerp(v0, v1, j, n_v)]))
+        })
         .collect();
-    let points: Vec<[f64; 3]> = params.iter().map(|p| s.point(p[0], p[1]).0).collect();
+    let points: Vec<[f64; 3]> = params
+        .iter()
+        .map(|p| unsigned_zeros(s.point(p[0], p[1]).0))
+        .collect();
     json!({"kind": "surface", "params": params, "points": points}).to_string()
 }
 

@@ -346,7 +346,8 @@ impl OpenConic {
         }
     }
 
-    fn at(&self, t: f64) -> Vec3 {
+    /// The point at the ISO parameter `t`.
+    pub(super) fn at(&self, t: f64) -> Vec3 {
         let (u, v) = self.local(t);
         self.origin + self.x * u + self.y * v
     }
@@ -360,6 +361,57 @@ impl OpenConic {
             OpenShape::Hyperbola(_, b) => (v / b).asinh(),
         };
         (t, (self.at(t) - p).norm())
+    }
+
+    /// The parameter of the point of the conic nearest `p` and the distance of `p` from it: damped
+    /// Newton on `|C(t) - p|²` from [`Self::param_of`]'s parameter (which can be off by far more than
+    /// the distance where the conic runs nearly along its x axis).
+    pub(super) fn nearest(&self, p: Vec3) -> (f64, f64) {
+        let d = p - self.origin;
+        let (qu, qv) = (d.dot(self.x), d.dot(self.y));
+        // the squared distance in the plane, its first and second derivatives in t
+        let phi = |t: f64| {
+            let (u, v) = self.local(t);
+            let (du, dv, ddu, ddv) = match self.shape {
+                OpenShape::Parabola(f) => (2.0 * f * t, 2.0 * f, 2.0 * f, 0.0),
+                OpenShape::Hyperbola(a, b) => (a * t.sinh(), b * t.cosh(), u, v),
+            };
+            let (eu, ev) = (u - qu, v - qv);
+            let g = eu * du + ev * dv;
+            let h = du * du + dv * dv + eu * ddu + ev * ddv;
+            (eu * eu + ev * ev, g, h, du * du + dv * dv)
+        };
+        let (mut t, _) = self.param_of(p);
+        for _ in 0..100 {
+            let (f0, g, h, speed2) = phi(t);
+            if !(f0.is_finite() && g.is_finite()) || g == 0.0 {
+                break;
+            }
+            let mut step = -g / if h > 0.0 { h } else { speed2 };
+            // halved until the distance does not grow (a NaN counts as growing)
+            let grows = |x: f64| x.is_nan() || x > f0;
+            while step.abs() > 1e-300 && grows(phi(t + step).0) {
+                step *= 0.5;
+            }
+            if step.is_nan() || step.abs() <= 1e-16 * t.abs().max(1.0) {
+                break;
+            }
+            t += step;
+        }
+        let (t_y, d_y) = self.param_of(p);
+        let d = (self.at(t) - p).norm();
+        if d <= d_y {
+            (t, d)
+        } else {
+            (t_y, d_y)
+        }
+    }
+
+    /// The size of an arc of the conic reaching the points `ps`: the conic's own size or the largest
+    /// distance of a point from its placement's origin, whichever is larger.
+    pub(super) fn size_with(&self, ps: &[Vec3]) -> f64 {
+        ps.iter()
+            .fold(self.size(), |s, &p| s.max((p - self.origin).norm()))
     }
 
     fn implicit(&self) -> super::cad_conic::Implicit {

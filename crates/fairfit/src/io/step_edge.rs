@@ -8,7 +8,9 @@
 //! `same_sense` is `.T.`, against it when `.F.` (the piece of the curve from the end vertex to the
 //! start vertex, reversed), across the seam of a closed curve when the vertices ask for it. The
 //! vertices are taken at their projections onto the curve (CAD vertices carry a tolerance: within
-//! 1e-3 of the curve's size, else the file is refused with one line naming the edge); a vertex whose
+//! 1e-3 of the curve's size, else the file is refused with one line naming the edge; the size of an
+//! unbounded parabola or hyperbola is its focal distance or larger semi-axis, or the distance of the
+//! farther vertex from its placement's origin if that is larger); a vertex whose
 //! distance from an end of the curve is within 1e-7 of the size plus twice its distance from the curve
 //! is that end. A
 //! B-spline (or a `TRIMMED_CURVE`, read as in [`super::step_read`]) is cut exactly by knot insertion,
@@ -152,7 +154,17 @@ pub(super) fn edges(
                 (arc, kind, false)
             }
         } else if let Some(c) = super::step_conic::open_conic(x, basis, b)? {
-            let trims = by_points(ends()?);
+            // the vertices moved onto the parabola or hyperbola (within their tolerance, as above)
+            let mut on = ends()?;
+            let size = c.size_with(&on);
+            for (k, p) in on.iter_mut().enumerate() {
+                let (t, d) = c.nearest(*p);
+                if d.is_nan() || d > ON_CURVE * size {
+                    return Err(off_curve(k, d, basis, id, inst));
+                }
+                *p = c.at(t);
+            }
+            let trims = by_points(on);
             let (arc, kind) = super::step_conic::trimmed_open_conic(&c, trims, true, id, inst)?;
             (arc, kind, false)
         } else {
@@ -349,5 +361,99 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("not a VERTEX_POINT"), "{e}");
+    }
+
+    /// An edge of the parabola `(t², 2t)` (f = 1) or the hyperbola `(2 cosh t, sinh t)` from `t = -1`
+    /// (`t = 0` on the hyperbola) to `t1`, its end vertex `off` along the conic's normal there.
+    fn open_conic_edge(
+        parabola: bool,
+        t1: f64,
+        off: f64,
+    ) -> Result<super::super::cad_read::CadContents> {
+        type Planar = fn(f64) -> (f64, f64);
+        let (c, dc): (Planar, Planar) = if parabola {
+            (|t| (t * t, 2.0 * t), |t| (2.0 * t, 2.0))
+        } else {
+            (
+                |t| (2.0 * t.cosh(), t.sinh()),
+                |t| (2.0 * t.sinh(), t.cosh()),
+            )
+        };
+        let (shape, t0) = if parabola {
+            ("PARABOLA('',#4,1.)", -1.0)
+        } else {
+            ("HYPERBOLA('',#4,2.,1.)", 0.0)
+        };
+        let (p0, (x, y), (dx, dy)) = (c(t0), c(t1), dc(t1));
+        let n = dx.hypot(dy);
+        let (x, y) = (x + off * dy / n, y - off * dx / n);
+        contents(&parse(&wrap(&format!(
+            "#1=CARTESIAN_POINT('',(0.,0.,0.));#2=DIRECTION('',(0.,0.,1.));\
+             #3=DIRECTION('',(1.,0.,0.));#4=AXIS2_PLACEMENT_3D('',#1,#2,#3);#5={shape};\
+             #6=CARTESIAN_POINT('',({:?},{:?},0.));#7=CARTESIAN_POINT('',({x:?},{y:?},0.));\
+             #10=VERTEX_POINT('',#6);#11=VERTEX_POINT('',#7);#9=EDGE_CURVE('',#10,#11,#5,.T.);",
+            p0.0, p0.1
+        )))?)
+    }
+
+    #[test]
+    fn parabola_and_hyperbola_edges_take_vertices_within_1e_3_of_the_size() {
+        // sizes: the farther vertex from the origin, |(4, 4)| = 5.657 and |(2 cosh 1, sinh 1)| = 3.272
+        for (parabola, t1, size, on) in [
+            (
+                true,
+                2.0,
+                32f64.sqrt(),
+                (|x: f64, y: f64| y * y - 4.0 * x) as fn(f64, f64) -> f64,
+            ),
+            (
+                false,
+                1.0,
+                (4.0 * 1f64.cosh().powi(2) + 1f64.sinh().powi(2)).sqrt(),
+                |x, y| x * x / 4.0 - y * y - 1.0,
+            ),
+        ] {
+            let end = if parabola {
+                Vec3::new(4.0, 4.0, 0.0)
+            } else {
+                Vec3::new(2.0 * 1f64.cosh(), 1f64.sinh(), 0.0)
+            };
+            let start = if parabola {
+                Vec3::new(1.0, -2.0, 0.0)
+            } else {
+                Vec3::new(2.0, 0.0, 0.0)
+            };
+            // 0.35e-3 of the size off (was refused beyond 1e-6): the end vertex moves onto the conic
+            let c = open_conic_edge(parabola, t1, 0.35e-3 * size).unwrap();
+            assert_eq!(c.curves.len(), 1, "{parabola}");
+            let kind = if parabola { "parabolic" } else { "hyperbolic" };
+            assert_eq!(c.curves[0].0, format!("#9 ({kind} arc, edge of #5)"));
+            let e = &c.curves[0].1;
+            let (a, b) = e.domain();
+            assert!(
+                (e.point(a) - start).norm() < 1e-14,
+                "{parabola}: {:?}",
+                e.point(a)
+            );
+            assert!(
+                (e.point(b) - end).norm() < 1e-13,
+                "{parabola}: {:?}",
+                e.point(b)
+            );
+            for i in 0..=20 {
+                let p = e.point(a + (b - a) * i as f64 / 20.0);
+                assert!(on(p.x(), p.y()).abs() < 1e-12, "{parabola}: {i}");
+            }
+            // 2e-3 of the size off: one line with the distance from the conic (not along y)
+            let m = open_conic_edge(parabola, t1, 2e-3 * size)
+                .unwrap_err()
+                .to_string();
+            let want = format!(
+                "its end vertex lies {:.3e} off its curve #5 (more than 1e-3 of the curve's size)",
+                2e-3 * size
+            );
+            assert!(m.contains("#9") && m.contains(&want), "{m}");
+            assert_eq!(m.lines().count(), 1);
+        }
     }
 }

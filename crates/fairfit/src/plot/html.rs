@@ -38,7 +38,11 @@ pub fn rows_from_json(v: &serde_json::Value) -> Vec<(String, String)> {
                 out.push((prefix.to_string(), format!("[{} values]", a.len())));
             }
             serde_json::Value::String(s) => out.push((prefix.to_string(), s.clone())),
-            other => out.push((prefix.to_string(), other.to_string())),
+            other => {
+                let mut other = other.clone();
+                crate::io::numbers::clear_negative_zeros(&mut other);
+                out.push((prefix.to_string(), other.to_string()))
+            }
         }
     }
     let mut out = Vec::new();

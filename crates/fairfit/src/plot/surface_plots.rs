@@ -172,7 +172,7 @@ pub fn iso_curvature_svg(
         );
         cv.text(
             (frame.px.2 - 95.0, ly),
-            &format!("{fixed} = {t:.3}"),
+            &format!("{fixed} = {}", crate::io::numbers::fixed(*t, 3)),
             11.0,
             "start",
             false,

@@ -4,6 +4,7 @@
 //! be a self-contained string that embeds in HTML and renders with `resvg`.
 
 use crate::errors::{Error, Result};
+use crate::io::numbers::fixed;
 use std::fmt::Write as _;
 
 /// Explicit plot size in pixels.
@@ -76,7 +77,7 @@ impl Canvas {
             }
             let mut d = String::new();
             for (x, y) in run {
-                let _ = write!(d, "{x:.2},{y:.2} ");
+                let _ = write!(d, "{},{} ", px(*x), px(*y));
             }
             let _ = writeln!(
                 self.body,
@@ -94,16 +95,20 @@ impl Canvas {
         };
         let _ = writeln!(
             self.body,
-            r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{stroke}" stroke-width="{width}"{dash}/>"#,
-            a.0, a.1, b.0, b.1
+            r#"<line x1="{}" y1="{}" x2="{}" y2="{}" stroke="{stroke}" stroke-width="{width}"{dash}/>"#,
+            px(a.0),
+            px(a.1),
+            px(b.0),
+            px(b.1)
         );
     }
     /// A filled circle.
     pub fn circle(&mut self, c: (f64, f64), r: f64, fill: &str) {
         let _ = writeln!(
             self.body,
-            r#"<circle cx="{:.2}" cy="{:.2}" r="{r}" fill="{fill}"/>"#,
-            c.0, c.1
+            r#"<circle cx="{}" cy="{}" r="{r}" fill="{fill}"/>"#,
+            px(c.0),
+            px(c.1)
         );
     }
     /// A rectangle, filled and optionally outlined.
@@ -113,21 +118,25 @@ impl Canvas {
             .unwrap_or_default();
         let _ = writeln!(
             self.body,
-            r#"<rect x="{x:.2}" y="{y:.2}" width="{w:.2}" height="{h:.2}" fill="{fill}"{stroke}/>"#
+            r#"<rect x="{}" y="{}" width="{}" height="{}" fill="{fill}"{stroke}/>"#,
+            px(x),
+            px(y),
+            px(w),
+            px(h)
         );
     }
     /// Text; `anchor` is `start`, `middle` or `end`; `rotate` turns it by -90 degrees.
     pub fn text(&mut self, p: (f64, f64), s: &str, size: f64, anchor: &str, rotate: bool) {
         let rot = if rotate {
-            format!(r#" transform="rotate(-90 {:.2} {:.2})""#, p.0, p.1)
+            format!(r#" transform="rotate(-90 {} {})""#, px(p.0), px(p.1))
         } else {
             String::new()
         };
         let _ = writeln!(
             self.body,
-            r#"<text x="{:.2}" y="{:.2}" font-family="DejaVu Sans, Arial, sans-serif" font-size="{size}" text-anchor="{anchor}"{rot}>{}</text>"#,
-            p.0,
-            p.1,
+            r#"<text x="{}" y="{}" font-family="DejaVu Sans, Arial, sans-serif" font-size="{size}" text-anchor="{anchor}"{rot}>{}</text>"#,
+            px(p.0),
+            px(p.1),
             escape(s)
         );
     }
@@ -139,6 +148,11 @@ impl Canvas {
             self.body
         )
     }
+}
+
+/// A pixel coordinate with 2 decimals (a value rounding to zero is `0.00`, never `-0.00`).
+fn px(x: f64) -> String {
+    fixed(x, 2)
 }
 
 /// "Nice" tick values covering `[lo, hi]` (steps of 1, 2 or 5 times a power of ten).
@@ -161,7 +175,7 @@ fn tick_label(v: f64, step: f64) -> String {
     if v.abs() >= 1e5 || (v != 0.0 && v.abs() < 1e-4) {
         format!("{v:.2e}")
     } else {
-        format!("{v:.decimals$}")
+        fixed(v, decimals)
     }
 }
 
