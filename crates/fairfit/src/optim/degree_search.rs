@@ -7,13 +7,15 @@
 //!    has no more curvature extrema than the reference's (the extrema count is never traded for F);
 //!    its control points are the reference's count or fewer, except after the next degree's own
 //!    count search ([`super::degree_candidates`], "Own count search"), which may go up to the
-//!    least-squares baseline (one above it where the reference kept the baseline's count);
+//!    least-squares baseline (one above it where the reference kept the baseline's count, or
+//!    after the wiggly trigger);
 //! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) ·
 //!    EXTRA_POINT_GAIN^extra` wins (`extra`: control points above the reference's; ties: the lower
 //!    degree). A higher degree must buy the same factor [`IntegratedOptions::fairness_gain`] per
 //!    degree step that an added control point must buy in the count search, so the degree does not
 //!    change for F differences of a few per cent (the swarm's own noise), and every control point
-//!    it adds must buy the count search's 5 % ([`super::count_search`]);
+//!    it adds must buy the count search's 5 % ([`super::count_search`]; none after the wiggly
+//!    trigger's search above the baseline, [`super::degree_candidates`], "Wiggly curves");
 //! 3. when the reference misses the tolerance and another degree meets it, the fewest control points
 //!    among those meeting it, then the lowest F, wins; when none meets it, the reference is returned
 //!    (its miss is reported as usual).
@@ -43,7 +45,8 @@
 //!   candidate) or its extra points still paid (the count gain), the next degree also gets a
 //!   count search of its own, above the reference's count up to the least-squares baseline, or
 //!   one above it where the reference kept the baseline's count ([`super::degree_candidates`],
-//!   "Own count search").
+//!   "Own count search"); when the reference keeps at least 6 curvature extrema, the count one
+//!   above the baseline ("Wiggly curves").
 //!
 //! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
 //! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:
@@ -113,6 +116,18 @@ pub(crate) fn keep_degree(
     opts: &IntegratedOptions,
     attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
+    keep_degree_priced(reference, higher, opts, EXTRA_POINT_GAIN, attempt)
+}
+
+/// [`keep_degree`] with `point_gain` per control point above the reference's in place of
+/// [`EXTRA_POINT_GAIN`] ([`choose_degree_priced`]).
+pub(crate) fn keep_degree_priced(
+    reference: IntegratedResult,
+    higher: std::ops::RangeInclusive<usize>,
+    opts: &IntegratedOptions,
+    point_gain: f64,
+    attempt: &(dyn Fn(usize) -> Attempt + Sync),
+) -> Result<IntegratedResult> {
     let mut trials = vec![trial_of(&reference)];
     let mut results = vec![reference];
     let (mut evaluations, mut iterations) = (0, 0);
@@ -124,11 +139,11 @@ pub(crate) fn keep_degree(
         trials.push(trial_of(&r));
         results.push(r);
         // a degree higher still only when this one won
-        if choose_degree(&trials, opts.fairness_gain) + 1 != trials.len() {
+        if choose_degree_priced(&trials, opts.fairness_gain, point_gain) + 1 != trials.len() {
             break;
         }
     }
-    let pick = choose_degree(&trials, opts.fairness_gain);
+    let pick = choose_degree_priced(&trials, opts.fairness_gain, point_gain);
     evaluations += results.iter().map(|r| r.stats.evaluations).sum::<usize>();
     iterations += results.iter().map(|r| r.stats.iterations).sum::<usize>();
     let mut chosen = results.swap_remove(pick);
@@ -152,6 +167,13 @@ fn trial_of(r: &IntegratedResult) -> DegreeTrial {
 
 /// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree).
 pub fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
+    choose_degree_priced(trials, fairness_gain, EXTRA_POINT_GAIN)
+}
+
+/// [`choose_degree`] with `point_gain` in place of the count search's 5 % per control point above
+/// the reference's: 1 after the wiggly trigger's search above the least-squares baseline
+/// ([`super::degree_candidates`], "Wiggly curves"), where only the degree's price is paid.
+pub fn choose_degree_priced(trials: &[DegreeTrial], fairness_gain: f64, point_gain: f64) -> usize {
     let Some(reference) = trials.first() else {
         return 0;
     };
@@ -172,7 +194,7 @@ pub fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
             }
             let steps = t.degree.saturating_sub(reference.degree) as i32;
             let extra = t.control_points.saturating_sub(reference.control_points) as i32;
-            let score = t.fairness * fairness_gain.powi(steps) * EXTRA_POINT_GAIN.powi(extra);
+            let score = t.fairness * fairness_gain.powi(steps) * point_gain.powi(extra);
             (0, score, t.degree)
         } else {
             (t.control_points, t.fairness, t.degree)
@@ -223,6 +245,20 @@ mod tests {
         // fewer points than the reference earn nothing
         let fewer = [t(3, 13, 100.0, 3, true), t(4, 11, 95.0, 3, true)];
         assert_eq!(choose_degree(&fewer, 1.1), 0);
+    }
+
+    #[test]
+    fn the_wiggly_price_is_the_degrees_alone() {
+        // fx79w470a (seed 0): the cubic at 16 points F 3.589e5, the quartic one above the
+        // baseline, 19 points, F 3.068e5: 3.068e5 · 1.1 = 3.375e5 wins without a point price,
+        // 3.068e5 · 1.1 · 1.05³ = 3.907e5 loses with it
+        let fx79 = [t(3, 16, 3.589e5, 6, true), t(4, 19, 3.068e5, 6, true)];
+        assert_eq!(choose_degree_priced(&fx79, 1.1, 1.0), 1);
+        assert_eq!(choose_degree(&fx79, 1.1), 0);
+        assert_eq!(choose_degree_priced(&fx79, 1.1, 1.05), 0);
+        // the degree's price stays: 3.3e5 · 1.1 > 3.589e5
+        let close = [t(3, 16, 3.589e5, 6, true), t(4, 19, 3.3e5, 6, true)];
+        assert_eq!(choose_degree_priced(&close, 1.1, 1.0), 0);
     }
 
     #[test]
