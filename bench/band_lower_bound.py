@@ -63,8 +63,8 @@ Primal (the matching upper bound and the certificate's J)
 The QP above on clamped quintic B-splines in t with knots at the data parameters, each interval split
 ``refine`` times (for k = 0 the continuous optimum is a quintic spline with these knots), solved by
 bounded least squares in the variables v_i = w(t_i) (the null space of the collocation matrix eliminated
-by QR; `box_lsq`: a primal active-set method started from scipy's trf).  Its value is an UPPER bound of the continuous linearised minimum; its
-multipliers (J_i = -d(1/2 int f^2)/dv_i) give the certificate, projected onto the three end conditions.
+by QR; `box_lsq`: a primal active-set method started from scipy's trf).  Its value is an UPPER bound of the
+continuous linearised minimum; its multipliers (J_i = -d(1/2 int f^2)/dv_i) give the certificate, projected onto the three end conditions.
 The curve E + w* N of the primal optimum is a real curve in the band (|w*(t_i) - d_i| <= tol, so its distance
 to P_i is <= tol); its TRUE (nonlinear) F and deviations are measured with measure.py's own code (a
 measure.Curve whose derivatives are the exact ones of E + w N).  So the band's minimum F is pinned between the
@@ -510,6 +510,33 @@ def class_stats(band: Band, w: BSpline, n=20001):
             "R": float(np.max(np.abs(kap - klin)))}
 
 
+def slope_lemma(band: Band, W, delta1, F_target):
+    """A priori check of the slope class away from the span's ends (docs: "The slope bound").
+
+    Let psi0 = max psi > 0 be the largest angle between C's and E's tangents (tan psi = w' / a) with
+    |w'| >= delta1 there, and [sa, sb] the component of {psi >= psi0 / 2} around it, assumed inside the span.
+    w increases there by <= 2 W, so its length in C's arc length is l <= 2 W / sin(psi0 / 2). C turns by
+    +psi0/2 + int k dsigma on the left part and -psi0/2 + int k dsigma on the right, so C's mean curvatures on
+    the two parts differ by >= jump = 2 psi0 / l - (variation of k / S over the window), and Cauchy-Schwarz
+    gives int kappa'^2 ds >= 3 jump^2 / l. F <= F_target needs int kappa'^2 ds <= F_target / L_min^3 with
+    L_min = |P_last - P_first| - 2 tol. Returns (3 jump^2 / l, F_target / L_min^3, l): the slope delta1 is
+    impossible inside the span (farther than l / a_lo from its ends) when the first exceeds the second."""
+    ell = band.ell
+    tt = np.linspace(band.ti[0], band.ti[-1], 20001)
+    k, kt = ell.k(tt)
+    kmax = float(np.max(k))
+    ks_max = float(np.max(np.abs(kt / ell.g(tt))))
+    a_lo, a_hi = 1 - kmax * W, 1 + kmax * W
+    psi0 = np.arctan(delta1 / a_hi)
+    ell_s = 2 * W / np.sin(psi0 / 2)
+    var = ks_max * ell_s / a_lo + kmax * (1 / (np.cos(psi0) * a_lo) - 1 / a_hi)
+    jump = 2 * psi0 / ell_s - var
+    P = band.ell.point(band.ti[[0, -1]]) + band.di[[0, -1], None] * (
+        ell.normal_raw(band.ti[[0, -1]], 0)[0] / ell.g(band.ti[[0, -1]])[:, None])
+    L_min = float(np.linalg.norm(P[1] - P[0])) - 2 * band.tol
+    return 3 * max(jump, 0.0) ** 2 / ell_s, F_target / L_min**3, ell_s
+
+
 def certified(P, ell, delta1, delta2, W_tols, refine=1, spans=("full", "interior")):
     """delta2 None: the integrated remainder (no bound on w'' needed); else the pointwise one."""
     """Certified bounds for the class (A2): over the full data span (times the end-extension factor, see the
@@ -576,6 +603,12 @@ def study(path, refines=(1, 2, 4), delta1=0.1, delta2=None, W_tols=2.0, splprep=
                 f"{8 * room / hmax**2:.0f} between the data, h = {hmax:.5f} the largest spacing)")
         out(f"  certified, {name} span, class |w| <= {W:.3g}, |w'| <= {delta1}, {cls}: "
             f"F >= {val:.4f}{ratio}{extra}")
+    if splprep:
+        bi, Wi = cb["interior"][3], cb["interior"][2]
+        for d1 in (delta1, 0.137):
+            e, ebar, l = slope_lemma(bi, Wi, d1, res["target"])
+            out(f"  slope lemma: |w'| >= {d1:g} inside the span (window {l:.4f}) needs int kappa'^2 ds >= {e:.1f}; "
+                f"F <= target allows {ebar:.2f}: {'impossible' if e > ebar else 'not excluded'}")
     if grid:
         d1s, d2s = grid
         _, _, Wi, _, ci, pi = cb["interior"]

@@ -222,6 +222,12 @@ def test_quarter_ellipse_bound_exceeds_half_splprep():
     # integrated remainder (no bound on w''), and the pointwise one with |w''| <= 2
     for v in (val, val2):
         assert 0.5 * Fs * 1.05 < v < 0.7 * Fs  # and below the best curve found (0.683 x, docs/f-target-study.md)
+    # the slope class away from the ends: |w'| >= 0.1 would need int kappa'^2 ds far above what F <= target
+    # allows (a wider band, 10 tol, does not exclude it)
+    band = blb.Band(P, ELL, interior=True)
+    e, allowed, _ = blb.slope_lemma(band, W, 0.1, 0.5 * Fs)
+    assert e > 5 * allowed and 10 < allowed < 15
+    assert blb.slope_lemma(band, 10 * band.tol, 0.1, 0.5 * Fs)[0] < allowed
 
 
 if __name__ == "__main__":
