@@ -513,12 +513,14 @@ def class_stats(band: Band, w: BSpline, n=20001):
 def slope_lemma(band: Band, W, delta1, F_target):
     """A priori check of the slope class away from the span's ends (docs: "The slope bound").
 
-    Let psi0 = max psi > 0 be the largest angle between C's and E's tangents (tan psi = w' / a) with
-    |w'| >= delta1 there, and [sa, sb] the component of {psi >= psi0 / 2} around it, assumed inside the span.
+    Let psi0 > 0 be a local maximum of the angle between C's and E's tangents (tan psi = w' / a), |w'| >= delta1
+    there, and [sa, sb] the component of {psi >= psi0 / 2} around it, assumed inside the span (its maximum
+    psi_m >= psi0 has a half-level component inside it, so every psi >= psi0 is checked: the minimum counts).
     w increases there by <= 2 W, so its length in C's arc length is l <= 2 W / sin(psi0 / 2). C turns by
     +psi0/2 + int k dsigma on the left part and -psi0/2 + int k dsigma on the right, so C's mean curvatures on
     the two parts differ by >= jump = 2 psi0 / l - (variation of k / S over the window), and Cauchy-Schwarz
-    gives int kappa'^2 ds >= 3 jump^2 / l. F <= F_target needs int kappa'^2 ds <= F_target / L_min^3 with
+    gives int kappa'^2 ds >= 3 jump^2 / l (the variation of k / S capped at k_max / a_lo). F <= F_target
+    needs int kappa'^2 ds <= F_target / L_min^3 with
     L_min = |P_last - P_first| - 2 tol. Returns (3 jump^2 / l, F_target / L_min^3, l): the slope delta1 is
     impossible inside the span (farther than l / a_lo from its ends) when the first exceeds the second."""
     ell = band.ell
@@ -527,14 +529,19 @@ def slope_lemma(band: Band, W, delta1, F_target):
     kmax = float(np.max(k))
     ks_max = float(np.max(np.abs(kt / ell.g(tt))))
     a_lo, a_hi = 1 - kmax * W, 1 + kmax * W
-    psi0 = np.arctan(delta1 / a_hi)
-    ell_s = 2 * W / np.sin(psi0 / 2)
-    var = ks_max * ell_s / a_lo + kmax * (1 / (np.cos(psi0) * a_lo) - 1 / a_hi)
-    jump = 2 * psi0 / ell_s - var
+    # every angle from atan(delta1 / a_hi) up to ~pi/2 (a local maximum psi1 >= psi0 leads to the maximum
+    # psi_m >= psi1 of its component, whose own half-level component lies inside it): the worst case counts
+    psi = np.arctan(delta1 / a_hi) + (np.pi / 2 - 1e-3 - np.arctan(delta1 / a_hi)) * np.linspace(0, 1, 2001) ** 3
+    ell_ss = 2 * W / np.sin(psi / 2)
+    var = np.minimum(ks_max * ell_ss / a_lo + kmax * (1 / (np.cos(psi) * a_lo) - 1 / a_hi), kmax / a_lo)
+    jumps = 2 * psi / ell_ss - var
+    energy = 3 * np.maximum(jumps, 0.0) ** 2 / ell_ss
+    i = int(np.argmin(energy))
+    ell_s, jump = float(ell_ss[0]), float(jumps[i])
     P = band.ell.point(band.ti[[0, -1]]) + band.di[[0, -1], None] * (
         ell.normal_raw(band.ti[[0, -1]], 0)[0] / ell.g(band.ti[[0, -1]])[:, None])
     L_min = float(np.linalg.norm(P[1] - P[0])) - 2 * band.tol
-    return 3 * max(jump, 0.0) ** 2 / ell_s, F_target / L_min**3, ell_s
+    return float(energy[i]), F_target / L_min**3, ell_s
 
 
 def certified(P, ell, delta1, delta2, W_tols, refine=1, spans=("full", "interior")):
