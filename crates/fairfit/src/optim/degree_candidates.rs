@@ -88,9 +88,10 @@
 //! fx79w470a (seeds 0, 1, 2, 4, 5), sc20714_noise1e-4 (every seed) and whitcomb (seed 1, where the
 //! quarter of its 73 points, 18, is below its baseline + 1 and nothing is searched); fx79w470a
 //! at seed 0 0.570 -> 0.487x splprep's F (quartic, 19 points, 6 extrema), seed 2 0.967 -> 0.498x,
-//! sc20714_noise1e-4 0.81-1.05 -> 0.52-0.73x. Two counts above the baseline, or both seedings,
-//! gained two more F targets (seeds 4 and 5) at twice the cost, which doubled
-//! sc20714_noise1e-4's wall time.
+//! sc20714_noise1e-4 0.81-1.05 -> 0.52-0.80x. Two counts above the baseline, each searched with
+//! and without the residual-driven seeds, gained two more F targets (fx79w470a at seeds 4 and 5)
+//! at twice the work, which more than doubled sc20714_noise1e-4's wall time; both seedings at
+//! one count gained nothing over one.
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::EXTRA_POINT_GAIN;
@@ -195,18 +196,18 @@ enum OwnTrigger {
     /// The reference's extra points were still paying where its count search stopped
     /// ([`STEEP_COUNT_GAIN`]); the counts are also seeded with residual-driven knots.
     CountGain,
-    /// The reference's kept curve has at least [`WIGGLY_EXTREMA`] curvature extrema: counts above
-    /// the least-squares baseline, each searched with and without the residual-driven seeds, no
-    /// price per added point in the degree rule (module doc, "Wiggly curves").
+    /// The reference's kept curve has at least [`WIGGLY_EXTREMA`] curvature extrema: the count
+    /// above the least-squares baseline, no price per added point in the degree rule (module doc,
+    /// "Wiggly curves").
     Wiggly,
 }
 
 /// Curvature extrema of the reference's kept curve from which the next degree searches counts
 /// above the least-squares baseline (module doc, "Wiggly curves"). On the 33 benchmark curves at
 /// seeds 0-5 the cubic keeps 6-9 extrema on fx79w470a (5 seeds), sc20714_noise1e-4 (6 at every
-/// seed) and whitcomb (7 at seed 1), at most 5 elsewhere (hq17 5 at seeds 1, 3, 4, where counts
-/// above its baseline 16 would pass splprep's 17) and at most 3 on the 200-point curves but
-/// SNL-FFA-W3-500 (3), sc20714 and its noise variant.
+/// seed) and whitcomb (7 at seed 1), at most 5 elsewhere (hq17 5 at seeds 1, 3, 4, where two
+/// counts above its baseline 16 would pass splprep's 17) and at most 3 on the 200-point curves
+/// of the time target (SNL-FFA-W3-500 3), which therefore never trigger.
 pub const WIGGLY_EXTREMA: usize = 6;
 
 /// How many counts above the least-squares baseline the wiggly trigger searches (module doc,
@@ -356,16 +357,12 @@ fn own_count_search(
 ) -> Attempt {
     let o = candidate_options(opts, d);
     // the count-gain trigger also seeds every count with the residual-driven knots of degree d
-    // there, the wiggly trigger searches every count with and without them (module doc)
+    // there (module doc)
     let jobs: Vec<(Vec<f64>, Vec<Vec<f64>>)> = reference_knots(q, p, seen, &counts, tol)
         .into_iter()
-        .flat_map(|(c, knots)| {
-            let residual = || residual_knots(&q.data, c).into_iter().collect::<Vec<_>>();
-            match trigger {
-                OwnTrigger::CountGain => vec![(knots, residual())],
-                OwnTrigger::ExtremaCost => vec![(knots, Vec::new())],
-                OwnTrigger::Wiggly => vec![(knots, Vec::new())],
-            }
+        .map(|(c, knots)| match trigger {
+            OwnTrigger::CountGain => (knots, residual_knots(&q.data, c).into_iter().collect()),
+            OwnTrigger::ExtremaCost | OwnTrigger::Wiggly => (knots, Vec::new()),
         })
         .collect();
     let searched: Vec<(Option<Candidate>, Option<IntegratedResult>)> = jobs
