@@ -84,6 +84,15 @@ pub struct BandOptions {
     /// which guarantees the tolerance at fixed feet; below 1 the curve may also slide along itself,
     /// and the measured deviation decides).
     pub tangent_weight: f64,
+    /// Whether a point's tangential weight grows with the curvature at its foot: `α_i =
+    /// max(tangent_weight, sqrt(|κ_i| ρ))` ([`CURVATURE_TANGENT`], its default). Sliding the curve
+    /// by `τ` along itself where it has curvature `κ` moves a point on the outer edge of the band
+    /// out by `½ κ τ²` (the second-order term of the orthogonal distance that the fixed foot
+    /// misses); the cone `‖(η, α τ)‖ ≤ ρ` charges `α² τ² / (2ρ)` near that edge, so `α² = κ ρ`
+    /// matches it (the tangent-distance weight of squared-distance minimisation,
+    /// `d / (d + 1/κ)` at `d = ρ`). The fixed `α` = 0.03 is this weight at `κ ≈ 1`: right on the
+    /// flat sides of an airfoil, too loose at its nose (`κ` 40-70, `α` ≈ 0.2).
+    pub curvature_tangent: bool,
     /// Whether a step may not add curvature extrema (sign changes of `dκ/ds` at the Gauss nodes):
     /// lowering `F` alone tends to flatten `dκ/ds` into many small ripples.
     pub keep_extrema: bool,
@@ -116,6 +125,7 @@ impl Default for BandOptions {
             min_rel_gain: 2e-3,
             span_cap: None,
             tangent_weight: 0.03,
+            curvature_tangent: CURVATURE_TANGENT,
             keep_extrema: true,
             extrema_persistence: 0.03,
             edge_signs: true,
@@ -138,6 +148,14 @@ pub struct BandFaired {
     /// by small gains, the model's convergence or the budget).
     pub stalled: bool,
 }
+
+/// The default of [`BandOptions::curvature_tangent`]. **Off:** it is the better model of a single
+/// pass (the first pass from the same curve at the benchmark's 33 counts: geometric mean of
+/// `F_end / F_start` 0.649 → 0.640, better than the fixed weight converged to a gain of 1e-5,
+/// 0.642, at 6 % more subproblems instead of 2.8 times as many), but the finished curves (polish,
+/// later passes, count choice) do not gain from it (quick_targets seeds 0-5, docs/optim.md
+/// "Band fairing closer to its own optimum").
+pub const CURVATURE_TANGENT: bool = false;
 
 /// Subproblem budget of [`refair`]: on the 33 benchmark curves its pass gains the same as with
 /// the full 60 (geometric mean of `F / splprep's F` 0.336 either way), 4 lose a third of the gain.
@@ -877,7 +895,8 @@ fn band_fair_counted(
         for i in free.clone() {
             let u = feet[i];
             let s = find_span(n - 1, p, u, &ws.knots);
-            let basis = basis_ders(&ws.knots, p, s, u, 1);
+            let order = if opts.curvature_tangent { 2 } else { 1 };
+            let basis = basis_ders(&ws.knots, p, s, u, order);
             let (mut ci, mut tan) = (-data.points[i], Vec3::ZERO);
             for j in 0..=p {
                 ci += ctrl[s - p + j] * basis[j];
@@ -885,6 +904,12 @@ fn band_fair_counted(
             }
             let weight = if map.end_point(i) {
                 1.0
+            } else if opts.curvature_tangent {
+                let mut acc = Vec3::ZERO;
+                for j in 0..=p {
+                    acc += ctrl[s - p + j] * basis[2 * (p + 1) + j];
+                }
+                curvature_weight(tan, acc, radius, opts.tangent_weight)
             } else {
                 opts.tangent_weight
             };
@@ -1181,6 +1206,23 @@ fn distance_at(knots: &[f64], ctrl: &[Vec3], p: usize, u: f64, q: Vec3) -> f64 {
         c += ctrl[s - p + j] * basis[j];
     }
     c.norm()
+}
+
+/// The tangential weight of [`BandOptions::curvature_tangent`] at a foot with derivatives `C'`
+/// (`tan`), `C''` (`acc`): `max(floor, sqrt(|κ| ρ))` (`floor` where `C'` vanishes).
+fn curvature_weight(tan: Vec3, acc: Vec3, radius: f64, floor: f64) -> f64 {
+    let v2 = tan.dot(tan);
+    if !(v2 > 0.0 && v2.is_finite()) {
+        return floor;
+    }
+    // |C' × C''| / |C'|³, written without the cross product so that it holds in 3D too
+    let kappa = (acc - tan * (tan.dot(acc) / v2)).norm() / v2;
+    let w = (kappa * radius).sqrt();
+    if w.is_finite() {
+        w.max(floor)
+    } else {
+        floor
+    }
 }
 
 /// The rows measuring a deviation `e` at a foot with tangent `tan`: the normal directions, then the
