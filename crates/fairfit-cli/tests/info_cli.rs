@@ -407,3 +407,58 @@ fn zero_speed_with_unbounded_curvature_gives_null_fairness() {
     assert_eq!(v["fairness"].as_f64(), Some(0.0));
     assert!((v["length"].as_f64().unwrap() - 3.0 * 2f64.sqrt()).abs() < 1e-12);
 }
+
+/// A cubic Bézier on [0, 1] with `C'(t) = (t − s)(1, t) + (0, eps)`, `s = 1/√2`, scaled by `scale`:
+/// for `eps = 0` a cusp at the irrational `s`, strictly between the 64 samples per span the search
+/// had used (45/64 is 0.004 away); `C''(s) = (1, s)` and `C''' = (0, 2)` are not parallel, so κ is
+/// unbounded there.
+fn cusp_between_samples(eps: f64, scale: f64) -> tempfile::NamedTempFile {
+    let s = FRAC_1_SQRT_2;
+    // the Bernstein coefficients of C' (power coefficients c0 + c1 t + c2 t² per coordinate)
+    let bern = |c0: f64, c1: f64, c2: f64| [c0, c0 + 0.5 * c1, c0 + c1 + c2];
+    let (dx, dy) = (bern(-s, 1.0, 0.0), bern(eps, -s, 1.0));
+    let mut pts = vec![[0.0, 0.0, 0.0]];
+    for i in 0..3 {
+        let [x, y, _] = pts[i];
+        pts.push([x + dx[i] / 3.0, y + dy[i] / 3.0, 0.0]);
+    }
+    let pts: Vec<[f64; 3]> = pts.iter().map(|p| p.map(|x| x * scale)).collect();
+    file_with(
+        serde_json::json!({"kind": "curve", "degree": 3, "knots": [0, 0, 0, 0, 1, 1, 1, 1],
+            "control_points": pts})
+        .to_string()
+        .as_bytes(),
+    )
+}
+
+#[test]
+fn a_cusp_between_samples_is_found_exactly_and_scale_free() {
+    for scale in [1.0, 1e-200, 1e200] {
+        let f = cusp_between_samples(0.0, scale);
+        let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+        assert!(ok && stderr.is_empty(), "{stderr}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["regular"], false, "{scale}: {stdout}");
+        assert!(v["fairness"].is_null() && v["energy"].is_null(), "{stdout}");
+        let note = v["note"].as_str().unwrap();
+        let u: f64 = note
+            .split("not regular at u = ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|u| u.parse().ok())
+            .unwrap_or_else(|| panic!("{note}"));
+        assert!((u - FRAC_1_SQRT_2).abs() < 1e-12, "{scale}: {u}");
+        // a near-cusp, its least speed 1e-7 of |C'(0)|: regular (at unit size with a large finite
+        // F; at 1e±200 its integrals leave the floating-point range, said on stderr)
+        let f = cusp_between_samples(1e-7, scale);
+        let (ok, stdout, stderr) = info(&[f.path().to_str().unwrap()]);
+        assert!(ok, "{stderr}");
+        let v: Value = serde_json::from_str(&stdout).unwrap();
+        assert_eq!(v["regular"], true, "{scale}: {stdout}");
+        assert!(v.get("note").is_none(), "{stdout}");
+        if scale == 1.0 {
+            assert!(stderr.is_empty(), "{stderr}");
+            assert!(v["fairness"].as_f64().is_some_and(|x| x > 1e6), "{stdout}");
+        }
+    }
+}

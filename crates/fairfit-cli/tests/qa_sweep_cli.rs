@@ -44,6 +44,17 @@ fn tube_obj(path: &Path, s: f64) {
     std::fs::write(path, obj).unwrap();
 }
 
+/// The arguments of `fairfit surface` on a folder of sections, or on an OBJ mesh sliced by 4 planes,
+/// writing `out`.
+fn surface_args<'a>(input: &'a Path, out: &'a str) -> Vec<&'a str> {
+    let mut args = vec!["surface", input.to_str().unwrap()];
+    if input.extension().is_some_and(|e| e == "obj") {
+        args.extend(["--slices", "4"]);
+    }
+    args.extend(["-o", out]);
+    args
+}
+
 #[test]
 fn sections_and_meshes_at_extreme_scales_ask_for_rescaling() {
     let dir = tempfile::tempdir().unwrap();
@@ -55,7 +66,7 @@ fn sections_and_meshes_at_extreme_scales_ask_for_rescaling() {
         ellipse_sections(&secs, s);
         // was: "a section has zero length (all points coincide)"
         one_line_failure(
-            &["surface", secs.to_str().unwrap(), "-o", out],
+            &surface_args(&secs, out),
             1,
             &["section 0 is", "across", "rescale the points"],
         );
@@ -63,14 +74,7 @@ fn sections_and_meshes_at_extreme_scales_ask_for_rescaling() {
         tube_obj(&mesh, s);
         // was (1e-300): "slicing gave 0 usable section(s) from 4 planes (4 empty)"
         one_line_failure(
-            &[
-                "surface",
-                mesh.to_str().unwrap(),
-                "--slices",
-                "4",
-                "-o",
-                out,
-            ],
+            &surface_args(&mesh, out),
             1,
             &["the mesh is", "rescale the points"],
         );
@@ -80,25 +84,11 @@ fn sections_and_meshes_at_extreme_scales_ask_for_rescaling() {
     let secs = dir.path().join("unit");
     std::fs::create_dir(&secs).unwrap();
     ellipse_sections(&secs, 1.0);
-    let ok = fairfit()
-        .args(["surface", secs.to_str().unwrap(), "-o", out])
-        .output()
-        .unwrap();
-    assert_success(&ok);
     let mesh = dir.path().join("tube.obj");
     tube_obj(&mesh, 1.0);
-    let ok = fairfit()
-        .args([
-            "surface",
-            mesh.to_str().unwrap(),
-            "--slices",
-            "4",
-            "-o",
-            out,
-        ])
-        .output()
-        .unwrap();
-    assert_success(&ok);
+    for input in [&secs, &mesh] {
+        assert_success(&fairfit().args(surface_args(input, out)).output().unwrap());
+    }
 }
 
 /// The surface JSON and report of `fairfit surface ARGS --threads T` for T = 1, 2 and the default.

@@ -124,12 +124,7 @@ fn step_composite_agrees_with_opencascade() {
     let mut worst = 0.0f64;
     let mut all = Vec::new();
     for e in edges {
-        for p in e.as_array().unwrap() {
-            let q = Vec3::new(
-                p[0].as_f64().unwrap(),
-                p[1].as_f64().unwrap(),
-                p[2].as_f64().unwrap(),
-            );
+        for q in python::json_points(e) {
             worst = worst.max(proj.project(q).distance);
             all.push(q);
         }
@@ -179,12 +174,7 @@ fn iges_composite_from_opencascade_matches_its_curves() {
         .zip(case["curves"].as_array().unwrap())
     {
         let (a, b) = seg.domain();
-        for (k, p) in pts.as_array().unwrap().iter().enumerate() {
-            let want = Vec3::new(
-                p[0].as_f64().unwrap(),
-                p[1].as_f64().unwrap(),
-                p[2].as_f64().unwrap(),
-            );
+        for (k, want) in python::json_points(pts).into_iter().enumerate() {
             let u = a + (b - a) * k as f64 / 40.0;
             worst = worst.max((seg.point(u) - want).norm());
             worst = worst.max((j.point(offset + (u - a)) - want).norm());

@@ -166,4 +166,32 @@ fn bad_paths_and_tolerances_are_errors() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("not reached"), "{e}");
+    assert!(
+        e.contains("chord tolerance 1e-9 not reached with 8 intervals"),
+        "{e}"
+    );
+    // a tolerance far below the geometry in scientific notation (had been 300 digits, one line of
+    // 400 characters)
+    let tinier = TessellationOptions {
+        chord_tol: Some(1e-300),
+        ..Default::default()
+    };
+    let e = tessellate_surface(&half_cylinder(), &tinier)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("chord tolerance 1e-300 not reached with 4096 intervals"),
+        "{e}"
+    );
+    assert!(e.len() < 150, "{e}");
+    let e = tessellate_curve(
+        &c,
+        &TessellationOptions {
+            chord_tol: Some(f64::INFINITY),
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("must be positive and finite, got inf"), "{e}");
 }

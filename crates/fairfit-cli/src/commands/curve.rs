@@ -463,32 +463,23 @@ fn fit_cad(
             fit_points(&tighter, &opts, points, want_report, wall)
         }
     })?;
-    let refits = if r.refits == 0 {
-        String::new()
-    } else {
-        format!(
-            "; the first fit let it stray {:.4} of the tolerance: {} refit(s) with {} points of the \
-             exact curve added, the last at the tolerance {:.3e}",
-            r.first_max_deviation / r.tolerance,
-            r.refits,
-            r.added,
-            r.fit.tolerance,
-        )
-    };
-    eprintln!(
-        "note: {}: the exact curve lies within {:.3e} of the fit ({:.4} of the tolerance; {} points \
-         of it checked){refits}",
-        args.input.display(),
-        r.max_deviation,
-        r.max_deviation / r.tolerance,
-        r.checked
+    super::note_exact_deviation(
+        &args.input,
+        "the exact curve",
+        false,
+        "fit",
+        "the fit",
+        &super::ExactDeviation {
+            max_deviation: r.max_deviation,
+            tolerance: r.tolerance,
+            met: r.met,
+            checked: r.checked,
+            refits: r.refits,
+            added: r.added,
+            first_max_deviation: r.first_max_deviation,
+            fit_tolerance: r.fit.tolerance,
+        },
     );
-    if !r.met {
-        eprintln!(
-            "warning: the exact curve strays {:.3e} from the fit, beyond the tolerance {:.3e}",
-            r.max_deviation, r.tolerance
-        );
-    }
     let mut report = r.fit.extra;
     if let Some(obj) = report.as_mut().and_then(|v| v.as_object_mut()) {
         obj.insert("tolerance".into(), json!(r.tolerance));

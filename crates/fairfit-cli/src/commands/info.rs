@@ -15,12 +15,13 @@
 use super::{print_json, CliError, CmdResult};
 use clap::Args;
 use fairfit::diffgeo::differentials;
+use fairfit::fair::span_hodograph::speed_critical_points;
 use fairfit::fair::{
     count_shape_exact, curve_fairness, surface_fairness, ExactExtrema, ExactInflections,
     DEFAULT_ISO_CURVES,
 };
 use fairfit::io::Geometry;
-use fairfit::nurbs::{NurbsCurve, NurbsSurface};
+use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -65,34 +66,29 @@ pub fn run(args: InfoArgs) -> CmdResult {
     }
 }
 
-/// Samples per knot span (besides the knots) at which [`curve_info`] looks for a vanishing speed.
-const REGULARITY_SAMPLES: usize = 64;
-
-/// The first parameter found where `c` is not regular (its speed vanishes, see
+/// The first parameter where `c` is not regular (its speed vanishes, decided scale-free by
 /// [`fairfit::diffgeo::CurveDifferentials::regular`]), with an unbounded curvature when `unbounded`
-/// (see [`unbounded_curvature_at`]), searched at the knots (where coinciding control points
-/// put such points) and [`REGULARITY_SAMPLES`] uniform samples per span. An interior cusp between
-/// samples is not found; its F is then huge but finite, as for a near-cusp.
+/// (see [`unbounded_curvature_at`]), searched at the knots (where coinciding control points put such
+/// points) and where the speed is stationary inside a span
+/// ([`fairfit::fair::span_hodograph::speed_critical_points`], exact roots, not samples): a zero of
+/// the speed inside a span is a minimum of it.
 fn first_irregular_parameter(c: &NurbsCurve, unbounded: bool) -> Option<f64> {
     let (a, b) = c.domain();
-    let mut knots: Vec<f64> = c
+    let mut candidates: Vec<f64> = c
         .knots()
         .iter()
         .copied()
         .filter(|&k| (a..=b).contains(&k))
+        .chain(speed_critical_points(c))
         .collect();
-    knots.dedup();
-    knots.windows(2).find_map(|w| {
-        (0..REGULARITY_SAMPLES)
-            .map(|i| w[0] + (w[1] - w[0]) * i as f64 / REGULARITY_SAMPLES as f64)
-            .chain((w[1] == b).then_some(b))
-            .find(|&u| {
-                if unbounded {
-                    unbounded_curvature_at(c, u)
-                } else {
-                    !differentials(c, u).regular
-                }
-            })
+    candidates.sort_by(f64::total_cmp);
+    candidates.dedup();
+    candidates.into_iter().find(|&u| {
+        if unbounded {
+            unbounded_curvature_at(c, u)
+        } else {
+            !differentials(c, u).regular
+        }
     })
 }
 
@@ -105,10 +101,19 @@ fn unbounded_curvature_at(c: &NurbsCurve, u: f64) -> bool {
     if d.regular {
         return false;
     }
-    let (a, b) = (d.d2, d.d3);
-    let cross = a.cross(b).norm();
-    let scale = a.norm() * b.norm();
-    scale > 0.0 && cross > 1e-9 * scale
+    // C'' and C''' as unit vectors (divided by their largest coordinate first: on a curve 1e±200
+    // in size their squares are beyond the floating-point range)
+    let unit = |v: Vec3| {
+        let m = v.max_abs();
+        (m > 0.0 && m.is_finite()).then(|| {
+            let w = v / m;
+            w / w.norm()
+        })
+    };
+    match (unit(d.d2), unit(d.d3)) {
+        (Some(a), Some(b)) => a.cross(b).norm() > 1e-9,
+        _ => false,
+    }
 }
 
 fn curve_info(c: &NurbsCurve) -> Value {

@@ -103,6 +103,71 @@ pub fn json_pretty(v: &serde_json::Value) -> Result<String, CliError> {
         .map_err(|e| CliError::new(format!("internal: cannot format JSON: {e}")))
 }
 
+/// How far exact CAD geometry lies from what was fitted to its samples, for [`note_exact_deviation`]
+/// (from `fairfit::io::cad_fit::ExactFit` or `fairfit::io::cad_skin::ExactSkin`).
+pub struct ExactDeviation {
+    /// The largest distance of the checked points of the exact geometry.
+    pub max_deviation: f64,
+    /// The tolerance asked for.
+    pub tolerance: f64,
+    /// Whether the exact geometry is within the tolerance.
+    pub met: bool,
+    /// How many points of the exact geometry were checked.
+    pub checked: usize,
+    /// Refits with points of the exact geometry added.
+    pub refits: usize,
+    /// The points added.
+    pub added: usize,
+    /// The largest distance after the first fit.
+    pub first_max_deviation: f64,
+    /// The tolerance of the last refit.
+    pub fit_tolerance: f64,
+}
+
+/// The note on stderr on how far `exact` (e.g. "the exact curve"; `plural` for "the exact sections")
+/// lies from `near` (what it was checked against) and the warning when it strays beyond the tolerance
+/// from `the {fitted}` (the fit or the surface).
+pub fn note_exact_deviation(
+    path: &std::path::Path,
+    exact: &str,
+    plural: bool,
+    fitted: &str,
+    near: &str,
+    d: &ExactDeviation,
+) {
+    let (lie, stray, them) = if plural {
+        ("lie", "stray", "them")
+    } else {
+        ("lies", "strays", "it")
+    };
+    let refits = if d.refits == 0 {
+        String::new()
+    } else {
+        format!(
+            "; the first {fitted} let {them} stray {:.4} of the tolerance: {} refit(s) with {} points \
+             of {exact} added, the last at the tolerance {:.3e}",
+            d.first_max_deviation / d.tolerance,
+            d.refits,
+            d.added,
+            d.fit_tolerance,
+        )
+    };
+    eprintln!(
+        "note: {}: {exact} {lie} within {:.3e} of {near} ({:.4} of the tolerance; {} points of {them} \
+         checked){refits}",
+        path.display(),
+        d.max_deviation,
+        d.max_deviation / d.tolerance,
+        d.checked
+    );
+    if !d.met {
+        eprintln!(
+            "warning: {exact} {stray} {:.3e} from the {fitted}, beyond the tolerance {:.3e}",
+            d.max_deviation, d.tolerance
+        );
+    }
+}
+
 /// Warns on stderr (once per run) that some quantity is beyond the range of f64 at the geometry's scale
 /// and is printed as `null` (e.g. dκ/ds of a curve 1e-300 long, about 1e600).
 pub fn warn_unrepresentable(what: &str) {

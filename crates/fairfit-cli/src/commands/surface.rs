@@ -455,32 +455,23 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
 /// The note on how far the exact CAD sections are from the surface (and the warning when beyond the
 /// tolerance).
 fn note_exact(path: &std::path::Path, e: &ExactSkin) {
-    let refits = if e.refits == 0 {
-        String::new()
-    } else {
-        format!(
-            "; the first surface let them stray {:.4} of the tolerance: {} refit(s) with {} points of \
-             the exact sections added, the last at the tolerance {:.3e}",
-            e.first_max_deviation / e.tolerance,
-            e.refits,
-            e.added,
-            e.fit_tolerance,
-        )
-    };
-    eprintln!(
-        "note: {}: the exact sections lie within {:.3e} of the surface's iso-curves ({:.4} of the \
-         tolerance; {} points of them checked){refits}",
-        path.display(),
-        e.max_deviation,
-        e.max_deviation / e.tolerance,
-        e.checked
+    super::note_exact_deviation(
+        path,
+        "the exact sections",
+        true,
+        "surface",
+        "the surface's iso-curves",
+        &super::ExactDeviation {
+            max_deviation: e.max_deviation,
+            tolerance: e.tolerance,
+            met: e.met,
+            checked: e.checked,
+            refits: e.refits,
+            added: e.added,
+            first_max_deviation: e.first_max_deviation,
+            fit_tolerance: e.fit_tolerance,
+        },
     );
-    if !e.met {
-        eprintln!(
-            "warning: the exact sections stray {:.3e} from the surface, beyond the tolerance {:.3e}",
-            e.max_deviation, e.tolerance
-        );
-    }
 }
 
 /// The report's `exact_sections`.

@@ -136,10 +136,17 @@ pub fn variations(c: &[f64]) -> usize {
 /// The parameters in `(0, 1)` where `f` changes sign, ascending, appended to `out` (see the module
 /// documentation); coefficients of magnitude at most `zero` count as rounding noise.
 pub fn sign_changes(c: &[f64], zero: f64, out: &mut Vec<f64>) {
-    isolate(c, 0.0, 1.0, zero, out);
+    isolate(c, 0.0, 1.0, zero, false, out);
 }
 
-fn isolate(c: &[f64], lo: f64, hi: f64, zero: f64, out: &mut Vec<f64>) {
+/// As [`sign_changes`], and also the parameters where the subdivision meets an exact zero of `f` (a
+/// root at a dyadic parameter such as ½, which [`sign_changes`] passes over: neither half then has
+/// ends of opposite signs), ascending: the candidates of a search that checks each one itself.
+pub fn sign_changes_and_zeros(c: &[f64], zero: f64, out: &mut Vec<f64>) {
+    isolate(c, 0.0, 1.0, zero, true, out);
+}
+
+fn isolate(c: &[f64], lo: f64, hi: f64, zero: f64, zeros: bool, out: &mut Vec<f64>) {
     if c.iter().all(|x| x.abs() <= zero) || c.iter().any(|x| !x.is_finite()) {
         return;
     }
@@ -161,8 +168,11 @@ fn isolate(c: &[f64], lo: f64, hi: f64, zero: f64, out: &mut Vec<f64>) {
     }
     let mid = 0.5 * (lo + hi);
     let (l, r) = halves(c);
-    isolate(&l, lo, mid, zero, out);
-    isolate(&r, mid, hi, zero, out);
+    isolate(&l, lo, mid, zero, zeros, out);
+    if zeros && l.last() == Some(&0.0) {
+        out.push(mid);
+    }
+    isolate(&r, mid, hi, zero, zeros, out);
 }
 
 /// The root in `(0, 1)` of `f` with `f(0) f(1) < 0`, by bisection to rounding.
@@ -237,5 +247,25 @@ mod tests {
         out.clear();
         sign_changes(&[1e-17, -1e-17, 1e-17, -1e-17], 1e-15, &mut out);
         assert!(out.is_empty());
+    }
+
+    #[test]
+    fn a_root_at_a_dyadic_split_is_a_zero_not_a_sign_change_of_either_half() {
+        // -18 (1 - 2t)(2 (1 - 2t)² + 1): D·E of the cusped cubic (0,0) (1,1) (0,1) (1,0), root ½
+        let f = [-54.0, 30.0, -30.0, 54.0];
+        assert_eq!(eval(&f, 0.5), 0.0);
+        let mut out = Vec::new();
+        sign_changes(&f, 0.0, &mut out);
+        assert_eq!(out, Vec::<f64>::new());
+        sign_changes_and_zeros(&f, 0.0, &mut out);
+        assert_eq!(out, vec![0.5]);
+        // a root off the splits is found by both, once
+        let g = from_roots(&[0.3, 0.5, 0.9]);
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        sign_changes(&g, 0.0, &mut a);
+        sign_changes_and_zeros(&g, 0.0, &mut b);
+        assert_eq!(b.len(), 3, "{b:?}");
+        assert!((b[0] - 0.3).abs() < 1e-15 && b[1] == 0.5 && (b[2] - 0.9).abs() < 1e-15);
+        assert_eq!(a.len(), 2, "{a:?}");
     }
 }

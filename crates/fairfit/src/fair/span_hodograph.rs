@@ -140,6 +140,57 @@ pub fn span_hodograph(
     }
 }
 
+/// The parameters inside the knot spans of `curve` where its speed is stationary: the roots of
+/// `D·E = ½ (|D|²)'` (`C' = D / w²`, so the speed vanishes exactly where `D` does, and there `|D|²`
+/// has a minimum), isolated per span in Bernstein form
+/// ([`super::bernstein::sign_changes_and_zeros`]), not sampled. A zero of the speed strictly inside a span is among them (a knot is not: callers check
+/// the knots themselves). Ascending; empty for a degenerate curve or degree 1 (constant speed per
+/// span).
+///
+/// ```
+/// use fairfit::fair::span_hodograph::speed_critical_points;
+/// use fairfit::{NurbsCurve, Vec3};
+/// // C(u) = (u², u³ - u): C' = (2u, 3u² - 1), |C'|² = 9u⁴ - 2u² + 1 is stationary at 0 and ±1/3
+/// let c = NurbsCurve::bspline(
+///     3,
+///     vec![-1.0, -1.0, -1.0, -1.0, 1.0, 1.0, 1.0, 1.0],
+///     vec![
+///         Vec3::new(1.0, 0.0, 0.0),
+///         Vec3::new(-1.0 / 3.0, 4.0 / 3.0, 0.0),
+///         Vec3::new(-1.0 / 3.0, -4.0 / 3.0, 0.0),
+///         Vec3::new(1.0, 0.0, 0.0),
+///     ],
+/// )
+/// .unwrap();
+/// let u = speed_critical_points(&c);
+/// assert_eq!(u.len(), 3);
+/// for (got, want) in u.iter().zip([-1.0 / 3.0, 0.0, 1.0 / 3.0]) {
+///     assert!((got - want).abs() < 1e-14, "{got}");
+/// }
+/// ```
+pub fn speed_critical_points(curve: &NurbsCurve) -> Vec<f64> {
+    let Some(h) = curve_hodographs(curve, None).filter(|_| curve.degree() >= 2) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    let mut roots = Vec::new();
+    for s in &h.spans {
+        let terms: Vec<Vec<f64>> = s.d.iter().zip(&s.e).map(|(d, e)| mul(d, e)).collect();
+        let scale = terms.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        let Some(dot) = terms
+            .iter()
+            .cloned()
+            .reduce(|acc, t| combine(1.0, &acc, 1.0, &t))
+        else {
+            continue;
+        };
+        roots.clear();
+        super::bernstein::sign_changes_and_zeros(&dot, 1e-14 * scale, &mut roots);
+        out.extend(roots.iter().map(|&t| s.a + (s.b - s.a) * t));
+    }
+    out
+}
+
 /// The control polygon's origin (its first point) and extent (largest coordinate distance from it),
 /// the local coordinates' origin and unit; `None` when the extent is zero or not finite.
 pub(crate) fn origin_and_extent(ctrl: &[Vec3]) -> Option<(Vec3, f64)> {

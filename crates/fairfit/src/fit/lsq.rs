@@ -616,6 +616,15 @@ mod tests {
         NurbsCurve::bspline(3, knots, ctrl).unwrap()
     }
 
+    /// `known_curve` at `u`, each point moved by `0.01 ((7 k) mod 5)` in y.
+    fn noisy_samples(c: &NurbsCurve, u: &[f64]) -> Vec<Vec3> {
+        c.points(u)
+            .iter()
+            .enumerate()
+            .map(|(k, p)| *p + Vec3::new(0.0, 0.01 * ((k * 7) % 5) as f64, 0.0))
+            .collect()
+    }
+
     #[test]
     fn refit_of_a_known_bspline_with_its_knots_is_exact() {
         let c = known_curve();
@@ -678,12 +687,7 @@ mod tests {
         // the span-by-span assembly must also be right when the parameters are not sorted
         let c = known_curve();
         let u: Vec<f64> = (0..60).map(|k| (k as f64 / 59.0).powf(1.3)).collect();
-        let q: Vec<Vec3> = c
-            .points(&u)
-            .iter()
-            .enumerate()
-            .map(|(k, p)| *p + Vec3::new(0.0, 0.01 * ((k * 7) % 5) as f64, 0.0))
-            .collect();
+        let q = noisy_samples(&c, &u);
         // the end points stay first and last: they are interpolated
         let mut order = vec![0];
         order.extend((1..59).map(|k| 1 + (k * 37) % 58));
@@ -857,12 +861,7 @@ mod tests {
         // a new solver, and the smoothing changes the fit (the term is really applied)
         let c = known_curve();
         let u: Vec<f64> = (0..60).map(|k| k as f64 / 59.0).collect();
-        let q: Vec<Vec3> = c
-            .points(&u)
-            .iter()
-            .enumerate()
-            .map(|(k, p)| *p + Vec3::new(0.0, 0.01 * ((k * 7) % 5) as f64, 0.0))
-            .collect();
+        let q = noisy_samples(&c, &u);
         let other = vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.5, 0.6, 1.0, 1.0, 1.0, 1.0];
         let mut s = LsqSolver::new(3);
         let mut out = Vec::new();

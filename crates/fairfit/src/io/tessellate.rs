@@ -86,7 +86,7 @@ fn check_tol(opts: &TessellationOptions) -> Result<()> {
     }
     match opts.chord_tol {
         Some(t) if !(t.is_finite() && t > 0.0) => Err(Error::InvalidOption(format!(
-            "chord tolerance must be positive and finite, got {t}"
+            "chord tolerance must be positive and finite, got {t:e}"
         ))),
         _ => Ok(()),
     }
@@ -106,7 +106,7 @@ fn rescaled(
     };
     let mut mesh = tessellate(&scaled_opts).map_err(|_| {
         Error::InvalidOption(format!(
-            "chord tolerance {} not reached with {} intervals per direction; use a larger tolerance",
+            "chord tolerance {:e} not reached with {} intervals per direction; use a larger tolerance",
             opts.chord_tol.unwrap_or(0.0),
             opts.max_intervals
         ))
@@ -132,7 +132,7 @@ fn refine(ts: &mut Vec<f64>, split: &[bool], max: usize, tol: f64) -> Result<boo
     out.extend(ts.last());
     if out.len() > max + 1 {
         return Err(Error::InvalidOption(format!(
-            "chord tolerance {tol} not reached with {max} intervals per direction; use a larger tolerance"
+            "chord tolerance {tol:e} not reached with {max} intervals per direction; use a larger tolerance"
         )));
     }
     *ts = out;
