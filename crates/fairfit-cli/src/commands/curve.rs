@@ -168,9 +168,11 @@ pub struct CurveArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub rel_tol: Option<f64>,
     /// Degree of the curve (1 to 15), or `auto` (integrated method, its default): the cubic's count
-    /// search, then degrees 4 and 5 at the cubic's control points (the quartic also at more points,
-    /// up to the least-squares count, or one above it where the cubic kept that count, when the
-    /// cubic's fewest-extrema choice cost much F or its extra points still paid), keeping the fairest with no more curvature extrema than the cubic's
+    /// search, then degrees 4 and 5 at the cubic's control points. The quartic also tries more
+    /// points: up to the least-squares count (one above it where the cubic kept that count) when the
+    /// cubic's fewest-extrema choice cost much F or its extra points still paid, and one above the
+    /// least-squares count (at most a quarter of the points) when the cubic's curve has 6 or more
+    /// curvature extrema. The fairest with no more curvature extrema than the cubic's is kept
     /// [default: auto for integrated, 3 for lsq and fit-then-fair]
     #[arg(long, value_parser = parse_degree, allow_hyphen_values = true)]
     pub degree: Option<DegreeArg>,
