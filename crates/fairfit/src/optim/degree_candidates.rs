@@ -94,9 +94,9 @@
 //! one count gained nothing over one.
 
 use super::closed::{equal_breaks, finish_periodic, problem_at};
-use super::count_search::EXTRA_POINT_GAIN;
 use super::count_search::{
-    choose_count, pso_options, rank_fit, CountProblem, Ranked, RESTART_MIN_EXTREMA,
+    choose_count, pso_options, rank_fit, CountProblem, Ranked, EXTRA_POINT_GAIN,
+    RESTART_MIN_EXTREMA,
 };
 use super::degree_search::{
     keep_degree, keep_degree_priced, Attempt, CANDIDATE_BAND_SOLVES, CANDIDATE_POLISH_EVALUATIONS,
