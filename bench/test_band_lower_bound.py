@@ -19,7 +19,9 @@ import compare  # noqa: E402
 import measure  # noqa: E402
 
 ELL = blb.Ellipse(1.0, 0.5)
-QUARTER = os.path.join(compare.default_data_dir(), "synthetic", "quarter_ellipse_200.csv")
+# the repository's own copy (byte-identical to ../shared/data/synthetic/quarter_ellipse_200.csv, see
+# examples/data/PROVENANCE.md): CI clones the repository without ../shared/data
+QUARTER = os.path.join(compare.REPO, "examples", "data", "quarter_ellipse_200.csv")
 
 
 def quarter_points(n=200):
