@@ -444,9 +444,21 @@ class Certificate:
         Z = self.z.T
         return J - Z.T @ np.linalg.solve(Z @ Z.T, Z @ J)
 
-    def bound(self, J, W=0.0, delta1=0.0, delta2=None):
+    def sigma_nodes(self):
+        """Arc length from the span's start at the data feet and at the quadrature nodes (cached)."""
+        if not hasattr(self, "_sig"):
+            ell, ti = self.band.ell, self.band.ti
+            si = np.r_[0.0, np.cumsum([ell.arc(a, b)[0] for a, b in zip(ti[:-1], ti[1:])])]
+            sq = np.array([si[i] + ell.arc(ti[i], t, 16)[0] for i, t in zip(self.iq, self.tq)])
+            self._sig = (si, sq)
+        return self._sig
+
+    def bound(self, J, W=0.0, delta1=0.0, delta2=None, end=None):
         """(F lower bound, details) certified by J (closed first) for the class |w| <= W, |w'| <= delta1; with
-        delta2 (|w''| <= delta2) the pointwise remainder bound rho is used instead of the integrated one."""
+        delta2 (|w''| <= delta2) the pointwise remainder bound rho is used instead of the integrated one.
+        end = (margin, delta1_end, L): within arc length `margin` of either end of the span the class is
+        |w'| <= delta1_end instead (the slope lemma's end gap), and L replaces the length factor's
+        L_sub - W K_sub (e.g. the interior span's, which every curve of the class covers)."""
         band = self.band
         J = self.close(np.asarray(J, dtype=float))
         phi = self.B0 @ J
@@ -456,7 +468,13 @@ class Certificate:
         ks = kt / g
         kmax = float(np.max(self.band.ell.k(np.linspace(band.ti[0], band.ti[-1], 2001))[0]))
         a0 = 1 - kmax * (np.max(np.abs(band.di)) + band.tol)
-        tau = band.tol * np.sqrt(1 + (delta1 / a0) ** 2)
+        d1_data = delta1
+        if end is not None:
+            margin, d1_end, _ = end
+            si, sq = self.sigma_nodes()
+            d1_data = np.where((si < margin) | (si > si[-1] - margin), d1_end, delta1)
+            delta1 = np.where((sq < margin) | (sq > sq[-1] - margin), d1_end, delta1)
+        tau = band.tol * np.sqrt(1 + (d1_data / a0) ** 2)
         if delta2 is None:
             Amax, Tmax = integrated_remainder(k, ks, W, delta1)
         else:
@@ -467,14 +485,14 @@ class Certificate:
             Js, ph, dph = sgn * J, sgn * phi, sgn * dphi
             lin = float(np.sum(wq * kt * ph))  # int k_sigma phi dsigma = int k_t phi dt
             data = float(Js @ band.di)
-            l1 = float(np.sum(np.abs(Js)))
+            l1 = float(np.sum(tau * np.abs(Js)))
             if delta2 is None:
                 rem = float(np.sum(wq * g * (Amax * np.abs(ddphi) + Tmax * np.abs(dph))))
             else:
                 rem = float(np.sum(wq * g * rho * np.abs(dph)))
-            A = lin - data - tau * l1 - rem
+            A = lin - data - l1 - rem
             den = float(np.sum(wq * g * ph**2 * Smax))
-            L = band.L_sub - W * band.K_sub
+            L = band.L_sub - W * band.K_sub if end is None else end[2]
             val = L**3 * A**2 / den if A > 0 and den > 0 else 0.0
             if best is None or val > best[0]:
                 best = (val, {"lin": lin, "data": data, "tau": tau, "l1": l1, "rem": rem, "den": den, "L": L})
@@ -542,6 +560,23 @@ def slope_lemma(band: Band, W, delta1, F_target):
         ell.normal_raw(band.ti[[0, -1]], 0)[0] / ell.g(band.ti[[0, -1]])[:, None])
     L_min = float(np.linalg.norm(P[1] - P[0])) - 2 * band.tol
     return float(energy[i]), F_target / L_min**3, ell_s
+
+
+def end_slope_needed(cert: Certificate, J, W, delta1, margin, target, hi=0.6, iters=30):
+    """The smallest end slope bound D (|w'| <= delta1 on the span but <= D within arc length `margin` of its
+    ends) at which the certified bound drops to `target` (bisection; the bound decreases with D). So every
+    curve of the class |w| <= W, normal graph, with F <= target has |w'| > D somewhere in the end regions."""
+    L = cert.band.L_sub - W * cert.band.K_sub
+    lo = delta1
+    if cert.bound(J, W=W, delta1=delta1, end=(margin, lo, L))[0] <= target:
+        return lo
+    for _ in range(iters):
+        mid = 0.5 * (lo + hi)
+        if cert.bound(J, W=W, delta1=delta1, end=(margin, mid, L))[0] > target:
+            lo = mid
+        else:
+            hi = mid
+    return lo
 
 
 def certified(P, ell, delta1, delta2, W_tols, refine=1, spans=("full", "interior")):
@@ -616,6 +651,15 @@ def study(path, refines=(1, 2, 4), delta1=0.1, delta2=None, W_tols=2.0, splprep=
             e, ebar, l = slope_lemma(bi, Wi, d1, res["target"])
             out(f"  slope lemma: |w'| >= {d1:g} inside the span (window {l:.4f}) needs int kappa'^2 ds >= {e:.1f}; "
                 f"F <= target allows {ebar:.2f}: {'impossible' if e > ebar else 'not excluded'}")
+        _, _, Wi, bi, ci, pi = cb["interior"]
+        e, ebar, l = slope_lemma(bi, Wi, delta1, res["target"])
+        if e > ebar:
+            kmax = float(np.max(ell.k(np.linspace(bi.ti[0], bi.ti[-1], 2001))[0]))
+            margin = l / (1 - kmax * Wi)
+            D = end_slope_needed(ci, pi["J"], Wi, delta1, margin, res["target"])
+            res["end_margin"], res["end_slope"] = margin, D
+            out(f"  end gap: |w'| <= {delta1:g} is proved except within {margin:.4f} (arc length) of the interior "
+                f"span's ends; the bound stays above the target for end slopes up to {D:.4f} there")
     if grid:
         d1s, d2s = grid
         _, _, Wi, _, ci, pi = cb["interior"]

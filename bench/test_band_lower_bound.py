@@ -230,6 +230,29 @@ def test_quarter_ellipse_bound_exceeds_half_splprep():
     assert blb.slope_lemma(band, 10 * band.tol, 0.1, 0.5 * Fs)[0] < allowed
 
 
+def test_end_gap_slope_profile():
+    # the slope lemma proves |w'| < 0.1 except within its window of the interior span's ends; with |w'| <= D
+    # allowed there the certified bound stays above the target up to D ~ 0.19 (end_slope_needed), and:
+    # D = 0.1 gives the uniform-class bound, the bound decreases with D, the node arc lengths add up to L_sub
+    P = measure.read_points(QUARTER)
+    target = 0.5 * blb.target_of(P, measure.tolerance(P))[0]
+    val, _, W, band, cert, pr = blb.certified(P, ELL, 0.1, None, 2.0, spans=("interior",))["interior"]
+    si, sq = cert.sigma_nodes()
+    assert abs(si[-1] / band.L_sub - 1) < 1e-12 and np.all(np.diff(sq) > 0)
+    e, allowed, l = blb.slope_lemma(band, W, 0.1, target)
+    assert e > allowed
+    margin = l / (1 - 4.0 * W)  # k_max = 4 at the vertex (1, 0)
+    assert 0.08 < margin < 0.083
+    L = band.L_sub - W * band.K_sub
+    vals = [cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D, L))[0] for D in (0.1, 0.15, 0.2, 0.3)]
+    assert abs(vals[0] / val - 1) < 1e-12
+    assert all(a > b for a, b in zip(vals, vals[1:]))
+    D = blb.end_slope_needed(cert, pr["J"], W, 0.1, margin, target)
+    assert 0.18 < D < 0.2
+    assert cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D, L))[0] > target
+    assert cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D + 1e-3, L))[0] < target
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):
