@@ -70,6 +70,10 @@ to P_i is <= tol); its TRUE (nonlinear) F and deviations are measured with measu
 measure.Curve whose derivatives are the exact ones of E + w N).  So the band's minimum F is pinned between the
 certificate's bound and that curve's F.
 
+End gap (docs: "The end gap"): `slope_lemma` proves |w'| < delta1 for every curve with F <= target except
+within `lemma_margin` of the span's ends; `Certificate.bound(..., end=(margin, D, L))` uses |w'| <= D there
+instead, and `end_slope_needed` finds the largest D for which the bound still exceeds the target.
+
 CLI: ``python bench/band_lower_bound.py [--refine 1,2,4] [--delta1 0.1] [--delta2 D] [--grid]`` prints
 tables for both quarter-ellipse files (F in the benchmark's units; target = 0.5 x splprep's F, splprep run
 through bench/compare.py's own s search and measured by measure.py).
@@ -562,6 +566,26 @@ def slope_lemma(band: Band, W, delta1, F_target):
     return float(energy[i]), F_target / L_min**3, ell_s
 
 
+def lemma_margin(band: Band, W, delta1):
+    """Arc length m (in sigma) from the span's ends beyond which the slope lemma proves |w'| < delta1: the
+    component K of {psi >= psi0/2} (psi0 = atan(delta1 / a_hi)) through a point with |w'| >= delta1 lies inside
+    the span when that point is farther than K's sigma-length from the ends. Two bounds on it, the smaller
+    counts: (i) w rises by <= 2 W on K, so its length is <= 2 W / (a_lo sin(psi0/2)); (ii) the data: each P_i
+    has a curve point within tol, a "witness" at sigma'_i with |sigma'_i - sigma_i| <= tol / a_1 and
+    |w(sigma'_i) - d_i| <= tol (flat metric (1 - k w)^2 dsigma^2 + dw^2, a_1 = 1 - k_max (max|d| + tol)); w
+    rises by <= max d - min d + 2 tol between the first and last witness in K, and K extends past them by less
+    than one witness gap (<= h_max + 2 tol / a_1) on each side. Returns (m, bound (i), bound (ii))."""
+    ell = band.ell
+    kmax = float(np.max(ell.k(np.linspace(band.ti[0], band.ti[-1], 2001))[0]))
+    a_lo, a_hi = 1 - kmax * W, 1 + kmax * W
+    a1 = 1 - kmax * (float(np.max(np.abs(band.di))) + band.tol)
+    s = np.sin(0.5 * np.arctan(delta1 / a_hi))
+    h = max(ell.arc(a, b)[0] for a, b in zip(band.ti[:-1], band.ti[1:]))
+    m1 = 2 * W / (a_lo * s)
+    m2 = (float(np.ptp(band.di)) + 2 * band.tol) / (a_lo * s) + 2 * (h + 2 * band.tol / a1)
+    return min(m1, m2), m1, m2
+
+
 def end_slope_needed(cert: Certificate, J, W, delta1, margin, target, hi=0.6, iters=30):
     """The smallest end slope bound D (|w'| <= delta1 on the span but <= D within arc length `margin` of its
     ends) at which the certified bound drops to `target` (bisection; the bound decreases with D). So every
@@ -654,12 +678,13 @@ def study(path, refines=(1, 2, 4), delta1=0.1, delta2=None, W_tols=2.0, splprep=
         _, _, Wi, bi, ci, pi = cb["interior"]
         e, ebar, l = slope_lemma(bi, Wi, delta1, res["target"])
         if e > ebar:
-            kmax = float(np.max(ell.k(np.linspace(bi.ti[0], bi.ti[-1], 2001))[0]))
-            margin = l / (1 - kmax * Wi)
+            margin, m1, m2 = lemma_margin(bi, Wi, delta1)
             D = end_slope_needed(ci, pi["J"], Wi, delta1, margin, res["target"])
+            D1 = end_slope_needed(ci, pi["J"], Wi, delta1, m1, res["target"])
             res["end_margin"], res["end_slope"] = margin, D
-            out(f"  end gap: |w'| <= {delta1:g} is proved except within {margin:.4f} (arc length) of the interior "
-                f"span's ends; the bound stays above the target for end slopes up to {D:.4f} there")
+            out(f"  end gap: |w'| <= {delta1:g} is proved except within {margin:.4f} (arc length; {m1:.4f} from "
+                f"|w| <= W alone) of the interior span's ends; the bound stays above the target for end slopes "
+                f"up to {D:.4f} there ({D1:.4f} with the wider gap)")
     if grid:
         d1s, d2s = grid
         _, _, Wi, _, ci, pi = cb["interior"]
