@@ -72,7 +72,8 @@ certificate's bound and that curve's F.
 
 End gap (docs: "The end gap"): `slope_lemma` proves |w'| < delta1 for every curve with F <= target except
 within `lemma_margin` of the span's ends; `Certificate.bound(..., end=(margin, D, L))` uses |w'| <= D there
-instead, and `end_slope_needed` finds the largest D for which the bound still exceeds the target.
+instead, and `end_slope_needed` finds the largest D for which the bound still exceeds the target;
+`nested_end_gap` repeats the lemma at growing thresholds (shorter windows) for a nested profile.
 
 CLI: ``python bench/band_lower_bound.py [--refine 1,2,4] [--delta1 0.1] [--delta2 D] [--grid]`` prints
 tables for both quarter-ellipse files (F in the benchmark's units; target = 0.5 x splprep's F, splprep run
@@ -462,7 +463,8 @@ class Certificate:
         delta2 (|w''| <= delta2) the pointwise remainder bound rho is used instead of the integrated one.
         end = (margin, delta1_end, L): within arc length `margin` of either end of the span the class is
         |w'| <= delta1_end instead (the slope lemma's end gap), and L replaces the length factor's
-        L_sub - W K_sub (e.g. the interior span's, which every curve of the class covers)."""
+        L_sub - W K_sub (e.g. the interior span's, which every curve of the class covers). margin and
+        delta1_end may be arrays (margins decreasing, slopes increasing: nested windows, the innermost counts)."""
         band = self.band
         J = self.close(np.asarray(J, dtype=float))
         phi = self.B0 @ J
@@ -474,10 +476,17 @@ class Certificate:
         a0 = 1 - kmax * (np.max(np.abs(band.di)) + band.tol)
         d1_data = delta1
         if end is not None:
-            margin, d1_end, _ = end
+            margins, slopes = np.atleast_1d(end[0]), np.atleast_1d(end[1])
             si, sq = self.sigma_nodes()
-            d1_data = np.where((si < margin) | (si > si[-1] - margin), d1_end, delta1)
-            delta1 = np.where((sq < margin) | (sq > sq[-1] - margin), d1_end, delta1)
+
+            def profile(sg):
+                r = np.minimum(sg, sg[-1] - sg)  # distance to the nearer end
+                out = np.full_like(sg, float(delta1))
+                for m, d in zip(margins, slopes):  # margins decreasing, slopes increasing
+                    out = np.where(r < m, d, out)
+                return out
+
+            d1_data, delta1 = profile(si), profile(sq)
         tau = band.tol * np.sqrt(1 + (d1_data / a0) ** 2)
         if delta2 is None:
             Amax, Tmax = integrated_remainder(k, ks, W, delta1)
@@ -603,6 +612,44 @@ def end_slope_needed(cert: Certificate, J, W, delta1, margin, target, hi=0.6, it
     return lo
 
 
+def nested_end_gap(cert: Certificate, J, W, delta1, target,
+                   levels=(0.125, 0.15, 0.175, 0.2, 0.225, 0.25, 0.275, 0.3)):
+    """The slope lemma at growing thresholds d_0 = delta1 < d_1 < ...: |w'| < d_j is proved farther than
+    lemma_margin(d_j) from the ends (each d_j checked against the target's energy). With that nested profile
+    (|w'| <= d_j between the windows of d_j and d_(j+1)) and |w'| <= D in the innermost window, the largest D
+    keeping the certified bound above the target is found by bisection. Levels are added while D stays above
+    the last one, so the statement is consistent: every curve of the class with F <= target has |w'| > D
+    within margins[-1] of an end. Returns (margins, thresholds, D) (D None: not even d_0 holds)."""
+    band = cert.band
+    L = band.L_sub - W * band.K_sub
+
+    def largest_D(ms, ds):
+        def val(D):
+            return cert.bound(J, W=W, delta1=delta1, end=(np.array(ms), np.array(ds[1:] + [D]), L))[0]
+
+        lo, hi = ds[-1], 0.6
+        if val(lo) <= target:
+            return None
+        for _ in range(30):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if val(mid) > target else (lo, mid)
+        return lo
+
+    best = None
+    ds, ms = [], []
+    for d in (delta1,) + tuple(levels):
+        e, ebar, _ = slope_lemma(band, W, d, target)
+        if e <= ebar:
+            break
+        D = largest_D(ms + [lemma_margin(band, W, d)[0]], ds + [d])
+        if D is None:
+            break
+        ds.append(d)
+        ms.append(lemma_margin(band, W, d)[0])
+        best = (list(ms), list(ds), D)
+    return best if best is not None else ([], [], None)
+
+
 def certified(P, ell, delta1, delta2, W_tols, refine=1, spans=("full", "interior")):
     """delta2 None: the integrated remainder (no bound on w'' needed); else the pointwise one."""
     """Certified bounds for the class (A2): over the full data span (times the end-extension factor, see the
@@ -685,6 +732,11 @@ def study(path, refines=(1, 2, 4), delta1=0.1, delta2=None, W_tols=2.0, splprep=
             out(f"  end gap: |w'| <= {delta1:g} is proved except within {margin:.4f} (arc length; {m1:.4f} from "
                 f"|w| <= W alone) of the interior span's ends; the bound stays above the target for end slopes "
                 f"up to {D:.4f} there ({D1:.4f} with the wider gap)")
+            ms, ds, Dn = nested_end_gap(ci, pi["J"], Wi, delta1, res["target"])
+            res["nested_margin"], res["nested_slope"] = ms[-1], Dn
+            out(f"  nested end gap (lemma at |w'| thresholds {', '.join(f'{d:g}' for d in ds)}: windows "
+                f"{', '.join(f'{m:.4f}' for m in ms)}): F <= target needs |w'| > {Dn:.4f} within {ms[-1]:.4f} "
+                f"of an end")
     if grid:
         d1s, d2s = grid
         _, _, Wi, _, ci, pi = cb["interior"]

@@ -254,6 +254,16 @@ def test_end_gap_slope_profile():
     assert 0.18 < blb.end_slope_needed(cert, pr["J"], W, 0.1, m1, target) < 0.2  # the wider gap
     assert cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D, L))[0] > target
     assert cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D + 1e-3, L))[0] < target
+    # nested: the lemma at thresholds 0.1, 0.125, ..., 0.25 (windows shrinking to 0.0333) and |w'| <= D in
+    # the innermost window keep the bound above the target up to D ~ 0.271 > 0.25 (consistent)
+    ms, ds, Dn = blb.nested_end_gap(cert, pr["J"], W, 0.1, target)
+    assert ds[0] == 0.1 and abs(ms[0] - margin) < 1e-15 and np.all(np.diff(ms) < 0)
+    assert ds[-1] == 0.25 and 0.032 < ms[-1] < 0.035 and ds[-1] < Dn < 0.29
+    for d in ds:  # every threshold is excluded by the lemma's energy away from its window
+        e, allowed, _ = blb.slope_lemma(band, W, d, target)
+        assert e > allowed
+    prof = (np.array(ms), np.array(ds[1:] + [Dn]), L)
+    assert target < cert.bound(pr["J"], W=W, delta1=0.1, end=prof)[0] < 1.01 * target
 
 
 if __name__ == "__main__":
