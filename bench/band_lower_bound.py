@@ -70,6 +70,11 @@ to P_i is <= tol); its TRUE (nonlinear) F and deviations are measured with measu
 measure.Curve whose derivatives are the exact ones of E + w N).  So the band's minimum F is pinned between the
 certificate's bound and that curve's F.
 
+End gap (docs: "The end gap"): `slope_lemma` proves |w'| < delta1 for every curve with F <= target except
+within `lemma_margin` of the span's ends; `Certificate.bound(..., end=(margin, D, L))` uses |w'| <= D there
+instead, and `end_slope_needed` finds the largest D for which the bound still exceeds the target;
+`nested_end_gap` repeats the lemma at growing thresholds (shorter windows) for a nested profile.
+
 CLI: ``python bench/band_lower_bound.py [--refine 1,2,4] [--delta1 0.1] [--delta2 D] [--grid]`` prints
 tables for both quarter-ellipse files (F in the benchmark's units; target = 0.5 x splprep's F, splprep run
 through bench/compare.py's own s search and measured by measure.py).
@@ -444,9 +449,22 @@ class Certificate:
         Z = self.z.T
         return J - Z.T @ np.linalg.solve(Z @ Z.T, Z @ J)
 
-    def bound(self, J, W=0.0, delta1=0.0, delta2=None):
+    def sigma_nodes(self):
+        """Arc length from the span's start at the data feet and at the quadrature nodes (cached)."""
+        if not hasattr(self, "_sig"):
+            ell, ti = self.band.ell, self.band.ti
+            si = np.r_[0.0, np.cumsum([ell.arc(a, b)[0] for a, b in zip(ti[:-1], ti[1:])])]
+            sq = np.array([si[i] + ell.arc(ti[i], t, 16)[0] for i, t in zip(self.iq, self.tq)])
+            self._sig = (si, sq)
+        return self._sig
+
+    def bound(self, J, W=0.0, delta1=0.0, delta2=None, end=None):
         """(F lower bound, details) certified by J (closed first) for the class |w| <= W, |w'| <= delta1; with
-        delta2 (|w''| <= delta2) the pointwise remainder bound rho is used instead of the integrated one."""
+        delta2 (|w''| <= delta2) the pointwise remainder bound rho is used instead of the integrated one.
+        end = (margin, delta1_end, L): within arc length `margin` of either end of the span the class is
+        |w'| <= delta1_end instead (the slope lemma's end gap), and L replaces the length factor's
+        L_sub - W K_sub (e.g. the interior span's, which every curve of the class covers). margin and
+        delta1_end may be arrays (margins decreasing, slopes increasing: nested windows, the innermost counts)."""
         band = self.band
         J = self.close(np.asarray(J, dtype=float))
         phi = self.B0 @ J
@@ -456,7 +474,20 @@ class Certificate:
         ks = kt / g
         kmax = float(np.max(self.band.ell.k(np.linspace(band.ti[0], band.ti[-1], 2001))[0]))
         a0 = 1 - kmax * (np.max(np.abs(band.di)) + band.tol)
-        tau = band.tol * np.sqrt(1 + (delta1 / a0) ** 2)
+        d1_data = delta1
+        if end is not None:
+            margins, slopes = np.atleast_1d(end[0]), np.atleast_1d(end[1])
+            si, sq = self.sigma_nodes()
+
+            def profile(sg):
+                r = np.minimum(sg, sg[-1] - sg)  # distance to the nearer end
+                out = np.full_like(sg, float(delta1))
+                for m, d in zip(margins, slopes):  # margins decreasing, slopes increasing
+                    out = np.where(r < m, d, out)
+                return out
+
+            d1_data, delta1 = profile(si), profile(sq)
+        tau = band.tol * np.sqrt(1 + (d1_data / a0) ** 2)
         if delta2 is None:
             Amax, Tmax = integrated_remainder(k, ks, W, delta1)
         else:
@@ -467,14 +498,14 @@ class Certificate:
             Js, ph, dph = sgn * J, sgn * phi, sgn * dphi
             lin = float(np.sum(wq * kt * ph))  # int k_sigma phi dsigma = int k_t phi dt
             data = float(Js @ band.di)
-            l1 = float(np.sum(np.abs(Js)))
+            l1 = float(np.sum(tau * np.abs(Js)))
             if delta2 is None:
                 rem = float(np.sum(wq * g * (Amax * np.abs(ddphi) + Tmax * np.abs(dph))))
             else:
                 rem = float(np.sum(wq * g * rho * np.abs(dph)))
-            A = lin - data - tau * l1 - rem
+            A = lin - data - l1 - rem
             den = float(np.sum(wq * g * ph**2 * Smax))
-            L = band.L_sub - W * band.K_sub
+            L = band.L_sub - W * band.K_sub if end is None else end[2]
             val = L**3 * A**2 / den if A > 0 and den > 0 else 0.0
             if best is None or val > best[0]:
                 best = (val, {"lin": lin, "data": data, "tau": tau, "l1": l1, "rem": rem, "den": den, "L": L})
@@ -542,6 +573,81 @@ def slope_lemma(band: Band, W, delta1, F_target):
         ell.normal_raw(band.ti[[0, -1]], 0)[0] / ell.g(band.ti[[0, -1]])[:, None])
     L_min = float(np.linalg.norm(P[1] - P[0])) - 2 * band.tol
     return float(energy[i]), F_target / L_min**3, ell_s
+
+
+def lemma_margin(band: Band, W, delta1):
+    """Arc length m (in sigma) from the span's ends beyond which the slope lemma proves |w'| < delta1: the
+    component K of {psi >= psi0/2} (psi0 = atan(delta1 / a_hi)) through a point with |w'| >= delta1 lies inside
+    the span when that point is farther than K's sigma-length from the ends. Two bounds on it, the smaller
+    counts: (i) w rises by <= 2 W on K, so its length is <= 2 W / (a_lo sin(psi0/2)); (ii) the data: each P_i
+    has a curve point within tol, a "witness" at sigma'_i with |sigma'_i - sigma_i| <= tol / a_1 and
+    |w(sigma'_i) - d_i| <= tol (flat metric (1 - k w)^2 dsigma^2 + dw^2, a_1 = 1 - k_max (max|d| + tol)); w
+    rises by <= max d - min d + 2 tol between the first and last witness in K, and K extends past them by less
+    than one witness gap (<= h_max + 2 tol / a_1) on each side. Returns (m, bound (i), bound (ii))."""
+    ell = band.ell
+    kmax = float(np.max(ell.k(np.linspace(band.ti[0], band.ti[-1], 2001))[0]))
+    a_lo, a_hi = 1 - kmax * W, 1 + kmax * W
+    a1 = 1 - kmax * (float(np.max(np.abs(band.di))) + band.tol)
+    s = np.sin(0.5 * np.arctan(delta1 / a_hi))
+    h = max(ell.arc(a, b)[0] for a, b in zip(band.ti[:-1], band.ti[1:]))
+    m1 = 2 * W / (a_lo * s)
+    m2 = (float(np.ptp(band.di)) + 2 * band.tol) / (a_lo * s) + 2 * (h + 2 * band.tol / a1)
+    return min(m1, m2), m1, m2
+
+
+def end_slope_needed(cert: Certificate, J, W, delta1, margin, target, hi=0.6, iters=30):
+    """The smallest end slope bound D (|w'| <= delta1 on the span but <= D within arc length `margin` of its
+    ends) at which the certified bound drops to `target` (bisection; the bound decreases with D). So every
+    curve of the class |w| <= W, normal graph, with F <= target has |w'| > D somewhere in the end regions."""
+    L = cert.band.L_sub - W * cert.band.K_sub
+    lo = delta1
+    if cert.bound(J, W=W, delta1=delta1, end=(margin, lo, L))[0] <= target:
+        return lo
+    for _ in range(iters):
+        mid = 0.5 * (lo + hi)
+        if cert.bound(J, W=W, delta1=delta1, end=(margin, mid, L))[0] > target:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def nested_end_gap(cert: Certificate, J, W, delta1, target,
+                   levels=(0.125, 0.15, 0.175, 0.2, 0.225, 0.25, 0.275, 0.3)):
+    """The slope lemma at growing thresholds d_0 = delta1 < d_1 < ...: |w'| < d_j is proved farther than
+    lemma_margin(d_j) from the ends (each d_j checked against the target's energy). With that nested profile
+    (|w'| <= d_j between the windows of d_j and d_(j+1)) and |w'| <= D in the innermost window, the largest D
+    keeping the certified bound above the target is found by bisection. Levels are added while D stays above
+    the last one, so the statement is consistent: every curve of the class with F <= target has |w'| > D
+    within margins[-1] of an end. Returns (margins, thresholds, D) (D None: not even d_0 holds)."""
+    band = cert.band
+    L = band.L_sub - W * band.K_sub
+
+    def largest_D(ms, ds):
+        def val(D):
+            return cert.bound(J, W=W, delta1=delta1, end=(np.array(ms), np.array(ds[1:] + [D]), L))[0]
+
+        lo, hi = ds[-1], 0.6
+        if val(lo) <= target:
+            return None
+        for _ in range(30):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if val(mid) > target else (lo, mid)
+        return lo
+
+    best = None
+    ds, ms = [], []
+    for d in (delta1,) + tuple(levels):
+        e, ebar, _ = slope_lemma(band, W, d, target)
+        if e <= ebar:
+            break
+        D = largest_D(ms + [lemma_margin(band, W, d)[0]], ds + [d])
+        if D is None:
+            break
+        ds.append(d)
+        ms.append(lemma_margin(band, W, d)[0])
+        best = (list(ms), list(ds), D)
+    return best if best is not None else ([], [], None)
 
 
 def certified(P, ell, delta1, delta2, W_tols, refine=1, spans=("full", "interior")):
@@ -616,6 +722,21 @@ def study(path, refines=(1, 2, 4), delta1=0.1, delta2=None, W_tols=2.0, splprep=
             e, ebar, l = slope_lemma(bi, Wi, d1, res["target"])
             out(f"  slope lemma: |w'| >= {d1:g} inside the span (window {l:.4f}) needs int kappa'^2 ds >= {e:.1f}; "
                 f"F <= target allows {ebar:.2f}: {'impossible' if e > ebar else 'not excluded'}")
+        _, _, Wi, bi, ci, pi = cb["interior"]
+        e, ebar, l = slope_lemma(bi, Wi, delta1, res["target"])
+        if e > ebar:
+            margin, m1, m2 = lemma_margin(bi, Wi, delta1)
+            D = end_slope_needed(ci, pi["J"], Wi, delta1, margin, res["target"])
+            D1 = end_slope_needed(ci, pi["J"], Wi, delta1, m1, res["target"])
+            res["end_margin"], res["end_slope"] = margin, D
+            out(f"  end gap: |w'| <= {delta1:g} is proved except within {margin:.4f} (arc length; {m1:.4f} from "
+                f"|w| <= W alone) of the interior span's ends; the bound stays above the target for end slopes "
+                f"up to {D:.4f} there ({D1:.4f} with the wider gap)")
+            ms, ds, Dn = nested_end_gap(ci, pi["J"], Wi, delta1, res["target"])
+            res["nested_margin"], res["nested_slope"] = ms[-1], Dn
+            out(f"  nested end gap (lemma at |w'| thresholds {', '.join(f'{d:g}' for d in ds)}: windows "
+                f"{', '.join(f'{m:.4f}' for m in ms)}): F <= target needs |w'| > {Dn:.4f} within {ms[-1]:.4f} "
+                f"of an end")
     if grid:
         d1s, d2s = grid
         _, _, Wi, _, ci, pi = cb["interior"]

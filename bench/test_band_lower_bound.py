@@ -232,6 +232,42 @@ def test_quarter_ellipse_bound_exceeds_half_splprep():
     assert blb.slope_lemma(band, 10 * band.tol, 0.1, 0.5 * Fs)[0] < allowed
 
 
+def test_end_gap_slope_profile():
+    # the slope lemma proves |w'| < 0.1 except within its window of the interior span's ends; with |w'| <= D
+    # allowed there the certified bound stays above the target up to D ~ 0.225 (end_slope_needed), and:
+    # D = 0.1 gives the uniform-class bound, the bound decreases with D, the node arc lengths add up to L_sub
+    P = measure.read_points(QUARTER)
+    target = 0.5 * blb.target_of(P, measure.tolerance(P))[0]
+    val, _, W, band, cert, pr = blb.certified(P, ELL, 0.1, None, 2.0, spans=("interior",))["interior"]
+    si, sq = cert.sigma_nodes()
+    assert abs(si[-1] / band.L_sub - 1) < 1e-12 and np.all(np.diff(sq) > 0)
+    e, allowed, l = blb.slope_lemma(band, W, 0.1, target)
+    assert e > allowed
+    margin, m1, m2 = blb.lemma_margin(band, W, 0.1)
+    assert abs(m1 / (l / (1 - 4.0 * W)) - 1) < 1e-4  # k_max ~ 4 near the vertex (1, 0); the lemma's window
+    # the data witnesses: 2 tol / (a_lo sin(psi0 / 2)) + 2 (h_max + 2 tol / a_1) with h_max = 0.00789
+    assert margin == m2 and 0.059 < m2 < 0.062
+    L = band.L_sub - W * band.K_sub
+    vals = [cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D, L))[0] for D in (0.1, 0.15, 0.2, 0.3)]
+    assert abs(vals[0] / val - 1) < 1e-12
+    assert all(a > b for a, b in zip(vals, vals[1:]))
+    D = blb.end_slope_needed(cert, pr["J"], W, 0.1, margin, target)
+    assert 0.215 < D < 0.235
+    assert 0.18 < blb.end_slope_needed(cert, pr["J"], W, 0.1, m1, target) < 0.2  # the wider gap
+    assert cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D, L))[0] > target
+    assert cert.bound(pr["J"], W=W, delta1=0.1, end=(margin, D + 1e-3, L))[0] < target
+    # nested: the lemma at thresholds 0.1, 0.125, ..., 0.25 (windows shrinking to 0.0333) and |w'| <= D in
+    # the innermost window keep the bound above the target up to D ~ 0.271 > 0.25 (consistent)
+    ms, ds, Dn = blb.nested_end_gap(cert, pr["J"], W, 0.1, target)
+    assert ds[0] == 0.1 and abs(ms[0] - margin) < 1e-15 and np.all(np.diff(ms) < 0)
+    assert ds[-1] == 0.25 and 0.032 < ms[-1] < 0.035 and ds[-1] < Dn < 0.29
+    for d in ds:  # every threshold is excluded by the lemma's energy away from its window
+        e, allowed, _ = blb.slope_lemma(band, W, d, target)
+        assert e > allowed
+    prof = (np.array(ms), np.array(ds[1:] + [Dn]), L)
+    assert target < cert.bound(pr["J"], W=W, delta1=0.1, end=prof)[0] < 1.01 * target
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):
