@@ -1,0 +1,37 @@
+//! Defects found by the session-15 fuzz pass, each pinned by the input that showed it and the exact
+//! line (and exit code) the user now gets.
+
+mod common;
+use common::{file_with, one_line_failure, CIRCLE};
+
+/// A one-line fairfit surface JSON (a bilinear patch).
+const PATCH: &str = r#"{"kind": "surface", "degree_u": 1, "degree_v": 1, "knots_u": [0, 0, 1, 1], "knots_v": [0, 0, 1, 1], "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#;
+
+#[test]
+fn geometry_json_given_as_points_is_named_not_dumped() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.json");
+    let out = out.to_str().unwrap();
+    let curve = file_with(CIRCLE.as_bytes());
+    let surface = file_with(PATCH.as_bytes());
+    let other = file_with(br#"{"points": [[0, 0], [1, 1]]}"#);
+    for (f, kind) in [(&curve, "curve"), (&surface, "surface")] {
+        let p = f.path().to_str().unwrap();
+        let expected = format!(
+            "error: invalid input data: {p}: already a fairfit {kind} (JSON), not a point file; \
+             `fairfit info|eval|plot|export` take it (to re-fit it, write it as STEP with \
+             `fairfit export --step` first)\n"
+        );
+        // was (surface): "...:1: expected 2 or 3 numbers, got `{...the whole file...}`"; (curve): "no
+        // points found (empty file?)" or the file's second line
+        for cmd in ["surface", "curve"] {
+            assert_eq!(one_line_failure(&[cmd, p, "-o", out], 1, &[]), expected);
+        }
+    }
+    let p = other.path().to_str().unwrap();
+    let expected = format!(
+        "error: invalid input data: {p}: a JSON file, not a point file (points are 2 or 3 numbers per \
+         line)\n"
+    );
+    assert_eq!(one_line_failure(&["curve", p, "-o", out], 1, &[]), expected);
+}
