@@ -35,3 +35,41 @@ fn geometry_json_given_as_points_is_named_not_dumped() {
     );
     assert_eq!(one_line_failure(&["curve", p, "-o", out], 1, &[]), expected);
 }
+
+#[test]
+fn unknown_plot_extension_is_a_usage_error_like_the_other_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let curve = file_with(CIRCLE.as_bytes());
+    let c = curve.path().to_str().unwrap();
+    for name in ["x.xyz", "x"] {
+        let out = dir.path().join(name);
+        let out = out.to_str().unwrap();
+        // was: exit 1, "x.xyz: unknown plot format, expected a .svg or .png file name"
+        let line = one_line_failure(&["plot", c, "-o", out], 2, &[]);
+        assert_eq!(
+            line,
+            format!(
+                "error: -o {out}: unknown format, expected a .svg or .png file name; see 'fairfit \
+                 plot --help'\n"
+            )
+        );
+        assert!(!std::path::Path::new(out).exists());
+        // the same option error through export's --plot and --mesh
+        let line = one_line_failure(&["export", c, "--plot", out], 2, &[]);
+        assert_eq!(
+            line,
+            format!(
+                "error: --plot {out}: unknown format, expected a .svg or .png file name; see \
+                 'fairfit export --help'\n"
+            )
+        );
+        let line = one_line_failure(&["export", c, "--mesh", out], 2, &[]);
+        assert_eq!(
+            line,
+            format!(
+                "error: --mesh {out}: unknown format, expected a .obj, .stl or .ply file name; \
+                 see 'fairfit export --help'\n"
+            )
+        );
+    }
+}
