@@ -73,3 +73,44 @@ fn unknown_plot_extension_is_a_usage_error_like_the_other_outputs() {
         );
     }
 }
+
+#[test]
+fn subnormal_knot_range_is_refused_alike_by_plot_info_and_eval() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("p.svg");
+    let svg = svg.to_str().unwrap();
+    // 1 / 5e-309 overflows; 6e-309 (the smallest range whose reciprocal is finite) still plots
+    for range in ["1e-320", "5e-309"] {
+        let curve = file_with(
+            format!(
+                r#"{{"kind": "curve", "degree": 2, "knots": [0, 0, 0, {range}, {range}, {range}],
+                "control_points": [[0,0,0],[1,1,0],[2,0,0]]}}"#
+            )
+            .as_bytes(),
+        );
+        let c = curve.path().to_str().unwrap();
+        let expected = format!(
+            "error: invalid JSON: {c}: field `knots`: invalid knot vector: curve: the knots run from \
+             0e0 to {range}, a range below the floating-point limit; rescale the parameters\n"
+        );
+        // was: plot "invalid input data: nothing finite to plot"; info length 0 and not regular;
+        // eval null points
+        for args in [
+            vec!["plot", c, "-o", svg],
+            vec!["info", c],
+            vec!["eval", c, "--at", "0"],
+        ] {
+            assert_eq!(one_line_failure(&args, 1, &[]), expected, "{args:?}");
+        }
+    }
+    let curve = file_with(
+        br#"{"kind": "curve", "degree": 2, "knots": [0, 0, 0, 6e-309, 6e-309, 6e-309],
+        "control_points": [[0,0,0],[1,1,0],[2,0,0]]}"#,
+    );
+    let out = common::fairfit()
+        .args(["plot", curve.path().to_str().unwrap(), "-o", svg])
+        .output()
+        .unwrap();
+    common::assert_success(&out);
+    assert!(std::fs::read_to_string(svg).unwrap().starts_with("<svg"));
+}
