@@ -16,7 +16,8 @@ pub enum Error {
         /// Why it is not usable.
         reason: String,
     },
-    /// The knot vector has the wrong length, decreases, or holds a non-finite value.
+    /// The knot vector has the wrong length, decreases, holds a non-finite value, or spans a range beyond
+    /// the floating-point limits (too long or too short to evaluate).
     #[error("invalid knot vector: {0}")]
     InvalidKnots(String),
     /// A weight is zero, negative, non-finite, or the count does not match the control points.

@@ -104,19 +104,28 @@ fn file_identity(path: &Path) -> PathBuf {
 /// Fails (a usage error) when the file name of a `--plot` or `--mesh` output has no extension the
 /// writer knows, so a long fit does not end with that error. The writers check again.
 fn check_format(flag: &str, path: &Path) -> CmdResult {
+    match flag {
+        "--plot" => check_plot_format(flag, path),
+        "--mesh" => check_extension(flag, path, &["obj", "stl", "ply"], "a .obj, .stl or .ply"),
+        _ => Ok(()),
+    }
+}
+
+/// Fails (a usage error, like `--plot`'s) when the plot file `path`, given by `flag` (`-o` of
+/// `fairfit plot`), is not a .svg or .png file name.
+pub fn check_plot_format(flag: &str, path: &Path) -> CmdResult {
+    check_extension(flag, path, &["svg", "png"], "a .svg or .png")
+}
+
+fn check_extension(flag: &str, path: &Path, known: &[&str], expected: &str) -> CmdResult {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    let (known, expected): (&[&str], &str) = match flag {
-        "--plot" => (&["svg", "png"], "a .svg or .png file name"),
-        "--mesh" => (&["obj", "stl", "ply"], "a .obj, .stl or .ply file name"),
-        _ => return Ok(()),
-    };
     if ext.as_deref().is_some_and(|e| known.contains(&e)) {
         return Ok(());
     }
     Err(CliError::usage(format!(
-        "{flag} {}: unknown format, expected {expected}",
+        "{flag} {}: unknown format, expected {expected} file name",
         path.display()
     )))
 }
@@ -188,7 +197,7 @@ pub fn plot_bytes(path: &Path, svg: String, size: PlotSize) -> Result<Vec<u8>, C
     match ext.as_deref() {
         Some("svg") => Ok(svg.into_bytes()),
         Some("png") => Ok(svg_to_png(&svg, size.width, size.height)?),
-        _ => Err(CliError::new(format!(
+        _ => Err(CliError::usage(format!(
             "{}: unknown plot format, expected a .svg or .png file name",
             path.display()
         ))),

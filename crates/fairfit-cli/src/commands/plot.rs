@@ -1,7 +1,9 @@
 //! `fairfit plot FILE.json [--points POINTS.csv] -o out.svg|out.png [--width W --height H] [--kind K]`:
 //! curvature combs, curvature against arc length, deviations, deviation maps and iso-curve curvature.
 
-use super::outputs::{check_output_paths, main_plot, plot_bytes, OutputGeometry};
+use super::outputs::{
+    check_output_paths, check_plot_format, main_plot, plot_bytes, OutputGeometry,
+};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::io::{read_points, Geometry};
@@ -60,6 +62,7 @@ pub fn run(args: PlotArgs) -> CmdResult {
     let mut inputs = vec![args.input.as_path()];
     inputs.extend(args.points.as_deref());
     check_output_paths(&[("-o", &args.output)], &inputs)?;
+    check_plot_format("-o", &args.output)?;
     let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),

@@ -170,6 +170,39 @@ pub fn geometry_from_str(text: &str) -> Result<Geometry> {
     }
 }
 
+/// The kind (`"curve"` or `"surface"`) of a fairfit geometry JSON text, `Some("JSON")` for other JSON
+/// objects, `None` for text that does not start with `{`: readers of point and section files use it to
+/// refuse a geometry file with one line naming it instead of its first line.
+pub fn json_kind_of(text: &str) -> Option<&'static str> {
+    let text = super::points::without_bom(text).trim_start();
+    if !text.starts_with('{') {
+        return None;
+    }
+    let kind = serde_json::from_str::<serde_json::Value>(text)
+        .ok()
+        .and_then(|v| v.get("kind").and_then(|k| k.as_str()).map(str::to_string));
+    Some(match kind.as_deref() {
+        Some("curve") => "curve",
+        Some("surface") => "surface",
+        _ => "JSON",
+    })
+}
+
+/// The error of a point or section reader given a JSON file (see [`json_kind_of`]), naming the file,
+/// what it is and which commands take it.
+pub(crate) fn not_points_error(source: &str, kind: &str) -> Error {
+    if kind == "JSON" {
+        Error::InvalidData(format!(
+            "{source}: a JSON file, not a point file (points are 2 or 3 numbers per line)"
+        ))
+    } else {
+        Error::InvalidData(format!(
+            "{source}: already a fairfit {kind} (JSON), not a point file; `fairfit info|eval|plot|export` \
+             take it (to re-fit it, write it as STEP with `fairfit export --step` first)"
+        ))
+    }
+}
+
 /// Deserialises `value` as `T`, naming the path of the offending field in the error.
 fn typed<T: serde::de::DeserializeOwned>(value: serde_json::Value) -> Result<T> {
     serde_path_to_error::deserialize(value).map_err(|e| {

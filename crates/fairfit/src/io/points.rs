@@ -62,6 +62,9 @@ pub fn parse_points(text: &str, source: &str) -> Result<PointSet> {
     if text.contains('\0') {
         return Err(bad(source, 0, "not a text file (contains NUL bytes)"));
     }
+    if let Some(kind) = super::json::json_kind_of(text) {
+        return Err(super::json::not_points_error(source, kind));
+    }
     // (line number, numbers) for every numeric line; blank lines kept as section separators
     let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
     let mut name: Option<String> = None;

@@ -14,6 +14,9 @@ pub const SECTION_EXTENSIONS: [&str; 4] = ["csv", "txt", "dat", "xyz"];
 /// Parses the text of one section file; `name` is used in error messages.
 pub fn parse_section_text(text: &str, name: &str) -> Result<Vec<Vec3>> {
     let text = super::points::without_bom(text);
+    if let Some(kind) = super::json::json_kind_of(text) {
+        return Err(super::json::not_points_error(name, kind));
+    }
     let mut pts = Vec::new();
     let mut header_seen = false;
     let mut columns = None;

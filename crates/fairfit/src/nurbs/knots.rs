@@ -68,6 +68,13 @@ pub fn validate_knots(knots: &[f64], degree: usize, n_ctrl: usize, what: &str) -
             "{what}: the knots run from {first:e} to {last:e}, a range beyond the floating-point limit; rescale the parameters"
         )));
     }
+    // nor so short (subnormal, below about 5.6e-309) that 1 / range overflows: every point would be
+    // undefined (plot, eval and info would each fail differently)
+    if last > first && !(1.0 / (last - first)).is_finite() {
+        return Err(Error::InvalidKnots(format!(
+            "{what}: the knots run from {first:e} to {last:e}, a range below the floating-point limit; rescale the parameters"
+        )));
+    }
     let (a, b) = (knots[degree], knots[n_ctrl]);
     if b - a <= 0.0 {
         return Err(Error::InvalidKnots(format!(
