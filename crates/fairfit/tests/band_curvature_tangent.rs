@@ -9,42 +9,15 @@ use fairfit::fair::curve_fairness;
 use fairfit::optim::band_fairing::{band_fair, BandOptions};
 use fairfit::optim::objective::{evaluate_candidate, set_knots, EvalWorkspace};
 use fairfit::optim::prepare::{averaging_interior_knots, prepare};
-use fairfit::{NurbsCurve, Vec3};
+use fairfit::NurbsCurve;
 
 #[path = "common/example_data.rs"]
 mod example_data;
 use example_data::read_csv;
 
-/// Largest distance from the points to the curve: the nearest of 200 001 uniform curve samples,
-/// refined by a golden-section search between its neighbours.
-fn brute_force_deviation(curve: &NurbsCurve, points: &[Vec3]) -> f64 {
-    let n = 200_000;
-    let us: Vec<f64> = (0..=n).map(|i| i as f64 / n as f64).collect();
-    let samples: Vec<Vec3> = us.iter().map(|&u| curve.point(u)).collect();
-    let mut worst = 0.0f64;
-    for q in points {
-        let (mut best, mut bi) = (f64::INFINITY, 0);
-        for (i, s) in samples.iter().enumerate() {
-            let d = (*s - *q).norm_squared();
-            if d < best {
-                (best, bi) = (d, i);
-            }
-        }
-        let (mut a, mut b) = (us[bi.saturating_sub(1)], us[(bi + 1).min(n)]);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        for _ in 0..60 {
-            let (c, d) = (b - g * (b - a), a + g * (b - a));
-            if (curve.point(c) - *q).norm() < (curve.point(d) - *q).norm() {
-                b = d;
-            } else {
-                a = c;
-            }
-        }
-        let refined = (curve.point(0.5 * (a + b)) - *q).norm();
-        worst = worst.max(refined.min(best.sqrt()));
-    }
-    worst
-}
+#[path = "common/sampled.rs"]
+mod sampled;
+use sampled::refined_deviation;
 
 /// Sign changes of `dκ/ds` (planar) on 20 000 uniform parameter samples, with a floor of 1e-6 of
 /// the largest `|dκ/ds|` (the benchmark measurer's hysteresis).
@@ -104,7 +77,7 @@ fn one_pass(name: &str, n: usize, curvature_tangent: bool) -> (f64, usize, f64, 
     band_fair(data, &mut ws, &start, tol, &bo);
     let curve = NurbsCurve::bspline(3, ws.knots.clone(), ws.ctrl.clone()).unwrap();
     let f = curve_fairness(&curve).fairness;
-    let dev = brute_force_deviation(&curve, &data.points);
+    let dev = refined_deviation(&curve, &data.points);
     (f, dense_extrema(&curve), dev / tol, f0)
 }
 

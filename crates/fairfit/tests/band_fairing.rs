@@ -5,42 +5,15 @@
 
 use fairfit::fair::curve_fairness;
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
-use fairfit::{NurbsCurve, Vec3};
+use fairfit::NurbsCurve;
 
 #[path = "common/example_data.rs"]
 mod example_data;
 use example_data::read_csv;
 
-/// Largest distance from the points to the curve: the nearest of 200 001 uniform curve samples,
-/// refined by a golden-section search between its neighbours.
-fn brute_force_deviation(curve: &NurbsCurve, points: &[Vec3]) -> f64 {
-    let n = 200_000;
-    let us: Vec<f64> = (0..=n).map(|i| i as f64 / n as f64).collect();
-    let samples: Vec<Vec3> = us.iter().map(|&u| curve.point(u)).collect();
-    let mut worst = 0.0f64;
-    for q in points {
-        let (mut best, mut bi) = (f64::INFINITY, 0);
-        for (i, s) in samples.iter().enumerate() {
-            let d = (*s - *q).norm_squared();
-            if d < best {
-                (best, bi) = (d, i);
-            }
-        }
-        let (mut a, mut b) = (us[bi.saturating_sub(1)], us[(bi + 1).min(n)]);
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        for _ in 0..60 {
-            let (c, d) = (b - g * (b - a), a + g * (b - a));
-            if (curve.point(c) - *q).norm() < (curve.point(d) - *q).norm() {
-                b = d;
-            } else {
-                a = c;
-            }
-        }
-        let refined = (curve.point(0.5 * (a + b)) - *q).norm();
-        worst = worst.max(refined.min(best.sqrt()));
-    }
-    worst
-}
+#[path = "common/sampled.rs"]
+mod sampled;
+use sampled::refined_deviation;
 
 #[test]
 fn band_fairing_lowers_fairness_within_the_tolerance() {
@@ -63,7 +36,7 @@ fn band_fairing_lowers_fairness_within_the_tolerance() {
             curve_fairness(&off.curve).fairness,
             curve_fairness(&on.curve).fairness,
         );
-        let dev = brute_force_deviation(&on.curve, &pts);
+        let dev = refined_deviation(&on.curve, &pts);
         eprintln!(
             "{name}: n={n} F without band fairing {f_off:.4e}, with {f_on:.4e} ({:.3}), dev/tol {:.5}",
             f_on / f_off,
@@ -147,7 +120,7 @@ fn band_fairing_removes_small_curvature_extrema_and_stays_fair() {
             curve_fairness(&lsq.curve).fairness,
             curve_fairness(&on.curve).fairness,
         );
-        let dev = brute_force_deviation(&on.curve, &pts);
+        let dev = refined_deviation(&on.curve, &pts);
         eprintln!(
             "{name}: lsq {} ctrl pts, {e_lsq} extrema, F {f_lsq:.3e}; integrated {} ctrl pts, \
              {e_on} extrema, F {f_on:.3e}, dev/tol {:.5}",
@@ -181,7 +154,7 @@ fn band_fairing_lowers_the_clark_y_leading_edge_peak_without_new_extrema() {
     let on = fit_integrated(&pts, &opts).unwrap();
     let f = curve_fairness(&on.curve).fairness;
     let extrema = dense_extrema(&on.curve);
-    let dev = brute_force_deviation(&on.curve, &pts);
+    let dev = refined_deviation(&on.curve, &pts);
     let splprep_f = 2.789e6;
     eprintln!(
         "clarky: {} ctrl pts, F {f:.4e} ({:.3} x splprep), {extrema} extrema, dev/tol {:.5}",
@@ -211,7 +184,7 @@ fn a_second_band_fairing_pass_lowers_the_naca633418_curve_below_its_first_pass()
     let on = fit_integrated(&pts, &opts).unwrap();
     let f = curve_fairness(&on.curve).fairness;
     let extrema = dense_extrema(&on.curve);
-    let dev = brute_force_deviation(&on.curve, &pts);
+    let dev = refined_deviation(&on.curve, &pts);
     let splprep_f = 9.955e5;
     eprintln!(
         "naca633418: {} ctrl pts, F {f:.4e} ({:.3} x splprep), {extrema} extrema, dev/tol {:.5}",
