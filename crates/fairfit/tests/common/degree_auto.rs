@@ -29,3 +29,19 @@ pub fn fit_with_threads(
         .unwrap();
     pool.install(|| fit_integrated(pts, opts).unwrap())
 }
+
+/// The default fit of `pts` ([`auto`]) with one and with two threads: asserts byte-identical JSON,
+/// the same evaluation count and the same degrees tried, and returns the one-thread result.
+pub fn assert_same_with_one_and_two_threads(pts: &[Vec3]) -> IntegratedResult {
+    let (a, b) = (
+        fit_with_threads(pts, &auto(), 1),
+        fit_with_threads(pts, &auto(), 2),
+    );
+    assert_eq!(
+        fairfit::io::json::curve_to_json(&a.curve),
+        fairfit::io::json::curve_to_json(&b.curve)
+    );
+    assert_eq!(a.stats.evaluations, b.stats.evaluations);
+    assert_eq!(a.stats.degrees_tried, b.stats.degrees_tried);
+    a
+}
