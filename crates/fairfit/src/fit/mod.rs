@@ -11,6 +11,7 @@ pub mod hooks;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;
+pub mod points;
 pub mod power;
 pub mod shape;
 pub mod tolerance;

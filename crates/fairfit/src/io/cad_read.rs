@@ -506,7 +506,7 @@ pub fn samples_per_span(degree: usize) -> usize {
 pub const MAX_CHORD: f64 = 5e-3;
 
 /// The largest side of the bounding box of `pts` (a CAD curve's control points: the scale of its
-/// sampling, join and trim tolerances). Unlike [`super::points::bounding_box_extent`] a side that
+/// sampling, join and trim tolerances). Unlike [`crate::fit::points::bounding_box_extent`] a side that
 /// overflows stays infinite.
 pub(crate) fn control_extent(pts: &[Vec3]) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
