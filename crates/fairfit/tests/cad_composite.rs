@@ -10,7 +10,8 @@
 mod python;
 
 use fairfit::diffgeo::{arc_length, CurveProjector};
-use fairfit::io::cad_chain::{extent, join_segments, open_gaps, sample_chain};
+use fairfit::fit::sampling::{extent, sample_chain};
+use fairfit::io::cad_chain::{join_segments, open_gaps};
 use fairfit::io::cad_read::{parse_cad, read_cad, read_cad_chain, select, CadFormat, CadKind};
 use fairfit::io::Geometry;
 use fairfit::{NurbsCurve, Vec3};
@@ -84,8 +85,8 @@ fn step_composite_reads_to_analytic_values() {
         .segments
         .iter()
         .map(|s| {
-            let cap = fairfit::io::cad_read::MAX_CHORD * extent(&chain.segments);
-            fairfit::io::cad_read::sample_curve_chord(s, cap).len()
+            let cap = fairfit::fit::sampling::MAX_CHORD * extent(&chain.segments);
+            fairfit::fit::sampling::sample_curve_chord(s, cap).len()
         })
         .sum();
     assert_eq!(pts.len(), each - 2);

@@ -11,8 +11,8 @@
 mod python;
 
 use fairfit::diffgeo::{arc_length, CurveProjector};
+use fairfit::fit::points::bounding_box_extent;
 use fairfit::io::cad_read::{read_cad, read_cad_chain, read_contents, CadKind};
-use fairfit::io::points::bounding_box_extent;
 use fairfit::io::Geometry;
 use fairfit::{NurbsCurve, Vec3};
 use std::path::{Path, PathBuf};

@@ -143,7 +143,7 @@ fn opencascade_reads_the_same_edges() {
             serde_json::from_str(stdout.lines().rfind(|l| l.starts_with('{')).unwrap()).unwrap();
         let pts = python::json_points(&v["points"]);
         let (c, _) = edge(name);
-        let size = fairfit::io::cad_chain::extent(std::slice::from_ref(&c));
+        let size = fairfit::fit::sampling::extent(std::slice::from_ref(&c));
         let proj = CurveProjector::new(&c, 16);
         let worst = pts
             .iter()

@@ -1,12 +1,13 @@
-//! A CAD curve's fit held to the tolerance of the exact curve (`fairfit::io::cad_fit`), with the
+//! A CAD curve's fit held to the tolerance of the exact curve (`fairfit::fit::cad_fit`), with the
 //! least-squares and the integrated fitters: a wiggly cubic, OpenCASCADE's composite (arc, cubics, a corner) and the
 //! airfoil-like section (cubic, half circle, line). Truth: the exact curve itself at 3001 parameters
 //! that are not sampled, projected onto the fit; the fit must hold it within the tolerance (1.0 x, no
 //! slack), and the exact deviation the library reports must be the largest found (to 1e-4).
 
 use fairfit::diffgeo::CurveProjector;
+use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
+use fairfit::fit::sampling::sample_chain_params;
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
-use fairfit::io::cad_fit::{fit_to_exact, sample_chain_params, Fitted};
 use fairfit::io::cad_read::read_cad_chain;
 use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance as IntTolerance};
 use fairfit::{NurbsCurve, Vec3};

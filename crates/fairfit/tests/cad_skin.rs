@@ -1,11 +1,11 @@
 //! A surface skinned through CAD sections held to the tolerance of the exact section curves
-//! (`fairfit::io::cad_skin`): wiggly spatial cubics stacked into a blade-like surface, and circles of a
+//! (`fairfit::surface::cad_skin`): wiggly spatial cubics stacked into a blade-like surface, and circles of a
 //! cone. Truth: every exact section at 3001 parameters that are not sampled, projected onto the
 //! skinned surface's iso-curve at the section's `v`; the surface must hold them within the tolerance
 //! (1.0 x, no slack), and the exact deviation the library reports must be the largest found (to 1e-4).
 
 use fairfit::diffgeo::CurveProjector;
-use fairfit::io::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
+use fairfit::surface::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
 use fairfit::surface::{Stage, SurfaceOptions};
 use fairfit::NurbsCurve;
 

@@ -8,14 +8,14 @@
 
 use super::CliError;
 use clap::{Args, ValueEnum};
-use fairfit::io::cad_chain::{open_gaps, sample_chain_params, ChainSample};
+use fairfit::fit::sampling::{sample_chain_params, samples_per_span, ChainSample};
+use fairfit::io::cad_chain::open_gaps;
 use fairfit::io::cad_read::{
-    curve_kind, read_cad, read_cad_chain, samples_per_span, CadFormat, CadGeometry, CadKind,
-    CadUnit,
+    curve_kind, read_cad, read_cad_chain, CadFormat, CadGeometry, CadKind, CadUnit,
 };
 use fairfit::io::cad_sections::read_cad_sections as read_sections;
-use fairfit::io::cad_skin::ExactSection;
 use fairfit::io::{read_geometry, read_points, Geometry, PointSet};
+use fairfit::surface::cad_skin::ExactSection;
 use fairfit::surface::Section;
 use std::path::{Path, PathBuf};
 
@@ -162,12 +162,12 @@ pub fn read_input_with_source(
 pub struct CadCurve {
     /// The segments of the chain (one for a single curve), oriented along it.
     pub segments: Vec<fairfit::NurbsCurve>,
-    /// The samples, with their segments and parameters (`fairfit::io::cad_fit`).
+    /// The samples, with their segments and parameters (`fairfit::fit::cad_fit`).
     pub samples: Vec<ChainSample>,
 }
 
 /// The points `fairfit curve` fits: a point file as it is, or a B-spline curve of a STEP or IGES file
-/// sampled densely (`fairfit::io::cad_chain::sample_chain_params`), so that re-fitting it fairs it; for
+/// sampled densely (`fairfit::fit::sampling::sample_chain_params`), so that re-fitting it fairs it; for
 /// a CAD file also the exact curve, which the fit is checked against.
 pub fn read_curve_points(
     path: &Path,
@@ -266,7 +266,7 @@ fn cad_points(
 pub type NamedSections = (Vec<Section>, Vec<String>, Vec<ExactSection>);
 
 /// The sections `fairfit surface` skins from one STEP or IGES file (`fairfit::io::cad_sections`), with
-/// their names and exact curves (which the surface is held to, `fairfit::io::cad_skin`), or `None` when
+/// their names and exact curves (which the surface is held to, `fairfit::surface::cad_skin`), or `None` when
 /// the input is no CAD file. One `note:` line says what was taken.
 pub fn read_cad_sections(
     input: &[PathBuf],

@@ -6,7 +6,7 @@
 //! correction, knot removal, corners and closed curves); `--method fit-then-fair` fairs the
 //! least-squares fit afterwards within the same tolerance. Writes the curve JSON (`-o`, else stdout) and an optional JSON report with
 //! deviation, fairness and timing. A STEP or IGES curve is fitted through its dense samples and held to
-//! the tolerance of the exact curve (`fairfit::io::cad_fit`: refitted with points of it added while it
+//! the tolerance of the exact curve (`fairfit::fit::cad_fit`: refitted with points of it added while it
 //! strays between the samples; a note and the report's `exact_curve` say how far it is).
 
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
@@ -15,12 +15,12 @@ use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeom
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::fair::curve_fairness;
+use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
 use fairfit::fit::tolerance::{
     fit_to_tolerance, ClosedMode, FitOptions, FitResult, KnotRule, Tolerance,
 };
 use fairfit::fit::{Parameterization, SmoothingOrder};
 use fairfit::io::atomic::write_all_atomic;
-use fairfit::io::cad_fit::{fit_to_exact, Fitted};
 use fairfit::io::curve_to_json;
 use fairfit::Vec3;
 use serde_json::json;
@@ -442,7 +442,7 @@ fn fit_points(
     }
 }
 
-/// The fit of a CAD curve, held to the tolerance of the exact curve (`fairfit::io::cad_fit`): refitted
+/// The fit of a CAD curve, held to the tolerance of the exact curve (`fairfit::fit::cad_fit`): refitted
 /// at a tighter tolerance, with points of the exact curve added, while the exact curve strays beyond
 /// the tolerance between the samples. A note on stderr says how far the exact curve is from the fit;
 /// the report gets `exact_curve` and keeps the tolerance asked for.

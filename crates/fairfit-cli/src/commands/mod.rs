@@ -104,7 +104,7 @@ pub fn json_pretty(v: &serde_json::Value) -> Result<String, CliError> {
 }
 
 /// How far exact CAD geometry lies from what was fitted to its samples, for [`note_exact_deviation`]
-/// (from `fairfit::io::cad_fit::ExactFit` or `fairfit::io::cad_skin::ExactSkin`).
+/// (from `fairfit::fit::cad_fit::ExactFit` or `fairfit::surface::cad_skin::ExactSkin`).
 pub struct ExactDeviation {
     /// The largest distance of the checked points of the exact geometry.
     pub max_deviation: f64,

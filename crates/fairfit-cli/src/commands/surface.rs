@@ -4,10 +4,10 @@
 use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
-use fairfit::io::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
 use fairfit::io::mesh_read::read_mesh;
 use fairfit::io::sections::{expand_section_inputs, read_section_file};
 use fairfit::io::{json::write_surface, write_atomic};
+use fairfit::surface::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
 use fairfit::surface::chain::Gap;
 use fairfit::surface::orient::extent;
 use fairfit::surface::slicing::{slice_mesh, SliceOptions};

@@ -1,8 +1,10 @@
 //! Least-squares fitting of ordered points: point input, parameterisation, knot placement, banded
 //! least squares with optional smoothing, parameter correction, closed curves, corners and
-//! tolerance-driven knot counts.
+//! tolerance-driven knot counts; dense samples of a CAD curve ([`sampling`]) and fits held to the exact
+//! curve they were sampled from ([`cad_fit`]).
 
 pub mod banded;
+pub mod cad_fit;
 pub mod correction;
 pub mod data_basis;
 pub mod deviation;
@@ -11,7 +13,9 @@ pub mod hooks;
 pub mod knot_placement;
 pub mod lsq;
 pub mod parameterize;
+pub mod points;
 pub mod power;
+pub mod sampling;
 pub mod shape;
 pub mod tolerance;
 

@@ -8,7 +8,7 @@
 //!   53°), while a blunt trailing edge or a machined edge turns by 80–90°.
 
 use super::knot_placement::turning_angle;
-use crate::io::points::bounding_box_extent;
+use crate::fit::points::bounding_box_extent;
 use crate::nurbs::Vec3;
 
 /// Default corner threshold, degrees.

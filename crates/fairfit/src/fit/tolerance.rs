@@ -17,7 +17,7 @@ use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
 use super::shape::{detect_corners, looks_closed, DEFAULT_CORNER_ANGLE_DEG};
 use crate::errors::{Error, Result};
-use crate::io::points::{bounding_box_extent, drop_consecutive_duplicates};
+use crate::fit::points::{bounding_box_extent, drop_consecutive_duplicates};
 use crate::nurbs::scale::{normalising_factor, scaled_curve};
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::time::Instant;

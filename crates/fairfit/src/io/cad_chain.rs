@@ -1,5 +1,5 @@
 //! Composite curves of CAD files (STEP `COMPOSITE_CURVE`, IGES entity 102): their segments, each a
-//! B-spline oriented along the composite, as one chain of points for re-fitting ([`sample_chain`]) and,
+//! B-spline oriented along the composite, as one chain of points for re-fitting ([`crate::fit::sampling::sample_chain`]) and,
 //! when consecutive segments meet, as one B-spline ([`join_segments`]).
 //!
 //! Joining: every segment is clamped (knot insertion at its domain ends, exact) and raised to the
@@ -10,15 +10,11 @@
 //! stay corners). Segments must meet within [`JOIN_TOLERANCE`] of the composite's size; the start of
 //! a segment is then replaced by the end of the previous one.
 
-#[cfg(test)]
-use super::cad_read::sample_curve_chord;
-use super::cad_read::{sample_curve_params, MAX_CHORD};
 use crate::errors::{Error, Result};
+use crate::fit::sampling::{extent, JOIN_TOLERANCE};
+#[cfg(test)]
+use crate::fit::sampling::{sample_chain, sample_curve_chord, MAX_CHORD};
 use crate::nurbs::{NurbsCurve, Vec3};
-
-/// Largest gap between consecutive segments, relative to the extent of all control points, that
-/// [`join_segments`] closes (CAD files are written with 10 to 17 significant digits).
-pub const JOIN_TOLERANCE: f64 = 1e-6;
 
 /// A composite curve read from a CAD file: its segments in order, each oriented along the composite,
 /// in the file's unit.
@@ -30,16 +26,6 @@ pub struct CadComposite {
     pub segments: Vec<NurbsCurve>,
     /// How many of the file's single B-spline curves come before it in file order.
     pub after: usize,
-}
-
-/// The largest side of the bounding box of all segments' control points (the scale of the join
-/// tolerance and of the sampling).
-pub fn extent(segments: &[NurbsCurve]) -> f64 {
-    let pts: Vec<Vec3> = segments
-        .iter()
-        .flat_map(|c| c.control_points().iter().copied())
-        .collect();
-    super::cad_read::control_extent(&pts)
 }
 
 fn ends(c: &NurbsCurve) -> (Vec3, Vec3) {
@@ -80,47 +66,6 @@ pub fn open_gaps(segments: &[NurbsCurve]) -> Vec<(usize, f64)> {
         .map(|(k, w)| (k, (ends(&w[1]).0 - ends(&w[0]).1).norm()))
         .filter(|&(_, g)| g > tol || g.is_nan())
         .collect()
-}
-
-/// Dense points along the chain: every segment sampled as [`super::cad_read::sample_curve`] samples a
-/// curve, but with chords of at most [`MAX_CHORD`] of the chain's [`extent`]; a joint point taken once
-/// when the segments meet within [`JOIN_TOLERANCE`] (else both ends are kept).
-pub fn sample_chain(segments: &[NurbsCurve]) -> Vec<Vec3> {
-    sample_chain_params(segments)
-        .into_iter()
-        .map(|s| s.point)
-        .collect()
-}
-
-/// One point of a chain's samples: which segment, at which parameter of it, and the point.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ChainSample {
-    /// The segment (0-based).
-    pub segment: usize,
-    /// The segment's parameter.
-    pub u: f64,
-    /// The point on the segment at `u`.
-    pub point: Vec3,
-}
-
-/// [`sample_chain`] with every point's segment and parameter (in order along the chain).
-pub fn sample_chain_params(segments: &[NurbsCurve]) -> Vec<ChainSample> {
-    let ext = extent(segments);
-    let tol = JOIN_TOLERANCE * ext;
-    let mut out: Vec<ChainSample> = Vec::new();
-    for (segment, c) in segments.iter().enumerate() {
-        let pts = sample_curve_params(c, MAX_CHORD * ext);
-        let skip = match (out.last(), pts.first()) {
-            (Some(a), Some(b)) => usize::from((a.point - b.1).norm() <= tol),
-            _ => 0,
-        };
-        out.extend(
-            pts[skip..]
-                .iter()
-                .map(|&(u, point)| ChainSample { segment, u, point }),
-        );
-    }
-    out
 }
 
 /// `c` with knots of multiplicity `p + 1` at both ends of its domain (the same curve).

@@ -3,19 +3,19 @@
 //! re-fairs the surface.
 //!
 //! Curves: every curve of the file (in file order, in millimetres, see [`super::cad_read`]) is sampled
-//! as `fairfit curve` samples a CAD curve for re-fitting ([`super::cad_read::sample_curve`]); a composite curve is one
-//! section, its segments sampled in order ([`super::cad_chain::sample_chain`]). Surface: the sections are
+//! as `fairfit curve` samples a CAD curve for re-fitting ([`crate::fit::sampling::sample_curve`]); a composite curve is one
+//! section, its segments sampled in order ([`crate::fit::sampling::sample_chain`]). Surface: the sections are
 //! the curves `u ↦ S(u, v_k)` at [`iso_section_count`] parameters `v_k` spread evenly over every
 //! non-empty v knot span, each sampled the same way. Every section keeps its exact curve, which
-//! [`super::cad_skin::skin_to_exact`] holds the skinned surface to.
+//! [`crate::surface::cad_skin::skin_to_exact`] holds the skinned surface to.
 
 use super::cad_read::{
     curve_chains, read_contents, segments_in_mm, select, CadContents, CadKind, CadUnit,
 };
-use super::cad_skin::ExactSection;
 use super::json::Geometry;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsSurface, Vec3};
+use crate::surface::cad_skin::ExactSection;
 use std::path::Path;
 
 /// Sections read from a CAD file, in millimetres.
@@ -29,7 +29,7 @@ pub struct CadSections {
     /// For a re-faired surface: its source (`#30`), index and the count of surfaces in the file.
     pub surface: Option<(String, usize, usize)>,
     /// Every section's exact curve (in millimetres) and its samples (the points of
-    /// [`CadSections::sections`]), in the same order: what [`super::cad_skin::skin_to_exact`] holds the
+    /// [`CadSections::sections`]), in the same order: what [`crate::surface::cad_skin::skin_to_exact`] holds the
     /// surface to.
     pub exact: Vec<ExactSection>,
 }

@@ -9,17 +9,9 @@
 use super::sections::parse_section_text;
 use crate::errors::{Error, Result};
 use crate::nurbs::Vec3;
+use crate::surface::mesh::Mesh;
 use std::collections::HashMap;
 use std::path::Path;
-
-/// Vertices and triangles (indices into `vertices`); a point cloud has no triangles.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Mesh {
-    /// The vertex positions.
-    pub vertices: Vec<Vec3>,
-    /// Triangles as vertex indices.
-    pub triangles: Vec<[usize; 3]>,
-}
 
 fn bad(name: &str, msg: impl std::fmt::Display) -> Error {
     Error::InvalidData(format!("{name}: {msg}"))

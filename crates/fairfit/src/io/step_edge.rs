@@ -193,7 +193,7 @@ fn cut_bspline(
     id: u64,
     inst: &Instance,
 ) -> Result<Option<NurbsCurve>> {
-    let size = super::cad_read::control_extent(c.control_points());
+    let size = crate::fit::sampling::control_extent(c.control_points());
     let (a, b) = c.domain();
     let (ca, cb) = (c.point(a), c.point(b));
     let closed = (ca - cb).norm() <= AT_END * size;

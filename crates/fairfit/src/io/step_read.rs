@@ -485,7 +485,7 @@ pub(super) fn trimmed_curve(
     };
     // built only when a trim is taken by its point
     let projector = std::cell::OnceCell::new();
-    let size = super::cad_read::control_extent(c.control_points());
+    let size = crate::fit::sampling::control_extent(c.control_points());
     let mut u = [0.0; 2];
     for (k, e) in ends.iter().enumerate() {
         u[k] = match e.by(points_first) {

@@ -6,13 +6,16 @@
 //! a private periodic least-squares fit of closed sections, a private seam tie (smooth closed
 //! sections on a clamped knot vector), [`section_fit`] (least squares on
 //! fixed knots), [`compatible`] (the shared knot vector), [`skinning`], [`measure`],
-//! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds to sections), plus a private dense solver. Fairness
+//! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections), [`cad_skin`] (surfaces held to
+//! the exact CAD section curves), plus a private dense solver. Fairness
 //! comes from [`crate::fair`], iso-curves from [`crate::nurbs::NurbsSurface`].
 
+pub mod cad_skin;
 pub mod chain;
 pub mod compatible;
 mod linalg;
 pub mod measure;
+pub mod mesh;
 pub mod orient;
 mod periodic_fit;
 pub mod pipeline;
@@ -24,6 +27,7 @@ pub mod slicing;
 
 pub use compatible::{make_compatible, CompatibleOptions, CompatibleSections};
 pub use measure::{surface_deviation, Deviation, SurfaceProjector};
+pub use mesh::Mesh;
 pub use orient::{align_sections, Section};
 pub use pipeline::{
     reconstruct_surface, reconstruct_surface_with_progress, validate_sections, Stage,

@@ -11,10 +11,10 @@
 //!   ([`super::chain::order_points`]); tour edges much longer than the median spacing are gaps.
 
 use super::chain::{break_at_gaps, median_spacing, order_points, Gap};
+use super::mesh::Mesh;
 use super::orient::Section;
 use super::pipeline::{MAX_COORDINATE, MIN_SECTION_SIZE};
 use crate::errors::{Error, Result};
-use crate::io::mesh_read::Mesh;
 use crate::nurbs::Vec3;
 use std::collections::HashMap;
 

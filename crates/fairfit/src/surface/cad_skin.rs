@@ -5,15 +5,16 @@
 //! composite of the file, or an iso-curve of a re-faired surface) and skins the fits; between the
 //! samples the exact curve can stray a little farther from the surface's iso-curve than the tolerance.
 //! [`skin_to_exact`] measures every exact section against the skinned surface's iso-curve at that
-//! section's `v` ([`super::cad_fit::exact_deviation`]: samples, quarter points and midpoints of every
+//! section's `v` ([`crate::fit::cad_fit::exact_deviation`]: samples, quarter points and midpoints of every
 //! sample interval, and a parabola peak) and, while some exact section lies farther than the
 //! tolerance, adds the offending checked points to that section's samples and skins again, the
 //! sections fitted at a tolerance tightened by the measured excess (from the second refit on), at most
-//! [`super::cad_fit::MAX_REFITS`] times. It keeps the surface with the smallest exact deviation (the
+//! [`crate::fit::cad_fit::MAX_REFITS`] times. It keeps the surface with the smallest exact deviation (the
 //! first one that meets the tolerance, so a surface that met it at once is returned unchanged).
 
-use super::cad_fit::{exact_deviation, with_added, ChainSample, MAX_REFITS, TIGHTENING_MARGIN};
 use crate::errors::{Error, Result};
+use crate::fit::cad_fit::{exact_deviation, with_added, MAX_REFITS, TIGHTENING_MARGIN};
+use crate::fit::sampling::ChainSample;
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use crate::surface::{
     reconstruct_surface_with_progress, Section, Stage, SurfaceOptions, SurfaceReconstruction,
@@ -25,15 +26,15 @@ use crate::surface::{
 pub struct ExactSection {
     /// The segments, oriented along the chain.
     pub segments: Vec<NurbsCurve>,
-    /// The samples ([`super::cad_chain::sample_chain_params`]), in chain order.
+    /// The samples ([`crate::fit::sampling::sample_chain_params`]), in chain order.
     pub samples: Vec<ChainSample>,
 }
 
 impl ExactSection {
     /// The section sampled as `fairfit surface` samples a CAD curve
-    /// ([`super::cad_chain::sample_chain_params`]).
+    /// ([`crate::fit::sampling::sample_chain_params`]).
     pub fn sampled(segments: Vec<NurbsCurve>) -> Self {
-        let samples = super::cad_chain::sample_chain_params(&segments);
+        let samples = crate::fit::sampling::sample_chain_params(&segments);
         ExactSection { segments, samples }
     }
 

@@ -1,6 +1,6 @@
 //! Re-fitting a CAD curve within the tolerance of the exact curve, not only of its samples.
 //!
-//! `fairfit curve part.step` fits dense samples of the exact curve ([`sample_chain_params`]); a fit
+//! `fairfit curve part.step` fits dense samples of the exact curve ([`super::sampling::sample_chain_params`]); a fit
 //! that uses the whole tolerance on the samples can stray a little farther from the exact curve
 //! between them (up to 1.06 of the tolerance was measured before the samples' chords were capped,
 //! 1.0002 after). [`exact_deviation`] measures the exact curve against a fit: the samples and the
@@ -15,7 +15,7 @@
 //! excess, at most [`MAX_REFITS`] times; it returns the fit with the smallest exact deviation (the
 //! first one that meets the tolerance, so a fit that met it at once is returned unchanged).
 
-pub use super::cad_chain::{sample_chain_params, ChainSample};
+use super::sampling::ChainSample;
 use crate::diffgeo::projection::CurveProjector;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -187,7 +187,7 @@ pub struct ExactFit<T> {
     pub first_max_deviation: f64,
 }
 
-/// Fits the chain `segments`, sampled as `samples` ([`sample_chain_params`]), with `fit` within the
+/// Fits the chain `segments`, sampled as `samples` ([`super::sampling::sample_chain_params`]), with `fit` within the
 /// tolerance of the exact curve (see the module documentation). `fit(points, None)` is the first fit, held to the tolerance as the caller asked for
 /// it (absolute or relative to the points); it returns the absolute tolerance it used, which the exact
 /// curve is then held to. `fit(points, Some(t))` refits at the absolute tolerance `t`. The first fit
@@ -272,6 +272,7 @@ pub(crate) fn with_added(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fit::sampling::sample_chain_params;
 
     fn circle() -> NurbsCurve {
         NurbsCurve::circle(Vec3::ZERO, 10.0).unwrap()

@@ -1,0 +1,35 @@
+//! Point-set helpers shared by the fitting code and the point readers: the extent of a point set
+//! (the scale every relative tolerance is taken of) and the removal of consecutive duplicate points
+//! (a repeated point has no chord-length parameter of its own).
+
+use crate::nurbs::Vec3;
+
+/// Drops points equal to their predecessor (within 1e-12 of the data extent); returns the count.
+pub fn drop_consecutive_duplicates(pts: &[Vec3]) -> (Vec<Vec3>, usize) {
+    let eps = 1e-12 * bounding_box_extent(pts).max(f64::MIN_POSITIVE);
+    let mut out: Vec<Vec3> = Vec::with_capacity(pts.len());
+    let mut dropped = 0;
+    for &p in pts {
+        match out.last() {
+            Some(&l) if (p - l).max_abs() <= eps => dropped += 1,
+            _ => out.push(p),
+        }
+    }
+    (out, dropped)
+}
+
+/// Largest side of the axis-aligned bounding box of `pts` (0 for fewer than 2 points).
+pub fn bounding_box_extent(pts: &[Vec3]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in pts {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (0..3)
+        .map(|k| hi[k] - lo[k])
+        .filter(|d| d.is_finite())
+        .fold(0.0, f64::max)
+}
