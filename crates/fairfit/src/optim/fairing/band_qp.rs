@@ -1,4 +1,4 @@
-//! The convex subproblem of band fairing ([`super::band_fairing`]) and its general solver.
+//! The convex subproblem of band fairing ([`super::band`]) and its general solver.
 //!
 //! `min ½ xᵀPx + qᵀx + w Σ t_j` over the step `x` (a few dozen variables) and one slack `t_j ≥ 0`
 //! per soft row, subject to

@@ -58,12 +58,12 @@
 use super::band_qp::BandQp;
 use super::control_map::{ControlMap, EndCondition};
 use super::curvature_signs::target_signs;
-use super::objective::{
-    speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X, MAX_DEGREE,
-};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
+use crate::optim::objective::{
+    speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X, MAX_DEGREE,
+};
 
 /// Settings of [`band_fair`].
 #[derive(Clone, Debug, PartialEq)]
