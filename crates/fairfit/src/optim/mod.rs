@@ -68,3 +68,9 @@ pub use fairing::{
     band as band_fairing, band_qp, cone_algebra, cone_ipm, control_map, curvature_signs,
     periodic as periodic_fairing, polish,
 };
+/// Temporary alias: the hold pass's persistence, read by `free_ends.rs` until it takes
+/// [`fairing::FairingTuning`].
+pub const HOLD_PERSISTENCE: f64 = fairing::BandTuning::new().hold_persistence;
+/// Temporary alias: the later passes' subproblem budget, read by `free_ends.rs` until it takes
+/// [`fairing::FairingTuning`].
+pub const REFAIR_SOLVES: usize = fairing::BandTuning::new().refair_solves;

@@ -16,8 +16,9 @@
 //! in them), so hundreds of trials cost milliseconds.
 //! Everything is sequential and deterministic (ties broken by index).
 
-use super::band::ExtremaCount;
 use super::control_map::{ControlMap, EndCondition};
+use super::extrema::ExtremaCount;
+use super::tuning::PolishTuning;
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
 use crate::optim::objective::{
@@ -48,17 +49,24 @@ pub struct PolishOptions {
     pub ends: EndCondition,
 }
 
-impl Default for PolishOptions {
-    fn default() -> Self {
+impl PolishOptions {
+    /// The options with the defaults of `tuning` (no span cap, extrema kept, ends pinned).
+    pub fn tuned(tuning: &PolishTuning) -> Self {
         PolishOptions {
-            max_moves: 400,
-            max_candidates: 8,
-            step_halvings: 6,
-            max_evaluations: 2000,
+            max_moves: tuning.max_moves,
+            max_candidates: tuning.max_candidates,
+            step_halvings: tuning.step_halvings,
+            max_evaluations: tuning.max_evaluations,
             span_cap: None,
             keep_extrema: true,
             ends: EndCondition::Pinned,
         }
+    }
+}
+
+impl Default for PolishOptions {
+    fn default() -> Self {
+        PolishOptions::tuned(&PolishTuning::default())
     }
 }
 
