@@ -12,10 +12,9 @@ use crate::optim::objective::{speed_and_dkappa_du, MAX_DEGREE};
 /// nodes (32 per span), and it may jump at a knot, so a sign change right next to a knot is only
 /// seen close to it.
 const EXTREMA_SAMPLES: usize = 96;
-/// See [`EXTREMA_SAMPLES`]. At 1e-3 (before session 9) a sign flip in the first or last 0.1 % of
-/// a span was invisible to the guard, and the polish and band fairing left such pairs of extrema on
-/// 9 of the 33 benchmark curves (113 exact extrema in all against 90 at the measurer's samples;
-/// with the edge sign targets and this offset: 85 and 85, [`crate::fair::exact_extrema`]).
+/// See [`EXTREMA_SAMPLES`]: close enough to the knot that a sign flip in a span's first or last
+/// sliver is seen (the edge sign targets hold `dκ/ds` at the same offset), so the guards leave no
+/// pair of extrema that only the exact count ([`crate::fair::exact_extrema`]) finds.
 const EXTREMA_EDGE: f64 = 1e-6;
 
 /// Counts curvature extrema: sign changes of `dκ/ds` with the measurer's hysteresis floor on

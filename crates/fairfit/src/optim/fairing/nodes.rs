@@ -8,7 +8,7 @@
 
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::Vec3;
-use crate::optim::objective::MAX_DEGREE;
+use crate::optim::objective::{GL_W, GL_X, MAX_DEGREE};
 
 /// A Gauss node of the fairness integral: its knot span, weight and basis derivatives 1..=3.
 pub(crate) struct Node {
@@ -88,4 +88,39 @@ pub(crate) fn sign_changes(dkds: &[f64], l2: f64) -> usize {
         state = s;
     }
     extrema
+}
+
+/// Every knot span is integrated in this many equal parts (8 Gauss nodes each): a long span can
+/// hold curvature detail that 8 nodes alone miss, and the optimisation would exploit that.
+const SUBDIVISIONS: usize = 4;
+
+/// The Gauss nodes of every non-empty knot span (as the optimiser's fairness measure).
+pub(crate) fn gauss_nodes(knots: &[f64], p: usize, n: usize) -> Vec<Node> {
+    let mut nodes = Vec::new();
+    for s in p..n {
+        let (a0, b0) = (knots[s], knots[s + 1]);
+        if b0 <= a0 {
+            continue;
+        }
+        for q in 0..SUBDIVISIONS {
+            let a = a0 + (b0 - a0) * q as f64 / SUBDIVISIONS as f64;
+            let b = a0 + (b0 - a0) * (q + 1) as f64 / SUBDIVISIONS as f64;
+            let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+            for i in 0..8 {
+                // in increasing parameter order (the extrema count walks the nodes in order)
+                let (t, w) = if i < 4 {
+                    (-GL_X[3 - i], GL_W[3 - i])
+                } else {
+                    (GL_X[i - 4], GL_W[i - 4])
+                };
+                let u = mid + half * t;
+                nodes.push(Node {
+                    span: s,
+                    weight: w * half,
+                    ders: basis_ders(knots, p, s, u, 3.min(p)),
+                });
+            }
+        }
+    }
+    nodes
 }

@@ -1,7 +1,7 @@
-//! Local refinement of the control points after the knot search (issue 4, "followed by a local
-//! refinement of the best particle"): the swarm and the smoothing line search only reach curves of the
-//! form "least squares with smoothing λ on these knots"; this step leaves that family and moves single
-//! control points while the true objective `F` decreases and the tolerance holds.
+//! Local refinement of the control points after the knot search: the swarm and the smoothing line
+//! search only reach curves of the form "least squares with smoothing λ on these knots"; this step
+//! leaves that family and moves single control points while the true objective `F` decreases and
+//! the tolerance holds.
 //!
 //! The moves are Eck & Hadenfeld's local energy fairing steps (as in [`crate::fair::fairing`]): moving
 //! `P_r` alone to the minimiser of the parametric jerk `∫|C'''|² du = Σ G_ij P_i·P_j` is the step

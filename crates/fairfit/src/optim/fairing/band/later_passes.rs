@@ -13,7 +13,8 @@
 use super::super::control_map::ControlMap;
 use super::super::extrema::ExtremaCount;
 use super::super::tuning::BandTuning;
-use super::{band_fair_counted, BandFaired, BandOptions};
+use super::band_fair_counted;
+use super::options::{BandFaired, BandOptions};
 use crate::optim::objective::{CandidateEval, EvalWorkspace, FitData};
 
 /// The passes after the first band fairing pass (options `bo`, outcome `first`) and a polish, with

@@ -10,11 +10,11 @@
 use super::super::band_qp::BandQp;
 use super::super::control_map::ControlMap;
 use super::super::curvature_signs::target_signs;
-use super::super::nodes::{basis_ders, node_derivatives, sign_changes, Node};
-use super::BandOptions;
+use super::super::nodes::{basis_ders, gauss_nodes, node_derivatives, sign_changes, Node};
+use super::options::BandOptions;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
-use crate::optim::objective::{speed_and_dkappa_du, CandidateEval, FitData, GL_W, GL_X};
+use crate::optim::objective::{speed_and_dkappa_du, CandidateEval, FitData};
 use std::ops::Range;
 
 /// Margin `m` of the sign targets, relative to the largest residual: `dκ/ds` is pushed slightly
@@ -334,9 +334,6 @@ impl Model {
     }
 }
 
-/// Every knot span is integrated in this many equal parts (8 Gauss nodes each): a long span can
-/// hold curvature detail that 8 nodes alone miss, and the optimisation would exploit that.
-const SUBDIVISIONS: usize = 4;
 /// Offset of the edge sign nodes from their knot, relative to the span ([`BandOptions::edge_signs`]):
 /// the span's own polynomial next to the knot, never the third derivative at the knot itself.
 const EDGE_OFFSET: f64 = 1e-6;
@@ -375,37 +372,6 @@ pub(super) fn edge_nodes(
         g = end;
     }
     (out, signs)
-}
-
-/// The Gauss nodes of every non-empty knot span (as the optimiser's fairness measure).
-pub(super) fn gauss_nodes(knots: &[f64], p: usize, n: usize) -> Vec<Node> {
-    let mut nodes = Vec::new();
-    for s in p..n {
-        let (a0, b0) = (knots[s], knots[s + 1]);
-        if b0 <= a0 {
-            continue;
-        }
-        for q in 0..SUBDIVISIONS {
-            let a = a0 + (b0 - a0) * q as f64 / SUBDIVISIONS as f64;
-            let b = a0 + (b0 - a0) * (q + 1) as f64 / SUBDIVISIONS as f64;
-            let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
-            for i in 0..8 {
-                // in increasing parameter order (the extrema count walks the nodes in order)
-                let (t, w) = if i < 4 {
-                    (-GL_X[3 - i], GL_W[3 - i])
-                } else {
-                    (GL_X[i - 4], GL_W[i - 4])
-                };
-                let u = mid + half * t;
-                nodes.push(Node {
-                    span: s,
-                    weight: w * half,
-                    ders: basis_ders(knots, p, s, u, 3.min(p)),
-                });
-            }
-        }
-    }
-    nodes
 }
 
 /// `(F, max_j F_j, curvature extrema)` of the curve with control points `ctrl` by the rule of

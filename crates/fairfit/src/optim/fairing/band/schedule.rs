@@ -19,8 +19,8 @@ use super::super::extrema::ExtremaCount;
 use super::model::{
     distance_at, node_fairness_residuals, node_residuals, violation, Linear, Model, Work,
 };
+use super::options::{BandFaired, BandOptions};
 use super::sign_guard::SignGuard;
-use super::{BandFaired, BandOptions};
 use crate::nurbs::Vec3;
 use crate::optim::objective::{EvalWorkspace, FitData};
 
