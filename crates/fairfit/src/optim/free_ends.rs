@@ -28,12 +28,13 @@
 //! `bench/band_optimum.py` at the same knots is 0.787 pinned, 0.690 free), FFA-W3-360
 //! 0.619 → 0.587, fx79w470a 0.571 → 0.542; at an airfoil's trailing edge it is worth little.
 
-use super::band_fairing::{refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
+use super::band_fairing::{refair, BandOptions};
 use super::control_map::EndCondition;
 use super::integrated::{band_solves, IntegratedOptions, IntegratedResult};
 use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
 use super::polish::{polish, PolishOptions};
 use super::prepare::Prepared;
+use super::{HOLD_PERSISTENCE, REFAIR_SOLVES};
 use crate::diffgeo::CurveProjector;
 use crate::errors::Result;
 use crate::fair::{count_extrema_exact, curve_fairness};

@@ -1,4 +1,4 @@
-//! Which control points the final fairing stages ([`super::band_fairing`], [`super::polish`]) may
+//! Which control points the final fairing stages ([`super::band`], [`super::polish`]) may
 //! move, and how a curve is measured there, for open and for periodic (closed) curves.
 //!
 //! Both stages work on a clamped B-spline in an [`EvalWorkspace`]. Their variables are the
@@ -22,11 +22,11 @@
 //!   the seam point moves like any other. Every data point is measured, the first one (repeated at
 //!   the end of the measure data at parameter 1) by Newton from both sides of the seam.
 
-use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData, MAX_DEGREE};
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::optim::objective::{measure_current, CandidateEval, EvalWorkspace, FitData, MAX_DEGREE};
 use std::ops::Range;
 
 /// Whether the end points of an open curve move in the final fairing stages (module doc).
@@ -315,9 +315,9 @@ fn point_ders(knots: &[f64], ctrl: &[Vec3], p: usize, u: f64) -> [Vec3; 3] {
 }
 
 /// Distance of `q` from the clamped closed curve (`knots` on `[0, 1]`, `ctrl`) near its seam and
-/// the foot parameter in `[0, 1)`: [`super::periodic::seam_foot_by`] on the raw control points.
+/// the foot parameter in `[0, 1)`: [`crate::optim::periodic::seam_foot_by`] on the raw control points.
 pub fn seam_foot(p: usize, knots: &[f64], ctrl: &[Vec3], q: Vec3) -> (f64, f64) {
-    super::periodic::seam_foot_by(
+    crate::optim::periodic::seam_foot_by(
         (ctrl[0] - q).norm(),
         q,
         |u| point_ders(knots, ctrl, p, u),

@@ -1,4 +1,4 @@
-//! The convex subproblem of band fairing ([`super::band_fairing`]) and its general solver.
+//! The convex subproblem of band fairing ([`super::band`]) and its general solver.
 //!
 //! `min ½ xᵀPx + qᵀx + w Σ t_j` over the step `x` (a few dozen variables) and one slack `t_j ≥ 0`
 //! per soft row, subject to
@@ -8,9 +8,8 @@
 //! - linear rows `h_j − g_jᵀx ≥ 0` (hard) or `h_j − g_jᵀx + t_j ≥ 0` (soft: an exact L1 penalty).
 //!
 //! The rows come in groups (each a nonnegative cone of its own in the general solver's form).
-//! [`BandQp::solve_clarabel`] hands the problem to `clarabel` (sparse interior point, the same
-//! layout band fairing used before it had this type: the cones, then per group its rows and, for
-//! soft rows, their slacks' sign rows). [`super::cone_ipm`] solves the same problem faster by
+//! [`BandQp::solve_clarabel`] hands the problem to `clarabel` (sparse interior point; the cones,
+//! then per group its rows and, for soft rows, their slacks' sign rows). [`super::cone_ipm`] solves the same problem faster by
 //! exploiting its shape.
 
 use clarabel::algebra::CscMatrix;

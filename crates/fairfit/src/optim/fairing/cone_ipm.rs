@@ -12,7 +12,7 @@
 //! width, so the kernels have fixed sizes), with the slacks eliminated in closed form (each sits
 //! in only its row and its own sign row), and factorised by a dense Cholesky, against a sparse
 //! `LDLᵀ` of the whole KKT matrix (≈ 1400 rows with the sign targets) in a general solver:
-//! ~15× fewer instructions per subproblem (docs/optim.md, "Speed, session 7").
+//! about 15× fewer instructions per subproblem (measured in docs/optim.md).
 //!
 //! Start: not CVXOPT's least-squares point (it treats the sign rows as equations and lands tens
 //! of band widths away) but the current curve (`x = 0`, feasible for the cones), each slack at

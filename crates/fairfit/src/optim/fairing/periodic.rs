@@ -1,5 +1,5 @@
 //! The final fairing stages of the integrated method on a periodic (closed) curve: band fairing
-//! ([`super::band_fairing`]) and the polish ([`super::polish`]), as for open curves, moving the
+//! ([`super::band`]) and the polish ([`super::polish`]), as for open curves, moving the
 //! `n_u` distinct control points of the periodic curve ([`ControlMap::periodic`]) so that the
 //! curve stays periodic and `C^(p−1)` at the seam, with every data point (the seam point
 //! included) held within the tolerance.
@@ -8,12 +8,12 @@
 //! control points are then recovered from it ([`ControlMap::variables_of`]) and written back as the
 //! periodic control points (the last `p` repeating the first).
 
-use super::band_fairing::{band_fair_mapped, BandOptions};
+use super::band::{band_fair_mapped, BandOptions};
 use super::control_map::ControlMap;
-use super::objective::CandidateEval;
-use super::periodic::{ClosedData, ClosedWorkspace};
 use super::polish::{polish_mapped, PolishOptions};
 use crate::errors::Result;
+use crate::optim::objective::CandidateEval;
+use crate::optim::periodic::{ClosedData, ClosedWorkspace};
 
 /// What [`fair_periodic`] did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,7 +26,7 @@ pub struct PeriodicFaired {
     pub evaluations: usize,
 }
 
-/// Fairs the periodic curve left in `ws` by [`super::periodic::evaluate_closed`] within `tol`
+/// Fairs the periodic curve left in `ws` by [`crate::optim::periodic::evaluate_closed`] within `tol`
 /// (and the per-span target `span_cap`): band fairing first (at most `band` convex subproblems,
 /// none when 0), then the polish (at most `polish_evaluations` measurements). On
 /// return `ws.ctrl` holds the faired periodic control points (`ws.knots` unchanged) and

@@ -1,13 +1,13 @@
-//! Local refinement of the control points after the knot search (issue 4, "followed by a local
-//! refinement of the best particle"): the swarm and the smoothing line search only reach curves of the
-//! form "least squares with smoothing λ on these knots"; this step leaves that family and moves single
-//! control points while the true objective `F` decreases and the tolerance holds.
+//! Local refinement of the control points after the knot search: the swarm and the smoothing line
+//! search only reach curves of the form "least squares with smoothing λ on these knots"; this step
+//! leaves that family and moves single control points while the true objective `F` decreases and
+//! the tolerance holds.
 //!
 //! The moves are Eck & Hadenfeld's local energy fairing steps (as in [`crate::fair::fairing`]): moving
 //! `P_r` alone to the minimiser of the parametric jerk `∫|C'''|² du = Σ G_ij P_i·P_j` is the step
 //! `−g_r / G_rr` with `g_r = Σ_j G_rj P_j`. Candidates are ranked by the energy gain `|g_r|² / G_rr` and
 //! tried with steps `1, 1/2, 1/4, …`; a move is accepted when `F` (the fast 8-node measure of
-//! [`super::objective`]) decreases and the maximum orthogonal deviation stays within the allowance.
+//! [`crate::optim::objective`]) decreases and the maximum orthogonal deviation stays within the allowance.
 //! When no such move helps, one steepest-descent move of `F` itself on a single control point
 //! (forward-difference gradient, steps from twice the allowance down) is tried before giving up.
 //! Unlike the fit-then-fair baseline this runs on the optimiser's allocation-free power-form evaluator
@@ -16,14 +16,15 @@
 //! in them), so hundreds of trials cost milliseconds.
 //! Everything is sequential and deterministic (ties broken by index).
 
-use super::band_fairing::ExtremaCount;
 use super::control_map::{ControlMap, EndCondition};
-use super::objective::{
+use super::extrema::ExtremaCount;
+use super::tuning::PolishTuning;
+use crate::fair::gram::Gram;
+use crate::nurbs::Vec3;
+use crate::optim::objective::{
     measure_move, measure_move_deviations, CandidateEval, EvalWorkspace, FitData, MeasureState,
     MAX_DEGREE,
 };
-use crate::fair::gram::Gram;
-use crate::nurbs::Vec3;
 
 /// Settings of [`polish`].
 #[derive(Clone, Debug, PartialEq)]
@@ -48,17 +49,24 @@ pub struct PolishOptions {
     pub ends: EndCondition,
 }
 
-impl Default for PolishOptions {
-    fn default() -> Self {
+impl PolishOptions {
+    /// The options with the defaults of `tuning` (no span cap, extrema kept, ends pinned).
+    pub fn tuned(tuning: &PolishTuning) -> Self {
         PolishOptions {
-            max_moves: 400,
-            max_candidates: 8,
-            step_halvings: 6,
-            max_evaluations: 2000,
+            max_moves: tuning.max_moves,
+            max_candidates: tuning.max_candidates,
+            step_halvings: tuning.step_halvings,
+            max_evaluations: tuning.max_evaluations,
             span_cap: None,
             keep_extrema: true,
             ends: EndCondition::Pinned,
         }
+    }
+}
+
+impl Default for PolishOptions {
+    fn default() -> Self {
+        PolishOptions::tuned(&PolishTuning::default())
     }
 }
 

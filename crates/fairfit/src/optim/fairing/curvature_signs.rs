@@ -10,7 +10,7 @@
 //! removing two extrema; a run at an end with its one neighbour, removing one). This is the
 //! persistence simplification of the curvature profile: big features (a leading edge's peak,
 //! a real inflection region) stay, small wiggles go. Band fairing then asks every node to follow
-//! its run's sign ([`super::band_fairing`]).
+//! its run's sign ([`super::band`]).
 
 /// Hysteresis floor of the extrema count on `signal` (the benchmark measurer's: `1e-6` of the
 /// largest magnitude plus `1e-9`, on `dκ/ds L²`).
