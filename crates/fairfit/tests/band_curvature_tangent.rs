@@ -7,8 +7,8 @@
 
 use fairfit::fair::curve_fairness;
 use fairfit::optim::band_fairing::{band_fair, BandOptions};
-use fairfit::optim::objective::{evaluate_candidate, set_knots, EvalWorkspace};
-use fairfit::optim::prepare::{averaging_interior_knots, prepare};
+use fairfit::optim::search::objective::{evaluate_candidate, set_knots, EvalWorkspace};
+use fairfit::optim::search::prepare::{averaging_interior_knots, prepare};
 use fairfit::NurbsCurve;
 
 #[path = "common/example_data.rs"]

@@ -58,7 +58,7 @@
 use super::band_qp::BandQp;
 use super::control_map::{ControlMap, EndCondition};
 use super::curvature_signs::target_signs;
-use super::objective::{
+use super::search::objective::{
     speed_and_dkappa_du, CandidateEval, EvalWorkspace, FitData, GL_W, GL_X, MAX_DEGREE,
 };
 use crate::nurbs::basis::ders_basis_funs_into;
@@ -1274,7 +1274,7 @@ fn finish(
 mod tests {
     use super::*;
     use crate::nurbs::NurbsCurve;
-    use crate::optim::objective::{evaluate_candidate, set_knots};
+    use crate::optim::search::objective::{evaluate_candidate, set_knots};
 
     /// Largest distance from the points to the curve, by brute force on `samples + 1` curve points
     /// (independent of the projection used inside).

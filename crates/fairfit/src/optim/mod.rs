@@ -1,39 +1,38 @@
 //! Particle swarm optimisation of knot vectors: the integrated fitting-and-fairing method.
 //!
-//! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
-//! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
-//! - [`periodic_fairing`]: band fairing and polish of a periodic curve (seam kept `C^(p−1)`);
-//! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
-//!   budget;
-//! - [`corners`]: splitting at corner points and joining the pieces C0;
-//! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
-//! - `descent`: the second start of an open curve's count descent (the count search's restart seeds);
-//! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
-//! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
-//! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
-//! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
-//! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
-//! - [`control_map`]: the control points the fairing stages move (open: interior; periodic: distinct);
-//! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
-//!   convex programming with second-order cones);
-//! - [`band_qp`]: band fairing's convex subproblem and its general (clarabel) solver;
-//! - [`cone_ipm`]: a dense primal–dual interior-point solver for that subproblem's shape;
-//! - [`cone_algebra`]: the second-order cone's Jordan algebra, NT scaling, a small Cholesky;
-//! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
-//!   extrema removed);
-//! - `residual_knots`: FITPACK-style knots where the least-squares residuals are largest;
-//! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
-//! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
-//! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
-//! - `knot_edits`: knot removals and insertions, the least-squares method's knots and the
-//!   descent's swarm probe, shared by open and periodic searches;
-//! - [`degree_search`]: the integrated fit at several degrees and the rule that keeps one
-//!   (`--degree auto`);
-//! - [`degree_candidates`]: the higher degrees at the reference's count and knots (staged search);
-//! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
-//! - [`pareto`]: the Pareto front of curves for `--pareto`;
-//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners;
-//! - [`pareto_periodic`]: the front of a periodic closed curve.
+//! [`fit_integrated`] searches the knot vector by particle swarm optimisation so that the curve
+//! stays within the tolerance of the data while its fairness `F` (and the worst span's `F_j`) is
+//! as small as possible, with the fewest control points that allow it. It sends the data to one
+//! of three pipelines ([`pipeline`]): closed data to [`closed`], data with corners to
+//! [`cornered`], and everything else to the open pipeline ([`open`]), which runs these stages in
+//! order:
+//!
+//! 1. **least-squares baseline** ([`stages::baseline`]): the fewest control points the
+//!    least-squares method's knots need to meet the tolerance; no count above it is tried;
+//! 2. **count descent** ([`stages::descent`]): one control point fewer at a time, by the best
+//!    single-knot removal or a short swarm probe, while the tolerance can be met; a second
+//!    descent on other random streams seeds the count search's restart;
+//! 3. **count search** ([`stages::count_search`]): full swarm searches at the smallest feasible
+//!    count and at extra counts, every candidate finished (band fairing, polish) and the count
+//!    chosen on the finished curves; beside it, the next degree's first candidate
+//!    ([`stages::degree_candidates`]);
+//! 4. **degree search** ([`stages::degree_search`], [`stages::degree_candidates`]): the higher
+//!    degrees from the chosen count's knots, one degree kept;
+//! 5. **release ends** ([`stages::release_ends`]): one more fairing pass on the chosen curve with
+//!    the requested end condition.
+//!
+//! The closed pipeline runs stages 1-4 on the periodic curve kind; the cornered pipeline runs the
+//! open pipeline on every piece between corners and joins them C0 ([`corners`]). The stages are
+//! written once against the curve kind ([`kind`]: open, periodic) on the search layer
+//! ([`search`]: swarm, objectives, encoding); the fairing stages finish a knot vector's control
+//! points inside the tolerance band ([`band_fairing`], [`polish`], [`periodic_fairing`] with
+//! [`band_qp`], [`cone_ipm`], [`cone_algebra`], [`curvature_signs`], [`control_map`]). Every
+//! stage reads one context ([`context`]: data, tolerance, options, [`tuning`], progress,
+//! statistics). The `--pareto` fronts are in [`pareto`].
+//!
+//! Layers, bottom to top (a module imports only from its own layer or below): [`options`],
+//! [`result`]; [`search`]; fairing; [`tuning`], [`context`]; [`kind`]; [`stages`]; the
+//! pipelines ([`open`], [`cornered`], [`closed`], [`pipeline`]), [`corners`] and [`pareto`].
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
@@ -44,28 +43,27 @@ pub mod closed;
 pub mod cone_algebra;
 pub mod cone_ipm;
 pub(crate) mod cone_newton;
+pub(crate) mod context;
 pub mod control_map;
-pub mod corner_fit;
+pub mod cornered;
 pub mod corners;
-pub mod count_search;
 pub mod curvature_signs;
-pub mod degree_candidates;
-pub mod degree_search;
-pub(crate) mod descent;
-pub mod encoding;
-pub mod free_ends;
-pub mod integrated;
-pub(crate) mod knot_edits;
-pub mod mopso;
-pub mod objective;
+pub mod kind;
+pub mod open;
+pub mod options;
 pub mod pareto;
-pub mod pareto_joined;
-pub mod pareto_periodic;
-pub mod periodic;
 pub mod periodic_fairing;
+pub mod pipeline;
 pub mod polish;
-pub mod prepare;
-pub mod problem;
-pub mod pso;
-pub(crate) mod residual_knots;
-pub mod smoothing;
+pub mod result;
+pub mod search;
+pub mod stages;
+pub mod tuning;
+
+pub use control_map::EndCondition;
+pub use kind::periodic::distinct_control_points;
+pub use options::{IntegratedOptions, Tolerance};
+pub use pareto::{pareto_csv, pareto_front, pareto_front_of_result, ParetoCurve};
+pub use pipeline::{fit_integrated, fit_integrated_with_progress, fit_lsq_baseline};
+pub use result::{DegreeTrial, FitQuality, IntegratedResult, OptimStats};
+pub use tuning::Tuning;

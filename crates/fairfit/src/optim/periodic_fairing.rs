@@ -10,9 +10,9 @@
 
 use super::band_fairing::{band_fair_mapped, BandOptions};
 use super::control_map::ControlMap;
-use super::objective::CandidateEval;
-use super::periodic::{ClosedData, ClosedWorkspace};
 use super::polish::{polish_mapped, PolishOptions};
+use super::search::objective::CandidateEval;
+use super::search::periodic::{ClosedData, ClosedWorkspace};
 use crate::errors::Result;
 
 /// What [`fair_periodic`] did.
@@ -26,7 +26,7 @@ pub struct PeriodicFaired {
     pub evaluations: usize,
 }
 
-/// Fairs the periodic curve left in `ws` by [`super::periodic::evaluate_closed`] within `tol`
+/// Fairs the periodic curve left in `ws` by [`super::search::periodic::evaluate_closed`] within `tol`
 /// (and the per-span target `span_cap`): band fairing first (at most `band` convex subproblems,
 /// none when 0), then the polish (at most `polish_evaluations` measurements). On
 /// return `ws.ctrl` holds the faired periodic control points (`ws.knots` unchanged) and

@@ -28,29 +28,37 @@
 //! `bench/band_optimum.py` at the same knots is 0.787 pinned, 0.690 free), FFA-W3-360
 //! 0.619 → 0.587, fx79w470a 0.571 → 0.542; at an airfoil's trailing edge it is worth little.
 
-use super::band_fairing::{refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
-use super::control_map::EndCondition;
-use super::integrated::{band_solves, IntegratedOptions, IntegratedResult};
-use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
-use super::polish::{polish, PolishOptions};
-use super::prepare::Prepared;
 use crate::diffgeo::CurveProjector;
 use crate::errors::Result;
 use crate::fair::{count_extrema_exact, curve_fairness};
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::optim::band_fairing::{refair, BandOptions, HOLD_PERSISTENCE, REFAIR_SOLVES};
+use crate::optim::context::{band_solves, FitContext};
+use crate::optim::control_map::EndCondition;
+use crate::optim::options::IntegratedOptions;
+use crate::optim::polish::{polish, PolishOptions};
+use crate::optim::result::IntegratedResult;
+use crate::optim::search::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
+use crate::optim::search::prepare::Prepared;
 use rayon::prelude::*;
+
+/// The release-ends stage of the open pipeline: [`release_result`] on the chosen result `r`
+/// with the context's data, tolerance and options.
+pub(crate) fn run(ctx: &FitContext, r: IntegratedResult) -> Result<IntegratedResult> {
+    release_result(ctx.prep, r, ctx.tol, ctx.opts)
+}
 
 /// [`release_ends`] on the chosen open result `r` of the integrated method on `prep`'s data
 /// (tolerance `tol` in its normalised units), with the budgets of `opts`; `r` unchanged without
 /// finishing stages (`opts.polish` off) or when the pass is not kept.
-pub(crate) fn release_result(
+fn release_result(
     prep: &Prepared,
     mut r: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
 ) -> Result<IntegratedResult> {
     let p = r.curve.degree();
-    if !opts.polish || r.curve.is_rational() || p > super::objective::MAX_DEGREE {
+    if !opts.polish || r.curve.is_rational() || p > crate::optim::search::objective::MAX_DEGREE {
         return Ok(r);
     }
     let mut data = prep.data.clone();
@@ -104,7 +112,7 @@ pub(crate) fn release_result(
 
 /// Whether `curve` has more curvature extrema than `before`, sampled as the reports count them
 /// ([`curve_fairness`]) or exactly ([`count_extrema_exact`]). The passes' own guard
-/// ([`super::band_fairing::ExtremaCount`], 96 samples per knot span) can miss a flat ripple in a
+/// ([`crate::optim::band_fairing::ExtremaCount`], 96 samples per knot span) can miss a flat ripple in a
 /// long span: naca4412 at seed 1 got two extrema 0.005 apart in a span of 0.4 (`κ` 0.31422 and
 /// 0.31421), seen by both of these counts.
 /// The two curves are measured in parallel (each alone, so the same for any thread count).

@@ -45,7 +45,7 @@
 //! (`super::count_search::CountChoice::count_gain`), the extra point was still paying where the
 //! search stopped, and the quartic gets the same own count search (counts above the cubic's kept
 //! count up to the least-squares baseline). Its counts are then also seeded with the
-//! residual-driven knots of degree `p + 1` (`super::residual_knots`, as FITPACK's `fpcurf` places
+//! residual-driven knots of degree `p + 1` (`crate::optim::search::residual_knots`, as FITPACK's `fpcurf` places
 //! them): clarky's quartic at 11-13 points finishes at 0.48-0.49x splprep's F with them and at
 //! 0.52x without (seed 0). The extrema-cost trigger keeps its seeds (with the residual seeds hq17's
 //! quartic lost its target at seed 2). Measured (quick targets, 33 curves, seeds 0-5, main d6ef3ef):
@@ -68,7 +68,7 @@
 //! `RESTART_MIN_EXTREMA` (2) curvature extrema (a wiggle a smoother degree may remove; one extremum,
 //! an airfoil's leading edge, leaves none), the own count search also tries the baseline's count
 //! plus one, seeded from the reference descent's knots at the baseline with the best knot
-//! insertion (`super::integrated::best_insertion`, at the reference degree); the degree rule then
+//! insertion (`crate::optim::kind::open::best_insertion`, at the reference degree); the degree rule then
 //! prices that point like any other (`F · 1.1 · 1.05^extra`). On the 33 curves at seeds 0-5 it
 //! fires only on sc20714 at seeds 2-5 (baseline 12, splprep's 17 points) and fx77w343 at seed 5
 //! (15, splprep 17), and wins on sc20714 at seeds 3 and 4: the cubic 0.677 / 0.869 x splprep's F
@@ -93,25 +93,28 @@
 //! at twice the work, which more than doubled sc20714_noise1e-4's wall time; both seedings at
 //! one count gained nothing over one.
 
-use super::closed::{equal_breaks, finish_periodic, problem_at};
 use super::count_search::{
-    choose_count, pso_options, rank_fit, CountProblem, Ranked, EXTRA_POINT_GAIN,
-    RESTART_MIN_EXTREMA,
+    choose_count, rank_fit, CountChoice, CountStart, Ranked, EXTRA_POINT_GAIN, RESTART_MIN_EXTREMA,
 };
 use super::degree_search::{
     keep_degree, keep_degree_priced, Attempt, CANDIDATE_BAND_SOLVES, CANDIDATE_POLISH_EVALUATIONS,
 };
-use super::integrated::{
-    best_insertion, finish, open_problem, removal_candidates, tolerance_of, IntegratedOptions,
-    IntegratedResult,
-};
-use super::periodic::ClosedData;
-use super::prepare::{averaging_interior_knots, prepare, Prepared};
-use super::pso::{run_pso, PsoOptions};
-use super::residual_knots::residual_knots;
-use super::smoothing::tune_smoothing;
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::optim::context::{tolerance_of, FitContext};
+use crate::optim::kind::open::{best_insertion, finish, open_problem, removal_candidates};
+use crate::optim::kind::periodic::{
+    distinct_control_points, equal_breaks, finish_periodic, problem_at,
+};
+use crate::optim::options::IntegratedOptions;
+use crate::optim::result::IntegratedResult;
+use crate::optim::search::periodic::ClosedData;
+use crate::optim::search::prepare::{averaging_interior_knots, prepare, Prepared};
+use crate::optim::search::problem::CountProblem;
+use crate::optim::search::pso::{run_pso, PsoOptions};
+use crate::optim::search::residual_knots::residual_knots;
+use crate::optim::search::smoothing::tune_smoothing;
+use crate::optim::tuning::Tuning;
 use rayon::prelude::*;
 
 /// Salt of the candidates' random streams (apart from the count search's).
@@ -172,7 +175,19 @@ pub(crate) struct CountsSeen<'a> {
     pub extrema: usize,
 }
 
-impl CountsSeen<'_> {
+impl<'a> CountsSeen<'a> {
+    /// What the count search started from (`start`) and how its choice went (`choice`).
+    pub fn of(start: &CountStart<'a>, choice: &CountChoice) -> Self {
+        CountsSeen {
+            n: start.n,
+            descent: start.descent,
+            limit: start.limit,
+            extrema_cost: choice.extrema_cost,
+            count_gain: choice.count_gain,
+            extrema: choice.extrema,
+        }
+    }
+
     /// Whether the next degree gets a count search of its own, and why (module doc, "Own count
     /// search"): `None` for no own search.
     fn own_count_search(&self) -> Option<OwnTrigger> {
@@ -228,13 +243,12 @@ pub const STEEP_COUNT_GAIN: f64 = 0.8;
 /// finished fit at `opts.degree` of the prepared data `prep`; `first` the next degree's attempt
 /// made beside the count search; `seen` what the count search knew.
 pub(crate) fn raise_open(
-    prep: &Prepared,
+    ctx: &FitContext,
     reference: IntegratedResult,
-    tol: f64,
-    opts: &IntegratedOptions,
     first: Option<Attempt>,
     seen: Option<CountsSeen<'_>>,
 ) -> Result<IntegratedResult> {
+    let (prep, tol, opts) = (ctx.prep, ctx.tol, ctx.opts);
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
@@ -307,7 +321,7 @@ fn one_above_baseline(reference_count: usize, seen: CountsSeen<'_>, m: usize) ->
 
 /// The reference degree's (`p`) knots at count `c` for the own count search: the descent's knots
 /// there, or one count above the descent's largest count (the baseline), its knots with the best
-/// insertion ([`super::integrated::best_insertion`] at degree `p`, no smoothing).
+/// insertion ([`crate::optim::kind::open::best_insertion`] at degree `p`, no smoothing).
 fn reference_knots(
     q: &Prepared,
     p: usize,
@@ -435,14 +449,17 @@ fn fairest_within(counts: &[usize], ranked: &[Ranked], extrema: usize) -> Option
         })
 }
 
+/// With a degree search, the attempt of the next degree at the count of the descent's `interior`
+/// knots, made beside the count search ([`open_next`]); `None` without a degree search.
+pub(crate) fn first_beside(ctx: &FitContext, interior: &[f64]) -> Option<Attempt> {
+    ctx.opts
+        .searches_degree()
+        .then(|| open_next(ctx.prep, interior, ctx.tol, ctx.opts))
+}
+
 /// The attempt of degree `opts.degree + 1` at the count of the reference degree's `interior` knots
 /// (run beside the count search, from the descent's knots).
-pub(crate) fn open_next(
-    prep: &Prepared,
-    interior: &[f64],
-    tol: f64,
-    opts: &IntegratedOptions,
-) -> Attempt {
+fn open_next(prep: &Prepared, interior: &[f64], tol: f64, opts: &IntegratedOptions) -> Attempt {
     let (p, d) = (opts.degree, opts.degree + 1);
     let mut q = prep.clone();
     q.data.degree = d;
@@ -529,7 +546,7 @@ fn open_candidate_with(
     )
 }
 
-/// Degree `d` of an open piece between corners ([`super::corner_fit`]): `points` are the piece's,
+/// Degree `d` of an open piece between corners ([`crate::optim::cornered`]): `points` are the piece's,
 /// `reference` its fit at `opts.degree`, `opts` the piece's options.
 pub(crate) fn raise_open_piece(
     points: &[Vec3],
@@ -560,7 +577,7 @@ pub(crate) fn raise_periodic(
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
     // the breakpoints between the seam at 0 and 1
-    let n = super::closed::distinct_control_points(&reference.curve);
+    let n = distinct_control_points(&reference.curve);
     let interior = reference.curve.knots()[p + 1..p + n].to_vec();
     // the higher degrees' closed data (None: too few points for the degree)
     let datas: Vec<Option<ClosedData>> = preps
@@ -631,7 +648,9 @@ fn short_search<P: CountProblem>(
     }
     let po = PsoOptions {
         max_iterations: iterations,
-        ..pso_options(opts, iterations, false, SALT + degree as u64)
+        ..Tuning::default()
+            .swarm
+            .options(opts, iterations, false, SALT + degree as u64)
     };
     let mut r = run_pso(pr, &positions, &po, &|_| {});
     let mut evaluations = r.evaluations;

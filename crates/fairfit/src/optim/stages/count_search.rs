@@ -1,16 +1,16 @@
-//! The last stage of the count search, shared by open ([`super::integrated`]) and periodic
-//! ([`super::closed`]) curves: full knot searches at the smallest feasible count `n` and at up to
+//! The last stage of the count search, shared by open ([`crate::optim::open`]) and periodic
+//! ([`crate::optim::closed`]) curves: full knot searches at the smallest feasible count `n` and at up to
 //! `max_extra_control_points` more, each candidate finished in full (band fairing, polish), and
 //! the count chosen on the **finished** curves' F and curvature extrema.
 //!
 //! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the descent
-//! met at that count and the spread knots of `CountFamily::spread_knots`) is followed by the
+//! met at that count and the spread knots of `CurveKind::spread_knots`) is followed by the
 //! smoothing line search ([`tune_smoothing`]). At every count above `n` two such searches run, in
 //! effect two restarts of the same search (finished F 10-40 % apart at one count, either one
 //! better, and the swarm F does not tell which):
 //!
 //! - the *chain*: seeded with the previous count's best knots with one knot inserted
-//!   (`CountFamily::insertion`), so it runs after it;
+//!   (`CurveKind::insertion`), so it runs after it;
 //! - the *independent* search: seeded with the descent's knots at that count (what
 //!   `--control-points` at that count starts from), so it runs in parallel with the chain.
 //!
@@ -20,11 +20,11 @@
 //! its finished F 0.513 x splprep's, the independent search's 0.480 x).
 //! Extra counts stop at `limit` (never more than the least-squares baseline), at the first count
 //! where neither search meets the tolerance, and are skipped with a fixed count
-//! ([`IntegratedOptions::control_points`]). Every search's `(count, swarm F)` is recorded in
+//! ([`crate::optim::IntegratedOptions::control_points`]). Every search's `(count, swarm F)` is recorded in
 //! [`OptimStats::fairness_by_count`].
 //!
 //! **Why the finished F.** The swarm minimises F of the least-squares-with-smoothing curve; band
-//! fairing ([`super::band_fairing`]) and the polish then lower F by 10-80 %, by very different
+//! fairing ([`crate::optim::band_fairing`]) and the polish then lower F by 10-80 %, by very different
 //! amounts at different knots, so the swarm's F ranks counts wrongly where it matters
 //! (du06-w-200-selig: swarm F 0.586 of splprep's at 12 points, 0.567 at 13, finished 0.503 and
 //! 0.475; hq17: swarm 0.44 at 13, 0.48 at 15, finished 0.56 and 0.26). A short band fairing does
@@ -46,20 +46,23 @@
 //! against 3) and seed 3 (whitcomb 9, FFA-W3-241 3 against 2). After the count is chosen, one more
 //! full search runs at the chosen count (another random stream, `RESTART_SALT`) and is finished as a candidate
 //! of the same rule: seeded with a second descent's knots at that count
-//! (`super::descent::second_descent`, probes on other streams; `CountStart::alt`) when they
+//! (`super::descent`, probes on other streams; `CountStart::alt`) when they
 //! differ from the first descent's, else with the first descent's knots on the other stream
 //! (periodic curves, and descents of greedy removals only). With it the extrema target holds at
 //! all six seeds (docs/optim.md, session 9).
 //!
 //! Only the problem type differs between open and periodic curves: `CountProblem` is the knot
-//! search at one count, `CountFamily` makes it for any count.
+//! search at one count, `CurveKind` makes it for any count.
 
-use super::integrated::{IntegratedOptions, IntegratedResult, OptimStats};
-use super::objective::CandidateEval;
-use super::pso::{run_pso, PsoOptions, PsoResult, SwarmProblem};
-use super::smoothing::tune_smoothing;
 use crate::errors::{Error, Result};
 use crate::fair::metrics::curve_fairness;
+use crate::optim::context::FitContext;
+use crate::optim::kind::CurveKind;
+use crate::optim::result::{IntegratedResult, OptimStats};
+use crate::optim::search::objective::CandidateEval;
+use crate::optim::search::problem::CountProblem;
+use crate::optim::search::pso::{run_pso, PsoResult};
+use crate::optim::search::smoothing::tune_smoothing;
 use rayon::prelude::*;
 
 /// The factor by which the finished F must fall per added control point (module doc).
@@ -83,54 +86,7 @@ pub(crate) const RESTART_MIN_EXTREMA: usize = 2;
 /// The salt of the restart's full swarm (added to the count): another stream of the same seed.
 const RESTART_SALT: u64 = 2_000_029;
 
-/// The knot search at one control-point count.
-pub(crate) trait CountProblem: SwarmProblem<Output = CandidateEval> + Clone + Send {
-    /// The particle position of interior knots, smoothing coordinate at its lower bound.
-    fn position(&self, knots: &[f64]) -> Vec<f64>;
-    /// The repaired interior knots of position `x` (`None` when no valid knot vector exists).
-    fn decode(&self, x: &[f64]) -> Option<Vec<f64>>;
-    /// The coordinate of `log10 λ` when the smoothing weight is searched.
-    fn smoothing_coord(&self) -> Option<usize>;
-    /// `log10 λ` of position `x`.
-    fn log_lambda(&self, x: &[f64]) -> f64;
-}
-
-/// The knot-search problems of one data set, for any count.
-pub(crate) trait CountFamily: Sync {
-    /// The problem at one count.
-    type Problem: CountProblem;
-    /// The problem with `n` control points (`n` distinct ones for a periodic curve).
-    fn problem(&self, n: usize) -> Self::Problem;
-    /// Interior knots spread over the data for `n` control points (a seed at every count).
-    fn spread_knots(&self, n: usize) -> Vec<f64>;
-    /// `knots` with one knot more where it helps most (smoothing `log10 λ`).
-    fn insertion(&self, knots: &[f64], log_lambda: f64) -> Vec<f64>;
-    /// The final curve (band fairing, polish) of interior knots and smoothing.
-    fn finish(&self, interior: &[f64], log_lambda: f64) -> Result<IntegratedResult>;
-}
-
-/// The swarm settings of the count search: a short probe (stops at the first feasible position,
-/// no refinement) or the full search; `salt` separates the random streams of different counts.
-pub(crate) fn pso_options(
-    opts: &IntegratedOptions,
-    iterations: usize,
-    probe: bool,
-    salt: u64,
-) -> PsoOptions {
-    PsoOptions {
-        particles: opts.particles,
-        max_iterations: iterations,
-        stall_iterations: if probe { iterations } else { 10 },
-        stall_rel: 1e-4,
-        seed_spread: 0.03,
-        random_fraction: 0.1,
-        stop_when_feasible: probe,
-        refine_evaluations: if probe { 0 } else { opts.refine_evaluations },
-        seed: opts.seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15),
-    }
-}
-
-/// Where [`search_counts`] starts.
+/// Where [`run`] starts.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct CountStart<'a> {
     /// The smallest feasible count (or the fixed one).
@@ -166,22 +122,10 @@ pub(crate) struct Ranked {
     pub extrema: usize,
 }
 
-/// Full searches from `start.n` up to `max_extra_control_points` more, every candidate finished
-/// and the count chosen on the finished F (module doc); returns the chosen finished curve.
-pub(crate) fn search_counts<C: CountFamily>(
-    family: &C,
-    start: CountStart<'_>,
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    stats: &mut OptimStats,
-) -> Result<IntegratedResult> {
-    search_counts_costed(family, start, opts, progress, stats).map(|(r, _)| r)
-}
-
 /// How the count search's choice went, for the next degree ([`super::degree_candidates`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct CountChoice {
-    /// The extrema cost ([`search_counts_costed`]).
+    /// The extrema cost ([`run`]).
     pub extrema_cost: f64,
     /// The **count gain**: the *least fair* finished F within the tolerance at the kept count
     /// over the fairest finished F at the smallest count, when the kept count is above the
@@ -193,18 +137,17 @@ pub(crate) struct CountChoice {
     pub extrema: usize,
 }
 
-/// [`search_counts`], with the **extrema cost** of the choice: the chosen candidate's score
+/// [`run`], with the **extrema cost** of the choice: the chosen candidate's score
 /// `F · EXTRA_POINT_GAIN^extra` over the lowest score of all finished candidates within the
 /// tolerance (1 when the fairest candidate was kept; above 1 when the fewest-extrema rule kept a
 /// less fair curve), and the count gain ([`CountChoice`]). The degree search reads both
 /// ([`super::degree_candidates`]).
-pub(crate) fn search_counts_costed<C: CountFamily>(
-    family: &C,
+pub(crate) fn run<K: CurveKind>(
+    ctx: &FitContext,
+    family: &K,
     start: CountStart<'_>,
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    stats: &mut OptimStats,
 ) -> Result<(IntegratedResult, CountChoice)> {
+    let opts = ctx.opts;
     let CountStart {
         n,
         knots,
@@ -219,7 +162,7 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
     };
     let top = (n + max_extra).min(limit).max(n);
     let search = |count: usize, seeds: &[Vec<f64>]| {
-        full_search(family, count, seeds, descent, opts, progress, MAIN_SALT)
+        full_search(ctx, family, count, seeds, descent, MAIN_SALT)
     };
     let (chain, independent) = rayon::join(
         || {
@@ -244,6 +187,7 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
                 .collect::<Vec<Draw>>()
         },
     );
+    let mut stats = ctx.stats();
     for d in chain.iter().chain(&independent) {
         stats.evaluations += d.stats.evaluations;
         stats.iterations += d.stats.iterations;
@@ -260,16 +204,8 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
         // from the first descent's on another stream
         let count = counts[best];
         let d = match restart_seed(count, descent, alt) {
-            Some(k) => full_search(
-                family,
-                count,
-                &[k.to_vec()],
-                &[],
-                opts,
-                progress,
-                RESTART_SALT,
-            ),
-            None => full_search(family, count, &[], descent, opts, progress, RESTART_SALT),
+            Some(k) => full_search(ctx, family, count, &[k.to_vec()], &[], RESTART_SALT),
+            None => full_search(ctx, family, count, &[], descent, RESTART_SALT),
         };
         stats.evaluations += d.stats.evaluations;
         stats.iterations += d.stats.iterations;
@@ -334,7 +270,7 @@ pub(crate) fn count_gain(counts: &[usize], ranked: &[Ranked], best: usize) -> f6
     }
 }
 
-/// The extrema cost of choosing candidate `best` ([`search_counts_costed`]): its score over the
+/// The extrema cost of choosing candidate `best` ([`run`]): its score over the
 /// lowest score of the candidates within the tolerance (1 when none is within it).
 pub(crate) fn extrema_cost(counts: &[usize], ranked: &[Ranked], best: usize) -> f64 {
     let Some(lowest) = counts.iter().copied().min() else {
@@ -354,7 +290,7 @@ pub(crate) fn extrema_cost(counts: &[usize], ranked: &[Ranked], best: usize) -> 
 }
 
 /// Finishes the draws in parallel (an error for a draw without knots).
-fn finish_draws<C: CountFamily>(family: &C, draws: &[&Draw]) -> Vec<Result<IntegratedResult>> {
+fn finish_draws<K: CurveKind>(family: &K, draws: &[&Draw]) -> Vec<Result<IntegratedResult>> {
     draws
         .par_iter()
         .map(|d| match &d.interior {
@@ -475,15 +411,15 @@ fn swarm_fairness(r: &PsoResult<CandidateEval>) -> f64 {
 
 /// The full swarm at count `n` from the `seeds` knots (plus the descent's knots at `n` and the
 /// spread knots) and the smoothing line search; records `(n, F)`.
-fn full_search<C: CountFamily>(
-    family: &C,
+fn full_search<K: CurveKind>(
+    ctx: &FitContext,
+    family: &K,
     n: usize,
     seeds: &[Vec<f64>],
     descent: &[(usize, Vec<f64>)],
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
     salt: u64,
 ) -> Draw {
+    let (opts, progress) = (ctx.opts, ctx.progress);
     let mut stats = OptimStats::default();
     stats.counts_tried.push(n);
     let pr = family.problem(n);
@@ -492,7 +428,10 @@ fn full_search<C: CountFamily>(
         x0.push(pr.position(k));
     }
     x0.push(pr.position(&family.spread_knots(n)));
-    let po = pso_options(opts, opts.max_iterations, false, n as u64 + salt);
+    let po = ctx
+        .tuning
+        .swarm
+        .options(opts, opts.max_iterations, false, n as u64 + salt);
     let mut r = run_pso(&pr, &x0, &po, &|it| progress(n, it));
     stats.evaluations += r.evaluations;
     stats.iterations += r.iterations;
@@ -516,7 +455,7 @@ fn full_search<C: CountFamily>(
 #[cfg(test)]
 mod tests {
     use super::{candidate_draws, choose_count, count_gain, restart_seed, weak_step, Draw, Ranked};
-    use crate::optim::integrated::OptimStats;
+    use crate::optim::result::OptimStats;
 
     fn draw(count: usize, knot: f64, fairness: f64) -> Draw {
         Draw {
@@ -624,7 +563,7 @@ mod tests {
         ];
         let g = count_gain(&[13, 14, 14, 14], &snl, 3);
         assert!((g - 5.866_423 / 6.645_474).abs() < 1e-12, "{g}");
-        assert!(g > crate::optim::degree_candidates::STEEP_COUNT_GAIN);
+        assert!(g > crate::optim::stages::degree_candidates::STEEP_COUNT_GAIN);
         // the fairest candidate at the smallest count is the reference (du84132v_noise1e-4-like:
         // two finishes at 12)
         let g = count_gain(&[12, 13, 12], &[r(0.5, 3), r(0.4, 3), r(0.45, 3)], 1);

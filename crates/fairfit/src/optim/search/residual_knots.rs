@@ -65,7 +65,7 @@ pub(crate) fn residual_knots(data: &FitData, n: usize) -> Option<Vec<f64>> {
 mod tests {
     use super::residual_knots;
     use crate::nurbs::Vec3;
-    use crate::optim::objective::FitData;
+    use crate::optim::search::objective::FitData;
 
     /// 101 uniform parameters on [0, 1]; points `(x, f(x))` with `x` the parameter.
     fn data(f: impl Fn(f64) -> f64) -> FitData {

@@ -37,7 +37,7 @@
 //! - a degree higher still is tried only when the one below it won (on the 33 benchmark curves
 //!   the quintic beat the cubic only where the quartic did), from the reference's finished knots;
 //! - data with corners: the pieces between corners are fitted at the reference degree and joined
-//!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
+//!   ([`crate::optim::cornered`]); for a higher degree every piece is raised at its own count from its own
 //!   knots and the raised pieces are joined, so one degree serves the whole curve.
 //!
 //! - open curves: when the reference's count choice was costly (its fewest-extrema rule kept a curve
@@ -55,31 +55,16 @@
 //! `F` and the curvature extrema are measured on the returned curves by
 //! [`crate::fair::curve_fairness`] (the report's numbers; the extrema at 192 samples per span with
 //! the benchmark measurer's noise floor, so the rule never admits a wiggle the measurer counts).
-//! Every finished degree is recorded in [`super::integrated::OptimStats::degrees_tried`] in degree
+//! Every finished degree is recorded in [`crate::optim::OptimStats::degrees_tried`] in degree
 //! order. Each step is thread-count independent, so the result is byte-identical for any number of
 //! threads.
 
-use super::closed::distinct_control_points;
 use super::count_search::EXTRA_POINT_GAIN;
-use super::integrated::{IntegratedOptions, IntegratedResult};
 use crate::errors::Result;
 use crate::fair::curve_fairness;
-use serde::Serialize;
-
-/// One degree's integrated fit, as the degree search saw it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct DegreeTrial {
-    /// The curve degree.
-    pub degree: usize,
-    /// Distinct control points of the fit.
-    pub control_points: usize,
-    /// Its fairness `F`.
-    pub fairness: f64,
-    /// Its interior curvature extrema.
-    pub curvature_extrema: usize,
-    /// Whether it met the tolerance (and `F*`).
-    pub tolerance_met: bool,
-}
+use crate::optim::kind::periodic::distinct_control_points;
+use crate::optim::options::IntegratedOptions;
+use crate::optim::result::{DegreeTrial, IntegratedResult};
 
 /// Band-fairing subproblems of a higher degree in the staged search (the reference gets
 /// [`IntegratedOptions::band_solves`]). A capped stage can only make a higher degree less fair, so
