@@ -10,7 +10,7 @@
 
 use fairfit::fair::curve_fairness;
 use fairfit::optim::distinct_control_points;
-use fairfit::optim::stages::degree_candidates::STEEP_COUNT_GAIN;
+use fairfit::optim::Tuning;
 use fairfit::optim::{fit_integrated, IntegratedOptions};
 
 #[path = "common/degree_auto.rs"]
@@ -31,7 +31,7 @@ const SPLPREP: (f64, usize, usize) = (2.789_158_5e6, 13, 4);
 
 #[test]
 fn clarky_gets_a_quartic_at_more_points_below_half_of_splpreps_fairness() {
-    assert_eq!(STEEP_COUNT_GAIN, 0.8);
+    assert_eq!(Tuning::default().degree.steep_count_gain, 0.8);
     let pts = read_csv("clarky.csv");
     let r = fit_integrated(&pts, &auto()).unwrap();
     assert!(r.met);

@@ -10,9 +10,7 @@
 use fairfit::fair::curve_fairness;
 use fairfit::optim::distinct_control_points;
 use fairfit::optim::fit_integrated;
-use fairfit::optim::stages::degree_candidates::{
-    WIGGLY_COUNTS_ABOVE, WIGGLY_EXTREMA, WIGGLY_POINTS_PER_CONTROL_POINT,
-};
+use fairfit::optim::Tuning;
 
 #[path = "common/degree_auto.rs"]
 mod degree_auto;
@@ -36,11 +34,14 @@ const MAIN_CUBIC_F: f64 = 358_884.522_540_296_4;
 #[test]
 fn fx79w470a_gets_a_quartic_one_point_above_the_baseline_below_half_of_splpreps_fairness() {
     assert_eq!(
-        (
-            WIGGLY_EXTREMA,
-            WIGGLY_COUNTS_ABOVE,
-            WIGGLY_POINTS_PER_CONTROL_POINT
-        ),
+        {
+            let t = Tuning::default().degree;
+            (
+                t.wiggly_extrema,
+                t.wiggly_counts_above,
+                t.wiggly_points_per_control_point,
+            )
+        },
         (6, 1, 4)
     );
     let pts = read_csv("fx79w470a.csv");

@@ -124,7 +124,7 @@ fn fit_periodic(
     };
     let (mut result, _) = count_search::run(&ctx, &kind, start_at)?;
     if opts.searches_degree() {
-        result = degree_candidates::raise_periodic(prep, result, ctx.tol, opts)?;
+        result = degree_candidates::raise_periodic(prep, result, ctx.tol, opts, ctx.tuning)?;
     }
     let mut stats = ctx.into_stats();
     stats.absorb(&mut result.stats, start);

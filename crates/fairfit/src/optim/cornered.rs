@@ -27,6 +27,7 @@ use super::result::{FitQuality, IntegratedResult, OptimStats};
 use super::search::prepare::{prepare, Prepared};
 use super::stages::degree_candidates::raise_open_piece;
 use super::stages::degree_search::{keep_degree, Attempt};
+use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -76,6 +77,7 @@ fn fit_with_corners(
     start: Instant,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
+    let tuning = Tuning::default();
     // the pieces share one degree: a degree search is made on the joined curve (below)
     let opts_in = opts;
     let opts = &opts.at_degree(p);
@@ -113,7 +115,7 @@ fn fit_with_corners(
         let raised: Vec<(Option<Piece>, usize, usize)> = pieces
             .par_iter()
             .enumerate()
-            .map(|(i, q)| raise_piece(prep, ranges, i, q, opts, d))
+            .map(|(i, q)| raise_piece(prep, ranges, i, q, opts, d, &tuning))
             .collect();
         let evaluations = raised.iter().map(|r| r.1).sum();
         let iterations = raised.iter().map(|r| r.2).sum();
@@ -132,7 +134,7 @@ fn fit_with_corners(
         }
     };
     let highest = opts_in.max_degree.unwrap_or(p).max(p);
-    keep_degree(reference, p + 1..=highest, opts_in, &attempt)
+    keep_degree(reference, p + 1..=highest, opts_in, &tuning, &attempt)
 }
 
 /// The pieces joined C0 into the curve of the whole data (input coordinates), measured.
@@ -287,6 +289,7 @@ fn raise_piece(
     q: &Piece,
     opts: &IntegratedOptions,
     d: usize,
+    tuning: &Tuning,
 ) -> (Option<Piece>, usize, usize) {
     let (a, b) = ranges[i];
     let piece = &prep.data.points[a..=b];
@@ -296,7 +299,7 @@ fn raise_piece(
     }
     let count = Some(distinct_control_points(&q.curve));
     let sub = piece_options(prep, i, opts, count);
-    let at = raise_open_piece(piece, &q.curve, &sub, d);
+    let at = raise_open_piece(piece, &q.curve, &sub, d, tuning);
     let r = at.fit.map(|r| piece_of(r, piece.len()));
     (r, at.evaluations, at.iterations)
 }

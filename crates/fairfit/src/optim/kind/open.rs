@@ -1,7 +1,7 @@
 //! The open curve kind: a clamped B-spline whose ends sit on the data's first and last points.
 //!
 //! Its knot search places the `n − p − 1` interior knots in `(0, 1)` (softmax gaps, at least
-//! [`MIN_GAP`] apart); the baseline is the least-squares method's own knots mapped onto these
+//! [`MIN_KNOT_GAP`] apart); the baseline is the least-squares method's own knots mapped onto these
 //! parameters when they meet the tolerance, else the averaging knots with the fewest control
 //! points that do; finishing is band fairing, the polish and the pass that re-fairs holding the
 //! extrema pattern ([`finish_curve`]).
@@ -25,7 +25,7 @@ use crate::optim::search::problem::KnotProblem;
 use rayon::prelude::*;
 
 /// Smallest knot gap as a fraction of the parameter domain.
-pub(crate) const MIN_GAP: f64 = 1e-4;
+pub(crate) const MIN_KNOT_GAP: f64 = 1e-4;
 
 /// The open knot search for `n` control points.
 pub(crate) fn open_problem<'a>(
@@ -36,7 +36,7 @@ pub(crate) fn open_problem<'a>(
 ) -> KnotProblem<'a> {
     KnotProblem {
         data,
-        encoding: KnotEncoding::new(n - opts.degree - 1, MIN_GAP, opts.search_smoothing),
+        encoding: KnotEncoding::new(n - opts.degree - 1, MIN_KNOT_GAP, opts.search_smoothing),
         tolerance: tol,
         span_target: opts.span_fairness,
         fairness_cutoff: 1.0,

@@ -26,7 +26,7 @@ use crate::optim::search::pso::SwarmProblem;
 use rayon::prelude::*;
 
 /// Smallest breakpoint gap as a fraction of the loop's parameter length.
-const MIN_GAP: f64 = 1e-4;
+const MIN_BREAK_GAP: f64 = 1e-4;
 
 /// The number of distinct control points of a curve: for a periodic curve (unclamped knots, the
 /// last `p` control points repeating the first) `n − p`, else `n`.
@@ -52,7 +52,7 @@ pub(crate) fn problem_at<'a>(
     ClosedProblem::new(
         data,
         n,
-        MIN_GAP,
+        MIN_BREAK_GAP,
         opts.search_smoothing,
         tol,
         opts.span_fairness,

@@ -63,28 +63,14 @@ use crate::optim::search::objective::CandidateEval;
 use crate::optim::search::problem::CountProblem;
 use crate::optim::search::pso::{run_pso, PsoResult};
 use crate::optim::search::smoothing::tune_smoothing;
+use crate::optim::tuning::CountTuning;
 use rayon::prelude::*;
-
-/// The factor by which the finished F must fall per added control point (module doc).
-///
-/// On the 33 benchmark curves the deciding gains of one added point are 5.6 % (du06-w-200-selig,
-/// 12 -> 13 points, which meets issue 4's F target only with 13) and then 7-44 %, while the
-/// declined ones (where the fewer points keep their targets) are below 5 %: FFA-W3-301 4 %,
-/// naca2412 and FFA-W3-241 below 2 %.
-pub(crate) const EXTRA_POINT_GAIN: f64 = 1.05;
-
-/// The relative drop in swarm F from one count to the next below which the next count is not
-/// finished (module doc).
-pub(crate) const WEAK_STEP_GAIN: f64 = 0.02;
 
 /// The salt of the count search's full swarms (added to the count).
 const MAIN_SALT: u64 = 1_000_003;
-/// The fewest curvature extrema of the chosen curve that call for the restart (module doc): one
-/// extremum (an airfoil's leading edge, a quarter ellipse's vertex) leaves no wiggle to remove.
-pub(crate) const RESTART_MIN_EXTREMA: usize = 2;
 
 /// The salt of the restart's full swarm (added to the count): another stream of the same seed.
-const RESTART_SALT: u64 = 2_000_029;
+const COUNT_RESTART_SALT: u64 = 2_000_029;
 
 /// Where [`run`] starts.
 #[derive(Clone, Copy, Debug)]
@@ -194,18 +180,19 @@ pub(crate) fn run<K: CurveKind>(
         stats.counts_tried.extend(&d.stats.counts_tried);
         stats.fairness_by_count.extend(&d.stats.fairness_by_count);
     }
-    let candidates = candidate_draws(&chain, &independent, n, top);
+    let t = &ctx.tuning.count;
+    let candidates = candidate_draws(&chain, &independent, n, top, t);
     let mut finished = finish_draws(family, &candidates);
     let mut counts: Vec<usize> = candidates.iter().map(|d| d.count).collect();
     let mut ranked: Vec<Ranked> = finished.iter().map(rank).collect();
-    let mut best = choose_count(&counts, &ranked);
-    if ranked[best].extrema >= RESTART_MIN_EXTREMA {
+    let mut best = choose_count(&counts, &ranked, t);
+    if ranked[best].extrema >= t.restart_min_extrema {
         // the restart at the chosen count (module doc): from the second descent's knots there, else
         // from the first descent's on another stream
         let count = counts[best];
         let d = match restart_seed(count, descent, alt) {
-            Some(k) => full_search(ctx, family, count, &[k.to_vec()], &[], RESTART_SALT),
-            None => full_search(ctx, family, count, &[], descent, RESTART_SALT),
+            Some(k) => full_search(ctx, family, count, &[k.to_vec()], &[], COUNT_RESTART_SALT),
+            None => full_search(ctx, family, count, &[], descent, COUNT_RESTART_SALT),
         };
         stats.evaluations += d.stats.evaluations;
         stats.iterations += d.stats.iterations;
@@ -216,11 +203,11 @@ pub(crate) fn run<K: CurveKind>(
             counts.push(d.count);
             ranked.push(rank(&r));
             finished.push(r);
-            best = choose_count(&counts, &ranked);
+            best = choose_count(&counts, &ranked, t);
         }
     }
     let choice = CountChoice {
-        extrema_cost: extrema_cost(&counts, &ranked, best),
+        extrema_cost: extrema_cost(&counts, &ranked, best, t),
         count_gain: count_gain(&counts, &ranked, best),
         extrema: ranked[best].extrema,
     };
@@ -272,11 +259,16 @@ pub(crate) fn count_gain(counts: &[usize], ranked: &[Ranked], best: usize) -> f6
 
 /// The extrema cost of choosing candidate `best` ([`run`]): its score over the
 /// lowest score of the candidates within the tolerance (1 when none is within it).
-pub(crate) fn extrema_cost(counts: &[usize], ranked: &[Ranked], best: usize) -> f64 {
+pub(crate) fn extrema_cost(
+    counts: &[usize],
+    ranked: &[Ranked],
+    best: usize,
+    t: &CountTuning,
+) -> f64 {
     let Some(lowest) = counts.iter().copied().min() else {
         return 1.0;
     };
-    let score = |i: usize| extra_point_score(ranked[i].fairness, counts[i], lowest);
+    let score = |i: usize| extra_point_score(ranked[i].fairness, counts[i], lowest, t);
     let fairest = (0..counts.len())
         .filter(|&i| ranked[i].fairness.is_finite())
         .map(score)
@@ -343,6 +335,7 @@ fn candidate_draws<'d>(
     independent: &'d [Draw],
     n: usize,
     top: usize,
+    t: &CountTuning,
 ) -> Vec<&'d Draw> {
     let mut candidates = vec![&chain[0]];
     let mut prev_fairness = chain[0].fairness;
@@ -355,7 +348,7 @@ fn candidate_draws<'d>(
             }
         }
         let best = at.iter().map(|d| d.fairness).fold(f64::INFINITY, f64::min);
-        if at.is_empty() || weak_step(prev_fairness, best) {
+        if at.is_empty() || weak_step(prev_fairness, best, t) {
             break;
         }
         candidates.extend(at);
@@ -368,12 +361,12 @@ fn candidate_draws<'d>(
 /// `ranked[i]`. Of the candidates within the tolerance (finite F), the fewest curvature extrema
 /// first, then the lowest `F · EXTRA_POINT_GAIN^(count − smallest count)`, then the fewer points;
 /// with none within the tolerance, the first.
-pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked]) -> usize {
+pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked], t: &CountTuning) -> usize {
     let Some(lowest) = counts.iter().copied().min() else {
         return 0;
     };
     let key = |i: usize| {
-        let score = extra_point_score(ranked[i].fairness, counts[i], lowest);
+        let score = extra_point_score(ranked[i].fairness, counts[i], lowest, t);
         (ranked[i].extrema, score, counts[i])
     };
     let mut best: Option<usize> = None;
@@ -391,13 +384,13 @@ pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked]) -> usize {
 
 /// `fairness` priced for its `count` control points above the smallest count `lowest`:
 /// `fairness · EXTRA_POINT_GAIN^(count − lowest)` (module doc).
-fn extra_point_score(fairness: f64, count: usize, lowest: usize) -> f64 {
-    fairness * EXTRA_POINT_GAIN.powi((count - lowest) as i32)
+fn extra_point_score(fairness: f64, count: usize, lowest: usize, t: &CountTuning) -> f64 {
+    fairness * t.extra_point_gain.powi((count - lowest) as i32)
 }
 
 /// True when `f_next` is not at least [`WEAK_STEP_GAIN`] below `f_prev` (no gain from infinity).
-fn weak_step(f_prev: f64, f_next: f64) -> bool {
-    !(f_prev.is_finite() && f_next < f_prev * (1.0 - WEAK_STEP_GAIN))
+fn weak_step(f_prev: f64, f_next: f64, t: &CountTuning) -> bool {
+    !(f_prev.is_finite() && f_next < f_prev * (1.0 - t.weak_step_gain))
 }
 
 /// The F of a full search's result, infinite when it is infeasible.
@@ -456,6 +449,13 @@ fn full_search<K: CurveKind>(
 mod tests {
     use super::{candidate_draws, choose_count, count_gain, restart_seed, weak_step, Draw, Ranked};
     use crate::optim::result::OptimStats;
+    use crate::optim::tuning::{CountTuning, Tuning};
+
+    const T: CountTuning = CountTuning {
+        extra_point_gain: 1.05,
+        weak_step_gain: 0.02,
+        restart_min_extrema: 2,
+    };
 
     fn draw(count: usize, knot: f64, fairness: f64) -> Draw {
         Draw {
@@ -474,24 +474,24 @@ mod tests {
         // 1.122 at 13: both searches at 13 are finished (they finish at 0.513 and 0.480)
         let chain = [draw(12, 0.5, 1.387), draw(13, 0.4, 1.060)];
         let independent = [draw(13, 0.6, 1.122)];
-        let c = candidate_draws(&chain, &independent, 12, 13);
+        let c = candidate_draws(&chain, &independent, 12, 13, &T);
         assert_eq!(counts(&c), vec![(12, 1.387), (13, 1.060), (13, 1.122)]);
         // the step is measured from the best search below: 13 steps from 1.0 to 0.97, 14 must
         // be 2 % below 0.97 (0.96 is not; 0.94 is)
         let chain = [draw(12, 0.5, 1.0), draw(13, 0.4, 0.97), draw(14, 0.3, 0.96)];
         let independent = [draw(13, 0.6, 0.99), draw(14, 0.7, 0.94)];
-        let c = candidate_draws(&chain, &independent, 12, 14);
+        let c = candidate_draws(&chain, &independent, 12, 14, &T);
         assert_eq!(
             counts(&c),
             vec![(12, 1.0), (13, 0.97), (13, 0.99), (14, 0.96), (14, 0.94)]
         );
-        let c = candidate_draws(&chain, &independent[..1], 12, 14);
+        let c = candidate_draws(&chain, &independent[..1], 12, 14, &T);
         assert_eq!(counts(&c), vec![(12, 1.0), (13, 0.97), (13, 0.99)]);
         // a weak step ends the candidates (hq17: 0.442 at 13, 0.441 and 0.434 at 14)
         let chain = [draw(13, 0.5, 0.442), draw(14, 0.4, 0.441)];
         let independent = [draw(14, 0.6, 0.434)];
         assert_eq!(
-            counts(&candidate_draws(&chain, &independent, 13, 14)).len(),
+            counts(&candidate_draws(&chain, &independent, 13, 14, &T)).len(),
             1
         );
         // the same knots and smoothing are finished once; a search without knots is left out
@@ -499,22 +499,27 @@ mod tests {
         let mut none = draw(11, 0.6, 0.7);
         none.interior = None;
         let independent = [draw(11, 0.4, 0.8), none];
-        let c = candidate_draws(&chain, &independent, 10, 11);
+        let c = candidate_draws(&chain, &independent, 10, 11, &T);
         assert_eq!(counts(&c), vec![(10, 1.0), (11, 0.8)]);
+    }
+
+    #[test]
+    fn the_tests_use_the_default_tuning() {
+        assert_eq!(CountTuning::default(), T);
     }
 
     #[test]
     fn weak_step_needs_two_percent_drop() {
         // SNL-FFA-W3-500's swarm F ratio at n + 1 (0.992) and hq17's (0.981) are weak, du06's
         // (0.968) is not
-        assert!(weak_step(1.0, 0.992));
-        assert!(weak_step(1.0, 0.981));
-        assert!(!weak_step(1.0, 0.968));
-        assert!(!weak_step(1.0, 0.979));
+        assert!(weak_step(1.0, 0.992, &T));
+        assert!(weak_step(1.0, 0.981, &T));
+        assert!(!weak_step(1.0, 0.968, &T));
+        assert!(!weak_step(1.0, 0.979, &T));
         // a worse or infeasible n + 1, or an infeasible n, is no gain
-        assert!(weak_step(1.0, 1.005));
-        assert!(weak_step(1.0, f64::INFINITY));
-        assert!(weak_step(f64::INFINITY, 1.0));
+        assert!(weak_step(1.0, 1.005, &T));
+        assert!(weak_step(1.0, f64::INFINITY, &T));
+        assert!(weak_step(f64::INFINITY, 1.0, &T));
     }
 
     fn r(fairness: f64, extrema: usize) -> Ranked {
@@ -524,25 +529,31 @@ mod tests {
     #[test]
     fn fewest_extrema_first_then_five_percent_per_extra_point() {
         // du06-w-200-selig's finished F (ratios to splprep's): 12 -> 13 points gains 5.6 %
-        assert_eq!(choose_count(&[12, 13], &[r(0.503, 1), r(0.475, 1)]), 1);
+        assert_eq!(choose_count(&[12, 13], &[r(0.503, 1), r(0.475, 1)], &T), 1);
         // 4 % is not enough for one point, 9 % not for two
-        assert_eq!(choose_count(&[10, 11], &[r(1.0, 1), r(0.96, 1)]), 0);
-        assert_eq!(choose_count(&[10, 12], &[r(1.0, 1), r(0.91, 1)]), 0);
+        assert_eq!(choose_count(&[10, 11], &[r(1.0, 1), r(0.96, 1)], &T), 0);
+        assert_eq!(choose_count(&[10, 12], &[r(1.0, 1), r(0.91, 1)], &T), 0);
         assert_eq!(
-            choose_count(&[10, 11, 12], &[r(1.0, 1), r(0.97, 1), r(0.90, 1)]),
+            choose_count(&[10, 11, 12], &[r(1.0, 1), r(0.97, 1), r(0.90, 1)], &T),
             2
         );
         // a fairer curve with more curvature extrema loses (FFA-W3-211: 13 points 0.249, 2
         // extrema against 12 points 0.369, 1)
-        assert_eq!(choose_count(&[12, 13], &[r(0.369, 1), r(0.249, 2)]), 0);
+        assert_eq!(choose_count(&[12, 13], &[r(0.369, 1), r(0.249, 2)], &T), 0);
         // and fewer extrema win even at a higher F (naca633418: 12 points 0.496 with 3 extrema
         // at the dense count, 13 points 0.509 with 1)
-        assert_eq!(choose_count(&[12, 13], &[r(0.496, 3), r(0.509, 1)]), 1);
+        assert_eq!(choose_count(&[12, 13], &[r(0.496, 3), r(0.509, 1)], &T), 1);
         // outside the tolerance (infinite F) never wins, whatever its extrema
-        assert_eq!(choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(5.0, 2)]), 1);
-        assert_eq!(choose_count(&[9, 10], &[r(1.0, 1), r(f64::INFINITY, 0)]), 0);
         assert_eq!(
-            choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(f64::INFINITY, 0)]),
+            choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(5.0, 2)], &T),
+            1
+        );
+        assert_eq!(
+            choose_count(&[9, 10], &[r(1.0, 1), r(f64::INFINITY, 0)], &T),
+            0
+        );
+        assert_eq!(
+            choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(f64::INFINITY, 0)], &T),
             0
         );
     }
@@ -563,7 +574,7 @@ mod tests {
         ];
         let g = count_gain(&[13, 14, 14, 14], &snl, 3);
         assert!((g - 5.866_423 / 6.645_474).abs() < 1e-12, "{g}");
-        assert!(g > crate::optim::stages::degree_candidates::STEEP_COUNT_GAIN);
+        assert!(g > Tuning::default().degree.steep_count_gain);
         // the fairest candidate at the smallest count is the reference (du84132v_noise1e-4-like:
         // two finishes at 12)
         let g = count_gain(&[12, 13, 12], &[r(0.5, 3), r(0.4, 3), r(0.45, 3)], 1);

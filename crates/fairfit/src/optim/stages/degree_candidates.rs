@@ -93,12 +93,8 @@
 //! at twice the work, which more than doubled sc20714_noise1e-4's wall time; both seedings at
 //! one count gained nothing over one.
 
-use super::count_search::{
-    choose_count, rank_fit, CountChoice, CountStart, Ranked, EXTRA_POINT_GAIN, RESTART_MIN_EXTREMA,
-};
-use super::degree_search::{
-    keep_degree, keep_degree_priced, Attempt, CANDIDATE_BAND_SOLVES, CANDIDATE_POLISH_EVALUATIONS,
-};
+use super::count_search::{choose_count, rank_fit, CountChoice, CountStart, Ranked};
+use super::degree_search::{keep_degree, keep_degree_priced, Attempt};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
 use crate::optim::context::{tolerance_of, FitContext};
@@ -114,11 +110,11 @@ use crate::optim::search::problem::CountProblem;
 use crate::optim::search::pso::{run_pso, PsoOptions};
 use crate::optim::search::residual_knots::residual_knots;
 use crate::optim::search::smoothing::tune_smoothing;
-use crate::optim::tuning::Tuning;
+use crate::optim::tuning::{DegreeTuning, SwarmTuning, Tuning};
 use rayon::prelude::*;
 
 /// Salt of the candidates' random streams (apart from the count search's).
-const SALT: u64 = 2_000_003;
+const DEGREE_CANDIDATE_SALT: u64 = 2_000_003;
 
 /// A degree's knots at the reference's count, before band fairing and polish.
 #[derive(Clone, Debug)]
@@ -146,16 +142,6 @@ impl Candidate {
         }
     }
 }
-
-/// The extrema cost of the reference's count choice (`super::count_search::search_counts_costed`:
-/// the kept curve's F over the fairest finished candidate's, both scored per added point) from
-/// which the next degree gets a count search of its own (module doc, "Own count search").
-///
-/// On the 33 benchmark curves at seeds 0, 1, 2 and 5 the cost is 1 on most curves and at most
-/// 1.37 (sc20714_noise1e-4, seed 2) except on hq17 at the seeds where the cubic misses issue 4's
-/// F target (2.01, 1.92, 2.14: the cubic keeps 3 curvature extrema at twice the F of a 5-6
-/// extrema candidate); the 200-point curves stay at or below 1.02.
-pub const OWN_COUNT_SEARCH_COST: f64 = 1.5;
 
 /// What the reference degree's count search knew, for the next degree's own count search
 /// (module doc, "Own count search").
@@ -190,12 +176,12 @@ impl<'a> CountsSeen<'a> {
 
     /// Whether the next degree gets a count search of its own, and why (module doc, "Own count
     /// search"): `None` for no own search.
-    fn own_count_search(&self) -> Option<OwnTrigger> {
-        if self.extrema_cost >= OWN_COUNT_SEARCH_COST {
+    fn own_count_search(&self, t: &DegreeTuning) -> Option<OwnTrigger> {
+        if self.extrema_cost >= t.own_count_search_cost {
             Some(OwnTrigger::ExtremaCost)
-        } else if self.count_gain <= STEEP_COUNT_GAIN {
+        } else if self.count_gain <= t.steep_count_gain {
             Some(OwnTrigger::CountGain)
-        } else if self.extrema >= WIGGLY_EXTREMA {
+        } else if self.extrema >= t.wiggly_extrema {
             Some(OwnTrigger::Wiggly)
         } else {
             None
@@ -217,28 +203,6 @@ enum OwnTrigger {
     Wiggly,
 }
 
-/// Curvature extrema of the reference's kept curve from which the next degree searches counts
-/// above the least-squares baseline (module doc, "Wiggly curves"). On the 33 benchmark curves at
-/// seeds 0-5 the cubic keeps 6-9 extrema on fx79w470a (5 seeds), sc20714_noise1e-4 (6 at every
-/// seed) and whitcomb (7 at seed 1), at most 5 elsewhere (hq17 5 at seeds 1, 3, 4, where two
-/// counts above its baseline 16 would pass splprep's 17) and at most 3 on the 200-point curves
-/// of the time target (SNL-FFA-W3-500 3), which therefore never trigger.
-pub const WIGGLY_EXTREMA: usize = 6;
-
-/// How many counts above the least-squares baseline the wiggly trigger searches (module doc,
-/// "Wiggly curves").
-pub const WIGGLY_COUNTS_ABOVE: usize = 1;
-
-/// The wiggly trigger's counts keep at least this many data points per control point (module
-/// doc, "Wiggly curves"): whitcomb's 73 points stop it at 18 (its baseline is 20, splprep's
-/// count 19).
-pub const WIGGLY_POINTS_PER_CONTROL_POINT: usize = 4;
-
-/// The count gain (`super::count_search::CountChoice::count_gain`: the least fair finished
-/// search at the cubic's kept count over the fairest at its smallest count) at or below which the
-/// next degree gets a count search of its own (module doc, "Own count search").
-pub const STEEP_COUNT_GAIN: f64 = 0.8;
-
 /// The degree search after the reference's count search on open data: `reference` is the
 /// finished fit at `opts.degree` of the prepared data `prep`; `first` the next degree's attempt
 /// made beside the count search; `seen` what the count search knew.
@@ -248,7 +212,8 @@ pub(crate) fn raise_open(
     first: Option<Attempt>,
     seen: Option<CountsSeen<'_>>,
 ) -> Result<IntegratedResult> {
-    let (prep, tol, opts) = (ctx.prep, ctx.tol, ctx.opts);
+    let (prep, tol, opts, tuning) = (ctx.prep, ctx.tol, ctx.opts, ctx.tuning);
+    let t = &tuning.degree;
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
@@ -258,14 +223,14 @@ pub(crate) fn raise_open(
     let reference_count = reference.curve.n_control_points();
     // one count above the baseline (module doc), decided before `reference` moves on
     let above = seen.is_some_and(|s| {
-        s.own_count_search().is_some()
-            && one_above_baseline(reference_count, s, prep.data.points.len())
+        s.own_count_search(t).is_some()
+            && one_above_baseline(reference_count, s, prep.data.points.len(), tuning)
     });
     let m = prep.data.points.len();
     // the wiggly trigger's counts pay only the degree's price (module doc, "Wiggly curves")
-    let point_gain = match seen.and_then(|s| s.own_count_search()) {
+    let point_gain = match seen.and_then(|s| s.own_count_search(t)) {
         Some(OwnTrigger::Wiggly) => 1.0,
-        _ => EXTRA_POINT_GAIN,
+        _ => tuning.count.extra_point_gain,
     };
     let attempt = |d: usize| {
         let a = match (d == p + 1)
@@ -278,13 +243,13 @@ pub(crate) fn raise_open(
             .flatten()
         {
             Some(a) => a,
-            None => open_attempt(&preps[d - p], p, interior, tol, opts, d),
+            None => open_attempt(&preps[d - p], p, interior, tol, opts, d, tuning),
         };
         match seen {
-            Some(s) if d == p + 1 => match s.own_count_search() {
+            Some(s) if d == p + 1 => match s.own_count_search(t) {
                 Some(trigger) => {
                     let counts = if trigger == OwnTrigger::Wiggly {
-                        wiggly_counts(s.limit, m)
+                        wiggly_counts(s.limit, m, t)
                     } else {
                         let top = s.limit + usize::from(above);
                         (reference_count + 1).max(s.n)..=top
@@ -293,7 +258,8 @@ pub(crate) fn raise_open(
                         // the reference kept the top count: nothing above it to search
                         return a;
                     }
-                    own_count_search(&preps[d - p], p, s, counts, trigger, tol, opts, d, a)
+                    let q = &preps[d - p];
+                    own_count_search(q, p, s, counts, trigger, tol, opts, d, a, tuning)
                 }
                 None => a,
             },
@@ -306,8 +272,8 @@ pub(crate) fn raise_open(
 /// The wiggly trigger's counts (module doc, "Wiggly curves"): above the least-squares baseline
 /// `limit`, at most [`WIGGLY_COUNTS_ABOVE`] of them, and never more control points than the `m`
 /// data points over [`WIGGLY_POINTS_PER_CONTROL_POINT`].
-fn wiggly_counts(limit: usize, m: usize) -> std::ops::RangeInclusive<usize> {
-    let top = (limit + WIGGLY_COUNTS_ABOVE).min(m / WIGGLY_POINTS_PER_CONTROL_POINT);
+fn wiggly_counts(limit: usize, m: usize, t: &DegreeTuning) -> std::ops::RangeInclusive<usize> {
+    let top = (limit + t.wiggly_counts_above).min(m / t.wiggly_points_per_control_point);
     limit + 1..=top
 }
 
@@ -315,8 +281,10 @@ fn wiggly_counts(limit: usize, m: usize) -> std::ops::RangeInclusive<usize> {
 /// baseline `seen.limit` (module doc, "One point above the baseline"): the reference kept the
 /// baseline's count (`reference_count`) and has at least [`RESTART_MIN_EXTREMA`] curvature
 /// extrema, and `m` data points leave a data parameter inside every span there.
-fn one_above_baseline(reference_count: usize, seen: CountsSeen<'_>, m: usize) -> bool {
-    reference_count == seen.limit && seen.limit + 2 <= m && seen.extrema >= RESTART_MIN_EXTREMA
+fn one_above_baseline(reference_count: usize, seen: CountsSeen<'_>, m: usize, t: &Tuning) -> bool {
+    reference_count == seen.limit
+        && seen.limit + 2 <= m
+        && seen.extrema >= t.count.restart_min_extrema
 }
 
 /// The reference degree's (`p`) knots at count `c` for the own count search: the descent's knots
@@ -368,8 +336,9 @@ fn own_count_search(
     opts: &IntegratedOptions,
     d: usize,
     at_n: Attempt,
+    tuning: &Tuning,
 ) -> Attempt {
-    let o = candidate_options(opts, d);
+    let o = candidate_options(opts, d, &tuning.degree);
     // the count-gain trigger also seeds every count with the residual-driven knots of degree d
     // there (module doc)
     let jobs: Vec<(Vec<f64>, Vec<Vec<f64>>)> = reference_knots(q, p, seen, &counts, tol)
@@ -382,7 +351,8 @@ fn own_count_search(
     let searched: Vec<(Option<Candidate>, Option<IntegratedResult>)> = jobs
         .into_par_iter()
         .map(|(knots, extra)| {
-            let cand = open_candidate_with(q, p, &knots, &extra, tol, opts, d, opts.max_iterations);
+            let iterations = opts.max_iterations;
+            let cand = open_candidate_with(q, p, &knots, &extra, tol, opts, d, iterations, tuning);
             let fit = cand.as_ref().filter(|c| c.feasible).and_then(|c| {
                 finish(
                     q,
@@ -419,8 +389,8 @@ fn own_count_search(
     let best = match trigger {
         // the fairest within the reference's extrema (what the degree rule admits)
         OwnTrigger::Wiggly => fairest_within(&counts, &ranked, seen.extrema)
-            .unwrap_or_else(|| choose_count(&counts, &ranked)),
-        _ => choose_count(&counts, &ranked),
+            .unwrap_or_else(|| choose_count(&counts, &ranked, &tuning.count)),
+        _ => choose_count(&counts, &ranked, &tuning.count),
     };
     // the work of the fits not kept
     for (i, r) in fits.iter().enumerate() {
@@ -454,16 +424,22 @@ fn fairest_within(counts: &[usize], ranked: &[Ranked], extrema: usize) -> Option
 pub(crate) fn first_beside(ctx: &FitContext, interior: &[f64]) -> Option<Attempt> {
     ctx.opts
         .searches_degree()
-        .then(|| open_next(ctx.prep, interior, ctx.tol, ctx.opts))
+        .then(|| open_next(ctx.prep, interior, ctx.tol, ctx.opts, ctx.tuning))
 }
 
 /// The attempt of degree `opts.degree + 1` at the count of the reference degree's `interior` knots
 /// (run beside the count search, from the descent's knots).
-fn open_next(prep: &Prepared, interior: &[f64], tol: f64, opts: &IntegratedOptions) -> Attempt {
+fn open_next(
+    prep: &Prepared,
+    interior: &[f64],
+    tol: f64,
+    opts: &IntegratedOptions,
+    tuning: &Tuning,
+) -> Attempt {
     let (p, d) = (opts.degree, opts.degree + 1);
     let mut q = prep.clone();
     q.data.degree = d;
-    open_attempt(&q, p, interior, tol, opts, d)
+    open_attempt(&q, p, interior, tol, opts, d, tuning)
 }
 
 /// Degree `d` (data `q`) at the count of the degree-`p` `interior` knots, finished when feasible.
@@ -474,10 +450,11 @@ fn open_attempt(
     tol: f64,
     opts: &IntegratedOptions,
     d: usize,
+    tuning: &Tuning,
 ) -> Attempt {
-    match open_candidate(q, p, interior, tol, opts, d, 0) {
+    match open_candidate(q, p, interior, tol, opts, d, 0, tuning) {
         Some(c) => c.attempt(|c| {
-            let o = candidate_options(opts, d);
+            let o = candidate_options(opts, d, &tuning.degree);
             finish(
                 q,
                 &c.interior,
@@ -502,8 +479,9 @@ fn open_candidate(
     opts: &IntegratedOptions,
     d: usize,
     iterations: usize,
+    tuning: &Tuning,
 ) -> Option<Candidate> {
-    open_candidate_with(q, p, interior, &[], tol, opts, d, iterations)
+    open_candidate_with(q, p, interior, &[], tol, opts, d, iterations, tuning)
 }
 
 /// [`open_candidate`] with `extra` seeds (interior knots of degree `d` at that count).
@@ -517,6 +495,7 @@ fn open_candidate_with(
     opts: &IntegratedOptions,
     d: usize,
     iterations: usize,
+    tuning: &Tuning,
 ) -> Option<Candidate> {
     let n = interior.len() + p + 1;
     // at least d + 1 control points, and a data parameter inside every span
@@ -543,6 +522,7 @@ fn open_candidate_with(
         &seeds,
         &o,
         iterations,
+        &tuning.swarm,
     )
 }
 
@@ -553,6 +533,7 @@ pub(crate) fn raise_open_piece(
     reference: &NurbsCurve,
     opts: &IntegratedOptions,
     d: usize,
+    tuning: &Tuning,
 ) -> Attempt {
     let p = reference.degree();
     let k = reference.knots();
@@ -563,7 +544,15 @@ pub(crate) fn raise_open_piece(
         return Attempt::default();
     }
     let interior = &k[p + 1..k.len() - p - 1];
-    open_attempt(&q, p, interior, tolerance_of(opts, q.scale), opts, d)
+    open_attempt(
+        &q,
+        p,
+        interior,
+        tolerance_of(opts, q.scale),
+        opts,
+        d,
+        tuning,
+    )
 }
 
 /// [`raise_open`] for a periodic closed curve.
@@ -572,6 +561,7 @@ pub(crate) fn raise_periodic(
     reference: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
+    tuning: &Tuning,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
@@ -594,15 +584,15 @@ pub(crate) fn raise_periodic(
         }
         let o = opts.at_degree(d);
         let seeds = vec![interior.clone(), equal_breaks(&cd.params, n)];
-        match short_search(&problem_at(cd, n, tol, &o), d, &seeds, &o, 0) {
+        match short_search(&problem_at(cd, n, tol, &o), d, &seeds, &o, 0, &tuning.swarm) {
             Some(c) => c.attempt(|c| {
-                let o = candidate_options(opts, d);
+                let o = candidate_options(opts, d, &tuning.degree);
                 finish_periodic(&preps[d - p], cd, &c.interior, c.log_lambda, tol, &o)
             }),
             None => Attempt::default(),
         }
     };
-    keep_degree(reference, p + 1..=highest, opts, &attempt)
+    keep_degree(reference, p + 1..=highest, opts, tuning, &attempt)
 }
 
 /// The prepared data at every degree from `p` to `highest` (only the degree differs).
@@ -619,11 +609,15 @@ fn at_degrees(prep: &Prepared, p: usize, highest: usize) -> Vec<Prepared> {
 /// The options a degree is finished with: the reference's own, a higher degree's band fairing
 /// capped at [`CANDIDATE_BAND_SOLVES`] subproblems and its polish at
 /// [`CANDIDATE_POLISH_EVALUATIONS`] measurements.
-fn candidate_options(opts: &IntegratedOptions, degree: usize) -> IntegratedOptions {
+fn candidate_options(
+    opts: &IntegratedOptions,
+    degree: usize,
+    t: &DegreeTuning,
+) -> IntegratedOptions {
     let mut o = opts.at_degree(degree);
     if degree > opts.degree {
-        o.band_solves = o.band_solves.min(CANDIDATE_BAND_SOLVES);
-        o.polish_evaluations = o.polish_evaluations.min(CANDIDATE_POLISH_EVALUATIONS);
+        o.band_solves = o.band_solves.min(t.candidate_band_solves);
+        o.polish_evaluations = o.polish_evaluations.min(t.candidate_polish_evaluations);
     }
     o
 }
@@ -636,6 +630,7 @@ fn short_search<P: CountProblem>(
     seeds: &[Vec<f64>],
     opts: &IntegratedOptions,
     iterations: usize,
+    swarm: &SwarmTuning,
 ) -> Option<Candidate> {
     let dim = pr.dim();
     let positions: Vec<Vec<f64>> = seeds
@@ -648,9 +643,12 @@ fn short_search<P: CountProblem>(
     }
     let po = PsoOptions {
         max_iterations: iterations,
-        ..Tuning::default()
-            .swarm
-            .options(opts, iterations, false, SALT + degree as u64)
+        ..swarm.options(
+            opts,
+            iterations,
+            false,
+            DEGREE_CANDIDATE_SALT + degree as u64,
+        )
     };
     let mut r = run_pso(pr, &positions, &po, &|_| {});
     let mut evaluations = r.evaluations;
@@ -682,10 +680,23 @@ pub fn averaged_knots(knots: &[f64], extra: usize) -> Vec<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::{
-        averaged_knots, fairest_within, wiggly_counts, CountsSeen, OwnTrigger, Ranked,
-        WIGGLY_EXTREMA,
+    use super::{averaged_knots, fairest_within, wiggly_counts, CountsSeen, OwnTrigger, Ranked};
+    use crate::optim::tuning::DegreeTuning;
+
+    const T: DegreeTuning = DegreeTuning {
+        candidate_band_solves: 8,
+        candidate_polish_evaluations: 500,
+        own_count_search_cost: 1.5,
+        steep_count_gain: 0.8,
+        wiggly_extrema: 6,
+        wiggly_counts_above: 1,
+        wiggly_points_per_control_point: 4,
     };
+
+    #[test]
+    fn the_tests_use_the_default_tuning() {
+        assert_eq!(DegreeTuning::default(), T);
+    }
 
     fn seen(extrema: usize, extrema_cost: f64, count_gain: f64) -> CountsSeen<'static> {
         CountsSeen {
@@ -702,18 +713,21 @@ mod tests {
     fn the_wiggly_trigger_fires_at_six_extrema_after_the_other_two() {
         // fx79w470a at seed 0: 6 extrema, count gain 1.080, extrema cost 1
         assert_eq!(
-            seen(6, 1.0, 1.080).own_count_search(),
+            seen(6, 1.0, 1.080).own_count_search(&T),
             Some(OwnTrigger::Wiggly)
         );
         // hq17 at seeds 1, 3, 4: 5 extrema, nothing
-        assert_eq!(seen(WIGGLY_EXTREMA - 1, 1.0, 1.0).own_count_search(), None);
+        assert_eq!(
+            seen(T.wiggly_extrema - 1, 1.0, 1.0).own_count_search(&T),
+            None
+        );
         // the older triggers keep their searches
         assert_eq!(
-            seen(9, 2.0, 1.0).own_count_search(),
+            seen(9, 2.0, 1.0).own_count_search(&T),
             Some(OwnTrigger::ExtremaCost)
         );
         assert_eq!(
-            seen(9, 1.0, 0.7).own_count_search(),
+            seen(9, 1.0, 0.7).own_count_search(&T),
             Some(OwnTrigger::CountGain)
         );
     }
@@ -721,11 +735,11 @@ mod tests {
     #[test]
     fn wiggly_counts_are_one_above_the_baseline_within_a_quarter_of_the_points() {
         // fx79w470a: baseline 18, 94 points
-        assert_eq!(wiggly_counts(18, 94), 19..=19);
+        assert_eq!(wiggly_counts(18, 94, &T), 19..=19);
         // sc20714_noise1e-4: baseline 11, 205 points
-        assert_eq!(wiggly_counts(11, 205), 12..=12);
+        assert_eq!(wiggly_counts(11, 205, &T), 12..=12);
         // whitcomb (seed 1, 7 extrema): baseline 20 above splprep's 19, 73 points: none
-        assert!(wiggly_counts(20, 73).is_empty());
+        assert!(wiggly_counts(20, 73, &T).is_empty());
     }
 
     #[test]

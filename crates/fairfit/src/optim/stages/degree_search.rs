@@ -28,8 +28,9 @@
 //!   the reference's knots (open curves: `d − 3` fewer of them at the same count; periodic curves:
 //!   the same breakpoints, a periodic curve has as many spans as distinct control points);
 //! - a degree whose knot search misses the tolerance at that count is not finished; the others
-//!   get band fairing (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
-//!   [`CANDIDATE_POLISH_EVALUATIONS`] measurements);
+//!   get band fairing and the polish with capped budgets
+//!   ([`crate::optim::tuning::DegreeTuning::candidate_band_solves`],
+//!   [`crate::optim::tuning::DegreeTuning::candidate_polish_evaluations`]);
 //! - open curves: the first higher degree runs beside the reference's count search (rayon
 //!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
 //!   the cores the count search leaves idle (its serial band fairing and polish); periodic curves
@@ -41,7 +42,7 @@
 //!   knots and the raised pieces are joined, so one degree serves the whole curve.
 //!
 //! - open curves: when the reference's count choice was costly (its fewest-extrema rule kept a curve
-//!   at least [`super::degree_candidates::OWN_COUNT_SEARCH_COST`] times less fair than its fairest
+//!   at least [`crate::optim::tuning::DegreeTuning::own_count_search_cost`] times less fair than its fairest
 //!   candidate) or its extra points still paid (the count gain), the next degree also gets a
 //!   count search of its own, above the reference's count up to the least-squares baseline, or
 //!   one above it where the reference kept the baseline's count ([`super::degree_candidates`],
@@ -59,27 +60,12 @@
 //! order. Each step is thread-count independent, so the result is byte-identical for any number of
 //! threads.
 
-use super::count_search::EXTRA_POINT_GAIN;
 use crate::errors::Result;
 use crate::fair::curve_fairness;
 use crate::optim::kind::periodic::distinct_control_points;
 use crate::optim::options::IntegratedOptions;
 use crate::optim::result::{DegreeTrial, IntegratedResult};
-
-/// Band-fairing subproblems of a higher degree in the staged search (the reference gets
-/// [`IntegratedOptions::band_solves`]). A capped stage can only make a higher degree less fair, so
-/// the cap never puts a worse curve in place of the reference's; on the 33 benchmark curves 8 and 12
-/// keep the same degrees (rae2822, naca633418: the quartic; circular: the quintic), while
-/// FFA-W3-241's quartic took 26 subproblems (2.9 times the reference's whole band fairing and
-/// polish) without winning.
-pub const CANDIDATE_BAND_SOLVES: usize = 8;
-
-/// Polish measurements of a higher degree in the staged search (the reference gets
-/// [`IntegratedOptions::polish_evaluations`]). After band fairing the polish changes F by a few
-/// per cent at most: on the 33 benchmark curves 500 (and even none) keep the same degrees, and
-/// the quartic's full polish cost FFA-W3-211 and -241 about 0.2·10⁹ instructions each, a third of
-/// the quartic's work.
-pub const CANDIDATE_POLISH_EVALUATIONS: usize = 500;
+use crate::optim::tuning::{CountTuning, Tuning};
 
 /// One higher degree's attempt in the staged search: its fit (`None` when it could not be fitted
 /// within the tolerance at the reference's count) and the work spent on it.
@@ -99,13 +85,15 @@ pub(crate) fn keep_degree(
     reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
     opts: &IntegratedOptions,
+    tuning: &Tuning,
     attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
-    keep_degree_priced(reference, higher, opts, EXTRA_POINT_GAIN, attempt)
+    let point_gain = tuning.count.extra_point_gain;
+    keep_degree_priced(reference, higher, opts, point_gain, attempt)
 }
 
 /// [`keep_degree`] with `point_gain` per control point above the reference's in place of
-/// [`EXTRA_POINT_GAIN`] ([`choose_degree_priced`]).
+/// the count search's price per point ([`choose_degree_priced`]).
 pub(crate) fn keep_degree_priced(
     reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
@@ -150,9 +138,15 @@ fn trial_of(r: &IntegratedResult) -> DegreeTrial {
     }
 }
 
-/// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree).
+/// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree);
+/// every control point above the reference's is priced at the default
+/// [`CountTuning::extra_point_gain`].
 pub fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
-    choose_degree_priced(trials, fairness_gain, EXTRA_POINT_GAIN)
+    choose_degree_priced(
+        trials,
+        fairness_gain,
+        CountTuning::default().extra_point_gain,
+    )
 }
 
 /// [`choose_degree`] with `point_gain` in place of the count search's 5 % per control point above

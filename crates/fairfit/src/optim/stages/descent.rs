@@ -6,7 +6,7 @@
 //!
 //! The greedy removals are deterministic; the probes are not, and where a probe lands decides the
 //! knots of every count below it. So an open curve's descent is run a second time from where the
-//! first one ran its first probe, with the probes on other random streams ([`RESTART_SALT`]);
+//! first one ran its first probe, with the probes on other random streams ([`SECOND_DESCENT_SALT`]);
 //! its knots seed the count search's restart ([`super::count_search`]). With a fixed count the
 //! tolerance cannot reach, the least harmful removals (or the spread knots) are taken instead of
 //! probes.
@@ -18,7 +18,7 @@ use crate::optim::search::problem::CountProblem;
 use crate::optim::search::pso::run_pso;
 
 /// Added to the probes' salts on the second descent (an independent stream of the same seed).
-pub(crate) const RESTART_SALT: u64 = 3_000_017;
+pub(crate) const SECOND_DESCENT_SALT: u64 = 3_000_017;
 
 /// Where the descent starts and how it runs.
 #[derive(Clone, Debug)]
@@ -97,7 +97,7 @@ fn second_descent<K: CurveKind>(
         return Vec::new();
     };
     let mut down = Descent {
-        salt: RESTART_SALT,
+        salt: SECOND_DESCENT_SALT,
         ..Descent::new(n, knots)
     };
     descend(ctx, kind, &mut down, lowest, false, stats);
@@ -114,7 +114,7 @@ struct Descent {
     pub met: Vec<(usize, Vec<f64>)>,
     /// The count and knots the first probe started from (`None`: no probe yet).
     pub probe_start: Option<(usize, Vec<f64>)>,
-    /// Added to the probes' salts (0; another stream for the second descent, [`RESTART_SALT`]).
+    /// Added to the probes' salts (0; another stream for the second descent, [`SECOND_DESCENT_SALT`]).
     pub salt: u64,
 }
 
