@@ -8,8 +8,9 @@ use super::options::IntegratedOptions;
 use super::result::IntegratedResult;
 use super::search::prepare::Prepared;
 use super::stages::count_search::CountStart;
-use super::stages::degree_candidates::{self, CountsSeen};
+use super::stages::degree_candidates;
 use super::stages::descent::DescentInput;
+use super::stages::own_count_search::{self, CountsSeen};
 use super::stages::{baseline, count_search, descent, release_ends};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
@@ -63,7 +64,7 @@ pub(crate) fn fit(
         // a fixed count, or no extra points, leaves the next degree no counts of its own
         let seen = (fixed.is_none() && opts.max_extra_control_points > 0)
             .then(|| CountsSeen::of(&start_at, &choice));
-        result = degree_candidates::raise_open(&ctx, result, first, seen)?;
+        result = own_count_search::raise_open(&ctx, result, first, seen)?;
     }
     let mut result = release_ends::run(&ctx, result)?;
     let mut stats = ctx.into_stats();

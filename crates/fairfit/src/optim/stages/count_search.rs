@@ -1,58 +1,48 @@
-//! The last stage of the count search, shared by open ([`crate::optim::open`]) and periodic
-//! ([`crate::optim::closed`]) curves: full knot searches at the smallest feasible count `n` and at up to
+//! The count search: full knot searches at the smallest feasible count `n` and at up to
 //! `max_extra_control_points` more, each candidate finished in full (band fairing, polish), and
-//! the count chosen on the **finished** curves' F and curvature extrema.
+//! the count chosen on the **finished** curves' F and curvature extrema. Shared by open and
+//! periodic curves ([`CurveKind`]).
 //!
-//! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the descent
-//! met at that count and the spread knots of `CurveKind::spread_knots`) is followed by the
-//! smoothing line search ([`tune_smoothing`]). At every count above `n` two such searches run, in
-//! effect two restarts of the same search (finished F 10-40 % apart at one count, either one
-//! better, and the swarm F does not tell which):
+//! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the
+//! descent met at that count and the kind's spread knots) is followed by the smoothing line
+//! search ([`tune_smoothing`]). At every count above `n` two such searches run, in effect two
+//! restarts of the same search:
 //!
 //! - the *chain*: seeded with the previous count's best knots with one knot inserted
-//!   (`CurveKind::insertion`), so it runs after it;
+//!   ([`CurveKind::insertion`]), so it runs after it;
 //! - the *independent* search: seeded with the descent's knots at that count (what
 //!   `--control-points` at that count starts from), so it runs in parallel with the chain.
 //!
 //! Both searches at an extra count are candidates (one when they end at the same knots and
-//! smoothing) while the better swarm F of the two is `WEAK_STEP_GAIN` below the best swarm F at
-//! the count below (`candidate_draws`; naca633418: the chain's swarm F at 13 points is the lower,
-//! its finished F 0.513 x splprep's, the independent search's 0.480 x).
-//! Extra counts stop at `limit` (never more than the least-squares baseline), at the first count
-//! where neither search meets the tolerance, and are skipped with a fixed count
-//! ([`crate::optim::IntegratedOptions::control_points`]). Every search's `(count, swarm F)` is recorded in
-//! [`OptimStats::fairness_by_count`].
+//! smoothing) while the better swarm F of the two is a clear step below the best swarm F at the
+//! count below ([`CountTuning::weak_step_gain`]). Extra counts stop at `limit` (never more than
+//! the least-squares baseline), at the first count where neither search meets the tolerance, and
+//! are skipped with a fixed count ([`crate::optim::IntegratedOptions::control_points`]). Every
+//! search's `(count, swarm F)` is recorded in [`OptimStats::fairness_by_count`].
 //!
 //! **Why the finished F.** The swarm minimises F of the least-squares-with-smoothing curve; band
-//! fairing ([`crate::optim::band_fairing`]) and the polish then lower F by 10-80 %, by very different
-//! amounts at different knots, so the swarm's F ranks counts wrongly where it matters
-//! (du06-w-200-selig: swarm F 0.586 of splprep's at 12 points, 0.567 at 13, finished 0.503 and
-//! 0.475; hq17: swarm 0.44 at 13, 0.48 at 15, finished 0.56 and 0.26). A short band fairing does
-//! not rank them either: SNL-FFA-W3-500's F at 13 points is 3.5e7 after 3 subproblems, 3.1e7 at
-//! the end of band fairing and 6.1e6 after the polish. So every candidate is finished, in
-//! parallel (one serial band fairing per candidate; two or three candidates on most curves).
+//! fairing and the polish then lower F by very different amounts at different knots, so the
+//! swarm's F ranks counts wrongly where it matters, and a short band fairing does not rank them
+//! either. So every candidate is finished, in parallel (one serial band fairing per candidate).
 //!
 //! **Rule** (`choose_count`), on the finished curves (F as [`curve_fairness`] measures it,
-//! infinite when the tolerance or `F*` is missed; its curvature extrema, counted as the benchmark's
-//! measurer counts them at [`crate::fair::extrema::SAMPLES_PER_SPAN`] samples per span, which finds
-//! shallow wiggles 32 samples step over, e.g. naca633418 at 12 points: 3 against 1): the fewest curvature extrema first, then the
-//! lowest `F · EXTRA_POINT_GAIN^extra` (`extra` points above the smallest count; ties: the fewer
-//! points), so an added point must buy `EXTRA_POINT_GAIN` and may not add a wiggle.
+//! infinite when the tolerance or `F*` is missed; its curvature extrema, counted as the
+//! benchmark's measurer counts them at [`crate::fair::extrema::SAMPLES_PER_SPAN`] samples per
+//! span): the fewest curvature extrema first, then the lowest `F · gain^extra` (`extra` points
+//! above the smallest count, `gain` = [`CountTuning::extra_point_gain`]; ties: the fewer points),
+//! so an added point must buy that factor and may not add a wiggle.
 //!
-//! **Restart** (seed robustness). The searches stay near their seeds, and on an open curve the seeds
-//! below the first probe of the count descent depend on where that probe landed, i.e. on `--seed`:
-//! on main before the restart, quick targets over seeds 0-5 missed the curvature-extrema target at
-//! seed 2 (whitcomb 9 against splprep's 8, du84132v_noise1e-4 6 against 4, FFA-W3-270blend 5
-//! against 3) and seed 3 (whitcomb 9, FFA-W3-241 3 against 2). After the count is chosen, one more
-//! full search runs at the chosen count (another random stream, `RESTART_SALT`) and is finished as a candidate
-//! of the same rule: seeded with a second descent's knots at that count
-//! (`super::descent`, probes on other streams; `CountStart::alt`) when they
-//! differ from the first descent's, else with the first descent's knots on the other stream
-//! (periodic curves, and descents of greedy removals only). With it the extrema target holds at
-//! all six seeds (docs/optim.md, session 9).
+//! **Restart** (seed robustness). The searches stay near their seeds, and on an open curve the
+//! seeds below the first probe of the count descent depend on where that probe landed, i.e. on
+//! `--seed`. When the chosen curve has at least [`CountTuning::restart_min_extrema`] curvature
+//! extrema, one more full search runs at the chosen count (another random stream) and is
+//! finished as a candidate of the same rule: seeded with the second descent's knots at that count
+//! (`CountStart::alt`, [`super::descent`]) when they differ from the first descent's, else with
+//! the first descent's knots on the other stream.
 //!
-//! Only the problem type differs between open and periodic curves: `CountProblem` is the knot
-//! search at one count, `CurveKind` makes it for any count.
+//! The choice is reported to the degree search as a [`CountChoice`] (extrema cost, count gain,
+//! extrema), from which the next degree's own count search is triggered
+//! ([`super::degree_candidates`]).
 
 use crate::errors::{Error, Result};
 use crate::fair::metrics::curve_fairness;

@@ -3,62 +3,44 @@
 //! [`IntegratedOptions::degree`] (the cubic), higher degrees up to `max_degree` are tried, and one
 //! result is kept by [`choose_degree`]:
 //!
-//! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the result
-//!    has no more curvature extrema than the reference's (the extrema count is never traded for F);
-//!    its control points are the reference's count or fewer, except after the next degree's own
-//!    count search ([`super::degree_candidates`], "Own count search"), which may go up to the
-//!    least-squares baseline (one above it where the reference kept the baseline's count, or
-//!    after the wiggly trigger);
-//! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) ·
-//!    EXTRA_POINT_GAIN^extra` wins (`extra`: control points above the reference's; ties: the lower
-//!    degree). A higher degree must buy the same factor [`IntegratedOptions::fairness_gain`] per
-//!    degree step that an added control point must buy in the count search, so the degree does not
-//!    change for F differences of a few per cent (the swarm's own noise), and every control point
-//!    it adds must buy the count search's 5 % ([`super::count_search`]; none after the wiggly
-//!    trigger's search above the baseline, [`super::degree_candidates`], "Wiggly curves");
-//! 3. when the reference misses the tolerance and another degree meets it, the fewest control points
-//!    among those meeting it, then the lowest F, wins; when none meets it, the reference is returned
-//!    (its miss is reported as usual).
+//! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the
+//!    result has no more curvature extrema than the reference's (the extrema count is never traded
+//!    for F); its control points are the reference's count or fewer, except after the next
+//!    degree's own count search ([`super::degree_candidates`]);
+//! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) · point_gain^extra`
+//!    wins (`extra`: control points above the reference's; ties: the lower degree). A higher
+//!    degree must buy the factor [`IntegratedOptions::fairness_gain`] per degree step, so the
+//!    degree does not change for F differences of a few per cent (the swarm's own noise), and
+//!    every control point it adds the count search's price
+//!    ([`crate::optim::tuning::CountTuning::extra_point_gain`]; none after the wiggly trigger's
+//!    search above the baseline);
+//! 3. when the reference misses the tolerance and another degree meets it, the fewest control
+//!    points among those meeting it, then the lowest F, wins; when none meets it, the reference is
+//!    returned (its miss is reported as usual).
 //!
 //! **Staged search**: only the reference runs the count search ([`super::count_search`]); its
 //! control-point count and knots are then the start of every higher degree
 //! ([`super::degree_candidates`]):
 //!
 //! - degree `d` keeps the reference's count; its knots come from a short knot search seeded with
-//!   the reference's knots (open curves: `d − 3` fewer of them at the same count; periodic curves:
-//!   the same breakpoints, a periodic curve has as many spans as distinct control points);
+//!   the reference's knots;
 //! - a degree whose knot search misses the tolerance at that count is not finished; the others
 //!   get band fairing and the polish with capped budgets
 //!   ([`crate::optim::tuning::DegreeTuning::candidate_band_solves`],
 //!   [`crate::optim::tuning::DegreeTuning::candidate_polish_evaluations`]);
 //! - open curves: the first higher degree runs beside the reference's count search (rayon
 //!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
-//!   the cores the count search leaves idle (its serial band fairing and polish); periodic curves
-//!   and pieces between corners start from the reference's finished fit;
-//! - a degree higher still is tried only when the one below it won (on the 33 benchmark curves
-//!   the quintic beat the cubic only where the quartic did), from the reference's finished knots;
-//! - data with corners: the pieces between corners are fitted at the reference degree and joined
-//!   ([`crate::optim::cornered`]); for a higher degree every piece is raised at its own count from its own
-//!   knots and the raised pieces are joined, so one degree serves the whole curve.
-//!
-//! - open curves: when the reference's count choice was costly (its fewest-extrema rule kept a curve
-//!   at least [`crate::optim::tuning::DegreeTuning::own_count_search_cost`] times less fair than its fairest
-//!   candidate) or its extra points still paid (the count gain), the next degree also gets a
-//!   count search of its own, above the reference's count up to the least-squares baseline, or
-//!   one above it where the reference kept the baseline's count ([`super::degree_candidates`],
-//!   "Own count search"); when the reference keeps at least 6 curvature extrema, the count one
-//!   above the baseline ("Wiggly curves").
-//!
-//! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
-//! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:
-//! 17) at a geometric-mean F ratio of 0.360 (0.366), see docs/optim.md.
+//!   the cores the count search leaves idle; periodic curves and pieces between corners start
+//!   from the reference's finished fit;
+//! - a degree higher still is tried only when the one below it won;
+//! - data with corners: for a higher degree every piece is raised at its own count from its own
+//!   knots and the raised pieces are joined, so one degree serves the whole curve
+//!   ([`crate::optim::cornered`]).
 //!
 //! `F` and the curvature extrema are measured on the returned curves by
-//! [`crate::fair::curve_fairness`] (the report's numbers; the extrema at 192 samples per span with
-//! the benchmark measurer's noise floor, so the rule never admits a wiggle the measurer counts).
-//! Every finished degree is recorded in [`crate::optim::OptimStats::degrees_tried`] in degree
-//! order. Each step is thread-count independent, so the result is byte-identical for any number of
-//! threads.
+//! [`crate::fair::curve_fairness`] (the report's numbers). Every finished degree is recorded in
+//! [`crate::optim::OptimStats::degrees_tried`] in degree order. Each step is thread-count
+//! independent, so the result is byte-identical for any number of threads.
 
 use crate::errors::Result;
 use crate::fair::curve_fairness;

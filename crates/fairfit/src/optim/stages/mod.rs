@@ -7,4 +7,5 @@ pub mod count_search;
 pub mod degree_candidates;
 pub mod degree_search;
 pub mod descent;
+pub mod own_count_search;
 pub mod release_ends;

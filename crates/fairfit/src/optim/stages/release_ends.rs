@@ -1,32 +1,24 @@
-//! The last band fairing pass on the chosen open curve, with the requested end condition.
+//! The release-ends stage: the last band fairing pass on the chosen open curve, with the
+//! requested end condition.
 //!
 //! With pinned ends (the default) it is one more pass of the pinned finishing stages on the curve
 //! the count and degree choice kept: those stages ran on every candidate with the budgets of the
-//! search, and a pass on the winner alone still lowers `F` where the first passes stalled
-//! (session 11, seed 0: sc20714_noise1e-4 1.071 → 0.814 × splprep's `F`, clarky 0.621 → 0.614,
-//! naca23015 0.580 → 0.574; 26 of the 33 benchmark curves keep their curve byte for byte; +3 % to +9 %
-//! instructions at one thread on the 200-point curves).
+//! search, and a pass on the winner alone still lowers `F` where the first passes stalled.
 //!
 //! Free end points ([`EndCondition::Free`]): the integrated method runs as with pinned ends (the
-//! knot and count search, the finishing stages, the degree choice), then the chosen open curve gets
-//! one more band fairing pass with its end points released: every control point moves, each data
-//! end point held within the tolerance of the curve's end point ([`super::control_map`]), followed
-//! by a polish with free ends and a pass holding the extrema pattern ([`HOLD_PERSISTENCE`]).
+//! knot and count search, the finishing stages, the degree choice), then the chosen open curve
+//! gets one more band fairing pass with its end points released: every control point moves, each
+//! data end point held within the tolerance of the curve's end point
+//! ([`crate::optim::control_map`]), followed by a polish with free ends and a pass holding the
+//! extrema pattern ([`HOLD_PERSISTENCE`]).
 //!
 //! The pass is kept only when it lowers `F` with no new curvature extrema (by the passes' guard,
 //! then by the reports' sampled and exact counts: `more_extrema`) and every point within the
-//! tolerance ([`refair`]), so the free-ended result has the pinned result's knots, count and
-//! degree and is never less fair. Two other designs ended less fair on some of the 33 benchmark
-//! curves: every finishing stage free from the start took other paths through the sequential
-//! convex programs (9 curves at seed 0, whitcomb 0.527 → 0.566 × splprep's `F`); the pinned stages
-//! followed by the free pass on every finished candidate changed the count or degree choice on 8
-//! of the 144 open (curve, seed 0-5) pairs, 7 of them to fewer control points or curvature extrema
-//! but a higher `F` (fx79w470a seed 5 0.559 → 0.652 with 7 extrema instead of 9).
-//!
-//! The gain is where the data end at high curvature: the quarter ellipse's vertex
-//! (`quarter_ellipse_200` 0.813 → 0.716 × splprep's `F`; the band optimum of
-//! `bench/band_optimum.py` at the same knots is 0.787 pinned, 0.690 free), FFA-W3-360
-//! 0.619 → 0.587, fx79w470a 0.571 → 0.542; at an airfoil's trailing edge it is worth little.
+//! tolerance ([`refair`]), so the result has the pinned result's knots, count and degree and is
+//! never less fair. Releasing the ends after the choice (rather than in every finishing stage, or
+//! on every candidate) keeps the count and degree choice of the pinned curves. Not applicable to
+//! closed curves (no end points); the pieces between corners keep theirs pinned (they are joined
+//! there).
 
 use crate::diffgeo::CurveProjector;
 use crate::errors::Result;
