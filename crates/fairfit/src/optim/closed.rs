@@ -8,7 +8,7 @@
 //!   with its two neighbours on the loop), the loop is cut at its first corner and fitted as open
 //!   data from that corner back to it ([`super::cornered`], the other corners kept as C0 knots):
 //!   the result is a clamped curve whose two ends meet at the corner;
-//! - without corners, the curve is **periodic** ([`super::kind::periodic`]) and fitted by the open
+//! - without corners, the curve is **periodic** (`kind::periodic`) and fitted by the open
 //!   pipeline's stages on the periodic kind: the least-squares baseline, the count descent
 //!   (greedy removals and swarm probes, no second descent), the count search, and the degree
 //!   search from the chosen curve. `--control-points N` fixes `n_u = N` distinct control points.

@@ -2,37 +2,51 @@
 //!
 //! [`fit_integrated`] searches the knot vector by particle swarm optimisation so that the curve
 //! stays within the tolerance of the data while its fairness `F` (and the worst span's `F_j`) is
-//! as small as possible, with the fewest control points that allow it. It sends the data to one
-//! of three pipelines ([`pipeline`]): closed data to [`closed`], data with corners to
-//! [`cornered`], and everything else to the open pipeline ([`open`]), which runs these stages in
-//! order:
+//! as small as possible, with the fewest control points that allow it.
 //!
-//! 1. **least-squares baseline** ([`stages::baseline`]): the fewest control points the
-//!    least-squares method's knots need to meet the tolerance; no count above it is tried;
-//! 2. **count descent** ([`stages::descent`]): one control point fewer at a time, by the best
-//!    single-knot removal or a short swarm probe, while the tolerance can be met; a second
-//!    descent on other random streams seeds the count search's restart;
-//! 3. **count search** ([`stages::count_search`]): full swarm searches at the smallest feasible
-//!    count and at extra counts, every candidate finished (band fairing, polish) and the count
-//!    chosen on the finished curves; beside it, the next degree's first candidate
-//!    ([`stages::degree_candidates`]);
-//! 4. **degree search** ([`stages::degree_search`], [`stages::degree_candidates`]): the higher
-//!    degrees from the chosen count's knots, one degree kept;
-//! 5. **release ends** ([`stages::release_ends`]): one more fairing pass on the chosen curve with
-//!    the requested end condition.
+//! # Pipelines
 //!
-//! The closed pipeline runs stages 1-4 on the periodic curve kind; the cornered pipeline runs the
-//! open pipeline on every piece between corners and joins them C0 ([`corners`]). The stages are
-//! written once against the curve kind ([`kind`]: open, periodic) on the search layer
-//! ([`search`]: swarm, objectives, encoding); the fairing stages finish a knot vector's control
-//! points inside the tolerance band ([`band_fairing`], [`polish`], [`periodic_fairing`] with
-//! [`band_qp`], [`cone_ipm`], [`cone_algebra`], [`curvature_signs`], [`control_map`]). Every
-//! stage reads one context ([`context`]: data, tolerance, options, [`tuning`], progress,
-//! statistics). The `--pareto` fronts are in [`pareto`].
+//! [`pipeline`] (`pipeline.rs`) validates the options and sends the data to one pipeline; none
+//! calls back into it:
 //!
-//! Layers, bottom to top (a module imports only from its own layer or below): [`options`],
-//! [`result`]; [`search`]; fairing; [`tuning`], [`context`]; [`kind`]; [`stages`]; the
-//! pipelines ([`open`], [`cornered`], [`closed`], [`pipeline`]), [`corners`] and [`pareto`].
+//! - closed data → [`closed`] (`closed.rs`): periodic without corners, else cut at the first
+//!   corner and fitted as open data;
+//! - open data → [`cornered`] (`cornered.rs`): with corners, every piece between them by the open
+//!   pipeline, a shared budget for a fixed count, the pieces joined C0 ([`corners`]); without
+//!   corners, the open pipeline;
+//! - [`open`] (`open.rs`), the open pipeline, runs these stages in order:
+//!
+//! 1. **least-squares baseline** — [`stages::baseline`] (`stages/baseline.rs`): the fewest
+//!    control points the least-squares knots need to meet the tolerance, and the descent's start;
+//! 2. **count descent** — [`stages::descent`] (`stages/descent.rs`): one control point fewer at a
+//!    time while the tolerance can be met, then a second descent on other random streams;
+//! 3. **count search** — [`stages::count_search`] (`stages/count_search.rs`): full searches at
+//!    the smallest feasible count and above, every candidate finished, the count chosen on the
+//!    finished curves; beside it the next degree's first candidate,
+//!    [`stages::degree_candidates`] (`stages/degree_candidates.rs`);
+//! 4. **degree search** — [`stages::own_count_search`] (`stages/own_count_search.rs`: the next
+//!    degree's own count search when a trigger fires) and [`stages::degree_search`]
+//!    (`stages/degree_search.rs`: the rule that keeps one degree);
+//! 5. **release ends** — [`stages::release_ends`] (`stages/release_ends.rs`): the last fairing
+//!    pass with the requested end condition.
+//!
+//! The closed pipeline runs stages 1-4 on the periodic kind. The `--pareto` fronts are in
+//! [`pareto`] (`pareto/`).
+//!
+//! # Layers
+//!
+//! Bottom to top; a module imports only from its own layer or below:
+//!
+//! 1. [`search`] (`search/`): the swarm, the per-candidate objectives, the knot encoding;
+//! 2. fairing: finishing a knot vector's control points inside the tolerance band
+//!    ([`band_fairing`], [`band_qp`], [`cone_ipm`], [`cone_algebra`], [`curvature_signs`],
+//!    [`control_map`], [`polish`], [`periodic_fairing`]);
+//! 3. [`options`] (`options.rs`), [`result`] (`result.rs`); [`tuning`] (`tuning.rs`: every
+//!    measured threshold of the policy), `context.rs` (the context every stage reads);
+//! 4. [`kind`] (`kind/`): the curve kinds, open and periodic, behind one trait;
+//! 5. [`stages`] (`stages/`): the stages above, written once against the curve kind;
+//! 6. the pipelines ([`open`] < [`cornered`] < [`closed`] < [`pipeline`]), [`corners`], and
+//!    [`pareto`].
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]

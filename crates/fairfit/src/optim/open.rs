@@ -1,5 +1,5 @@
 //! The open-curve pipeline: the integrated method on open data without corners, as named stages
-//! ([`super::stages`]) on the open curve kind ([`OpenKind`]).
+//! ([`super::stages`]) on the open curve kind (`OpenKind`).
 
 use super::context::FitContext;
 use super::control_map::EndCondition;

@@ -1,5 +1,5 @@
-//! The curve kinds: what differs between an open curve ([`open`]) and a periodic closed curve
-//! ([`periodic`]) is behind one trait, [`CurveKind`]; the stages above
+//! The curve kinds: what differs between an open curve (`open`) and a periodic closed curve
+//! (`periodic`) is behind one trait, `CurveKind`; the stages above
 //! ([`super::stages`]) are written once against it.
 //!
 //! A kind knows, for one prepared data set and tolerance: the least-squares baseline it starts

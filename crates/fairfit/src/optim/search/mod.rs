@@ -5,7 +5,7 @@
 //! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
 //! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
 //! - [`problem`]: the open knot search as a swarm problem (feasibility-first ε-constraint
-//!   fitness), and [`problem::CountProblem`], the knot search at one count of either kind;
+//!   fitness), and `problem::CountProblem`, the knot search at one count of either kind;
 //! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
 //! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
 //! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;

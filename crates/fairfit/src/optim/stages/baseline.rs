@@ -1,6 +1,6 @@
 //! The least-squares baseline: the fewest control points the kind's least-squares knots need to
-//! meet the tolerance ([`CurveKind::baseline`]), which bounds every count the method tries, and
-//! the count and knots the count descent starts from ([`CurveKind::start`]: the baseline's, or a
+//! meet the tolerance (`CurveKind::baseline`), which bounds every count the method tries, and
+//! the count and knots the count descent starts from (`CurveKind::start`: the baseline's, or a
 //! fixed count above it with knots inserted where they help most).
 
 use crate::optim::context::FitContext;

@@ -1,7 +1,7 @@
 //! The count search: full knot searches at the smallest feasible count `n` and at up to
 //! `max_extra_control_points` more, each candidate finished in full (band fairing, polish), and
 //! the count chosen on the **finished** curves' F and curvature extrema. Shared by open and
-//! periodic curves ([`CurveKind`]).
+//! periodic curves (`CurveKind`).
 //!
 //! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the
 //! descent met at that count and the kind's spread knots) is followed by the smoothing line
@@ -9,7 +9,7 @@
 //! restarts of the same search:
 //!
 //! - the *chain*: seeded with the previous count's best knots with one knot inserted
-//!   ([`CurveKind::insertion`]), so it runs after it;
+//!   (`CurveKind::insertion`), so it runs after it;
 //! - the *independent* search: seeded with the descent's knots at that count (what
 //!   `--control-points` at that count starts from), so it runs in parallel with the chain.
 //!
@@ -40,7 +40,7 @@
 //! (`CountStart::alt`, [`super::descent`]) when they differ from the first descent's, else with
 //! the first descent's knots on the other stream.
 //!
-//! The choice is reported to the degree search as a [`CountChoice`] (extrema cost, count gain,
+//! The choice is reported to the degree search as a `CountChoice` (extrema cost, count gain,
 //! extrema), from which the next degree's own count search is triggered
 //! ([`super::degree_candidates`]).
 

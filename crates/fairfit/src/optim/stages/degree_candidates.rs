@@ -1,7 +1,7 @@
 //! The higher degrees of the staged degree search ([`super::degree_search`]): every higher degree
 //! keeps a control-point count of the reference degree's and starts from its knots (open curves:
 //! the first higher degree from the count descent's knots at the smallest feasible count, beside
-//! the count search, [`first_beside`]; otherwise the reference's finished fit).
+//! the count search, `first_beside`; otherwise the reference's finished fit).
 //!
 //! - **Open curves**: degree `d` at `n` control points has `n − d − 1` interior knots, `d − p`
 //!   fewer than the reference's. Seeds: the reference's knots averaged over windows of `d − p + 1`
@@ -17,7 +17,7 @@
 //! finished with capped budgets ([`DegreeTuning::candidate_band_solves`],
 //! [`DegreeTuning::candidate_polish_evaluations`]).
 //!
-//! **Own count search** (open curves, `raise_open` with [`CountsSeen`]). The next degree `p + 1`
+//! **Own count search** (open curves, `raise_open` with `CountsSeen`). The next degree `p + 1`
 //! gets a count search of its own when one of three triggers fires on the reference's count
 //! choice (`CountsSeen::own_count_search`, in this order):
 //!

@@ -6,7 +6,7 @@
 //!
 //! The greedy removals are deterministic; the probes are not, and where a probe lands decides the
 //! knots of every count below it. So an open curve's descent is run a second time from where the
-//! first one ran its first probe, with the probes on other random streams ([`SECOND_DESCENT_SALT`]);
+//! first one ran its first probe, with the probes on other random streams (`SECOND_DESCENT_SALT`);
 //! its knots seed the count search's restart ([`super::count_search`]). With a fixed count the
 //! tolerance cannot reach, the least harmful removals (or the spread knots) are taken instead of
 //! probes.

@@ -1,5 +1,5 @@
 //! The stages of the pipelines, in pipeline order; each takes the fit's context
-//! ([`crate::optim::context::FitContext`]), a curve kind ([`crate::optim::kind::CurveKind`]) where
+//! (`crate::optim::context::FitContext`), a curve kind (`crate::optim::kind::CurveKind`) where
 //! the stage is shared by open and periodic curves, and an input, and returns an output.
 
 pub mod baseline;

@@ -1,6 +1,6 @@
 //! The degree search of open data after the reference's count search, with the next degree's
 //! own count search ([`super::degree_candidates`], module doc "Own count search"): which trigger
-//! fires on the reference's count choice ([`CountsSeen`]), the counts it searches, and the
+//! fires on the reference's count choice (`CountsSeen`), the counts it searches, and the
 //! search itself; the degree is then kept by [`super::degree_search`]'s rule.
 
 use super::count_search::{choose_count, rank_fit, CountChoice, CountStart, Ranked};
