@@ -145,6 +145,7 @@ pub(crate) fn open_attempt(
 /// Degree `d` of an open curve at the count of the reference's `interior` knots (degree `p`), by
 /// the short knot search from the seeds of the module doc (`iterations` swarm iterations: 0, or
 /// the full search's in the own count search); `None` when the degree cannot have that count here.
+#[allow(clippy::too_many_arguments)]
 fn open_candidate(
     q: &Prepared,
     p: usize,
