@@ -1,4 +1,4 @@
-//! Corners with a fixed control-point count (`fairfit::optim::corner_fit`): the joined count is
+//! Corners with a fixed control-point count (`fairfit::optim::cornered`): the joined count is
 //! shared among the pieces between corners.
 
 use fairfit::fit::tolerance::ClosedMode;
