@@ -9,7 +9,7 @@
 //! filter, e.g. `-- integrated/SNL`).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, SamplingMode};
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions};
+use fairfit::optim::{fit_integrated, IntegratedOptions};
 use std::time::Duration;
 
 #[path = "common/curves.rs"]

@@ -4,7 +4,7 @@
 //! Gauss rule), and every data point lies within the tolerance by brute force.
 
 use fairfit::fair::curve_fairness;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::NurbsCurve;
 
 #[path = "common/example_data.rs"]

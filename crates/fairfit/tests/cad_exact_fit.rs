@@ -9,7 +9,7 @@ use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
 use fairfit::fit::sampling::sample_chain_params;
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
 use fairfit::io::cad_read::read_cad_chain;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance as IntTolerance};
+use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance as IntTolerance};
 use fairfit::{NurbsCurve, Vec3};
 use std::path::{Path, PathBuf};
 

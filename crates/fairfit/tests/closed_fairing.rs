@@ -11,8 +11,8 @@
 
 use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
-use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
+use fairfit::optim::distinct_control_points;
+use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
 
 #[path = "common/sampled.rs"]

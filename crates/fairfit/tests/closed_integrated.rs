@@ -3,10 +3,10 @@
 
 use fairfit::fair::curve_fairness;
 use fairfit::fit::tolerance::{fit_to_tolerance, ClosedMode, FitOptions};
-use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
-use fairfit::optim::periodic::{evaluate_closed, ClosedData, ClosedWorkspace};
-use fairfit::optim::prepare::prepare;
+use fairfit::optim::distinct_control_points;
+use fairfit::optim::search::periodic::{evaluate_closed, ClosedData, ClosedWorkspace};
+use fairfit::optim::search::prepare::prepare;
+use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
 
 #[path = "common/sampled.rs"]

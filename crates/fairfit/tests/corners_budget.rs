@@ -1,9 +1,9 @@
-//! Corners with a fixed control-point count (`fairfit::optim::corner_fit`): the joined count is
+//! Corners with a fixed control-point count (`fairfit::optim::cornered`): the joined count is
 //! shared among the pieces between corners.
 
 use fairfit::fit::tolerance::ClosedMode;
-use fairfit::optim::corner_fit::share_budget;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+use fairfit::optim::cornered::share_budget;
+use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
 
 #[path = "common/sampled.rs"]
@@ -140,7 +140,7 @@ fn blunt_trailing_edge_with_a_fixed_count_keeps_its_corners_and_the_tolerance() 
 
 #[test]
 fn pareto_front_of_a_blunt_trailing_edge_keeps_its_corner_and_is_monotone() {
-    use fairfit::optim::pareto_joined::pareto_front_of_result;
+    use fairfit::optim::pareto::pareto_front_of_result;
     let pts = read_csv("fx77w343.csv");
     let r = fit_integrated(&pts, &opts()).unwrap();
     let front = pareto_front_of_result(&pts, &opts(), &r).unwrap();

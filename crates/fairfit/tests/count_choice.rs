@@ -3,7 +3,7 @@
 //! against scipy splprep's numbers from the benchmark's independent measurer.
 
 use fairfit::fair::{count_extrema_sampled, curve_fairness, CurveFairness, ExtremaCounts};
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
+use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
 use fairfit::Vec3;
 
 #[path = "common/example_data.rs"]

@@ -1,13 +1,13 @@
-//! The degree search of the integrated method (`fairfit::optim::degree_search`,
+//! The degree search of the integrated method (`fairfit::optim::stages::degree_search`,
 //! `IntegratedOptions::max_degree`): on a sampled circle (exact `dκ/ds = 0`) a higher degree is kept
 //! and is far fairer than the cubic; on shared airfoils the choice never costs curvature extrema
 //! against a separate cubic fit (nor control points where the staged search alone runs).
 
 use fairfit::fair::curve_fairness;
 use fairfit::io::read_points;
-use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::degree_search::choose_degree;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+use fairfit::optim::distinct_control_points;
+use fairfit::optim::stages::degree_search::choose_degree;
+use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::Vec3;
 
 #[path = "common/degree_auto.rs"]

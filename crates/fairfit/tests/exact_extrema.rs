@@ -7,7 +7,7 @@ use fairfit::fair::exact_extrema::{
     count_extrema_exact, extremum_boundaries, sign_intervals, SignInterval,
 };
 use fairfit::fair::{count_extrema, count_extrema_sampled};
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
 
 #[path = "common/example_data.rs"]

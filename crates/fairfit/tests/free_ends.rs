@@ -5,7 +5,7 @@
 //! same knots when the data are scaled by 1000.
 
 use fairfit::fair::curve_fairness;
-use fairfit::optim::integrated::{
+use fairfit::optim::{
     fit_integrated, EndCondition, IntegratedOptions, IntegratedResult, Tolerance,
 };
 use fairfit::{NurbsCurve, Vec3};

@@ -1,5 +1,5 @@
 //! The count-gain trigger of the next degree's own count search
-//! (`fairfit::optim::degree_candidates`, module doc "Own count search"): when the cubic's kept
+//! (`fairfit::optim::stages::degree_candidates`, module doc "Own count search"): when the cubic's kept
 //! curve has the highest of its finished counts and its F is at most `STEEP_COUNT_GAIN` (0.8) of
 //! the fairest F at the smallest count, extra points were still paying where the cubic's count
 //! search stopped, and the quartic searches every count above the cubic's up to the least-squares
@@ -9,9 +9,9 @@
 //! its 4 curvature extrema.
 
 use fairfit::fair::curve_fairness;
-use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::degree_candidates::STEEP_COUNT_GAIN;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions};
+use fairfit::optim::distinct_control_points;
+use fairfit::optim::Tuning;
+use fairfit::optim::{fit_integrated, IntegratedOptions};
 
 #[path = "common/degree_auto.rs"]
 mod degree_auto;
@@ -31,7 +31,7 @@ const SPLPREP: (f64, usize, usize) = (2.789_158_5e6, 13, 4);
 
 #[test]
 fn clarky_gets_a_quartic_at_more_points_below_half_of_splpreps_fairness() {
-    assert_eq!(STEEP_COUNT_GAIN, 0.8);
+    assert_eq!(Tuning::default().degree.steep_count_gain, 0.8);
     let pts = read_csv("clarky.csv");
     let r = fit_integrated(&pts, &auto()).unwrap();
     assert!(r.met);

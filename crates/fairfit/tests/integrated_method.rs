@@ -2,7 +2,7 @@
 //! least-squares baseline with the same number of control points, exact scale invariance, and
 //! thread-count independent results.
 
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, Tolerance};
+use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::Vec3;
 
 #[path = "common/example_data.rs"]
@@ -72,7 +72,7 @@ fn at_the_least_squares_count_the_integrated_curve_is_fairer_and_within_toleranc
     }
 }
 
-fn curve_bits(r: &fairfit::optim::integrated::IntegratedResult) -> Vec<u64> {
+fn curve_bits(r: &fairfit::optim::IntegratedResult) -> Vec<u64> {
     let c = &r.curve;
     c.knots()
         .iter()
@@ -113,7 +113,7 @@ fn scaling_the_input_by_1000_gives_the_same_knots_and_count() {
         fit_integrated(&big, &opts()).unwrap(),
     );
     assert_eq!(a.curve.n_control_points(), b.curve.n_control_points());
-    let bits = |r: &fairfit::optim::integrated::IntegratedResult| {
+    let bits = |r: &fairfit::optim::IntegratedResult| {
         r.curve
             .knots()
             .iter()

@@ -1,5 +1,5 @@
 //! The next degree's own count search in the degree search of the integrated method
-//! (`fairfit::optim::degree_candidates`, module doc "Own count search"): when the cubic's count
+//! (`fairfit::optim::stages::degree_candidates`, module doc "Own count search"): when the cubic's count
 //! choice kept a curve at least `OWN_COUNT_SEARCH_COST` times less fair than its fairest candidate
 //! (the fewest-extrema rule at work), the quartic searches every count up to the least-squares
 //! baseline. On hq17 (shared airfoil, seed 0) the cubic keeps 13 points with 3 curvature extrema
@@ -7,8 +7,8 @@
 //! with 3 extrema at less than half the cubic's F.
 
 use fairfit::fair::curve_fairness;
-use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions};
+use fairfit::optim::distinct_control_points;
+use fairfit::optim::{fit_integrated, IntegratedOptions};
 
 #[path = "common/degree_auto.rs"]
 mod degree_auto;

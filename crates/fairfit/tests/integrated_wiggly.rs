@@ -1,5 +1,5 @@
 //! The wiggly trigger of the next degree's own count search
-//! (`fairfit::optim::degree_candidates`, module doc "Wiggly curves"): when the cubic's kept curve
+//! (`fairfit::optim::stages::degree_candidates`, module doc "Wiggly curves"): when the cubic's kept curve
 //! has at least `WIGGLY_EXTREMA` (6) curvature extrema, the quartic also searches one count above
 //! the least-squares baseline (never more than a quarter of the data points), seeded from the
 //! cubic's baseline knots with the best knot insertion, and the degree rule prices only the
@@ -8,11 +8,9 @@
 //! + 1 = 19 points finishes at 0.487 x with 6 extrema, within splprep's 24 points and 12 extrema.
 
 use fairfit::fair::curve_fairness;
-use fairfit::optim::closed::distinct_control_points;
-use fairfit::optim::degree_candidates::{
-    WIGGLY_COUNTS_ABOVE, WIGGLY_EXTREMA, WIGGLY_POINTS_PER_CONTROL_POINT,
-};
-use fairfit::optim::integrated::fit_integrated;
+use fairfit::optim::distinct_control_points;
+use fairfit::optim::fit_integrated;
+use fairfit::optim::Tuning;
 
 #[path = "common/degree_auto.rs"]
 mod degree_auto;
@@ -36,11 +34,14 @@ const MAIN_CUBIC_F: f64 = 358_884.522_540_296_4;
 #[test]
 fn fx79w470a_gets_a_quartic_one_point_above_the_baseline_below_half_of_splpreps_fairness() {
     assert_eq!(
-        (
-            WIGGLY_EXTREMA,
-            WIGGLY_COUNTS_ABOVE,
-            WIGGLY_POINTS_PER_CONTROL_POINT
-        ),
+        {
+            let t = Tuning::default().degree;
+            (
+                t.wiggly_extrema,
+                t.wiggly_counts_above,
+                t.wiggly_points_per_control_point,
+            )
+        },
         (6, 1, 4)
     );
     let pts = read_csv("fx79w470a.csv");

@@ -90,7 +90,7 @@ pub enum EndsArg {
     Free,
 }
 
-impl From<EndsArg> for fairfit::optim::integrated::EndCondition {
+impl From<EndsArg> for fairfit::optim::EndCondition {
     fn from(e: EndsArg) -> Self {
         match e {
             EndsArg::Pinned => Self::Pinned,
@@ -104,7 +104,7 @@ impl From<EndsArg> for fairfit::optim::integrated::EndCondition {
 pub enum DegreeArg {
     /// One degree.
     Fixed(usize),
-    /// Every degree from 3 to [`AUTO_MAX_DEGREE`], one kept (`fairfit::optim::degree_search`).
+    /// Every degree from 3 to [`AUTO_MAX_DEGREE`], one kept (`fairfit::optim::stages::degree_search`).
     Auto,
 }
 

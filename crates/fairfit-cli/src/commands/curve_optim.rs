@@ -11,10 +11,10 @@ use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::{curve_to_json, write_atomic};
-use fairfit::optim::integrated::{
+use fairfit::optim::pareto::pareto_csv;
+use fairfit::optim::{
     fit_integrated_with_progress, IntegratedOptions, IntegratedResult, Tolerance,
 };
-use fairfit::optim::pareto::pareto_csv;
 use fairfit::{NurbsCurve, Vec3};
 use serde_json::{json, Value};
 
@@ -90,13 +90,13 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         "closed": closed,
         // a closed curve has no ends; a curve with corners keeps them pinned
         "ends": (!closed).then_some(if r.stats.free_ends { "free" } else { "pinned" }),
-        "control_points": fairfit::optim::closed::distinct_control_points(&r.curve),
+        "control_points": fairfit::optim::distinct_control_points(&r.curve),
         "tolerance": r.tolerance,
         "tolerance_met": r.met,
         "max_deviation": r.quality.max_deviation,
         "rms_deviation": r.quality.rms_deviation,
         "span_fairness_target": args.span_fairness,
-        "log10_smoothing": if r.log_lambda.is_finite() && r.log_lambda > fairfit::optim::encoding::LOG_LAMBDA_OFF { Some(r.log_lambda) } else { None },
+        "log10_smoothing": if r.log_lambda.is_finite() && r.log_lambda > fairfit::optim::search::encoding::LOG_LAMBDA_OFF { Some(r.log_lambda) } else { None },
         "lsq_baseline_control_points": r.baseline_control_points,
         "optimizer": {
             "seed": args.seed,
@@ -114,7 +114,7 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
     }
     if let Some(path) = &args.pareto {
-        let front = fairfit::optim::pareto_joined::pareto_front_of_result(points, &opts, &r)?;
+        let front = fairfit::optim::pareto::pareto_front_of_result(points, &opts, &r)?;
         write_pareto(path, args, &front)?;
         report["pareto_members"] = json!(front.len());
     } else if args.pareto_curves.is_some() {
@@ -179,7 +179,7 @@ pub fn run_fit_then_fair(
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
     let report = json!({
         "method": "fit-then-fair",
-        "control_points": fairfit::optim::closed::distinct_control_points(&faired.curve),
+        "control_points": fairfit::optim::distinct_control_points(&faired.curve),
         "closed": fit.closed,
         "tolerance": fit.tolerance,
         "tolerance_met": dev.max <= fit.tolerance,

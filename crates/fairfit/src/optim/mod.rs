@@ -1,76 +1,74 @@
 //! Particle swarm optimisation of knot vectors: the integrated fitting-and-fairing method.
 //!
-//! - [`closed`]: closed data: periodic fits without corners, a cut at the first corner otherwise;
-//! - [`periodic`]: per-candidate objectives and the swarm problem of a periodic (closed) curve;
-//! - [`periodic_fairing`]: band fairing and polish of a periodic curve (seam kept `C^(p−1)`);
-//! - [`corner_fit`]: the integrated method on the pieces between corners, with a shared control-point
-//!   budget;
-//! - [`corners`]: splitting at corner points and joining the pieces C0;
-//! - [`count_search`]: the full knot search and the extra-control-point rule, open and periodic;
-//! - `descent`: the second start of an open curve's count descent (the count search's restart seeds);
-//! - [`encoding`]: interior knots as an always-valid particle position (softmax gaps, repair);
-//! - [`objective`]: per candidate, least-squares control points, orthogonal deviation, fairness;
-//! - [`pso`]: the deterministic, rayon-parallel particle swarm engine with local refinement;
-//! - [`problem`]: the knot search as a swarm problem (feasibility-first ε-constraint fitness);
-//! - [`polish`]: local control-point fairing moves after the knot search, within the tolerance;
-//! - [`control_map`]: the control points the fairing stages move (open: interior; periodic: distinct);
-//! - [`band_fairing`]: all control points faired together inside the tolerance band (sequential
-//!   convex programming with second-order cones);
-//! - [`band_qp`]: band fairing's convex subproblem and its general (clarabel) solver;
-//! - [`cone_ipm`]: a dense primal–dual interior-point solver for that subproblem's shape;
-//! - [`cone_algebra`]: the second-order cone's Jordan algebra, NT scaling, a small Cholesky;
-//! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence curvature
-//!   extrema removed);
-//! - `residual_knots`: FITPACK-style knots where the least-squares residuals are largest;
-//! - [`smoothing`]: a line search on the smoothing weight for fixed knots;
-//! - [`prepare`]: scale-free normalisation, centripetal parameters, baseline averaging knots;
-//! - [`integrated`]: [`integrated::fit_integrated`], the count search and the full knot search.
-//! - `knot_edits`: knot removals and insertions, the least-squares method's knots and the
-//!   descent's swarm probe, shared by open and periodic searches;
-//! - [`degree_search`]: the integrated fit at several degrees and the rule that keeps one
-//!   (`--degree auto`);
-//! - [`degree_candidates`]: the higher degrees at the reference's count and knots (staged search);
-//! - [`mopso`]: the multi-objective swarm and Pareto archive for (max deviation, F) trade-offs;
-//! - [`pareto`]: the Pareto front of curves for `--pareto`;
-//! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners;
-//! - [`pareto_periodic`]: the front of a periodic closed curve.
+//! [`fit_integrated`] searches the knot vector by particle swarm optimisation so that the curve
+//! stays within the tolerance of the data while its fairness `F` (and the worst span's `F_j`) is
+//! as small as possible, with the fewest control points that allow it.
+//!
+//! # Pipelines
+//!
+//! [`pipeline`] (`pipeline.rs`) validates the options and sends the data to one pipeline; none
+//! calls back into it:
+//!
+//! - closed data → [`closed`] (`closed.rs`): periodic without corners, else cut at the first
+//!   corner and fitted as open data;
+//! - open data → [`cornered`] (`cornered.rs`): with corners, every piece between them by the open
+//!   pipeline, a shared budget for a fixed count, the pieces joined C0 ([`corners`]); without
+//!   corners, the open pipeline;
+//! - [`open`] (`open.rs`), the open pipeline, runs these stages in order:
+//!
+//! 1. **least-squares baseline** — [`stages::baseline`] (`stages/baseline.rs`): the fewest
+//!    control points the least-squares knots need to meet the tolerance, and the descent's start;
+//! 2. **count descent** — [`stages::descent`] (`stages/descent.rs`): one control point fewer at a
+//!    time while the tolerance can be met, then a second descent on other random streams;
+//! 3. **count search** — [`stages::count_search`] (`stages/count_search.rs`): full searches at
+//!    the smallest feasible count and above, every candidate finished, the count chosen on the
+//!    finished curves; beside it the next degree's first candidate,
+//!    [`stages::degree_candidates`] (`stages/degree_candidates.rs`);
+//! 4. **degree search** — [`stages::own_count_search`] (`stages/own_count_search.rs`: the next
+//!    degree's own count search when a trigger fires) and [`stages::degree_search`]
+//!    (`stages/degree_search.rs`: the rule that keeps one degree);
+//! 5. **release ends** — [`stages::release_ends`] (`stages/release_ends.rs`): the last fairing
+//!    pass with the requested end condition.
+//!
+//! The closed pipeline runs stages 1-4 on the periodic kind. The `--pareto` fronts are in
+//! [`pareto`] (`pareto/`).
+//!
+//! # Layers
+//!
+//! Bottom to top; a module imports only from its own layer or below:
+//!
+//! 1. [`search`] (`search/`): the swarm, the per-candidate objectives, the knot encoding;
+//! 2. [`fairing`] (`fairing/`): finishing a knot vector's control points inside the tolerance
+//!    band (band fairing by sequential convex programming, the polish, the periodic variants);
+//! 3. [`options`] (`options.rs`), [`result`] (`result.rs`); [`tuning`] (`tuning.rs`: every
+//!    measured threshold of the policy), `context.rs` (the context every stage reads);
+//! 4. [`kind`] (`kind/`): the curve kinds, open and periodic, behind one trait;
+//! 5. [`stages`] (`stages/`): the stages above, written once against the curve kind;
+//! 6. the pipelines ([`open`] < [`cornered`] < [`closed`] < [`pipeline`]), [`corners`], and
+//!    [`pareto`].
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
 pub mod closed;
-pub mod corner_fit;
+pub(crate) mod context;
+pub mod cornered;
 pub mod corners;
-pub mod count_search;
-pub mod degree_candidates;
-pub mod degree_search;
-pub(crate) mod descent;
-pub mod encoding;
 pub mod fairing;
-pub mod free_ends;
-pub mod integrated;
-pub(crate) mod knot_edits;
-pub mod mopso;
-pub mod objective;
+pub mod kind;
+pub mod open;
+pub mod options;
 pub mod pareto;
-pub mod pareto_joined;
-pub mod pareto_periodic;
-pub mod periodic;
-pub mod prepare;
-pub mod problem;
-pub mod pso;
-pub(crate) mod residual_knots;
-pub mod smoothing;
+pub mod pipeline;
+pub mod result;
+pub mod search;
+pub mod stages;
+pub mod tuning;
 
-// Temporary aliases of the fairing subsystem's old paths, so that the rest of `optim` compiles
-// unchanged while it is restructured; removed at merge.
-pub use fairing::{
-    band as band_fairing, band_qp, cone_algebra, cone_ipm, control_map, curvature_signs,
-    periodic as periodic_fairing, polish,
-};
-/// Temporary alias: the hold pass's persistence, read by `free_ends.rs` until it takes
-/// [`fairing::FairingTuning`].
-pub const HOLD_PERSISTENCE: f64 = fairing::BandTuning::new().hold_persistence;
-/// Temporary alias: the later passes' subproblem budget, read by `free_ends.rs` until it takes
-/// [`fairing::FairingTuning`].
-pub const REFAIR_SOLVES: usize = fairing::BandTuning::new().refair_solves;
+pub use fairing::EndCondition;
+pub use kind::periodic::distinct_control_points;
+pub use options::{IntegratedOptions, Tolerance};
+pub use pareto::{pareto_csv, pareto_front, pareto_front_of_result, ParetoCurve};
+pub use pipeline::{fit_integrated, fit_integrated_with_progress, fit_lsq_baseline};
+pub use result::{DegreeTrial, FitQuality, IntegratedResult, OptimStats};
+pub use tuning::Tuning;

@@ -5,7 +5,7 @@
 //! Included by path (`#[path = "common/degree_auto.rs"] mod degree_auto;`), like `sampled.rs`.
 #![allow(dead_code)] // not every test crate runs fits on its own pool
 
-use fairfit::optim::integrated::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
+use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
 use fairfit::Vec3;
 
 /// The CLI's default integrated options: relative tolerance 1e-3, degrees 3 to 5.

@@ -26,7 +26,9 @@ use crate::errors::{Error, Result};
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::{NurbsCurve, Vec3};
-use crate::optim::objective::{measure_current, CandidateEval, EvalWorkspace, FitData, MAX_DEGREE};
+use crate::optim::search::objective::{
+    measure_current, CandidateEval, EvalWorkspace, FitData, MAX_DEGREE,
+};
 use std::ops::Range;
 
 /// Whether the end points of an open curve move in the final fairing stages (module doc).
@@ -315,9 +317,9 @@ fn point_ders(knots: &[f64], ctrl: &[Vec3], p: usize, u: f64) -> [Vec3; 3] {
 }
 
 /// Distance of `q` from the clamped closed curve (`knots` on `[0, 1]`, `ctrl`) near its seam and
-/// the foot parameter in `[0, 1)`: [`crate::optim::periodic::seam_foot_by`] on the raw control points.
+/// the foot parameter in `[0, 1)`: [`crate::optim::search::periodic::seam_foot_by`] on the raw control points.
 pub fn seam_foot(p: usize, knots: &[f64], ctrl: &[Vec3], q: Vec3) -> (f64, f64) {
-    crate::optim::periodic::seam_foot_by(
+    crate::optim::search::periodic::seam_foot_by(
         (ctrl[0] - q).norm(),
         q,
         |u| point_ders(knots, ctrl, p, u),
@@ -372,7 +374,7 @@ mod tests {
         // a cubic on 12 points of y = x², its end control points moved off the data's ends by
         // (0, 3e-4) and (−4e-4, 0): the free map must report those distances as the ends'
         // deviations (the interior points' projections are unchanged), the pinned map not
-        use crate::optim::objective::{evaluate_candidate, set_knots};
+        use crate::optim::search::objective::{evaluate_candidate, set_knots};
         let m = 12;
         let points: Vec<Vec3> = (0..m)
             .map(|i| {

@@ -5,7 +5,7 @@
 
 use super::nodes::{basis_ders, node_derivatives, sign_changes, Node};
 use crate::nurbs::Vec3;
-use crate::optim::objective::{speed_and_dkappa_du, MAX_DEGREE};
+use crate::optim::search::objective::{speed_and_dkappa_du, MAX_DEGREE};
 
 /// Samples per knot span of [`ExtremaCount`] (midpoints of equal cells), plus one sample at
 /// `EXTREMA_EDGE` of the span from each end: a cubic's `dκ/ds` can change sign between the Gauss

@@ -8,7 +8,7 @@
 
 use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::Vec3;
-use crate::optim::objective::{GL_W, GL_X, MAX_DEGREE};
+use crate::optim::search::objective::{GL_W, GL_X, MAX_DEGREE};
 
 /// A Gauss node of the fairness integral: its knot span, weight and basis derivatives 1..=3.
 pub(crate) struct Node {

@@ -12,8 +12,8 @@ use super::band::{band_fair_mapped, BandOptions};
 use super::control_map::ControlMap;
 use super::polish::{polish_mapped, PolishOptions};
 use crate::errors::Result;
-use crate::optim::objective::CandidateEval;
-use crate::optim::periodic::{ClosedData, ClosedWorkspace};
+use crate::optim::search::objective::CandidateEval;
+use crate::optim::search::periodic::{ClosedData, ClosedWorkspace};
 
 /// What [`fair_periodic`] did.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,7 +26,7 @@ pub struct PeriodicFaired {
     pub evaluations: usize,
 }
 
-/// Fairs the periodic curve left in `ws` by [`crate::optim::periodic::evaluate_closed`] within `tol`
+/// Fairs the periodic curve left in `ws` by [`crate::optim::search::periodic::evaluate_closed`] within `tol`
 /// (and the per-span target `span_cap`): band fairing first (at most `band` convex subproblems,
 /// none when 0), then the polish (at most `polish_evaluations` measurements). On
 /// return `ws.ctrl` holds the faired periodic control points (`ws.knots` unchanged) and

@@ -7,7 +7,7 @@
 //! `P_r` alone to the minimiser of the parametric jerk `∫|C'''|² du = Σ G_ij P_i·P_j` is the step
 //! `−g_r / G_rr` with `g_r = Σ_j G_rj P_j`. Candidates are ranked by the energy gain `|g_r|² / G_rr` and
 //! tried with steps `1, 1/2, 1/4, …`; a move is accepted when `F` (the fast 8-node measure of
-//! [`crate::optim::objective`]) decreases and the maximum orthogonal deviation stays within the allowance.
+//! [`crate::optim::search::objective`]) decreases and the maximum orthogonal deviation stays within the allowance.
 //! When no such move helps, one steepest-descent move of `F` itself on a single control point
 //! (forward-difference gradient, steps from twice the allowance down) is tried before giving up.
 //! Unlike the fit-then-fair baseline this runs on the optimiser's allocation-free power-form evaluator
@@ -21,7 +21,7 @@ use super::extrema::ExtremaCount;
 use super::tuning::PolishTuning;
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
-use crate::optim::objective::{
+use crate::optim::search::objective::{
     measure_move, measure_move_deviations, CandidateEval, EvalWorkspace, FitData, MeasureState,
     MAX_DEGREE,
 };
@@ -383,7 +383,7 @@ fn gradient_move(
 mod tests {
     use super::*;
     use crate::nurbs::NurbsCurve;
-    use crate::optim::objective::{evaluate_candidate, set_knots};
+    use crate::optim::search::objective::{evaluate_candidate, set_knots};
 
     #[test]
     fn polish_lowers_fairness_within_the_tolerance() {

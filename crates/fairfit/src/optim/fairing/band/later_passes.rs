@@ -15,7 +15,7 @@ use super::super::extrema::ExtremaCount;
 use super::super::tuning::BandTuning;
 use super::band_fair_counted;
 use super::options::{BandFaired, BandOptions};
-use crate::optim::objective::{CandidateEval, EvalWorkspace, FitData};
+use crate::optim::search::objective::{CandidateEval, EvalWorkspace, FitData};
 
 /// The passes after the first band fairing pass (options `bo`, outcome `first`) and a polish, with
 /// the default [`BandTuning`]: see [`later_passes_tuned`].

@@ -61,7 +61,7 @@ pub use options::{BandFaired, BandOptions};
 use super::control_map::ControlMap;
 use super::extrema::ExtremaCount;
 use crate::nurbs::Vec3;
-use crate::optim::objective::{EvalWorkspace, FitData, MAX_DEGREE};
+use crate::optim::search::objective::{EvalWorkspace, FitData, MAX_DEGREE};
 use model::{node_fairness, Model};
 use schedule::Pass;
 
@@ -195,7 +195,7 @@ fn finish(
 mod tests {
     use super::*;
     use crate::nurbs::NurbsCurve;
-    use crate::optim::objective::{evaluate_candidate, set_knots};
+    use crate::optim::search::objective::{evaluate_candidate, set_knots};
 
     /// Largest distance from the points to the curve, by brute force on `samples + 1` curve points
     /// (independent of the projection used inside).

@@ -14,7 +14,7 @@ use super::super::nodes::{basis_ders, gauss_nodes, node_derivatives, sign_change
 use super::options::BandOptions;
 use crate::nurbs::knots::find_span;
 use crate::nurbs::Vec3;
-use crate::optim::objective::{speed_and_dkappa_du, CandidateEval, FitData};
+use crate::optim::search::objective::{speed_and_dkappa_du, CandidateEval, FitData};
 use std::ops::Range;
 
 /// Margin `m` of the sign targets, relative to the largest residual: `dκ/ds` is pushed slightly

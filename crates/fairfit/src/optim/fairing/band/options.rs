@@ -2,7 +2,7 @@
 
 use super::super::control_map::EndCondition;
 use super::super::tuning::{BandTuning, StepTuning};
-use crate::optim::objective::CandidateEval;
+use crate::optim::search::objective::CandidateEval;
 
 /// Settings of [`super::band_fair`].
 #[derive(Clone, Debug, PartialEq)]

@@ -22,7 +22,7 @@ use super::model::{
 use super::options::{BandFaired, BandOptions};
 use super::sign_guard::SignGuard;
 use crate::nurbs::Vec3;
-use crate::optim::objective::{EvalWorkspace, FitData};
+use crate::optim::search::objective::{EvalWorkspace, FitData};
 
 /// The state of a pass between subproblems.
 pub(super) struct Pass<'a> {

@@ -1,7 +1,7 @@
 //! `--pareto` for the curve the integrated method actually returned, corners and closed data
 //! included.
 //!
-//! Without corners the front is [`super::pareto::pareto_front`] at the result's count, seeded with its
+//! Without corners the front is [`super::front::pareto_front`] at the result's count, seeded with its
 //! knots. With corners the joined curve is C0 at every corner, so its front is built from the
 //! pieces' own fronts:
 //!
@@ -16,18 +16,21 @@
 //!    the dominated ones dropped: the front is sorted by increasing deviation with strictly
 //!    decreasing F, and every member keeps every corner as a C0 knot.
 //!
-//! Closed data with corners are cut at the first corner as in the fit ([`super::closed`]); a periodic
-//! closed curve (no corners) gets the periodic front of [`super::pareto_periodic`].
+//! Closed data with corners are cut at the first corner as in the fit ([`crate::optim::closed`]); a periodic
+//! closed curve (no corners) gets the periodic front of [`super::periodic`].
 
-use super::corners::{join, pieces, straight_piece};
-use super::integrated::{tolerance_of, FitQuality, IntegratedOptions, IntegratedResult, Tolerance};
-use super::pareto::{pareto_front, ParetoCurve};
-use super::prepare::prepare;
+use super::front::{pareto_front, ParetoCurve};
 use crate::errors::Result;
 use crate::fair::curve_fairness;
 use crate::fit::shape::{detect_corners, looks_closed};
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::optim::closed::is_closed;
+use crate::optim::context::tolerance_of;
+use crate::optim::corners::{join, pieces, straight_piece};
+use crate::optim::options::{IntegratedOptions, Tolerance};
+use crate::optim::result::{FitQuality, IntegratedResult};
+use crate::optim::search::prepare::prepare;
 
 /// The Pareto front for the integrated result `r` of `points` under `opts` (see the module docs), at
 /// the result's degree (the one a degree search kept).
@@ -39,7 +42,7 @@ pub fn pareto_front_of_result(
     let opts = &opts.at_degree(r.curve.degree());
     let p = opts.degree;
     let mut seq = points.to_vec();
-    if super::closed::is_closed(points, opts.closed) {
+    if is_closed(points, opts.closed) {
         if looks_closed(&seq) {
             seq.pop();
         }
@@ -48,7 +51,7 @@ pub fn pareto_front_of_result(
             .corner_angle_deg
             .and_then(|a| detect_corners(&prep.data.points, true, a).first().copied());
         let Some(c0) = c0 else {
-            return super::pareto_periodic::pareto_front_periodic(&seq, opts, r);
+            return super::periodic::pareto_front_periodic(&seq, opts, r);
         };
         seq = seq[c0..].iter().chain(&seq[..c0]).copied().collect();
         seq.push(seq[0]);

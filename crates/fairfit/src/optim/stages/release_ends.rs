@@ -1,57 +1,56 @@
-//! The last band fairing pass on the chosen open curve, with the requested end condition.
+//! The release-ends stage: the last band fairing pass on the chosen open curve, with the
+//! requested end condition.
 //!
 //! With pinned ends (the default) it is one more pass of the pinned finishing stages on the curve
 //! the count and degree choice kept: those stages ran on every candidate with the budgets of the
-//! search, and a pass on the winner alone still lowers `F` where the first passes stalled
-//! (session 11, seed 0: sc20714_noise1e-4 1.071 → 0.814 × splprep's `F`, clarky 0.621 → 0.614,
-//! naca23015 0.580 → 0.574; 26 of the 33 benchmark curves keep their curve byte for byte; +3 % to +9 %
-//! instructions at one thread on the 200-point curves).
+//! search, and a pass on the winner alone still lowers `F` where the first passes stalled.
 //!
 //! Free end points ([`EndCondition::Free`]): the integrated method runs as with pinned ends (the
-//! knot and count search, the finishing stages, the degree choice), then the chosen open curve gets
-//! one more band fairing pass with its end points released: every control point moves, each data
-//! end point held within the tolerance of the curve's end point ([`super::control_map`]), followed
-//! by a polish with free ends and a pass holding the extrema pattern ([`HOLD_PERSISTENCE`]).
+//! knot and count search, the finishing stages, the degree choice), then the chosen open curve
+//! gets one more band fairing pass with its end points released: every control point moves, each
+//! data end point held within the tolerance of the curve's end point
+//! ([`crate::optim::control_map`]), followed by a polish with free ends and a pass holding the
+//! extrema pattern ([`BandTuning::hold_persistence`]).
 //!
 //! The pass is kept only when it lowers `F` with no new curvature extrema (by the passes' guard,
 //! then by the reports' sampled and exact counts: `more_extrema`) and every point within the
-//! tolerance ([`refair`]), so the free-ended result has the pinned result's knots, count and
-//! degree and is never less fair. Two other designs ended less fair on some of the 33 benchmark
-//! curves: every finishing stage free from the start took other paths through the sequential
-//! convex programs (9 curves at seed 0, whitcomb 0.527 → 0.566 × splprep's `F`); the pinned stages
-//! followed by the free pass on every finished candidate changed the count or degree choice on 8
-//! of the 144 open (curve, seed 0-5) pairs, 7 of them to fewer control points or curvature extrema
-//! but a higher `F` (fx79w470a seed 5 0.559 → 0.652 with 7 extrema instead of 9).
-//!
-//! The gain is where the data end at high curvature: the quarter ellipse's vertex
-//! (`quarter_ellipse_200` 0.813 → 0.716 × splprep's `F`; the band optimum of
-//! `bench/band_optimum.py` at the same knots is 0.787 pinned, 0.690 free), FFA-W3-360
-//! 0.619 → 0.587, fx79w470a 0.571 → 0.542; at an airfoil's trailing edge it is worth little.
+//! tolerance ([`refair`]), so the result has the pinned result's knots, count and degree and is
+//! never less fair. Releasing the ends after the choice (rather than in every finishing stage, or
+//! on every candidate) keeps the count and degree choice of the pinned curves. Not applicable to
+//! closed curves (no end points); the pieces between corners keep theirs pinned (they are joined
+//! there).
 
-use super::band_fairing::{refair, BandOptions};
-use super::control_map::EndCondition;
-use super::integrated::{band_solves, IntegratedOptions, IntegratedResult};
-use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
-use super::polish::{polish, PolishOptions};
-use super::prepare::Prepared;
-use super::{HOLD_PERSISTENCE, REFAIR_SOLVES};
 use crate::diffgeo::CurveProjector;
 use crate::errors::Result;
 use crate::fair::{count_extrema_exact, curve_fairness};
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::optim::context::{band_solves, FitContext};
+use crate::optim::fairing::EndCondition;
+use crate::optim::fairing::{polish, PolishOptions};
+use crate::optim::fairing::{refair, BandOptions, BandTuning};
+use crate::optim::options::IntegratedOptions;
+use crate::optim::result::IntegratedResult;
+use crate::optim::search::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
+use crate::optim::search::prepare::Prepared;
 use rayon::prelude::*;
+
+/// The release-ends stage of the open pipeline: [`release_result`] on the chosen result `r`
+/// with the context's data, tolerance and options.
+pub(crate) fn run(ctx: &FitContext, r: IntegratedResult) -> Result<IntegratedResult> {
+    release_result(ctx.prep, r, ctx.tol, ctx.opts)
+}
 
 /// [`release_ends`] on the chosen open result `r` of the integrated method on `prep`'s data
 /// (tolerance `tol` in its normalised units), with the budgets of `opts`; `r` unchanged without
 /// finishing stages (`opts.polish` off) or when the pass is not kept.
-pub(crate) fn release_result(
+fn release_result(
     prep: &Prepared,
     mut r: IntegratedResult,
     tol: f64,
     opts: &IntegratedOptions,
 ) -> Result<IntegratedResult> {
     let p = r.curve.degree();
-    if !opts.polish || r.curve.is_rational() || p > super::objective::MAX_DEGREE {
+    if !opts.polish || r.curve.is_rational() || p > crate::optim::search::objective::MAX_DEGREE {
         return Ok(r);
     }
     let mut data = prep.data.clone();
@@ -105,7 +104,7 @@ pub(crate) fn release_result(
 
 /// Whether `curve` has more curvature extrema than `before`, sampled as the reports count them
 /// ([`curve_fairness`]) or exactly ([`count_extrema_exact`]). The passes' own guard
-/// ([`super::band_fairing::ExtremaCount`], 96 samples per knot span) can miss a flat ripple in a
+/// ([`crate::optim::band_fairing::ExtremaCount`], 96 samples per knot span) can miss a flat ripple in a
 /// long span: naca4412 at seed 1 got two extrema 0.005 apart in a span of 0.4 (`κ` 0.31422 and
 /// 0.31421), seen by both of these counts.
 /// The two curves are measured in parallel (each alone, so the same for any thread count).
@@ -173,8 +172,8 @@ pub fn release_ends(
     }
     if kept.is_some() {
         let hold = BandOptions {
-            extrema_persistence: HOLD_PERSISTENCE,
-            max_solves: opts.band_solves.min(REFAIR_SOLVES),
+            extrema_persistence: BandTuning::new().hold_persistence,
+            max_solves: opts.band_solves.min(BandTuning::new().refair_solves),
             ..bo
         };
         e = refair(data, ws, &e, tol, &hold).unwrap_or(e);

@@ -1,24 +1,26 @@
 //! `--pareto` for a periodic closed curve (closed data without corners): the front of (maximum
 //! orthogonal deviation, F) at the result's number of distinct control points `n_u`.
 //!
-//! As for open curves ([`super::pareto`]), the multi-objective swarm ([`super::mopso`]) runs over
+//! As for open curves ([`super::front`]), the multi-objective swarm ([`crate::optim::search::mopso`]) runs over
 //! the encoded breakpoints and smoothing weight, here of the periodic problem
-//! ([`super::periodic::ClosedProblem`]: seam fixed at the first point, periodic least squares, every
+//! ([`crate::optim::search::periodic::ClosedProblem`]: seam fixed at the first point, periodic least squares, every
 //! point measured, F over the whole loop), seeded with the result's breakpoints and smoothing and
-//! with equal index steps; members deviating more than [`DEVIATION_CAP`](super::pareto::DEVIATION_CAP) tolerances are left out.
+//! with equal index steps; members deviating more than [`DEVIATION_CAP`](super::front::DEVIATION_CAP) tolerances are left out.
 //! Every member is written like the fit's closed curves (unclamped periodic knots, `n_u + p`
 //! control points whose last `p` repeat the first), so it is `C^(p−1)` at the seam. Members are the
 //! least-squares curves of their knots (no band fairing or polish, as for open curves).
 
-use super::closed::{distinct_control_points, equal_breaks, finish_periodic};
-use super::count_search::CountProblem;
-use super::encoding::LOG_LAMBDA_RANGE;
-use super::integrated::{tolerance_of, IntegratedOptions, IntegratedResult};
-use super::pareto::{front_archive, ParetoCurve};
-use super::periodic::{ClosedData, ClosedProblem};
-use super::prepare::prepare;
+use super::front::{front_archive, ParetoCurve};
 use crate::errors::{Error, Result};
 use crate::nurbs::Vec3;
+use crate::optim::context::tolerance_of;
+use crate::optim::kind::periodic::{distinct_control_points, equal_breaks, finish_periodic};
+use crate::optim::options::IntegratedOptions;
+use crate::optim::result::IntegratedResult;
+use crate::optim::search::encoding::LOG_LAMBDA_RANGE;
+use crate::optim::search::periodic::{ClosedData, ClosedProblem};
+use crate::optim::search::prepare::prepare;
+use crate::optim::search::problem::CountProblem;
 
 /// The front of the periodic result `r` fitted to the distinct closed points `points` (the repeated
 /// closing point removed) under `opts`.

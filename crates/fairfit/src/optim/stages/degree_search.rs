@@ -3,98 +3,51 @@
 //! [`IntegratedOptions::degree`] (the cubic), higher degrees up to `max_degree` are tried, and one
 //! result is kept by [`choose_degree`]:
 //!
-//! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the result
-//!    has no more curvature extrema than the reference's (the extrema count is never traded for F);
-//!    its control points are the reference's count or fewer, except after the next degree's own
-//!    count search ([`super::degree_candidates`], "Own count search"), which may go up to the
-//!    least-squares baseline (one above it where the reference kept the baseline's count, or
-//!    after the wiggly trigger);
-//! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) ·
-//!    EXTRA_POINT_GAIN^extra` wins (`extra`: control points above the reference's; ties: the lower
-//!    degree). A higher degree must buy the same factor [`IntegratedOptions::fairness_gain`] per
-//!    degree step that an added control point must buy in the count search, so the degree does not
-//!    change for F differences of a few per cent (the swarm's own noise), and every control point
-//!    it adds must buy the count search's 5 % ([`super::count_search`]; none after the wiggly
-//!    trigger's search above the baseline, [`super::degree_candidates`], "Wiggly curves");
-//! 3. when the reference misses the tolerance and another degree meets it, the fewest control points
-//!    among those meeting it, then the lowest F, wins; when none meets it, the reference is returned
-//!    (its miss is reported as usual).
+//! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the
+//!    result has no more curvature extrema than the reference's (the extrema count is never traded
+//!    for F); its control points are the reference's count or fewer, except after the next
+//!    degree's own count search ([`super::degree_candidates`]);
+//! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) · point_gain^extra`
+//!    wins (`extra`: control points above the reference's; ties: the lower degree). A higher
+//!    degree must buy the factor [`IntegratedOptions::fairness_gain`] per degree step, so the
+//!    degree does not change for F differences of a few per cent (the swarm's own noise), and
+//!    every control point it adds the count search's price
+//!    ([`crate::optim::tuning::CountTuning::extra_point_gain`]; none after the wiggly trigger's
+//!    search above the baseline);
+//! 3. when the reference misses the tolerance and another degree meets it, the fewest control
+//!    points among those meeting it, then the lowest F, wins; when none meets it, the reference is
+//!    returned (its miss is reported as usual).
 //!
 //! **Staged search**: only the reference runs the count search ([`super::count_search`]); its
 //! control-point count and knots are then the start of every higher degree
 //! ([`super::degree_candidates`]):
 //!
 //! - degree `d` keeps the reference's count; its knots come from a short knot search seeded with
-//!   the reference's knots (open curves: `d − 3` fewer of them at the same count; periodic curves:
-//!   the same breakpoints, a periodic curve has as many spans as distinct control points);
+//!   the reference's knots;
 //! - a degree whose knot search misses the tolerance at that count is not finished; the others
-//!   get band fairing (at most [`CANDIDATE_BAND_SOLVES`] subproblems) and the polish (at most
-//!   [`CANDIDATE_POLISH_EVALUATIONS`] measurements);
+//!   get band fairing and the polish with capped budgets
+//!   ([`crate::optim::tuning::DegreeTuning::candidate_band_solves`],
+//!   [`crate::optim::tuning::DegreeTuning::candidate_polish_evaluations`]);
 //! - open curves: the first higher degree runs beside the reference's count search (rayon
 //!   `join`), from the knots the count descent found at the smallest feasible count, so it fills
-//!   the cores the count search leaves idle (its serial band fairing and polish); periodic curves
-//!   and pieces between corners start from the reference's finished fit;
-//! - a degree higher still is tried only when the one below it won (on the 33 benchmark curves
-//!   the quintic beat the cubic only where the quartic did), from the reference's finished knots;
-//! - data with corners: the pieces between corners are fitted at the reference degree and joined
-//!   ([`super::corner_fit`]); for a higher degree every piece is raised at its own count from its own
-//!   knots and the raised pieces are joined, so one degree serves the whole curve.
-//!
-//! - open curves: when the reference's count choice was costly (its fewest-extrema rule kept a curve
-//!   at least [`super::degree_candidates::OWN_COUNT_SEARCH_COST`] times less fair than its fairest
-//!   candidate) or its extra points still paid (the count gain), the next degree also gets a
-//!   count search of its own, above the reference's count up to the least-squares baseline, or
-//!   one above it where the reference kept the baseline's count ([`super::degree_candidates`],
-//!   "Own count search"); when the reference keeps at least 6 curvature extrema, the count one
-//!   above the baseline ("Wiggly curves").
-//!
-//! Before (session 6) every degree ran the whole integrated fit: 3-5 times the cubic's time; on the
-//! 33 benchmark curves the staged search keeps 16 curves within F <= 0.5x splprep's (full fits:
-//! 17) at a geometric-mean F ratio of 0.360 (0.366), see docs/optim.md.
+//!   the cores the count search leaves idle; periodic curves and pieces between corners start
+//!   from the reference's finished fit;
+//! - a degree higher still is tried only when the one below it won;
+//! - data with corners: for a higher degree every piece is raised at its own count from its own
+//!   knots and the raised pieces are joined, so one degree serves the whole curve
+//!   ([`crate::optim::cornered`]).
 //!
 //! `F` and the curvature extrema are measured on the returned curves by
-//! [`crate::fair::curve_fairness`] (the report's numbers; the extrema at 192 samples per span with
-//! the benchmark measurer's noise floor, so the rule never admits a wiggle the measurer counts).
-//! Every finished degree is recorded in [`super::integrated::OptimStats::degrees_tried`] in degree
-//! order. Each step is thread-count independent, so the result is byte-identical for any number of
-//! threads.
+//! [`crate::fair::curve_fairness`] (the report's numbers). Every finished degree is recorded in
+//! [`crate::optim::OptimStats::degrees_tried`] in degree order. Each step is thread-count
+//! independent, so the result is byte-identical for any number of threads.
 
-use super::closed::distinct_control_points;
-use super::count_search::EXTRA_POINT_GAIN;
-use super::integrated::{IntegratedOptions, IntegratedResult};
 use crate::errors::Result;
 use crate::fair::curve_fairness;
-use serde::Serialize;
-
-/// One degree's integrated fit, as the degree search saw it.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct DegreeTrial {
-    /// The curve degree.
-    pub degree: usize,
-    /// Distinct control points of the fit.
-    pub control_points: usize,
-    /// Its fairness `F`.
-    pub fairness: f64,
-    /// Its interior curvature extrema.
-    pub curvature_extrema: usize,
-    /// Whether it met the tolerance (and `F*`).
-    pub tolerance_met: bool,
-}
-
-/// Band-fairing subproblems of a higher degree in the staged search (the reference gets
-/// [`IntegratedOptions::band_solves`]). A capped stage can only make a higher degree less fair, so
-/// the cap never puts a worse curve in place of the reference's; on the 33 benchmark curves 8 and 12
-/// keep the same degrees (rae2822, naca633418: the quartic; circular: the quintic), while
-/// FFA-W3-241's quartic took 26 subproblems (2.9 times the reference's whole band fairing and
-/// polish) without winning.
-pub const CANDIDATE_BAND_SOLVES: usize = 8;
-
-/// Polish measurements of a higher degree in the staged search (the reference gets
-/// [`IntegratedOptions::polish_evaluations`]). After band fairing the polish changes F by a few
-/// per cent at most: on the 33 benchmark curves 500 (and even none) keep the same degrees, and
-/// the quartic's full polish cost FFA-W3-211 and -241 about 0.2·10⁹ instructions each, a third of
-/// the quartic's work.
-pub const CANDIDATE_POLISH_EVALUATIONS: usize = 500;
+use crate::optim::kind::periodic::distinct_control_points;
+use crate::optim::options::IntegratedOptions;
+use crate::optim::result::{DegreeTrial, IntegratedResult};
+use crate::optim::tuning::{CountTuning, Tuning};
 
 /// One higher degree's attempt in the staged search: its fit (`None` when it could not be fitted
 /// within the tolerance at the reference's count) and the work spent on it.
@@ -114,13 +67,15 @@ pub(crate) fn keep_degree(
     reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
     opts: &IntegratedOptions,
+    tuning: &Tuning,
     attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
-    keep_degree_priced(reference, higher, opts, EXTRA_POINT_GAIN, attempt)
+    let point_gain = tuning.count.extra_point_gain;
+    keep_degree_priced(reference, higher, opts, point_gain, attempt)
 }
 
 /// [`keep_degree`] with `point_gain` per control point above the reference's in place of
-/// [`EXTRA_POINT_GAIN`] ([`choose_degree_priced`]).
+/// the count search's price per point ([`choose_degree_priced`]).
 pub(crate) fn keep_degree_priced(
     reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
@@ -165,9 +120,15 @@ fn trial_of(r: &IntegratedResult) -> DegreeTrial {
     }
 }
 
-/// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree).
+/// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree);
+/// every control point above the reference's is priced at the default
+/// [`CountTuning::extra_point_gain`].
 pub fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
-    choose_degree_priced(trials, fairness_gain, EXTRA_POINT_GAIN)
+    choose_degree_priced(
+        trials,
+        fairness_gain,
+        CountTuning::default().extra_point_gain,
+    )
 }
 
 /// [`choose_degree`] with `point_gain` in place of the count search's 5 % per control point above

@@ -5,7 +5,7 @@
 //! Averaging and curvature-adaptive knots ([`crate::fit::knot_placement`]) spread knots by the
 //! data's parameters or turning; this rule puts them where the fit misses most, which on an
 //! airfoil crowds them around the leading edge where its curvature falls off. It is a seed of the
-//! knot search (docs/optim.md, session 13).
+//! knot search of the degree search's own count search ([`crate::optim::stages::degree_candidates`]).
 
 use super::objective::{evaluate_candidate, set_knots, EvalWorkspace, FitData};
 use crate::nurbs::NurbsCurve;
@@ -65,7 +65,7 @@ pub(crate) fn residual_knots(data: &FitData, n: usize) -> Option<Vec<f64>> {
 mod tests {
     use super::residual_knots;
     use crate::nurbs::Vec3;
-    use crate::optim::objective::FitData;
+    use crate::optim::search::objective::FitData;
 
     /// 101 uniform parameters on [0, 1]; points `(x, f(x))` with `x` the parameter.
     fn data(f: impl Fn(f64) -> f64) -> FitData {

@@ -21,11 +21,10 @@
 //! problem's encoding (softmax gaps: the breakpoints are a partition of the circle cut at the seam)
 //! and its feasibility-first fitness.
 
-use super::count_search::CountProblem;
 use super::encoding::{KnotEncoding, LOG_LAMBDA_OFF};
 use super::objective::{measure_current, CandidateEval, EvalWorkspace, FitData};
 use super::prepare::Prepared;
-use super::problem::{KnotProblem, KnotWorkspace};
+use super::problem::{CountProblem, KnotProblem, KnotWorkspace};
 use super::pso::{Fitness, SwarmProblem};
 use crate::errors::{Error, Result};
 use crate::fit::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};

@@ -1,136 +1,68 @@
-//! The last stage of the count search, shared by open ([`super::integrated`]) and periodic
-//! ([`super::closed`]) curves: full knot searches at the smallest feasible count `n` and at up to
+//! The count search: full knot searches at the smallest feasible count `n` and at up to
 //! `max_extra_control_points` more, each candidate finished in full (band fairing, polish), and
-//! the count chosen on the **finished** curves' F and curvature extrema.
+//! the count chosen on the **finished** curves' F and curvature extrema. Shared by open and
+//! periodic curves (`CurveKind`).
 //!
-//! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the descent
-//! met at that count and the spread knots of `CountFamily::spread_knots`) is followed by the
-//! smoothing line search ([`tune_smoothing`]). At every count above `n` two such searches run, in
-//! effect two restarts of the same search (finished F 10-40 % apart at one count, either one
-//! better, and the swarm F does not tell which):
+//! **Candidates.** At every count the full swarm (seeded with the given knots, the knots the
+//! descent met at that count and the kind's spread knots) is followed by the smoothing line
+//! search ([`tune_smoothing`]). At every count above `n` two such searches run, in effect two
+//! restarts of the same search:
 //!
 //! - the *chain*: seeded with the previous count's best knots with one knot inserted
-//!   (`CountFamily::insertion`), so it runs after it;
+//!   (`CurveKind::insertion`), so it runs after it;
 //! - the *independent* search: seeded with the descent's knots at that count (what
 //!   `--control-points` at that count starts from), so it runs in parallel with the chain.
 //!
 //! Both searches at an extra count are candidates (one when they end at the same knots and
-//! smoothing) while the better swarm F of the two is `WEAK_STEP_GAIN` below the best swarm F at
-//! the count below (`candidate_draws`; naca633418: the chain's swarm F at 13 points is the lower,
-//! its finished F 0.513 x splprep's, the independent search's 0.480 x).
-//! Extra counts stop at `limit` (never more than the least-squares baseline), at the first count
-//! where neither search meets the tolerance, and are skipped with a fixed count
-//! ([`IntegratedOptions::control_points`]). Every search's `(count, swarm F)` is recorded in
-//! [`OptimStats::fairness_by_count`].
+//! smoothing) while the better swarm F of the two is a clear step below the best swarm F at the
+//! count below ([`CountTuning::weak_step_gain`]). Extra counts stop at `limit` (never more than
+//! the least-squares baseline), at the first count where neither search meets the tolerance, and
+//! are skipped with a fixed count ([`crate::optim::IntegratedOptions::control_points`]). Every
+//! search's `(count, swarm F)` is recorded in [`OptimStats::fairness_by_count`].
 //!
 //! **Why the finished F.** The swarm minimises F of the least-squares-with-smoothing curve; band
-//! fairing ([`super::band_fairing`]) and the polish then lower F by 10-80 %, by very different
-//! amounts at different knots, so the swarm's F ranks counts wrongly where it matters
-//! (du06-w-200-selig: swarm F 0.586 of splprep's at 12 points, 0.567 at 13, finished 0.503 and
-//! 0.475; hq17: swarm 0.44 at 13, 0.48 at 15, finished 0.56 and 0.26). A short band fairing does
-//! not rank them either: SNL-FFA-W3-500's F at 13 points is 3.5e7 after 3 subproblems, 3.1e7 at
-//! the end of band fairing and 6.1e6 after the polish. So every candidate is finished, in
-//! parallel (one serial band fairing per candidate; two or three candidates on most curves).
+//! fairing and the polish then lower F by very different amounts at different knots, so the
+//! swarm's F ranks counts wrongly where it matters, and a short band fairing does not rank them
+//! either. So every candidate is finished, in parallel (one serial band fairing per candidate).
 //!
 //! **Rule** (`choose_count`), on the finished curves (F as [`curve_fairness`] measures it,
-//! infinite when the tolerance or `F*` is missed; its curvature extrema, counted as the benchmark's
-//! measurer counts them at [`crate::fair::extrema::SAMPLES_PER_SPAN`] samples per span, which finds
-//! shallow wiggles 32 samples step over, e.g. naca633418 at 12 points: 3 against 1): the fewest curvature extrema first, then the
-//! lowest `F · EXTRA_POINT_GAIN^extra` (`extra` points above the smallest count; ties: the fewer
-//! points), so an added point must buy `EXTRA_POINT_GAIN` and may not add a wiggle.
+//! infinite when the tolerance or `F*` is missed; its curvature extrema, counted as the
+//! benchmark's measurer counts them at [`crate::fair::extrema::SAMPLES_PER_SPAN`] samples per
+//! span): the fewest curvature extrema first, then the lowest `F · gain^extra` (`extra` points
+//! above the smallest count, `gain` = [`CountTuning::extra_point_gain`]; ties: the fewer points),
+//! so an added point must buy that factor and may not add a wiggle.
 //!
-//! **Restart** (seed robustness). The searches stay near their seeds, and on an open curve the seeds
-//! below the first probe of the count descent depend on where that probe landed, i.e. on `--seed`:
-//! on main before the restart, quick targets over seeds 0-5 missed the curvature-extrema target at
-//! seed 2 (whitcomb 9 against splprep's 8, du84132v_noise1e-4 6 against 4, FFA-W3-270blend 5
-//! against 3) and seed 3 (whitcomb 9, FFA-W3-241 3 against 2). After the count is chosen, one more
-//! full search runs at the chosen count (another random stream, `RESTART_SALT`) and is finished as a candidate
-//! of the same rule: seeded with a second descent's knots at that count
-//! (`super::descent::second_descent`, probes on other streams; `CountStart::alt`) when they
-//! differ from the first descent's, else with the first descent's knots on the other stream
-//! (periodic curves, and descents of greedy removals only). With it the extrema target holds at
-//! all six seeds (docs/optim.md, session 9).
+//! **Restart** (seed robustness). The searches stay near their seeds, and on an open curve the
+//! seeds below the first probe of the count descent depend on where that probe landed, i.e. on
+//! `--seed`. When the chosen curve has at least [`CountTuning::restart_min_extrema`] curvature
+//! extrema, one more full search runs at the chosen count (another random stream) and is
+//! finished as a candidate of the same rule: seeded with the second descent's knots at that count
+//! (`CountStart::alt`, [`super::descent`]) when they differ from the first descent's, else with
+//! the first descent's knots on the other stream.
 //!
-//! Only the problem type differs between open and periodic curves: `CountProblem` is the knot
-//! search at one count, `CountFamily` makes it for any count.
+//! The choice is reported to the degree search as a `CountChoice` (extrema cost, count gain,
+//! extrema), from which the next degree's own count search is triggered
+//! ([`super::degree_candidates`]).
 
-use super::integrated::{IntegratedOptions, IntegratedResult, OptimStats};
-use super::objective::CandidateEval;
-use super::pso::{run_pso, PsoOptions, PsoResult, SwarmProblem};
-use super::smoothing::tune_smoothing;
 use crate::errors::{Error, Result};
 use crate::fair::metrics::curve_fairness;
+use crate::optim::context::FitContext;
+use crate::optim::kind::CurveKind;
+use crate::optim::result::{IntegratedResult, OptimStats};
+use crate::optim::search::objective::CandidateEval;
+use crate::optim::search::problem::CountProblem;
+use crate::optim::search::pso::{run_pso, PsoResult};
+use crate::optim::search::smoothing::tune_smoothing;
+use crate::optim::tuning::CountTuning;
 use rayon::prelude::*;
-
-/// The factor by which the finished F must fall per added control point (module doc).
-///
-/// On the 33 benchmark curves the deciding gains of one added point are 5.6 % (du06-w-200-selig,
-/// 12 -> 13 points, which meets issue 4's F target only with 13) and then 7-44 %, while the
-/// declined ones (where the fewer points keep their targets) are below 5 %: FFA-W3-301 4 %,
-/// naca2412 and FFA-W3-241 below 2 %.
-pub(crate) const EXTRA_POINT_GAIN: f64 = 1.05;
-
-/// The relative drop in swarm F from one count to the next below which the next count is not
-/// finished (module doc).
-pub(crate) const WEAK_STEP_GAIN: f64 = 0.02;
 
 /// The salt of the count search's full swarms (added to the count).
 const MAIN_SALT: u64 = 1_000_003;
-/// The fewest curvature extrema of the chosen curve that call for the restart (module doc): one
-/// extremum (an airfoil's leading edge, a quarter ellipse's vertex) leaves no wiggle to remove.
-pub(crate) const RESTART_MIN_EXTREMA: usize = 2;
 
 /// The salt of the restart's full swarm (added to the count): another stream of the same seed.
-const RESTART_SALT: u64 = 2_000_029;
+const COUNT_RESTART_SALT: u64 = 2_000_029;
 
-/// The knot search at one control-point count.
-pub(crate) trait CountProblem: SwarmProblem<Output = CandidateEval> + Clone + Send {
-    /// The particle position of interior knots, smoothing coordinate at its lower bound.
-    fn position(&self, knots: &[f64]) -> Vec<f64>;
-    /// The repaired interior knots of position `x` (`None` when no valid knot vector exists).
-    fn decode(&self, x: &[f64]) -> Option<Vec<f64>>;
-    /// The coordinate of `log10 λ` when the smoothing weight is searched.
-    fn smoothing_coord(&self) -> Option<usize>;
-    /// `log10 λ` of position `x`.
-    fn log_lambda(&self, x: &[f64]) -> f64;
-}
-
-/// The knot-search problems of one data set, for any count.
-pub(crate) trait CountFamily: Sync {
-    /// The problem at one count.
-    type Problem: CountProblem;
-    /// The problem with `n` control points (`n` distinct ones for a periodic curve).
-    fn problem(&self, n: usize) -> Self::Problem;
-    /// Interior knots spread over the data for `n` control points (a seed at every count).
-    fn spread_knots(&self, n: usize) -> Vec<f64>;
-    /// `knots` with one knot more where it helps most (smoothing `log10 λ`).
-    fn insertion(&self, knots: &[f64], log_lambda: f64) -> Vec<f64>;
-    /// The final curve (band fairing, polish) of interior knots and smoothing.
-    fn finish(&self, interior: &[f64], log_lambda: f64) -> Result<IntegratedResult>;
-}
-
-/// The swarm settings of the count search: a short probe (stops at the first feasible position,
-/// no refinement) or the full search; `salt` separates the random streams of different counts.
-pub(crate) fn pso_options(
-    opts: &IntegratedOptions,
-    iterations: usize,
-    probe: bool,
-    salt: u64,
-) -> PsoOptions {
-    PsoOptions {
-        particles: opts.particles,
-        max_iterations: iterations,
-        stall_iterations: if probe { iterations } else { 10 },
-        stall_rel: 1e-4,
-        seed_spread: 0.03,
-        random_fraction: 0.1,
-        stop_when_feasible: probe,
-        refine_evaluations: if probe { 0 } else { opts.refine_evaluations },
-        seed: opts.seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15),
-    }
-}
-
-/// Where [`search_counts`] starts.
+/// Where [`run`] starts.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct CountStart<'a> {
     /// The smallest feasible count (or the fixed one).
@@ -166,22 +98,10 @@ pub(crate) struct Ranked {
     pub extrema: usize,
 }
 
-/// Full searches from `start.n` up to `max_extra_control_points` more, every candidate finished
-/// and the count chosen on the finished F (module doc); returns the chosen finished curve.
-pub(crate) fn search_counts<C: CountFamily>(
-    family: &C,
-    start: CountStart<'_>,
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    stats: &mut OptimStats,
-) -> Result<IntegratedResult> {
-    search_counts_costed(family, start, opts, progress, stats).map(|(r, _)| r)
-}
-
 /// How the count search's choice went, for the next degree ([`super::degree_candidates`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct CountChoice {
-    /// The extrema cost ([`search_counts_costed`]).
+    /// The extrema cost ([`run`]).
     pub extrema_cost: f64,
     /// The **count gain**: the *least fair* finished F within the tolerance at the kept count
     /// over the fairest finished F at the smallest count, when the kept count is above the
@@ -193,18 +113,17 @@ pub(crate) struct CountChoice {
     pub extrema: usize,
 }
 
-/// [`search_counts`], with the **extrema cost** of the choice: the chosen candidate's score
+/// [`run`], with the **extrema cost** of the choice: the chosen candidate's score
 /// `F · EXTRA_POINT_GAIN^extra` over the lowest score of all finished candidates within the
 /// tolerance (1 when the fairest candidate was kept; above 1 when the fewest-extrema rule kept a
 /// less fair curve), and the count gain ([`CountChoice`]). The degree search reads both
 /// ([`super::degree_candidates`]).
-pub(crate) fn search_counts_costed<C: CountFamily>(
-    family: &C,
+pub(crate) fn run<K: CurveKind>(
+    ctx: &FitContext,
+    family: &K,
     start: CountStart<'_>,
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    stats: &mut OptimStats,
 ) -> Result<(IntegratedResult, CountChoice)> {
+    let opts = ctx.opts;
     let CountStart {
         n,
         knots,
@@ -219,7 +138,7 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
     };
     let top = (n + max_extra).min(limit).max(n);
     let search = |count: usize, seeds: &[Vec<f64>]| {
-        full_search(family, count, seeds, descent, opts, progress, MAIN_SALT)
+        full_search(ctx, family, count, seeds, descent, MAIN_SALT)
     };
     let (chain, independent) = rayon::join(
         || {
@@ -244,32 +163,26 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
                 .collect::<Vec<Draw>>()
         },
     );
+    let mut stats = ctx.stats();
     for d in chain.iter().chain(&independent) {
         stats.evaluations += d.stats.evaluations;
         stats.iterations += d.stats.iterations;
         stats.counts_tried.extend(&d.stats.counts_tried);
         stats.fairness_by_count.extend(&d.stats.fairness_by_count);
     }
-    let candidates = candidate_draws(&chain, &independent, n, top);
+    let t = &ctx.tuning.count;
+    let candidates = candidate_draws(&chain, &independent, n, top, t);
     let mut finished = finish_draws(family, &candidates);
     let mut counts: Vec<usize> = candidates.iter().map(|d| d.count).collect();
     let mut ranked: Vec<Ranked> = finished.iter().map(rank).collect();
-    let mut best = choose_count(&counts, &ranked);
-    if ranked[best].extrema >= RESTART_MIN_EXTREMA {
+    let mut best = choose_count(&counts, &ranked, t);
+    if ranked[best].extrema >= t.restart_min_extrema {
         // the restart at the chosen count (module doc): from the second descent's knots there, else
         // from the first descent's on another stream
         let count = counts[best];
         let d = match restart_seed(count, descent, alt) {
-            Some(k) => full_search(
-                family,
-                count,
-                &[k.to_vec()],
-                &[],
-                opts,
-                progress,
-                RESTART_SALT,
-            ),
-            None => full_search(family, count, &[], descent, opts, progress, RESTART_SALT),
+            Some(k) => full_search(ctx, family, count, &[k.to_vec()], &[], COUNT_RESTART_SALT),
+            None => full_search(ctx, family, count, &[], descent, COUNT_RESTART_SALT),
         };
         stats.evaluations += d.stats.evaluations;
         stats.iterations += d.stats.iterations;
@@ -280,11 +193,11 @@ pub(crate) fn search_counts_costed<C: CountFamily>(
             counts.push(d.count);
             ranked.push(rank(&r));
             finished.push(r);
-            best = choose_count(&counts, &ranked);
+            best = choose_count(&counts, &ranked, t);
         }
     }
     let choice = CountChoice {
-        extrema_cost: extrema_cost(&counts, &ranked, best),
+        extrema_cost: extrema_cost(&counts, &ranked, best, t),
         count_gain: count_gain(&counts, &ranked, best),
         extrema: ranked[best].extrema,
     };
@@ -334,13 +247,18 @@ pub(crate) fn count_gain(counts: &[usize], ranked: &[Ranked], best: usize) -> f6
     }
 }
 
-/// The extrema cost of choosing candidate `best` ([`search_counts_costed`]): its score over the
+/// The extrema cost of choosing candidate `best` ([`run`]): its score over the
 /// lowest score of the candidates within the tolerance (1 when none is within it).
-pub(crate) fn extrema_cost(counts: &[usize], ranked: &[Ranked], best: usize) -> f64 {
+pub(crate) fn extrema_cost(
+    counts: &[usize],
+    ranked: &[Ranked],
+    best: usize,
+    t: &CountTuning,
+) -> f64 {
     let Some(lowest) = counts.iter().copied().min() else {
         return 1.0;
     };
-    let score = |i: usize| extra_point_score(ranked[i].fairness, counts[i], lowest);
+    let score = |i: usize| extra_point_score(ranked[i].fairness, counts[i], lowest, t);
     let fairest = (0..counts.len())
         .filter(|&i| ranked[i].fairness.is_finite())
         .map(score)
@@ -354,7 +272,7 @@ pub(crate) fn extrema_cost(counts: &[usize], ranked: &[Ranked], best: usize) -> 
 }
 
 /// Finishes the draws in parallel (an error for a draw without knots).
-fn finish_draws<C: CountFamily>(family: &C, draws: &[&Draw]) -> Vec<Result<IntegratedResult>> {
+fn finish_draws<K: CurveKind>(family: &K, draws: &[&Draw]) -> Vec<Result<IntegratedResult>> {
     draws
         .par_iter()
         .map(|d| match &d.interior {
@@ -407,6 +325,7 @@ fn candidate_draws<'d>(
     independent: &'d [Draw],
     n: usize,
     top: usize,
+    t: &CountTuning,
 ) -> Vec<&'d Draw> {
     let mut candidates = vec![&chain[0]];
     let mut prev_fairness = chain[0].fairness;
@@ -419,7 +338,7 @@ fn candidate_draws<'d>(
             }
         }
         let best = at.iter().map(|d| d.fairness).fold(f64::INFINITY, f64::min);
-        if at.is_empty() || weak_step(prev_fairness, best) {
+        if at.is_empty() || weak_step(prev_fairness, best, t) {
             break;
         }
         candidates.extend(at);
@@ -432,12 +351,12 @@ fn candidate_draws<'d>(
 /// `ranked[i]`. Of the candidates within the tolerance (finite F), the fewest curvature extrema
 /// first, then the lowest `F · EXTRA_POINT_GAIN^(count − smallest count)`, then the fewer points;
 /// with none within the tolerance, the first.
-pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked]) -> usize {
+pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked], t: &CountTuning) -> usize {
     let Some(lowest) = counts.iter().copied().min() else {
         return 0;
     };
     let key = |i: usize| {
-        let score = extra_point_score(ranked[i].fairness, counts[i], lowest);
+        let score = extra_point_score(ranked[i].fairness, counts[i], lowest, t);
         (ranked[i].extrema, score, counts[i])
     };
     let mut best: Option<usize> = None;
@@ -455,13 +374,13 @@ pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked]) -> usize {
 
 /// `fairness` priced for its `count` control points above the smallest count `lowest`:
 /// `fairness · EXTRA_POINT_GAIN^(count − lowest)` (module doc).
-fn extra_point_score(fairness: f64, count: usize, lowest: usize) -> f64 {
-    fairness * EXTRA_POINT_GAIN.powi((count - lowest) as i32)
+fn extra_point_score(fairness: f64, count: usize, lowest: usize, t: &CountTuning) -> f64 {
+    fairness * t.extra_point_gain.powi((count - lowest) as i32)
 }
 
 /// True when `f_next` is not at least [`WEAK_STEP_GAIN`] below `f_prev` (no gain from infinity).
-fn weak_step(f_prev: f64, f_next: f64) -> bool {
-    !(f_prev.is_finite() && f_next < f_prev * (1.0 - WEAK_STEP_GAIN))
+fn weak_step(f_prev: f64, f_next: f64, t: &CountTuning) -> bool {
+    !(f_prev.is_finite() && f_next < f_prev * (1.0 - t.weak_step_gain))
 }
 
 /// The F of a full search's result, infinite when it is infeasible.
@@ -475,15 +394,15 @@ fn swarm_fairness(r: &PsoResult<CandidateEval>) -> f64 {
 
 /// The full swarm at count `n` from the `seeds` knots (plus the descent's knots at `n` and the
 /// spread knots) and the smoothing line search; records `(n, F)`.
-fn full_search<C: CountFamily>(
-    family: &C,
+fn full_search<K: CurveKind>(
+    ctx: &FitContext,
+    family: &K,
     n: usize,
     seeds: &[Vec<f64>],
     descent: &[(usize, Vec<f64>)],
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
     salt: u64,
 ) -> Draw {
+    let (opts, progress) = (ctx.opts, ctx.progress);
     let mut stats = OptimStats::default();
     stats.counts_tried.push(n);
     let pr = family.problem(n);
@@ -492,7 +411,10 @@ fn full_search<C: CountFamily>(
         x0.push(pr.position(k));
     }
     x0.push(pr.position(&family.spread_knots(n)));
-    let po = pso_options(opts, opts.max_iterations, false, n as u64 + salt);
+    let po = ctx
+        .tuning
+        .swarm
+        .options(opts, opts.max_iterations, false, n as u64 + salt);
     let mut r = run_pso(&pr, &x0, &po, &|it| progress(n, it));
     stats.evaluations += r.evaluations;
     stats.iterations += r.iterations;
@@ -516,7 +438,14 @@ fn full_search<C: CountFamily>(
 #[cfg(test)]
 mod tests {
     use super::{candidate_draws, choose_count, count_gain, restart_seed, weak_step, Draw, Ranked};
-    use crate::optim::integrated::OptimStats;
+    use crate::optim::result::OptimStats;
+    use crate::optim::tuning::{CountTuning, Tuning};
+
+    const T: CountTuning = CountTuning {
+        extra_point_gain: 1.05,
+        weak_step_gain: 0.02,
+        restart_min_extrema: 2,
+    };
 
     fn draw(count: usize, knot: f64, fairness: f64) -> Draw {
         Draw {
@@ -535,24 +464,24 @@ mod tests {
         // 1.122 at 13: both searches at 13 are finished (they finish at 0.513 and 0.480)
         let chain = [draw(12, 0.5, 1.387), draw(13, 0.4, 1.060)];
         let independent = [draw(13, 0.6, 1.122)];
-        let c = candidate_draws(&chain, &independent, 12, 13);
+        let c = candidate_draws(&chain, &independent, 12, 13, &T);
         assert_eq!(counts(&c), vec![(12, 1.387), (13, 1.060), (13, 1.122)]);
         // the step is measured from the best search below: 13 steps from 1.0 to 0.97, 14 must
         // be 2 % below 0.97 (0.96 is not; 0.94 is)
         let chain = [draw(12, 0.5, 1.0), draw(13, 0.4, 0.97), draw(14, 0.3, 0.96)];
         let independent = [draw(13, 0.6, 0.99), draw(14, 0.7, 0.94)];
-        let c = candidate_draws(&chain, &independent, 12, 14);
+        let c = candidate_draws(&chain, &independent, 12, 14, &T);
         assert_eq!(
             counts(&c),
             vec![(12, 1.0), (13, 0.97), (13, 0.99), (14, 0.96), (14, 0.94)]
         );
-        let c = candidate_draws(&chain, &independent[..1], 12, 14);
+        let c = candidate_draws(&chain, &independent[..1], 12, 14, &T);
         assert_eq!(counts(&c), vec![(12, 1.0), (13, 0.97), (13, 0.99)]);
         // a weak step ends the candidates (hq17: 0.442 at 13, 0.441 and 0.434 at 14)
         let chain = [draw(13, 0.5, 0.442), draw(14, 0.4, 0.441)];
         let independent = [draw(14, 0.6, 0.434)];
         assert_eq!(
-            counts(&candidate_draws(&chain, &independent, 13, 14)).len(),
+            counts(&candidate_draws(&chain, &independent, 13, 14, &T)).len(),
             1
         );
         // the same knots and smoothing are finished once; a search without knots is left out
@@ -560,22 +489,27 @@ mod tests {
         let mut none = draw(11, 0.6, 0.7);
         none.interior = None;
         let independent = [draw(11, 0.4, 0.8), none];
-        let c = candidate_draws(&chain, &independent, 10, 11);
+        let c = candidate_draws(&chain, &independent, 10, 11, &T);
         assert_eq!(counts(&c), vec![(10, 1.0), (11, 0.8)]);
+    }
+
+    #[test]
+    fn the_tests_use_the_default_tuning() {
+        assert_eq!(CountTuning::default(), T);
     }
 
     #[test]
     fn weak_step_needs_two_percent_drop() {
         // SNL-FFA-W3-500's swarm F ratio at n + 1 (0.992) and hq17's (0.981) are weak, du06's
         // (0.968) is not
-        assert!(weak_step(1.0, 0.992));
-        assert!(weak_step(1.0, 0.981));
-        assert!(!weak_step(1.0, 0.968));
-        assert!(!weak_step(1.0, 0.979));
+        assert!(weak_step(1.0, 0.992, &T));
+        assert!(weak_step(1.0, 0.981, &T));
+        assert!(!weak_step(1.0, 0.968, &T));
+        assert!(!weak_step(1.0, 0.979, &T));
         // a worse or infeasible n + 1, or an infeasible n, is no gain
-        assert!(weak_step(1.0, 1.005));
-        assert!(weak_step(1.0, f64::INFINITY));
-        assert!(weak_step(f64::INFINITY, 1.0));
+        assert!(weak_step(1.0, 1.005, &T));
+        assert!(weak_step(1.0, f64::INFINITY, &T));
+        assert!(weak_step(f64::INFINITY, 1.0, &T));
     }
 
     fn r(fairness: f64, extrema: usize) -> Ranked {
@@ -585,25 +519,31 @@ mod tests {
     #[test]
     fn fewest_extrema_first_then_five_percent_per_extra_point() {
         // du06-w-200-selig's finished F (ratios to splprep's): 12 -> 13 points gains 5.6 %
-        assert_eq!(choose_count(&[12, 13], &[r(0.503, 1), r(0.475, 1)]), 1);
+        assert_eq!(choose_count(&[12, 13], &[r(0.503, 1), r(0.475, 1)], &T), 1);
         // 4 % is not enough for one point, 9 % not for two
-        assert_eq!(choose_count(&[10, 11], &[r(1.0, 1), r(0.96, 1)]), 0);
-        assert_eq!(choose_count(&[10, 12], &[r(1.0, 1), r(0.91, 1)]), 0);
+        assert_eq!(choose_count(&[10, 11], &[r(1.0, 1), r(0.96, 1)], &T), 0);
+        assert_eq!(choose_count(&[10, 12], &[r(1.0, 1), r(0.91, 1)], &T), 0);
         assert_eq!(
-            choose_count(&[10, 11, 12], &[r(1.0, 1), r(0.97, 1), r(0.90, 1)]),
+            choose_count(&[10, 11, 12], &[r(1.0, 1), r(0.97, 1), r(0.90, 1)], &T),
             2
         );
         // a fairer curve with more curvature extrema loses (FFA-W3-211: 13 points 0.249, 2
         // extrema against 12 points 0.369, 1)
-        assert_eq!(choose_count(&[12, 13], &[r(0.369, 1), r(0.249, 2)]), 0);
+        assert_eq!(choose_count(&[12, 13], &[r(0.369, 1), r(0.249, 2)], &T), 0);
         // and fewer extrema win even at a higher F (naca633418: 12 points 0.496 with 3 extrema
         // at the dense count, 13 points 0.509 with 1)
-        assert_eq!(choose_count(&[12, 13], &[r(0.496, 3), r(0.509, 1)]), 1);
+        assert_eq!(choose_count(&[12, 13], &[r(0.496, 3), r(0.509, 1)], &T), 1);
         // outside the tolerance (infinite F) never wins, whatever its extrema
-        assert_eq!(choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(5.0, 2)]), 1);
-        assert_eq!(choose_count(&[9, 10], &[r(1.0, 1), r(f64::INFINITY, 0)]), 0);
         assert_eq!(
-            choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(f64::INFINITY, 0)]),
+            choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(5.0, 2)], &T),
+            1
+        );
+        assert_eq!(
+            choose_count(&[9, 10], &[r(1.0, 1), r(f64::INFINITY, 0)], &T),
+            0
+        );
+        assert_eq!(
+            choose_count(&[9, 10], &[r(f64::INFINITY, 0), r(f64::INFINITY, 0)], &T),
             0
         );
     }
@@ -624,7 +564,7 @@ mod tests {
         ];
         let g = count_gain(&[13, 14, 14, 14], &snl, 3);
         assert!((g - 5.866_423 / 6.645_474).abs() < 1e-12, "{g}");
-        assert!(g > crate::optim::degree_candidates::STEEP_COUNT_GAIN);
+        assert!(g > Tuning::default().degree.steep_count_gain);
         // the fairest candidate at the smallest count is the reference (du84132v_noise1e-4-like:
         // two finishes at 12)
         let g = count_gain(&[12, 13, 12], &[r(0.5, 3), r(0.4, 3), r(0.45, 3)], 1);

@@ -17,19 +17,41 @@
 //! `N` takes them evenly (the tolerance may then be missed; the result says so). An `N` outside what
 //! the pieces can take is an [`Error::InvalidOption`] naming the range.
 
-use super::corners::{join, straight_piece};
-use super::degree_candidates::raise_open_piece;
-use super::degree_search::{keep_degree, Attempt};
-use super::integrated::{
-    fit_integrated_with_progress, tolerance_of, FitQuality, IntegratedOptions, IntegratedResult,
-    OptimStats, Tolerance,
-};
-use super::prepare::Prepared;
+use super::context::{tolerance_of, Progress};
+use super::corners::{join, pieces, straight_piece};
+use super::fairing::EndCondition;
+use super::kind::periodic::distinct_control_points;
+use super::open;
+use super::options::{validate, IntegratedOptions, Tolerance};
+use super::result::{FitQuality, IntegratedResult, OptimStats};
+use super::search::prepare::{prepare, Prepared};
+use super::stages::degree_candidates::raise_open_piece;
+use super::stages::degree_search::{keep_degree, Attempt};
+use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
 use rayon::prelude::*;
 use std::time::Instant;
+
+/// The integrated fit of open data `points` (under `opts`, open): split at corners and fitted by
+/// the pieces ([`fit_with_corners`]) when there are any, else by the open pipeline.
+pub(crate) fn fit(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    progress: &Progress<'_>,
+    start: Instant,
+) -> Result<IntegratedResult> {
+    let prep = prepare(points, opts.degree)?;
+    if let Some(angle) = opts.corner_angle_deg {
+        let corners = crate::fit::shape::detect_corners(&prep.data.points, false, angle);
+        let ranges = pieces(prep.data.points.len(), &corners);
+        if ranges.len() > 1 {
+            return fit_with_corners(&prep, &ranges, opts, progress, start);
+        }
+    }
+    open::fit(&prep, opts, progress, start)
+}
 
 /// One fitted piece (normalised coordinates).
 #[derive(Clone)]
@@ -47,14 +69,15 @@ struct Piece {
 
 /// The integrated method on the pieces between corners (`ranges` of the normalised points), joined
 /// C0; with a fixed count, the budget is shared as described in the module docs.
-pub(crate) fn fit_with_corners(
+fn fit_with_corners(
     prep: &Prepared,
     ranges: &[(usize, usize)],
     opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &Progress<'_>,
     start: Instant,
 ) -> Result<IntegratedResult> {
     let p = opts.degree;
+    let tuning = Tuning::default();
     // the pieces share one degree: a degree search is made on the joined curve (below)
     let opts_in = opts;
     let opts = &opts.at_degree(p);
@@ -92,7 +115,7 @@ pub(crate) fn fit_with_corners(
         let raised: Vec<(Option<Piece>, usize, usize)> = pieces
             .par_iter()
             .enumerate()
-            .map(|(i, q)| raise_piece(prep, ranges, i, q, opts, d))
+            .map(|(i, q)| raise_piece(prep, ranges, i, q, opts, d, &tuning))
             .collect();
         let evaluations = raised.iter().map(|r| r.1).sum();
         let iterations = raised.iter().map(|r| r.2).sum();
@@ -111,7 +134,7 @@ pub(crate) fn fit_with_corners(
         }
     };
     let highest = opts_in.max_degree.unwrap_or(p).max(p);
-    keep_degree(reference, p + 1..=highest, opts_in, &attempt)
+    keep_degree(reference, p + 1..=highest, opts_in, &tuning, &attempt)
 }
 
 /// The pieces joined C0 into the curve of the whole data (input coordinates), measured.
@@ -190,7 +213,7 @@ fn fit_piece(
     i: usize,
     opts: &IntegratedOptions,
     count: Option<usize>,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &Progress<'_>,
 ) -> Result<Piece> {
     let p = opts.degree;
     let (a, b) = ranges[i];
@@ -215,7 +238,10 @@ fn fit_piece(
         });
     }
     let sub = piece_options(prep, i, opts, count);
-    let r = fit_integrated_with_progress(piece, &sub, progress)?;
+    // the piece is open data without corners: the open pipeline on its own points
+    validate(&sub)?;
+    let piece_prep = prepare(piece, sub.degree)?;
+    let r = open::fit(&piece_prep, &sub, progress, Instant::now())?;
     Ok(piece_of(r, piece.len()))
 }
 
@@ -233,7 +259,7 @@ fn piece_options(
         control_points: count,
         seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
         // the pieces are joined at their ends
-        ends: super::integrated::EndCondition::Pinned,
+        ends: EndCondition::Pinned,
         ..opts.clone()
     }
 }
@@ -263,6 +289,7 @@ fn raise_piece(
     q: &Piece,
     opts: &IntegratedOptions,
     d: usize,
+    tuning: &Tuning,
 ) -> (Option<Piece>, usize, usize) {
     let (a, b) = ranges[i];
     let piece = &prep.data.points[a..=b];
@@ -270,9 +297,9 @@ fn raise_piece(
         let curve = straight_piece(piece[0], piece[piece.len() - 1], d).ok();
         return (curve.map(|curve| Piece { curve, ..q.clone() }), 0, 0);
     }
-    let count = Some(super::closed::distinct_control_points(&q.curve));
+    let count = Some(distinct_control_points(&q.curve));
     let sub = piece_options(prep, i, opts, count);
-    let at = raise_open_piece(piece, &q.curve, &sub, d);
+    let at = raise_open_piece(piece, &q.curve, &sub, d, tuning);
     let r = at.fit.map(|r| piece_of(r, piece.len()));
     (r, at.evaluations, at.iterations)
 }

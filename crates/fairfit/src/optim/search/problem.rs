@@ -123,7 +123,19 @@ impl SwarmProblem for KnotProblem<'_> {
     }
 }
 
-impl super::count_search::CountProblem for KnotProblem<'_> {
+/// The knot search at one control-point count.
+pub(crate) trait CountProblem: SwarmProblem<Output = CandidateEval> + Clone + Send {
+    /// The particle position of interior knots, smoothing coordinate at its lower bound.
+    fn position(&self, knots: &[f64]) -> Vec<f64>;
+    /// The repaired interior knots of position `x` (`None` when no valid knot vector exists).
+    fn decode(&self, x: &[f64]) -> Option<Vec<f64>>;
+    /// The coordinate of `log10 λ` when the smoothing weight is searched.
+    fn smoothing_coord(&self) -> Option<usize>;
+    /// `log10 λ` of position `x`.
+    fn log_lambda(&self, x: &[f64]) -> f64;
+}
+
+impl CountProblem for KnotProblem<'_> {
     fn position(&self, knots: &[f64]) -> Vec<f64> {
         let mut x = vec![0.0; self.encoding.dim()];
         self.encoding.encode(knots, &mut x);

@@ -290,7 +290,7 @@ pub fn run_mopso<P: SwarmProblem>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::optim::pso::Fitness;
+    use crate::optim::search::pso::Fitness;
 
     /// Schaffer's problem N.1 in 1-D on [-5, 5]: f1 = x², f2 = (x − 2)²; front x ∈ [0, 2].
     struct Schaffer;

@@ -1,19 +1,23 @@
 //! The Pareto front of (maximum orthogonal deviation, F) at a fixed number of control points, for
 //! `--pareto`: a user picks the trade-off between closeness to the data and fairness.
 //!
-//! The multi-objective swarm of [`super::mopso`] runs over the same encoded knot vectors (and smoothing
+//! The multi-objective swarm of [`crate::optim::search::mopso`] runs over the same encoded knot vectors (and smoothing
 //! weight) as the integrated method, seeded with its knots; candidates deviating more than
 //! [`DEVIATION_CAP`] times the tolerance are left out, so the front covers the useful range.
 
-use super::encoding::{KnotEncoding, LOG_LAMBDA_RANGE};
-use super::integrated::{finish_curve, tolerance_of, FitQuality, IntegratedOptions};
-use super::mopso::{run_mopso, MopsoOptions, ParetoArchive};
-use super::objective::CandidateEval;
-use super::prepare::prepare;
-use super::problem::KnotProblem;
-use super::pso::SwarmProblem;
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::optim::context::tolerance_of;
+use crate::optim::kind::open::finish_curve;
+use crate::optim::kind::periodic::distinct_control_points;
+use crate::optim::options::IntegratedOptions;
+use crate::optim::result::FitQuality;
+use crate::optim::search::encoding::{KnotEncoding, LOG_LAMBDA_RANGE};
+use crate::optim::search::mopso::{run_mopso, MopsoOptions, ParetoArchive};
+use crate::optim::search::objective::CandidateEval;
+use crate::optim::search::prepare::{averaging_interior_knots, prepare};
+use crate::optim::search::problem::KnotProblem;
+use crate::optim::search::pso::SwarmProblem;
 
 /// Front members deviate at most this many times the tolerance.
 pub const DEVIATION_CAP: f64 = 10.0;
@@ -53,7 +57,7 @@ pub fn pareto_front(
         fairness_cutoff: DEVIATION_CAP,
     };
     let mut seeds = Vec::new();
-    let avg = super::prepare::averaging_interior_knots(&prep.data.params, p, n_ctrl);
+    let avg = averaging_interior_knots(&prep.data.params, p, n_ctrl);
     for (knots, ll) in seed_knots
         .into_iter()
         .chain(std::iter::once((avg.as_slice(), LOG_LAMBDA_RANGE.0)))
@@ -122,7 +126,7 @@ pub fn pareto_csv(front: &[ParetoCurve]) -> String {
     for (i, c) in front.iter().enumerate() {
         s.push_str(&format!(
             "{i},{},{:e},{:e},{:e},{:e}\n",
-            super::closed::distinct_control_points(&c.curve),
+            distinct_control_points(&c.curve),
             c.quality.max_deviation,
             c.quality.rms_deviation,
             c.quality.fairness,

@@ -1,0 +1,79 @@
+//! The entry points of the integrated method: [`fit_integrated`] sends the data to the pipeline
+//! for its shape, closed data to [`super::closed`], open data to [`super::cornered`] (which fits
+//! data without corners by the open pipeline, [`super::open`]); nothing calls back in here.
+
+use super::closed;
+use super::context::tolerance_of;
+use super::cornered;
+use super::kind::open::finish;
+use super::options::{validate, IntegratedOptions};
+use super::result::IntegratedResult;
+use super::search::prepare::{averaging_interior_knots, prepare};
+use crate::errors::{Error, Result};
+use crate::nurbs::Vec3;
+use std::time::Instant;
+
+/// Fits a fair cubic B-spline to ordered `points` by the integrated method.
+///
+/// ```
+/// use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
+/// use fairfit::Vec3;
+/// let pts: Vec<Vec3> = (0..60)
+///     .map(|i| {
+///         let t = i as f64 / 59.0 * 1.5;
+///         Vec3([2.0 * t.cos(), t.sin(), 0.0])
+///     })
+///     .collect();
+/// let opts = IntegratedOptions { tolerance: Tolerance::Relative(1e-3), ..Default::default() };
+/// let r = fit_integrated(&pts, &opts).unwrap();
+/// assert!(r.met && r.quality.max_deviation <= r.tolerance);
+/// assert!(r.curve.n_control_points() <= r.baseline_control_points);
+/// ```
+pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<IntegratedResult> {
+    fit_integrated_with_progress(points, opts, &|_, _| {})
+}
+
+/// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
+/// between swarm iterations (stage = control-point count being searched); with a degree search
+/// ([`IntegratedOptions::max_degree`]) every degree's fit reports from its own worker thread.
+/// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
+/// between swarm iterations (stage = control-point count being searched); with a degree search
+/// ([`IntegratedOptions::max_degree`]) every degree's fit reports from its own worker thread.
+pub fn fit_integrated_with_progress(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<IntegratedResult> {
+    let start = Instant::now();
+    validate(opts)?;
+    if closed::is_closed(points, opts.closed) {
+        closed::fit(points, opts, progress, start)
+    } else {
+        cornered::fit(points, opts, progress, start)
+    }
+}
+
+/// The least-squares fit with averaging knots and `n_ctrl` control points (the baseline the
+/// integrated method starts from), measured like the integrated result.
+pub fn fit_lsq_baseline(
+    points: &[Vec3],
+    n_ctrl: usize,
+    opts: &IntegratedOptions,
+) -> Result<IntegratedResult> {
+    validate(opts)?;
+    let prep = prepare(points, opts.degree)?;
+    if n_ctrl < opts.degree + 1 || n_ctrl > prep.data.points.len() {
+        return Err(Error::InvalidOption(format!(
+            "{n_ctrl} control points: need between {} and {}",
+            opts.degree + 1,
+            prep.data.points.len()
+        )));
+    }
+    let tol = tolerance_of(opts, prep.scale);
+    let knots = averaging_interior_knots(&prep.data.params, opts.degree, n_ctrl);
+    let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts, None)?;
+    Ok(IntegratedResult {
+        baseline_control_points: n_ctrl,
+        ..r
+    })
+}
