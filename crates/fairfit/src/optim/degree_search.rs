@@ -11,7 +11,7 @@
 //!    after the wiggly trigger);
 //! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) ·
 //!    EXTRA_POINT_GAIN^extra` wins (`extra`: control points above the reference's; ties: the lower
-//!    degree). A higher degree must buy the same factor [`IntegratedOptions::fairness_gain`] per
+//!    degree). A higher degree must buy the same factor `fairness_gain` (1.1) per
 //!    degree step that an added control point must buy in the count search, so the degree does not
 //!    change for F differences of a few per cent (the swarm's own noise), and every control point
 //!    it adds must buy the count search's 5 % ([`super::count_search`]; none after the wiggly
@@ -82,7 +82,7 @@ pub struct DegreeTrial {
 }
 
 /// Band-fairing subproblems of a higher degree in the staged search (the reference gets
-/// [`IntegratedOptions::band_solves`]). A capped stage can only make a higher degree less fair, so
+/// [`Budget::band_solves`](super::Budget::band_solves)). A capped stage can only make a higher degree less fair, so
 /// the cap never puts a worse curve in place of the reference's; on the 33 benchmark curves 8 and 12
 /// keep the same degrees (rae2822, naca633418: the quartic; circular: the quintic), while
 /// FFA-W3-241's quartic took 26 subproblems (2.9 times the reference's whole band fairing and
@@ -90,7 +90,7 @@ pub struct DegreeTrial {
 pub const CANDIDATE_BAND_SOLVES: usize = 8;
 
 /// Polish measurements of a higher degree in the staged search (the reference gets
-/// [`IntegratedOptions::polish_evaluations`]). After band fairing the polish changes F by a few
+/// [`Budget::polish_evaluations`](super::Budget::polish_evaluations)). After band fairing the polish changes F by a few
 /// per cent at most: on the 33 benchmark curves 500 (and even none) keep the same degrees, and
 /// the quartic's full polish cost FFA-W3-211 and -241 about 0.2·10⁹ instructions each, a third of
 /// the quartic's work.

@@ -34,6 +34,14 @@
 //! - [`pareto`]: the Pareto front of curves for `--pareto`;
 //! - [`pareto_joined`]: the front of the returned curve, joined from the pieces' fronts at corners;
 //! - [`pareto_periodic`]: the front of a periodic closed curve.
+//! - [`options`]: [`IntegratedOptions`] (the builder of the user's settings), [`Budget`], validation;
+//! - [`progress`]: the typed progress [`Stage`];
+//! - `entry`: [`fit_integrated_with_stages`], the entry point with typed progress;
+//! - `result_access`: reading an [`IntegratedResult`] ([`IntegratedResult::log10_smoothing`]).
+//!
+//! The public API is re-exported here (and through [`crate::prelude`]): [`fit_integrated`],
+//! [`fit_integrated_with_stages`], [`IntegratedOptions`], [`Budget`], [`Stage`], [`IntegratedResult`]
+//! and what it holds, the Pareto front, and the closed-curve helpers.
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
@@ -53,11 +61,13 @@ pub mod degree_candidates;
 pub mod degree_search;
 pub(crate) mod descent;
 pub mod encoding;
+mod entry;
 pub mod free_ends;
 pub mod integrated;
 pub(crate) mod knot_edits;
 pub mod mopso;
 pub mod objective;
+pub mod options;
 pub mod pareto;
 pub mod pareto_joined;
 pub mod pareto_periodic;
@@ -66,6 +76,23 @@ pub mod periodic_fairing;
 pub mod polish;
 pub mod prepare;
 pub mod problem;
+pub mod progress;
 pub mod pso;
 pub(crate) mod residual_knots;
+mod result_access;
 pub mod smoothing;
+
+pub use crate::fit::tolerance::ClosedMode;
+pub use crate::tolerance::Tolerance;
+pub use closed::{distinct_control_points, is_closed};
+pub use control_map::EndCondition;
+pub use degree_search::DegreeTrial;
+pub use entry::fit_integrated_with_stages;
+pub use integrated::{
+    fit_integrated, fit_integrated_with_progress, fit_lsq_baseline, FitQuality, IntegratedResult,
+    OptimStats,
+};
+pub use options::{Budget, IntegratedOptions, NonExhaustive};
+pub use pareto::{pareto_csv, ParetoCurve};
+pub use pareto_joined::pareto_front_of_result;
+pub use progress::Stage;
