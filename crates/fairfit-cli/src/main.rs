@@ -3,7 +3,7 @@
 //! Every subcommand lives in its own file under `commands/`. Errors print as one line on stderr with a
 //! non-zero exit code: 2 for usage errors (unknown or missing arguments, option values or combinations
 //! the command does not accept, whether clap or the command finds them, including the library's
-//! `Error::InvalidOption`; the line ends with the `--help` to read), 1 for everything else
+//! `Error::InvalidOption` and `Error::InvalidSetting`, whose setting is named by its flag; the line ends with the `--help` to read), 1 for everything else
 //! (unreadable or invalid input, failed writes); the library's typed errors already name what is wrong. `--help` and `--version` print
 //! normally and exit 0; `fairfit` without a subcommand prints the help on stderr and exits 2. A closed
 //! stdout (`fairfit info x.json | head -c 10`) ends the run quietly with exit 0.
@@ -30,7 +30,7 @@ enum Command {
     /// Summarise a curve or surface (JSON, STEP or IGES): size, domain, length, fairness.
     Info(commands::info::InfoArgs),
     /// Fit a fair curve to ordered points, or re-fair a STEP/IGES curve.
-    Curve(commands::curve::CurveArgs),
+    Curve(commands::curve_args::CurveArgs),
     /// Fit a fair surface to sections or a point cloud.
     Surface(commands::surface::SurfaceArgs),
     /// Plot a curve or surface (JSON, STEP or IGES).

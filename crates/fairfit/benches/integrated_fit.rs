@@ -24,20 +24,10 @@ fn bench(c: &mut Criterion) {
     let full = IntegratedOptions::default(); // relative tolerance 1e-3, the CLI's defaults
     let variants = [
         ("integrated", full.clone()),
-        (
-            "integrated_no_band",
-            IntegratedOptions {
-                band_fairing: false,
-                ..full.clone()
-            },
-        ),
+        ("integrated_no_band", full.clone().band_fairing(false)),
         (
             "integrated_no_band_no_polish",
-            IntegratedOptions {
-                band_fairing: false,
-                polish: false,
-                ..full.clone()
-            },
+            full.clone().band_fairing(false).polish(false),
         ),
     ];
     for (group, opts) in variants {

@@ -4,7 +4,7 @@
 //! fit and a digest of the result's bits (control points, knots, deviation), to check that a change
 //! keeps the fits bit for bit.
 
-use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
+use fairfit::prelude::{fit_to_tolerance, FitOptions, Tolerance};
 use std::time::Instant;
 
 fn main() {

@@ -60,6 +60,17 @@ pub enum Error {
     /// An option value is out of range.
     #[error("invalid option: {0}")]
     InvalidOption(String),
+    /// A setting of the integrated method is out of range, or does not fit the others; `option` names
+    /// it as the [`IntegratedOptions`](crate::optim::IntegratedOptions) method that sets it (e.g.
+    /// `control_points`), so that a caller can point at its own name for it (the command-line tool
+    /// names its flag).
+    #[error("invalid option {option}: {reason}")]
+    InvalidSetting {
+        /// The setting, as the builder method of `IntegratedOptions` that sets it.
+        option: &'static str,
+        /// What is wrong with its value.
+        reason: String,
+    },
     /// A STEP or IGES file cannot be read, or holds no geometry fairfit reads; the message names the
     /// file (when read from one), where in it, and what to do.
     #[error("{0}")]

@@ -15,7 +15,11 @@
 //! - [`surface`]: sections and point clouds to compatible fair curves, skinned into surfaces;
 //! - [`io`]: the JSON geometry format, point files, STEP, IGES and meshes;
 //! - [`plot`]: SVG/PNG plots and HTML reports;
-//! - [`errors`]: the typed [`Error`] every fallible function returns.
+//! - [`errors`]: the typed [`Error`] every fallible function returns;
+//! - [`prelude`]: what a user of the library needs in one import (`use fairfit::prelude::*`).
+//!
+//! [`Tolerance`] (the allowed maximum orthogonal deviation) is the one tolerance type of [`fit`] and
+//! [`optim`].
 //!
 //! The library never prints; the `fairfit` command-line tool is a separate crate.
 
@@ -27,7 +31,10 @@ pub mod io;
 pub mod nurbs;
 pub mod optim;
 pub mod plot;
+pub mod prelude;
 pub mod surface;
+mod tolerance;
 
 pub use errors::{Error, Result};
 pub use nurbs::{NurbsCurve, NurbsSurface, Vec3};
+pub use tolerance::Tolerance;

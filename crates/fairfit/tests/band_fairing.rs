@@ -23,12 +23,11 @@ fn band_fairing_lowers_fairness_within_the_tolerance() {
         let n = fit_to_tolerance(&pts, &FitOptions::default())
             .unwrap()
             .n_control_points;
-        let opts = |band: bool| IntegratedOptions {
-            tolerance: Tolerance::Relative(1e-3),
-            seed: 42,
-            control_points: Some(n),
-            band_fairing: band,
-            ..IntegratedOptions::default()
+        let opts = |band: bool| {
+            IntegratedOptions::new(Tolerance::Relative(1e-3))
+                .seed(42)
+                .control_points(n)
+                .band_fairing(band)
         };
         let off = fit_integrated(&pts, &opts(false)).unwrap();
         let on = fit_integrated(&pts, &opts(true)).unwrap();
@@ -110,10 +109,7 @@ fn band_fairing_removes_small_curvature_extrema_and_stays_fair() {
         let pts = read_csv(name);
         let lsq = fit_to_tolerance(&pts, &FitOptions::default()).unwrap();
         // the CLI's defaults (seed 0), as the benchmark runs it
-        let opts = IntegratedOptions {
-            tolerance: Tolerance::Relative(1e-3),
-            ..IntegratedOptions::default()
-        };
+        let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
         let on = fit_integrated(&pts, &opts).unwrap();
         let (e_lsq, e_on) = (dense_extrema(&lsq.curve), dense_extrema(&on.curve));
         let (f_lsq, f_on) = (
@@ -147,10 +143,7 @@ fn band_fairing_lowers_the_clark_y_leading_edge_peak_without_new_extrema() {
     // holding the extrema pattern 1.73e6 (0.621 x). The independent study
     // (docs/f-target-study.md) reaches 0.498 x at splprep's 13 points.
     let pts = read_csv("clarky.csv");
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     let on = fit_integrated(&pts, &opts).unwrap();
     let f = curve_fairness(&on.curve).fairness;
     let extrema = dense_extrema(&on.curve);
@@ -177,10 +170,7 @@ fn a_second_band_fairing_pass_lowers_the_naca633418_curve_below_its_first_pass()
     // against fairfit's 13). A fresh pass after the polish (band_fairing::refair) goes on:
     // measured F 0.441 x splprep's, still one curvature extremum (splprep: 1), 13 control points.
     let pts = read_csv("naca633418.csv");
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     let on = fit_integrated(&pts, &opts).unwrap();
     let f = curve_fairness(&on.curve).fairness;
     let extrema = dense_extrema(&on.curve);

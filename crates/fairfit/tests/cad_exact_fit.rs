@@ -44,13 +44,11 @@ fn lsq(rel: f64) -> impl FnMut(&[Vec3], Option<f64>) -> fairfit::Result<Fitted<(
 /// of the extent, or at the absolute tolerance asked for.
 fn integrated(rel: f64) -> impl FnMut(&[Vec3], Option<f64>) -> fairfit::Result<Fitted<()>> {
     move |points, tol| {
-        let opts = IntegratedOptions {
-            degree: 3,
-            max_degree: Some(5),
-            tolerance: tol.map_or(IntTolerance::Relative(rel), IntTolerance::Absolute),
-            corner_angle_deg: Some(60.0),
-            ..IntegratedOptions::default()
-        };
+        let opts =
+            IntegratedOptions::new(tol.map_or(IntTolerance::Relative(rel), IntTolerance::Absolute))
+                .degree(3)
+                .degree_search(5)
+                .corner_angle(Some(60.0));
         let f = fit_integrated(points, &opts)?;
         Ok(Fitted {
             curve: f.curve,

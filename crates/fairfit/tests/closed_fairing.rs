@@ -116,11 +116,7 @@ fn assert_periodic_at_the_regular_polygon_minimum(r: &IntegratedResult, pts: &[V
 }
 
 fn opts() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        seed: 7,
-        ..IntegratedOptions::default()
-    }
+    IntegratedOptions::new(Tolerance::Relative(1e-3)).seed(7)
 }
 
 #[test]
@@ -153,12 +149,10 @@ fn closed_ellipse_is_fairer_with_band_fairing_and_polish_at_equal_count() {
     let faired = fit_integrated(&pts, &opts()).unwrap();
     let raw = fit_integrated(
         &pts,
-        &IntegratedOptions {
-            polish: false,
-            band_fairing: false,
-            control_points: Some(distinct_control_points(&faired.curve)),
-            ..opts()
-        },
+        &opts()
+            .polish(false)
+            .band_fairing(false)
+            .control_points(distinct_control_points(&faired.curve)),
     )
     .unwrap();
     assert_eq!(

@@ -29,11 +29,7 @@ fn ellipse(n: usize, a: f64, b: f64, repeat: bool) -> Vec<Vec3> {
 }
 
 fn opts() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        seed: 7,
-        ..IntegratedOptions::default()
-    }
+    IntegratedOptions::new(Tolerance::Relative(1e-3)).seed(7)
 }
 
 #[test]
@@ -125,14 +121,7 @@ fn closed_circle_is_detected_and_fitted_periodically_with_a_smooth_seam() {
         f.length
     );
     // forcing it open gives a clamped curve instead
-    let open = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            closed: ClosedMode::Open,
-            ..opts()
-        },
-    )
-    .unwrap();
+    let open = fit_integrated(&pts, &opts().closed(ClosedMode::Open)).unwrap();
     assert_eq!(
         distinct_control_points(&open.curve),
         open.curve.n_control_points()
@@ -146,14 +135,7 @@ fn closed_ellipse_is_fairer_than_the_least_squares_closed_fit_at_equal_control_p
     let lsq = fit_to_tolerance(&pts, &FitOptions::default()).unwrap();
     assert!(lsq.closed && lsq.corners.is_empty());
     let n = lsq.n_control_points;
-    let r = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            control_points: Some(n),
-            ..opts()
-        },
-    )
-    .unwrap();
+    let r = fit_integrated(&pts, &opts().control_points(n)).unwrap();
     assert_eq!(distinct_control_points(&r.curve), n);
     let (fi, fl) = (
         curve_fairness(&r.curve).fairness,
@@ -198,27 +180,14 @@ fn closed_data_with_a_corner_are_cut_there_and_meet_at_it() {
 #[test]
 fn closed_errors_are_typed_and_actionable() {
     let pts = ellipse(100, 2.0, 1.0, true);
-    let e = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            control_points: Some(200),
-            ..opts()
-        },
-    )
-    .unwrap_err()
-    .to_string();
+    let e = fit_integrated(&pts, &opts().control_points(200))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("between 4 and 99"), "{e}");
     // five points forced closed: too few for a periodic cubic
     let few = &ellipse(4, 1.0, 1.0, false);
-    let e = fit_integrated(
-        few,
-        &IntegratedOptions {
-            closed: ClosedMode::Closed,
-            corner_angle_deg: None,
-            ..opts()
-        },
-    )
-    .unwrap_err()
-    .to_string();
+    let e = fit_integrated(few, &opts().closed(ClosedMode::Closed).corner_angle(None))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("at least 5 distinct points"), "{e}");
 }

@@ -23,13 +23,10 @@ fn read_csv(name: &str) -> Vec<Vec3> {
 }
 
 fn opts() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        seed: 3,
+    IntegratedOptions::new(Tolerance::Relative(1e-3))
+        .seed(3)
         // the blunt trailing edge is the closing chord: corners at both of its ends
-        closed: ClosedMode::Closed,
-        ..IntegratedOptions::default()
-    }
+        .closed(ClosedMode::Closed)
 }
 
 /// Parameters of the interior knots of multiplicity >= p (the C0 corners).
@@ -95,28 +92,14 @@ fn blunt_trailing_edge_with_a_fixed_count_keeps_its_corners_and_the_tolerance() 
     assert!((free.curve.point(corners[0]) - pts[pts.len() - 1]).norm() < 1e-9);
     assert!(free.met);
     // the default result's count reproduces the default curve
-    let same = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            control_points: Some(n),
-            ..opts()
-        },
-    )
-    .unwrap();
+    let same = fit_integrated(&pts, &opts().control_points(n)).unwrap();
     assert_eq!(same.curve.n_control_points(), n);
     assert_eq!(same.curve.knots(), free.curve.knots());
     assert_eq!(same.curve.control_points(), free.curve.control_points());
     let dev = brute_force_deviation(&same.curve, &pts);
     assert!(same.met && dev <= same.tolerance * 1.0001, "{dev}");
     // more points: the exact count, the same corners, still within the tolerance
-    let more = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            control_points: Some(n + 4),
-            ..opts()
-        },
-    )
-    .unwrap();
+    let more = fit_integrated(&pts, &opts().control_points(n + 4)).unwrap();
     assert_eq!(more.curve.n_control_points(), n + 4);
     assert_eq!(corner_knots(&more.curve).len(), 1);
     let dev = brute_force_deviation(&more.curve, &pts);
@@ -126,15 +109,9 @@ fn blunt_trailing_edge_with_a_fixed_count_keeps_its_corners_and_the_tolerance() 
         free.quality.fairness, more.quality.fairness
     );
     // too few for the two pieces (a cubic and the straight edge): an actionable error
-    let e = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            control_points: Some(6),
-            ..opts()
-        },
-    )
-    .unwrap_err()
-    .to_string();
+    let e = fit_integrated(&pts, &opts().control_points(6))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("between 7 and"), "{e}");
 }
 

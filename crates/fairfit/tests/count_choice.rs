@@ -21,10 +21,7 @@ const SPLPREP: (usize, f64, usize) = (15, 636_963.0, 3);
 #[test]
 fn du06_meets_the_f_target_at_the_count_chosen_on_the_finished_curve() {
     let pts = read_csv("du06-w-200-selig.csv");
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     let r = fit_integrated(&pts, &opts).unwrap();
     let m = curve_fairness(&r.curve);
     // the tolerance by dense sampling (an upper bound of the orthogonal distance, no projection)
@@ -93,10 +90,7 @@ fn fit_within_tolerance(
 #[test]
 fn naca633418_keeps_the_fairer_of_both_searches_at_the_extra_count() {
     let pts = read_csv("naca633418.csv");
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     let (r, m, dense) = fit_within_tolerance("naca633418", &pts, &opts, SPLPREP_NACA633418.1);
     assert_eq!(r.curve.n_control_points(), 13);
     assert!(dense.curvature_extrema <= SPLPREP_NACA633418.2);
@@ -109,14 +103,7 @@ fn naca633418_keeps_the_fairer_of_both_searches_at_the_extra_count() {
         m.fairness,
         SPLPREP_NACA633418.1
     );
-    let fixed = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            control_points: Some(13),
-            ..opts
-        },
-    )
-    .unwrap();
+    let fixed = fit_integrated(&pts, &opts.control_points(13)).unwrap();
     assert_eq!(curve_fairness(&fixed.curve).fairness, m.fairness);
 }
 
@@ -131,11 +118,7 @@ fn the_restart_from_a_second_descent_removes_the_seed_2_wiggles_of_du84132v_nois
     // curvature extrema; the restart from the second descent's knots at 14 points finishes with 4
     // (F 1.135e6 against 1.217e6)
     let pts = read_csv("du84132v_noise1e-4.csv");
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        seed: 2,
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).seed(2);
     let (r, m, dense) = fit_within_tolerance(
         "du84132v_noise1e-4 seed 2",
         &pts,

@@ -185,22 +185,8 @@ fn pieces_between_corners_share_the_raised_degree_at_their_own_counts() {
         Vec3([0.8 * t.sin(), 1.0 - 0.8 * (1.0 - t.cos()), 0.0])
     }));
     let tolerance = Tolerance::Relative(5e-4);
-    let cubic = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            tolerance,
-            ..IntegratedOptions::default()
-        },
-    )
-    .unwrap();
-    let r = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            tolerance,
-            ..auto()
-        },
-    )
-    .unwrap();
+    let cubic = fit_integrated(&pts, &IntegratedOptions::new(tolerance)).unwrap();
+    let r = fit_integrated(&pts, &auto().tolerance(tolerance)).unwrap();
     assert!(r.met && cubic.met);
     let p = r.curve.degree();
     assert!(p >= 4, "degree {p}");
@@ -234,15 +220,8 @@ fn pieces_between_corners_share_the_raised_degree_at_their_own_counts() {
 #[test]
 fn a_degree_range_below_the_degree_is_refused() {
     let pts = data("naca4412.csv");
-    let bad = IntegratedOptions {
-        degree: 4,
-        max_degree: Some(3),
-        ..IntegratedOptions::default()
-    };
+    let bad = IntegratedOptions::default().degree(4).degree_search(3);
     assert!(fit_integrated(&pts, &bad).is_err());
-    let too_high = IntegratedOptions {
-        max_degree: Some(8),
-        ..IntegratedOptions::default()
-    };
+    let too_high = IntegratedOptions::default().degree_search(8);
     assert!(fit_integrated(&pts, &too_high).is_err());
 }

@@ -176,10 +176,7 @@ fn a_wiggle_next_to_a_knot_that_192_samples_miss_is_counted() {
 #[test]
 fn on_fitted_curves_the_exact_count_is_the_count_at_20000_samples_per_span() {
     use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     let lsq = FitOptions::default();
     let mut seen = Vec::new();
     for name in [
@@ -219,10 +216,7 @@ fn band_fairing_leaves_no_extrema_between_the_samples() {
     // span (BandOptions::edge_signs) and the guard's samples 1e-6 of a span from each knot leave
     // no sign flip next to a knot. Before (main bc6680f, the same fits): clarky 3 exact extrema
     // against 1 at the measurer's 192 samples per span, hq17 7 against 3, naca633418 2 against 1.
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     for (name, want) in [("clarky.csv", 1), ("hq17.csv", 3), ("naca633418.csv", 1)] {
         let c = fit_integrated(&read_csv(name), &opts).unwrap().curve;
         let l = arc_length(&c);

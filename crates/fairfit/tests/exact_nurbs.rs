@@ -416,10 +416,7 @@ fn a_straight_stretch_in_space_adds_no_extrema() {
 fn on_fitted_space_curves_the_exact_count_is_the_count_at_20000_samples_per_span() {
     use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
     use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     let mut rnd = lcg(11);
     let mut seen = Vec::new();
     // 200 points of a conical helix and of a space curve with varying torsion, with 1e-4 noise
@@ -468,10 +465,7 @@ fn on_fitted_airfoils_the_exact_inflections_are_the_count_at_20000_samples_per_s
     use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
     #[path = "common/example_data.rs"]
     mod example_data;
-    let opts = IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        ..IntegratedOptions::default()
-    };
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
     let mut seen = Vec::new();
     for name in [
         "naca4412.csv",

@@ -24,11 +24,7 @@ fn quarter_ellipse(s: f64) -> Vec<Vec3> {
 fn fit(points: &[Vec3], ends: EndCondition) -> IntegratedResult {
     fit_integrated(
         points,
-        &IntegratedOptions {
-            tolerance: Tolerance::Relative(1e-3),
-            ends,
-            ..IntegratedOptions::default()
-        },
+        &IntegratedOptions::new(Tolerance::Relative(1e-3)).ends(ends),
     )
     .unwrap()
 }

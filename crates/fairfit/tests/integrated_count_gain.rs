@@ -10,8 +10,8 @@
 
 use fairfit::fair::curve_fairness;
 use fairfit::optim::distinct_control_points;
+use fairfit::optim::fit_integrated;
 use fairfit::optim::Tuning;
-use fairfit::optim::{fit_integrated, IntegratedOptions};
 
 #[path = "common/degree_auto.rs"]
 mod degree_auto;
@@ -84,7 +84,7 @@ fn a_lucky_search_at_the_kept_count_does_not_trigger_the_quartics_count_search()
     // degree rule (9.05e5 · 1.1 · 1.05⁴ > 1.019e6): the same cubic is kept, at less than half the
     // evaluations.
     let pts = read_csv("du84132v_noise1e-4.csv");
-    let opts = IntegratedOptions { seed: 4, ..auto() };
+    let opts = auto().seed(4);
     let r = fit_integrated(&pts, &opts).unwrap();
     assert!(r.met);
     let tried = &r.stats.degrees_tried;
@@ -121,7 +121,7 @@ fn sc20714_gets_a_quartic_one_point_above_the_baseline_where_the_cubic_kept_it()
     // session 14 but off by default, the cubic's smaller counts got fairer and seed 3 no longer
     // triggered, seed 4 still did.)
     let pts = read_csv("sc20714.csv");
-    let opts = IntegratedOptions { seed: 4, ..auto() };
+    let opts = auto().seed(4);
     let r = fit_integrated(&pts, &opts).unwrap();
     assert!(r.met);
     let tried = &r.stats.degrees_tried;

@@ -13,11 +13,7 @@ use example_data::read_csv;
 mod sampled;
 
 fn opts() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        seed: 42,
-        ..IntegratedOptions::default()
-    }
+    IntegratedOptions::new(Tolerance::Relative(1e-3)).seed(42)
 }
 
 #[test]
@@ -35,14 +31,7 @@ fn at_the_least_squares_count_the_integrated_curve_is_fairer_and_within_toleranc
         let pts = read_csv(name);
         let lsq = fit_to_tolerance(&pts, &FitOptions::default()).unwrap();
         let n = lsq.n_control_points;
-        let r = fit_integrated(
-            &pts,
-            &IntegratedOptions {
-                control_points: Some(n),
-                ..opts()
-            },
-        )
-        .unwrap();
+        let r = fit_integrated(&pts, &opts().control_points(n)).unwrap();
         let (fi, fl) = (
             curve_fairness(&r.curve).fairness,
             curve_fairness(&lsq.curve).fairness,
@@ -192,14 +181,7 @@ fn a_corner_becomes_a_c0_knot_and_both_sides_stay_smooth_and_within_tolerance() 
     let worst = sampled::brute_force_deviation_n(&r.curve, &pts, 100_000);
     assert!(worst <= r.tolerance * 1.001, "{worst} > {}", r.tolerance);
     // one smooth curve through the corner needs far more control points (or misses)
-    let smooth = fit_integrated(
-        &pts,
-        &IntegratedOptions {
-            corner_angle_deg: None,
-            ..opts()
-        },
-    )
-    .unwrap();
+    let smooth = fit_integrated(&pts, &opts().corner_angle(None)).unwrap();
     assert!(
         !smooth.met || smooth.curve.n_control_points() > r.curve.n_control_points() + 3,
         "{} vs {}",
@@ -216,26 +198,15 @@ fn non_finite_or_shrinking_options_are_typed_errors() {
             Vec3::new(t, (3.0 * t).sin(), 0.0)
         })
         .collect();
+    // the fairness gain per degree is tuning, not a setting: optim::options unit-tests its checks
     for o in [
-        IntegratedOptions {
-            fairness_gain: f64::NAN,
-            ..opts()
-        },
-        IntegratedOptions {
-            fairness_gain: 0.5,
-            ..opts()
-        },
-        IntegratedOptions {
-            corner_angle_deg: Some(f64::NAN),
-            ..opts()
-        },
-        IntegratedOptions {
-            corner_angle_deg: Some(0.0),
-            ..opts()
-        },
+        opts().span_fairness(f64::NAN),
+        opts().span_fairness(0.0),
+        opts().corner_angle(Some(f64::NAN)),
+        opts().corner_angle(Some(0.0)),
     ] {
         let e = fit_integrated(&pts, &o).unwrap_err();
-        assert!(matches!(e, fairfit::Error::InvalidOption(_)), "{e}");
+        assert!(matches!(e, fairfit::Error::InvalidSetting { .. }), "{e}");
     }
 }
 

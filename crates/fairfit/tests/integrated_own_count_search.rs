@@ -76,10 +76,7 @@ fn the_own_count_search_is_identical_with_one_and_two_threads() {
 fn a_fixed_count_keeps_the_quartic_at_the_cubics_count() {
     // with --control-points the next degree has no counts of its own
     let pts = read_csv("hq17.csv");
-    let opts = IntegratedOptions {
-        control_points: Some(13),
-        ..auto()
-    };
+    let opts = auto().control_points(13);
     let r = fit_integrated(&pts, &opts).unwrap();
     assert_eq!(distinct_control_points(&r.curve), 13);
     for t in &r.stats.degrees_tried {

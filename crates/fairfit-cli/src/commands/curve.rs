@@ -9,252 +9,19 @@
 //! the tolerance of the exact curve (`fairfit::fit::cad_fit`: refitted with points of it added while it
 //! strays between the samples; a note and the report's `exact_curve` say how far it is).
 
+use super::curve_args::{CurveArgs, DegreeArg, EndsArg, Method};
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
 use super::info::exact_shape_json;
-use super::outputs::{check_output_paths, prepare_outputs, OutputArgs, OutputGeometry};
+use super::outputs::{check_output_paths, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
-use clap::{Args, ValueEnum};
 use fairfit::fair::curve_fairness;
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
-use fairfit::fit::tolerance::{
-    fit_to_tolerance, ClosedMode, FitOptions, FitResult, KnotRule, Tolerance,
-};
-use fairfit::fit::{Parameterization, SmoothingOrder};
+use fairfit::fit::SmoothingOrder;
 use fairfit::io::atomic::write_all_atomic;
 use fairfit::io::curve_to_json;
-use fairfit::Vec3;
+use fairfit::prelude::{fit_to_tolerance, FitOptions, FitResult, NurbsCurve, Tolerance, Vec3};
 use serde_json::json;
-use std::path::PathBuf;
 use std::time::Instant;
-
-/// The fitting method.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Method {
-    /// Least squares with a tolerance-driven knot count (fast baseline).
-    Lsq,
-    /// Integrated fitting and fairing (knots by particle swarm optimisation).
-    Integrated,
-    /// Least squares, then fairing of the fitted curve.
-    FitThenFair,
-}
-
-/// Parameterisation choices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ParamArg {
-    /// Equal parameter steps.
-    Uniform,
-    /// Steps proportional to chord length.
-    Chord,
-    /// Steps proportional to the square root of chord length (default).
-    Centripetal,
-}
-
-impl From<ParamArg> for Parameterization {
-    fn from(p: ParamArg) -> Self {
-        match p {
-            ParamArg::Uniform => Parameterization::Uniform,
-            ParamArg::Chord => Parameterization::ChordLength,
-            ParamArg::Centripetal => Parameterization::Centripetal,
-        }
-    }
-}
-
-/// Knot placement choices of `--method lsq`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum KnotArg {
-    /// Split spans where the error is largest, then remove unneeded knots (default, fewest points).
-    Refine,
-    /// Symmetric averaging rule; smallest count meeting the tolerance.
-    Averaging,
-    /// Curvature-adaptive rule (more knots where the data turn fast); smallest count meeting it.
-    Adaptive,
-}
-
-impl From<KnotArg> for KnotRule {
-    fn from(k: KnotArg) -> Self {
-        match k {
-            KnotArg::Refine => KnotRule::Refine,
-            KnotArg::Averaging => KnotRule::Averaging,
-            KnotArg::Adaptive => KnotRule::Adaptive,
-        }
-    }
-}
-
-/// `--ends`: the end condition of an open curve (integrated method).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum EndsArg {
-    /// The curve starts and ends exactly at the first and last points.
-    Pinned,
-    /// The curve's end points may move within the tolerance of the first and last points, like
-    /// every other point (fairer curves where the data end at high curvature).
-    Free,
-}
-
-impl From<EndsArg> for fairfit::optim::EndCondition {
-    fn from(e: EndsArg) -> Self {
-        match e {
-            EndsArg::Pinned => Self::Pinned,
-            EndsArg::Free => Self::Free,
-        }
-    }
-}
-
-/// `--degree`: a fixed degree, or `auto` (the integrated method's degree search).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DegreeArg {
-    /// One degree.
-    Fixed(usize),
-    /// Every degree from 3 to [`AUTO_MAX_DEGREE`], one kept (`fairfit::optim::stages::degree_search`).
-    Auto,
-}
-
-/// The highest degree `--degree auto` tries.
-pub const AUTO_MAX_DEGREE: usize = 5;
-
-impl DegreeArg {
-    /// The fixed degree, or the lowest (reference) degree of the search.
-    pub fn lowest(self) -> usize {
-        match self {
-            DegreeArg::Fixed(d) => d,
-            DegreeArg::Auto => 3,
-        }
-    }
-}
-
-/// Parses `auto` or a degree from 1 to 15.
-fn parse_degree(s: &str) -> Result<DegreeArg, String> {
-    if s.eq_ignore_ascii_case("auto") {
-        return Ok(DegreeArg::Auto);
-    }
-    match s.trim().parse::<usize>() {
-        Ok(d) if (1..=15).contains(&d) => Ok(DegreeArg::Fixed(d)),
-        _ => Err(format!(
-            "expected `auto` or a degree from 1 to 15, got `{s}`"
-        )),
-    }
-}
-
-/// Parses `X,Y` or `X,Y,Z` into a vector.
-fn parse_vector(s: &str) -> Result<Vec3, String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("expected X,Y or X,Y,Z: {e}"))?;
-    match v[..] {
-        [x, y] => Ok(Vec3::new(x, y, 0.0)),
-        [x, y, z] => Ok(Vec3::new(x, y, z)),
-        _ => Err(format!("expected X,Y or X,Y,Z, got {} values", v.len())),
-    }
-}
-
-/// Arguments of `fairfit curve`.
-#[derive(Args, Debug, Clone)]
-pub struct CurveArgs {
-    /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file; or a
-    /// STEP/IGES file whose B-spline curve is sampled densely and re-fitted (re-faired).
-    #[arg(required = true)]
-    pub input: PathBuf,
-    /// Entity choice for STEP/IGES input.
-    #[command(flatten)]
-    pub cad: super::cad_input::CadInputArgs,
-    /// Fitting method.
-    #[arg(long, value_enum, default_value_t = Method::Integrated)]
-    pub method: Method,
-    /// Absolute tolerance on the maximum orthogonal deviation.
-    #[arg(long, conflicts_with = "rel_tol", allow_hyphen_values = true)]
-    pub tol: Option<f64>,
-    /// Tolerance relative to the largest side of the points' bounding box (default 1e-3).
-    #[arg(long, allow_hyphen_values = true)]
-    pub rel_tol: Option<f64>,
-    /// Degree of the curve (1 to 15), or `auto` (integrated method, its default): the cubic's count
-    /// search, then degrees 4 and 5 at the cubic's control points. The quartic also tries more
-    /// points: up to the least-squares count (one above it where the cubic kept that count) when the
-    /// cubic's fewest-extrema choice cost much F or its extra points still paid, and one above the
-    /// least-squares count (at most a quarter of the points) when the cubic's curve has 6 or more
-    /// curvature extrema. The fairest with no more curvature extrema than the cubic's is kept
-    /// [default: auto for integrated, 3 for lsq and fit-then-fair]
-    #[arg(long, value_parser = parse_degree, allow_hyphen_values = true)]
-    pub degree: Option<DegreeArg>,
-    /// Parameterisation of the points.
-    #[arg(long = "param", value_enum, default_value_t = ParamArg::Centripetal)]
-    pub param: ParamArg,
-    /// Treat the points as a closed curve (otherwise closed only when the last point repeats the first).
-    #[arg(long)]
-    pub closed: bool,
-    /// Turning angle (degrees) above which a point is a corner kept as a C0 knot.
-    #[arg(long, default_value_t = fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG, allow_hyphen_values = true)]
-    pub corner_angle: f64,
-    /// Do not detect corners.
-    #[arg(long)]
-    pub no_corners: bool,
-    /// Integrated method: skip the band fairing of the final control points (sequential convex
-    /// programming inside the tolerance band).
-    #[arg(long)]
-    pub no_band_fairing: bool,
-    /// Integrated method, open curves: whether the curve's end points stay on the first and last
-    /// points (`pinned`) or, in a last fairing pass, may move within the tolerance of them (`free`);
-    /// closed curves have no ends, and a curve with corners keeps its ends pinned (the report's
-    /// "ends" says which was used).
-    #[arg(long, value_enum, default_value_t = EndsArg::Pinned)]
-    pub ends: EndsArg,
-    /// Parameter-correction rounds per least-squares fit.
-    #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number)]
-    pub correction_rounds: usize,
-    /// Scale-free smoothing weight λ (0 = plain least squares).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub smoothing: f64,
-    /// Derivative order of the smoothing term: 2 for ∫|C''|², 3 for ∫|C'''|².
-    #[arg(long, default_value_t = 2, allow_hyphen_values = true,
-          value_parser = clap::value_parser!(u8).range(2..=3))]
-    pub smoothing_order: u8,
-    /// Knot placement (lsq and fit-then-fair methods).
-    #[arg(long, value_enum, default_value_t = KnotArg::Refine)]
-    pub knots: KnotArg,
-    /// Tangent direction X,Y or X,Y,Z at the first point (open curves; lsq and fit-then-fair methods).
-    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
-    pub start_tangent: Option<Vec3>,
-    /// Tangent direction X,Y or X,Y,Z at the last point (open curves; lsq and fit-then-fair methods).
-    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
-    pub end_tangent: Option<Vec3>,
-    /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
-    #[arg(long, allow_hyphen_values = true)]
-    pub span_fairness: Option<f64>,
-    /// Fixed number of control points instead of the fewest meeting the tolerance (integrated method).
-    #[arg(long, allow_hyphen_values = true, value_parser = super::whole_number)]
-    pub control_points: Option<usize>,
-    /// Write the Pareto front of (max deviation, F) as CSV (integrated method).
-    #[arg(long)]
-    pub pareto: Option<PathBuf>,
-    /// Also write every Pareto front member as a curve JSON into this directory.
-    #[arg(long)]
-    pub pareto_curves: Option<PathBuf>,
-    /// Random seed (methods with a stochastic search).
-    #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number_u64)]
-    pub seed: u64,
-    /// Worker threads (0 = all cores; capped at 4 per core; results do not depend on it).
-    #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number)]
-    pub threads: usize,
-    /// Output curve JSON file (stdout when absent).
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
-    /// Write a JSON report (deviation, fairness, timing) to this file.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// CAD, mesh, plot and HTML outputs.
-    #[command(flatten)]
-    pub outputs: OutputArgs,
-}
-
-impl CurveArgs {
-    /// `--degree`, or the method's default: `auto` for the integrated method, 3 otherwise.
-    pub fn degree(&self) -> DegreeArg {
-        self.degree.unwrap_or(match self.method {
-            Method::Integrated => DegreeArg::Auto,
-            _ => DegreeArg::Fixed(3),
-        })
-    }
-}
 
 /// Runs `fairfit curve`.
 pub fn run(args: CurveArgs) -> CmdResult {
@@ -317,16 +84,8 @@ pub fn run(args: CurveArgs) -> CmdResult {
     let opts = FitOptions {
         degree: args.degree().lowest(),
         parameterization: args.param.into(),
-        tolerance: match (args.tol, args.rel_tol) {
-            (Some(t), _) => Tolerance::Absolute(t),
-            (None, Some(r)) => Tolerance::Relative(r),
-            (None, None) => Tolerance::Relative(1e-3),
-        },
-        closed: if args.closed {
-            ClosedMode::Closed
-        } else {
-            ClosedMode::Auto
-        },
+        tolerance: args.tolerance(),
+        closed: args.closed_mode(),
         corner_angle_deg: (!args.no_corners).then_some(args.corner_angle),
         correction_rounds: args.correction_rounds,
         smoothing: args.smoothing,
@@ -505,7 +264,7 @@ fn fit_cad(
 }
 
 /// A fitted curve, its report and the points it fitted.
-type FitOutput = (fairfit::NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
+type FitOutput = (NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
 
 fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_json::Value {
     let f = curve_fairness(&fit.curve);

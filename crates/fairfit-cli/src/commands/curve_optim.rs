@@ -5,17 +5,18 @@
 //! Runs inside a local rayon pool of `--threads` workers (results do not depend on the count) and shows
 //! a progress spinner on stderr only when it is a terminal.
 
-use super::curve::{CurveArgs, DegreeArg, AUTO_MAX_DEGREE};
+use super::curve_args::{CurveArgs, DegreeArg, AUTO_MAX_DEGREE};
 use super::CliError;
 use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
-use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::{curve_to_json, write_atomic};
-use fairfit::optim::pareto::pareto_csv;
 use fairfit::optim::{
-    fit_integrated_with_progress, IntegratedOptions, IntegratedResult, Tolerance,
+    distinct_control_points, is_closed, pareto_csv, pareto_front_of_result, ParetoCurve,
 };
-use fairfit::{NurbsCurve, Vec3};
+use fairfit::prelude::{
+    fit_integrated_with_stages, fit_to_tolerance, FitOptions, IntegratedOptions, IntegratedResult,
+    NurbsCurve, Stage, Vec3,
+};
 use serde_json::{json, Value};
 
 /// A fitted curve and the method-specific part of its report.
@@ -47,56 +48,72 @@ fn max_threads() -> usize {
     4 * std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
-fn tolerance(args: &CurveArgs) -> Tolerance {
-    match (args.tol, args.rel_tol) {
-        (Some(t), _) => Tolerance::Absolute(t),
-        (None, Some(r)) => Tolerance::Relative(r),
-        (None, None) => Tolerance::Relative(1e-3),
-    }
+/// The library's options for the integrated method as `args` ask for them.
+fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
+    let degree = args.degree();
+    IntegratedOptions::new(args.tolerance())
+        .degree(degree.lowest())
+        .degree_search((degree == DegreeArg::Auto).then_some(AUTO_MAX_DEGREE))
+        .span_fairness(args.span_fairness)
+        .seed(args.seed)
+        .control_points(args.control_points)
+        .corner_angle((!args.no_corners).then_some(args.corner_angle))
+        .closed(args.closed_mode())
+        .band_fairing(!args.no_band_fairing)
+        .ends(args.ends.into())
 }
 
-fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
-    IntegratedOptions {
-        degree: args.degree().lowest(),
-        max_degree: (args.degree() == DegreeArg::Auto).then_some(AUTO_MAX_DEGREE),
-        tolerance: tolerance(args),
-        span_fairness: args.span_fairness,
-        seed: args.seed,
-        control_points: args.control_points,
-        corner_angle_deg: (!args.no_corners).then_some(args.corner_angle),
-        closed: if args.closed {
-            fairfit::fit::tolerance::ClosedMode::Closed
-        } else {
-            fairfit::fit::tolerance::ClosedMode::Auto
+/// The command-line flag of a library setting named in an [`fairfit::Error::InvalidSetting`].
+fn flag_of(option: &str, args: &CurveArgs) -> Option<&'static str> {
+    Some(match option {
+        "tolerance" if args.tol.is_some() => "--tol",
+        "tolerance" => "--rel-tol",
+        "degree" | "degree_search" => "--degree",
+        "control_points" => "--control-points",
+        "span_fairness" => "--span-fairness",
+        "corner_angle" => "--corner-angle",
+        "ends" => "--ends",
+        "seed" => "--seed",
+        _ => return None,
+    })
+}
+
+/// A library error as the CLI prints it: a refused setting names its flag (a usage error).
+fn cli_error(e: fairfit::Error, args: &CurveArgs) -> CliError {
+    match e {
+        fairfit::Error::InvalidSetting { option, reason } => match flag_of(option, args) {
+            Some(flag) => CliError::usage(format!("invalid option {flag}: {reason}")),
+            None => CliError::from(fairfit::Error::InvalidSetting { option, reason }),
         },
-        band_fairing: !args.no_band_fairing,
-        ends: args.ends.into(),
-        ..IntegratedOptions::default()
+        e => CliError::from(e),
     }
 }
 
 /// `--method integrated`.
 pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput, CliError> {
     let opts = integrated_options(args);
-    let closed = fairfit::optim::closed::is_closed(points, opts.closed);
+    let closed = is_closed(points, opts.closed);
     let bar = crate::progress::bar(0, "knot search");
-    let r: IntegratedResult = fit_integrated_with_progress(points, &opts, &|n, it| {
-        bar.set_message(format!("{n} control points"));
-        bar.set_position(it as u64);
-    })?;
+    let r: IntegratedResult = fit_integrated_with_stages(points, &opts, &|stage| {
+        bar.set_message(stage.to_string());
+        if let Stage::KnotSearch { iteration, .. } = stage {
+            bar.set_position(iteration as u64);
+        }
+    })
+    .map_err(|e| cli_error(e, args))?;
     bar.finish_and_clear();
     let mut report = json!({
         "method": "integrated",
         "closed": closed,
         // a closed curve has no ends; a curve with corners keeps them pinned
         "ends": (!closed).then_some(if r.stats.free_ends { "free" } else { "pinned" }),
-        "control_points": fairfit::optim::distinct_control_points(&r.curve),
+        "control_points": distinct_control_points(&r.curve),
         "tolerance": r.tolerance,
         "tolerance_met": r.met,
         "max_deviation": r.quality.max_deviation,
         "rms_deviation": r.quality.rms_deviation,
         "span_fairness_target": args.span_fairness,
-        "log10_smoothing": if r.log_lambda.is_finite() && r.log_lambda > fairfit::optim::search::encoding::LOG_LAMBDA_OFF { Some(r.log_lambda) } else { None },
+        "log10_smoothing": r.log10_smoothing(),
         "lsq_baseline_control_points": r.baseline_control_points,
         "optimizer": {
             "seed": args.seed,
@@ -114,7 +131,7 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
     }
     if let Some(path) = &args.pareto {
-        let front = fairfit::optim::pareto::pareto_front_of_result(points, &opts, &r)?;
+        let front = pareto_front_of_result(points, &opts, &r).map_err(|e| cli_error(e, args))?;
         write_pareto(path, args, &front)?;
         report["pareto_members"] = json!(front.len());
     } else if args.pareto_curves.is_some() {
@@ -143,7 +160,7 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
 fn write_pareto(
     path: &std::path::Path,
     args: &CurveArgs,
-    front: &[fairfit::optim::pareto::ParetoCurve],
+    front: &[ParetoCurve],
 ) -> Result<(), CliError> {
     write_atomic(path, pareto_csv(front).as_bytes())?;
     if let Some(dir) = &args.pareto_curves {
@@ -179,7 +196,7 @@ pub fn run_fit_then_fair(
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
     let report = json!({
         "method": "fit-then-fair",
-        "control_points": fairfit::optim::distinct_control_points(&faired.curve),
+        "control_points": distinct_control_points(&faired.curve),
         "closed": fit.closed,
         "tolerance": fit.tolerance,
         "tolerance_met": dev.max <= fit.tolerance,

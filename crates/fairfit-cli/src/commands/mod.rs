@@ -2,6 +2,7 @@
 
 pub mod cad_input;
 pub mod curve;
+pub mod curve_args;
 pub mod curve_optim;
 pub mod eval;
 pub mod export;
@@ -48,12 +49,14 @@ impl std::fmt::Display for CliError {
     }
 }
 
-/// The library's option errors (an invalid option value or combination) are usage errors; everything
-/// else is a failure of the run.
+/// The library's option errors (an invalid option value or combination, a refused setting) are usage
+/// errors; everything else is a failure of the run.
 impl From<fairfit::Error> for CliError {
     fn from(e: fairfit::Error) -> Self {
         match e {
-            fairfit::Error::InvalidOption(_) => CliError::usage(e.to_string()),
+            fairfit::Error::InvalidOption(_) | fairfit::Error::InvalidSetting { .. } => {
+                CliError::usage(e.to_string())
+            }
             _ => CliError::new(e.to_string()),
         }
     }

@@ -22,21 +22,14 @@ use crate::nurbs::scale::{normalising_factor, scaled_curve};
 use crate::nurbs::{NurbsCurve, Vec3};
 use std::time::Instant;
 
+pub use crate::tolerance::Tolerance;
+
 /// Parameter-correction rounds tried once when refinement gets stuck (no span left to split).
 const RESCUE_ROUNDS: usize = 3;
 
 /// Smoothings tried below the requested one (each a tenth of the previous) before `λ = 0`, when the
 /// requested smoothing keeps the curve from reaching the tolerance.
 pub const SMOOTHING_FALLBACK_TRIES: usize = 6;
-
-/// The tolerance on the maximum orthogonal deviation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Tolerance {
-    /// In the units of the data.
-    Absolute(f64),
-    /// Times the largest side of the data's bounding box.
-    Relative(f64),
-}
 
 /// Whether the data form a closed curve.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

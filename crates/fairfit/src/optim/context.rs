@@ -2,10 +2,11 @@
 //! normalised units, the options, the tuning, the progress callback, and the statistics the
 //! stages add to.
 
-use super::options::{IntegratedOptions, Tolerance};
+use super::options::IntegratedOptions;
 use super::result::OptimStats;
 use super::search::prepare::Prepared;
 use super::tuning::Tuning;
+use crate::tolerance::Tolerance;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// The progress callback `(stage, iteration)` (stage: the control-point count being searched).

@@ -22,7 +22,7 @@ use super::corners::{join, pieces, straight_piece};
 use super::fairing::EndCondition;
 use super::kind::periodic::distinct_control_points;
 use super::open;
-use super::options::{validate, IntegratedOptions, Tolerance};
+use super::options::{validate, IntegratedOptions};
 use super::result::{FitQuality, IntegratedResult, OptimStats};
 use super::search::prepare::{prepare, Prepared};
 use super::stages::degree_candidates::raise_open_piece;
@@ -31,6 +31,7 @@ use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 use std::time::Instant;
 

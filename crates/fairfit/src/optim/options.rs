@@ -1,80 +1,151 @@
-//! The settings of the integrated method: [`IntegratedOptions`], the [`Tolerance`] it fits to,
-//! and their validation.
+//! The settings of the integrated method: [`IntegratedOptions`] (built by
+//! [`IntegratedOptions::new`] and chained setters), its work [`Budget`], and their validation.
+//!
+//! Three kinds of values live here, kept apart:
+//! - **settings** a user chooses (tolerance, degree or degree search, control points, corners, closed
+//!   mode, ends, seed, span fairness, band fairing and polish on or off): public fields with a setter
+//!   each;
+//! - the **budget** (swarm sizes, iterations, solver and polish evaluations, extra control points
+//!   tried): a [`Budget`] value, set as a whole by [`IntegratedOptions::budget`];
+//! - **tuning** of the method's policy (the price per degree, whether the smoothing weight is
+//!   searched): crate-private, measured rather than chosen.
+//!
+//! Invariant: `validate` accepts an options value exactly when every stage can run with it, and its
+//! errors name the offending setting ([`Error::InvalidSetting`]) by the setter that sets it.
 
-use super::fairing::BandOptions;
-use super::fairing::EndCondition;
-use super::fairing::PolishOptions;
+use super::fairing::{BandOptions, EndCondition, PolishOptions};
 use crate::errors::{Error, Result};
+use crate::fit::tolerance::ClosedMode;
+use crate::tolerance::Tolerance;
 
-/// The allowed maximum orthogonal deviation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Tolerance {
-    /// A fraction of the largest side of the data's bounding box.
-    Relative(f64),
-    /// An absolute distance in the data's units.
-    Absolute(f64),
+/// A field that keeps [`Budget`] open to new members: it cannot be named outside the crate, so a
+/// budget is written as `Budget { particles: 32, ..Budget::default() }`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct NonExhaustive(());
+
+/// How much work the integrated method may do. [`Budget::default`] is the budget the method's
+/// defaults were measured with (the command-line tool's); larger values search longer and never
+/// change what a setting means.
+///
+/// ```
+/// use fairfit::prelude::*;
+/// let budget = Budget { particles: 32, max_iterations: 60, ..Budget::default() };
+/// let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).budget(budget);
+/// assert_eq!(opts.current_budget().particles, 32);
+/// assert_eq!(opts.current_budget().probe_iterations, Budget::default().probe_iterations);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Budget {
+    /// Particles per swarm (at least 1; default 16).
+    pub particles: usize,
+    /// Iterations of the full swarm at a candidate count (default 30).
+    pub max_iterations: usize,
+    /// Iterations of a feasibility probe at a smaller count (default 10).
+    pub probe_iterations: usize,
+    /// Evaluations of the pattern search refining the swarm's best (default 100).
+    pub refine_evaluations: usize,
+    /// Most convex subproblems of the band fairing of one curve.
+    pub band_solves: usize,
+    /// Most curve measurements of the polish of one curve.
+    pub polish_evaluations: usize,
+    /// Most control points tried above the smallest count meeting the tolerance (each is finished in
+    /// full before the count is chosen; default 1).
+    pub max_extra_control_points: usize,
+    /// Keeps the struct open to new members (write `..Budget::default()`).
+    pub non_exhaustive: NonExhaustive,
 }
 
-/// Settings of [`fit_integrated`](super::fit_integrated).
+impl Default for Budget {
+    fn default() -> Self {
+        Budget {
+            particles: 16,
+            max_iterations: 30,
+            probe_iterations: 10,
+            refine_evaluations: 100,
+            band_solves: BandOptions::default().max_solves,
+            polish_evaluations: PolishOptions::default().max_evaluations,
+            max_extra_control_points: 1,
+            non_exhaustive: NonExhaustive(()),
+        }
+    }
+}
+
+/// Settings of [`fit_integrated`](super::fit_integrated), built from a tolerance by
+/// chained setters.
+///
+/// ```
+/// use fairfit::prelude::*;
+/// let opts = IntegratedOptions::new(Tolerance::Absolute(0.01))
+///     .degree_search(5) // degrees 3 to 5, one kept
+///     .corner_angle(None) // one smooth curve, no corners
+///     .ends(EndCondition::Free)
+///     .seed(7);
+/// assert!(opts.searches_degree());
+/// assert_eq!((opts.degree, opts.max_degree, opts.corner_angle_deg), (3, Some(5), None));
+/// ```
 #[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct IntegratedOptions {
     /// Curve degree (3; the fairness metric needs ≥ 3); with [`Self::max_degree`], the lowest
-    /// degree searched and the reference of the degree search.
+    /// degree searched and the reference of the degree search. Set by [`Self::degree`].
     pub degree: usize,
     /// Degree search (`--degree auto`): also fit every degree from `degree + 1` up to this one and
     /// keep one by the rule of [`super::stages::degree_search`] (never more curvature extrema than the fit
     /// at `degree`; more control points only up to the least-squares baseline, or one above it
     /// where the fit at `degree` kept the baseline's count, and at 5 % of F per point). `None`
-    /// fits `degree` only.
+    /// fits `degree` only. Set by [`Self::degree_search`].
     pub max_degree: Option<usize>,
-    /// The fitting tolerance.
+    /// The fitting tolerance. Set by [`Self::new`] and [`Self::tolerance`].
     pub tolerance: Tolerance,
-    /// Per-span fairness target `F*` (every span must reach `F_j ≤ F*`).
+    /// Per-span fairness target `F*` (every span must reach `F_j ≤ F*`). Set by
+    /// [`Self::span_fairness`].
     pub span_fairness: Option<f64>,
-    /// Seed of the swarm's random streams.
+    /// Seed of the swarm's random streams. Set by [`Self::seed`].
     pub seed: u64,
-    /// Particles per swarm.
-    pub particles: usize,
-    /// Iterations of the full swarm at the final count.
-    pub max_iterations: usize,
-    /// Iterations of a feasibility probe at a smaller count.
-    pub probe_iterations: usize,
-    /// Evaluations of the final pattern search.
-    pub refine_evaluations: usize,
+    /// Particles per swarm ([`Budget::particles`]).
+    pub(crate) particles: usize,
+    /// Iterations of the full swarm at the final count ([`Budget::max_iterations`]).
+    pub(crate) max_iterations: usize,
+    /// Iterations of a feasibility probe at a smaller count ([`Budget::probe_iterations`]).
+    pub(crate) probe_iterations: usize,
+    /// Evaluations of the final pattern search ([`Budget::refine_evaluations`]).
+    pub(crate) refine_evaluations: usize,
     /// Whether the smoothing weight λ is searched along with the knots.
-    pub search_smoothing: bool,
+    pub(crate) search_smoothing: bool,
     /// Most control points added above the smallest feasible count for fairness (every extra
-    /// count is finished in full before the count is chosen, [`super::stages::count_search`]).
-    pub max_extra_control_points: usize,
+    /// count is finished in full before the count is chosen, [`super::stages::count_search`];
+    /// [`Budget::max_extra_control_points`]).
+    pub(crate) max_extra_control_points: usize,
     /// A higher degree is kept only if F shrinks by at least this factor per degree
     /// ([`super::stages::degree_search`]; the count search has its own factor, 1.05 per point, module
     /// `count_search`).
-    pub fairness_gain: f64,
+    pub(crate) fairness_gain: f64,
     /// A fixed number of control points (no count search) instead of the fewest meeting the
-    /// tolerance.
+    /// tolerance. Set by [`Self::control_points`].
     pub control_points: Option<usize>,
     /// Corner threshold in degrees (turning angle at a data point, as in the least-squares method):
     /// the data are split at corners, the pieces fitted separately and joined C0 ([`super::corners`]).
-    /// `None` fits one smooth curve through everything.
+    /// `None` fits one smooth curve through everything. Set by [`Self::corner_angle`].
     pub corner_angle_deg: Option<f64>,
     /// Whether the final control points are refined by local fairing moves within the tolerance
-    /// ([`super::polish`]).
+    /// ([`super::fairing::polish`]). Set by [`Self::polish`].
     pub polish: bool,
     /// Closed-curve handling as in the least-squares method (default: closed when the last point
-    /// repeats the first); closed data are fitted by [`super::closed`].
-    pub closed: crate::fit::tolerance::ClosedMode,
+    /// repeats the first); closed data are fitted by [`super::closed`]. Set by [`Self::closed`].
+    pub closed: ClosedMode,
     /// Whether the final control points are first faired inside the tolerance band by sequential
-    /// convex programming ([`super::band_fairing`]; with `polish`, the polish then finishes).
+    /// convex programming ([`super::fairing::band`]; with `polish`, the polish then finishes). Set by
+    /// [`Self::band_fairing`].
     pub band_fairing: bool,
-    /// Most convex subproblems of the band fairing.
-    pub band_solves: usize,
-    /// Most curve measurements of the polish.
-    pub polish_evaluations: usize,
+    /// Most convex subproblems of the band fairing ([`Budget::band_solves`]).
+    pub(crate) band_solves: usize,
+    /// Most curve measurements of the polish ([`Budget::polish_evaluations`]).
+    pub(crate) polish_evaluations: usize,
     /// Whether an open curve's end points stay on the data's first and last points, or the chosen
     /// curve is faired once more with them moving within the tolerance ([`EndCondition`],
     /// [`super::stages::release_ends`]). Not applicable to
     /// closed curves (no end points); the pieces between corners keep theirs pinned (they are
-    /// joined there).
+    /// joined there). Set by [`Self::ends`].
     pub ends: EndCondition,
 }
 
@@ -121,26 +192,159 @@ impl IntegratedOptions {
     }
 }
 
+/// The builder: every setter takes and returns the options, so settings chain.
+impl IntegratedOptions {
+    /// The default settings at `tolerance`: a cubic (no degree search), the fewest control points
+    /// meeting the tolerance, corners above 60°, closed when the last point repeats the first,
+    /// pinned ends, seed 0, band fairing and polish on, [`Budget::default`].
+    ///
+    /// ```
+    /// use fairfit::prelude::*;
+    /// let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
+    /// assert_eq!(opts, IntegratedOptions::default());
+    /// ```
+    pub fn new(tolerance: Tolerance) -> Self {
+        IntegratedOptions {
+            tolerance,
+            ..IntegratedOptions::default()
+        }
+    }
+
+    /// The fitting tolerance.
+    pub fn tolerance(mut self, tolerance: Tolerance) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+
+    /// The curve degree (3 to 7), or with [`Self::degree_search`] the lowest degree searched.
+    pub fn degree(mut self, degree: usize) -> Self {
+        self.degree = degree;
+        self
+    }
+
+    /// Searches every degree from [`Self::degree`] up to `max_degree` and keeps one (the
+    /// command-line tool's `--degree auto` is `degree_search(5)`); `None` fits one degree.
+    pub fn degree_search(mut self, max_degree: impl Into<Option<usize>>) -> Self {
+        self.max_degree = max_degree.into();
+        self
+    }
+
+    /// A fixed number of control points (distinct ones, for a closed curve) instead of the fewest
+    /// meeting the tolerance; `None` searches the count.
+    pub fn control_points(mut self, n: impl Into<Option<usize>>) -> Self {
+        self.control_points = n.into();
+        self
+    }
+
+    /// The turning angle in degrees, in (0, 180], above which a data point is a corner (a C0 knot);
+    /// `None` fits one smooth curve through every point.
+    pub fn corner_angle(mut self, degrees: impl Into<Option<f64>>) -> Self {
+        self.corner_angle_deg = degrees.into();
+        self
+    }
+
+    /// Whether the data are fitted as a closed curve ([`ClosedMode::Auto`]: when the last point
+    /// repeats the first).
+    pub fn closed(mut self, mode: ClosedMode) -> Self {
+        self.closed = mode;
+        self
+    }
+
+    /// The end condition of an open curve without corners ([`EndCondition::Pinned`] by default).
+    pub fn ends(mut self, ends: EndCondition) -> Self {
+        self.ends = ends;
+        self
+    }
+
+    /// The seed of the swarm's random streams (the same seed gives the same curve, at any thread
+    /// count).
+    pub fn seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// A per-span fairness target `F*` every knot span must reach (`F_j ≤ F*`); `None` for none.
+    pub fn span_fairness(mut self, target: impl Into<Option<f64>>) -> Self {
+        self.span_fairness = target.into();
+        self
+    }
+
+    /// Whether the control points are faired inside the tolerance band (sequential convex
+    /// programming) before the polish.
+    pub fn band_fairing(mut self, on: bool) -> Self {
+        self.band_fairing = on;
+        self
+    }
+
+    /// Whether the control points are finished by local fairing moves within the tolerance.
+    pub fn polish(mut self, on: bool) -> Self {
+        self.polish = on;
+        self
+    }
+
+    /// How much work the method may do.
+    pub fn budget(mut self, budget: Budget) -> Self {
+        let Budget {
+            particles,
+            max_iterations,
+            probe_iterations,
+            refine_evaluations,
+            band_solves,
+            polish_evaluations,
+            max_extra_control_points,
+            non_exhaustive: _,
+        } = budget;
+        self.particles = particles;
+        self.max_iterations = max_iterations;
+        self.probe_iterations = probe_iterations;
+        self.refine_evaluations = refine_evaluations;
+        self.band_solves = band_solves;
+        self.polish_evaluations = polish_evaluations;
+        self.max_extra_control_points = max_extra_control_points;
+        self
+    }
+
+    /// The budget these options run with.
+    pub fn current_budget(&self) -> Budget {
+        Budget {
+            particles: self.particles,
+            max_iterations: self.max_iterations,
+            probe_iterations: self.probe_iterations,
+            refine_evaluations: self.refine_evaluations,
+            band_solves: self.band_solves,
+            polish_evaluations: self.polish_evaluations,
+            max_extra_control_points: self.max_extra_control_points,
+            non_exhaustive: NonExhaustive(()),
+        }
+    }
+}
+
+/// An [`Error::InvalidSetting`] naming `option`.
+fn invalid(option: &'static str, reason: String) -> Error {
+    Error::InvalidSetting { option, reason }
+}
+
+/// Checks that every stage can run with `opts`; the error names the offending setting.
 pub(crate) fn validate(opts: &IntegratedOptions) -> Result<()> {
-    if opts.degree < 3 || opts.degree > super::search::objective::MAX_DEGREE {
-        return Err(Error::InvalidDegree {
-            degree: opts.degree,
-            reason: format!(
-                "the integrated method needs a degree from 3 to {}",
-                super::search::objective::MAX_DEGREE
+    let max = super::search::objective::MAX_DEGREE;
+    if opts.degree < 3 || opts.degree > max {
+        return Err(invalid(
+            "degree",
+            format!(
+                "the integrated method needs a degree from 3 to {max}, got {}",
+                opts.degree
             ),
-        });
+        ));
     }
     if let Some(d) = opts.max_degree {
-        if d < opts.degree || d > super::search::objective::MAX_DEGREE {
-            return Err(Error::InvalidDegree {
-                degree: d,
-                reason: format!(
-                    "the highest degree searched must be from {} to {}",
-                    opts.degree,
-                    super::search::objective::MAX_DEGREE
+        if d < opts.degree || d > max {
+            return Err(invalid(
+                "degree_search",
+                format!(
+                    "the highest degree searched must be from {} to {max}, got {d}",
+                    opts.degree
                 ),
-            });
+            ));
         }
     }
     let t = match opts.tolerance {
@@ -148,43 +352,126 @@ pub(crate) fn validate(opts: &IntegratedOptions) -> Result<()> {
         Tolerance::Absolute(t) => t,
     };
     if !(t.is_finite() && t > 0.0) {
-        return Err(Error::InvalidOption(format!(
-            "the tolerance must be positive, got {t}"
-        )));
+        return Err(invalid(
+            "tolerance",
+            format!("the tolerance must be positive, got {t}"),
+        ));
     }
     if let Some(f) = opts.span_fairness {
         if !(f.is_finite() && f > 0.0) {
-            return Err(Error::InvalidOption(format!(
-                "the span fairness target must be positive, got {f}"
-            )));
+            return Err(invalid(
+                "span_fairness",
+                format!("the span fairness target must be positive, got {f}"),
+            ));
         }
     }
     if let Some(n) = opts.control_points {
         if n < opts.degree + 1 {
-            return Err(Error::InvalidOption(format!(
-                "{n} control points are too few for degree {} (need at least {})",
-                opts.degree,
-                opts.degree + 1
-            )));
+            return Err(invalid(
+                "control_points",
+                format!(
+                    "{n} control points are too few for degree {} (need at least {})",
+                    opts.degree,
+                    opts.degree + 1
+                ),
+            ));
         }
     }
     if opts.particles == 0 {
-        return Err(Error::InvalidOption(
-            "at least one particle is needed".into(),
+        return Err(invalid(
+            "budget",
+            "at least one particle is needed (particles = 0)".into(),
         ));
     }
     if !(opts.fairness_gain.is_finite() && opts.fairness_gain >= 1.0) {
-        return Err(Error::InvalidOption(format!(
-            "the fairness gain per added control point must be a finite factor >= 1, got {}",
-            opts.fairness_gain
-        )));
+        return Err(invalid(
+            "fairness_gain",
+            format!(
+                "the fairness gain per added degree must be a finite factor >= 1, got {}",
+                opts.fairness_gain
+            ),
+        ));
     }
     if let Some(a) = opts.corner_angle_deg {
         if !(a.is_finite() && a > 0.0 && a <= 180.0) {
-            return Err(Error::InvalidOption(format!(
-                "the corner angle must be in (0, 180] degrees, got {a}"
-            )));
+            return Err(invalid(
+                "corner_angle",
+                format!("the corner angle must be in (0, 180] degrees, got {a}"),
+            ));
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The setting an invalid `opts` is refused for, and the message.
+    fn refused(opts: &IntegratedOptions) -> (&'static str, String) {
+        match validate(opts) {
+            Err(Error::InvalidSetting { option, reason }) => (option, reason),
+            other => panic!("expected a refused setting, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_defaults_and_the_builder_defaults_are_valid() {
+        assert!(validate(&IntegratedOptions::default()).is_ok());
+        assert!(
+            validate(&IntegratedOptions::new(Tolerance::Absolute(0.5)).degree_search(7)).is_ok()
+        );
+        assert_eq!(
+            IntegratedOptions::default().current_budget(),
+            Budget::default()
+        );
+    }
+
+    #[test]
+    fn every_refusal_names_its_setting() {
+        let o = IntegratedOptions::default;
+        assert_eq!(
+            refused(&o().control_points(3)),
+            (
+                "control_points",
+                "3 control points are too few for degree 3 (need at least 4)".into()
+            )
+        );
+        assert_eq!(refused(&o().degree(2)).0, "degree");
+        assert_eq!(refused(&o().degree(8)).0, "degree");
+        assert_eq!(refused(&o().degree(4).degree_search(3)).0, "degree_search");
+        assert_eq!(refused(&o().degree_search(8)).0, "degree_search");
+        assert_eq!(
+            refused(&o().tolerance(Tolerance::Absolute(-1.0))),
+            ("tolerance", "the tolerance must be positive, got -1".into())
+        );
+        assert_eq!(
+            refused(&o().tolerance(Tolerance::Relative(f64::NAN))).0,
+            "tolerance"
+        );
+        assert_eq!(refused(&o().span_fairness(0.0)).0, "span_fairness");
+        assert_eq!(refused(&o().corner_angle(0.0)).0, "corner_angle");
+        assert_eq!(refused(&o().corner_angle(f64::NAN)).0, "corner_angle");
+        let no_particles = Budget {
+            particles: 0,
+            ..Budget::default()
+        };
+        assert_eq!(refused(&o().budget(no_particles)).0, "budget");
+    }
+
+    #[test]
+    fn a_non_finite_or_shrinking_fairness_gain_is_refused() {
+        for gain in [f64::NAN, 0.5, f64::INFINITY] {
+            let opts = IntegratedOptions {
+                fairness_gain: gain,
+                ..IntegratedOptions::default()
+            };
+            assert_eq!(refused(&opts).0, "fairness_gain", "{gain}");
+        }
+        let exactly_one = IntegratedOptions {
+            fairness_gain: 1.0,
+            ..IntegratedOptions::default()
+        };
+        assert!(validate(&exactly_one).is_ok());
+    }
 }

@@ -7,6 +7,7 @@ use super::context::tolerance_of;
 use super::cornered;
 use super::kind::open::finish;
 use super::options::{validate, IntegratedOptions};
+use super::progress::{untyped, Stage};
 use super::result::IntegratedResult;
 use super::search::prepare::{averaging_interior_knots, prepare};
 use crate::errors::{Error, Result};
@@ -16,15 +17,14 @@ use std::time::Instant;
 /// Fits a fair cubic B-spline to ordered `points` by the integrated method.
 ///
 /// ```
-/// use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
-/// use fairfit::Vec3;
+/// use fairfit::prelude::*;
 /// let pts: Vec<Vec3> = (0..60)
 ///     .map(|i| {
 ///         let t = i as f64 / 59.0 * 1.5;
 ///         Vec3([2.0 * t.cos(), t.sin(), 0.0])
 ///     })
 ///     .collect();
-/// let opts = IntegratedOptions { tolerance: Tolerance::Relative(1e-3), ..Default::default() };
+/// let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
 /// let r = fit_integrated(&pts, &opts).unwrap();
 /// assert!(r.met && r.quality.max_deviation <= r.tolerance);
 /// assert!(r.curve.n_control_points() <= r.baseline_control_points);
@@ -33,9 +33,6 @@ pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<Integ
     fit_integrated_with_progress(points, opts, &|_, _| {})
 }
 
-/// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
-/// between swarm iterations (stage = control-point count being searched); with a degree search
-/// ([`IntegratedOptions::max_degree`]) every degree's fit reports from its own worker thread.
 /// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
 /// between swarm iterations (stage = control-point count being searched); with a degree search
 /// ([`IntegratedOptions::max_degree`]) every degree's fit reports from its own worker thread.
@@ -51,6 +48,36 @@ pub fn fit_integrated_with_progress(
     } else {
         cornered::fit(points, opts, progress, start)
     }
+}
+
+/// [`fit_integrated`] reporting its progress as [`Stage`] values to
+/// `progress` (from the thread running the search concerned; see [`Stage`]).
+///
+/// ```
+/// use fairfit::prelude::*;
+/// use std::sync::atomic::{AtomicUsize, Ordering};
+/// let pts: Vec<Vec3> = (0..40)
+///     .map(|i| {
+///         let t = i as f64 / 39.0;
+///         Vec3::new(t, (2.0 * t).sin(), 0.0)
+///     })
+///     .collect();
+/// let reports = AtomicUsize::new(0);
+/// let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
+/// let r = fit_integrated_with_stages(&pts, &opts, &|stage| {
+///     let Stage::KnotSearch { control_points, .. } = stage else { return };
+///     assert!(control_points >= 4);
+///     reports.fetch_add(1, Ordering::Relaxed);
+/// })
+/// .unwrap();
+/// assert!(r.met && reports.load(Ordering::Relaxed) > 0);
+/// ```
+pub fn fit_integrated_with_stages(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(Stage) + Sync),
+) -> Result<IntegratedResult> {
+    fit_integrated_with_progress(points, opts, &untyped(progress))
 }
 
 /// The least-squares fit with averaging knots and `n_ctrl` control points (the baseline the

@@ -1,6 +1,7 @@
 //! What the integrated method returns: the fitted curve with its [`FitQuality`], and the
 //! optimiser's statistics ([`OptimStats`], one [`DegreeTrial`] per degree of a degree search).
 
+use super::search::encoding::LOG_LAMBDA_OFF;
 use crate::nurbs::NurbsCurve;
 use serde::Serialize;
 use std::time::Instant;
@@ -86,4 +87,27 @@ pub struct DegreeTrial {
     pub curvature_extrema: usize,
     /// Whether it met the tolerance (and `F*`).
     pub tolerance_met: bool,
+}
+
+impl IntegratedResult {
+    /// `log10 λ` of the smoothing weight the curve was fitted with, or `None` when none was used
+    /// (`λ = 0`: the knot search's smoothing coordinate at or below its off value, or no smoothing
+    /// searched).
+    ///
+    /// ```
+    /// use fairfit::prelude::*;
+    /// let pts: Vec<Vec3> = (0..40)
+    ///     .map(|i| {
+    ///         let t = i as f64 / 39.0;
+    ///         Vec3::new(t, t * t, 0.0)
+    ///     })
+    ///     .collect();
+    /// let r = fit_integrated(&pts, &IntegratedOptions::new(Tolerance::Relative(1e-3))).unwrap();
+    /// if let Some(l) = r.log10_smoothing() {
+    ///     assert!(l.is_finite() && l < 0.0);
+    /// }
+    /// ```
+    pub fn log10_smoothing(&self) -> Option<f64> {
+        (self.log_lambda.is_finite() && self.log_lambda > LOG_LAMBDA_OFF).then_some(self.log_lambda)
+    }
 }

@@ -10,11 +10,7 @@ use fairfit::Vec3;
 
 /// The CLI's default integrated options: relative tolerance 1e-3, degrees 3 to 5.
 pub fn auto() -> IntegratedOptions {
-    IntegratedOptions {
-        tolerance: Tolerance::Relative(1e-3),
-        max_degree: Some(5),
-        ..IntegratedOptions::default()
-    }
+    IntegratedOptions::new(Tolerance::Relative(1e-3)).degree_search(5)
 }
 
 /// `fit_integrated` on a rayon pool of `threads` threads.

@@ -28,9 +28,10 @@ use crate::nurbs::{NurbsCurve, Vec3};
 use crate::optim::closed::is_closed;
 use crate::optim::context::tolerance_of;
 use crate::optim::corners::{join, pieces, straight_piece};
-use crate::optim::options::{IntegratedOptions, Tolerance};
+use crate::optim::options::IntegratedOptions;
 use crate::optim::result::{FitQuality, IntegratedResult};
 use crate::optim::search::prepare::prepare;
+use crate::tolerance::Tolerance;
 
 /// The Pareto front for the integrated result `r` of `points` under `opts` (see the module docs), at
 /// the result's degree (the one a degree search kept).
