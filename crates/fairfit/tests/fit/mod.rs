@@ -1,0 +1,6 @@
+//! Tests of `fairfit::fit`: the least-squares tolerance fit and its hook guard.
+//!
+//! One file per source module it tests (`src/fit/<name>.rs`).
+
+mod hooks;
+mod tolerance;
