@@ -13,6 +13,7 @@ mod io;
 mod nurbs;
 mod optim;
 mod plot;
+mod regression;
 mod surface;
 
 /// The benchmark's own Python tests (`bench/`), not a module of `src`.

@@ -6,7 +6,6 @@ mod band_curvature_tangent;
 mod band_fairing;
 mod closed;
 mod corner_fit;
-mod count_search;
 mod degree_candidates;
 mod degree_search;
 mod free_ends;
