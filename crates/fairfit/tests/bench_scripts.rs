@@ -3,8 +3,7 @@
 //! `docs/benchmarks.md`. They need numpy and scipy only, not fairfit's binary. Unset: skipped with a note
 //! (except under `CI=true`, where it fails).
 
-#[path = "common/python.rs"]
-mod python;
+use crate::common::python;
 
 use std::path::Path;
 

@@ -1,6 +1,10 @@
 //! Helpers shared by the CLI integration tests: running the binary, the example data, one-line failure
-//! checks and small geometry files.
+//! checks and small geometry files; in submodules an independent deviation check and the Python
+//! peers.
 #![allow(dead_code)]
+
+pub mod polyline;
+pub mod python;
 
 use assert_cmd::Command;
 use std::io::Write;

@@ -1,7 +1,7 @@
 //! Geometry shared by the CAD file tests (`cad_read`, `cad_roundtrip`, `cad_exact_fit`, `cad_skin`):
 //! a rational space cubic and a rational surface, both with non-uniform knots and weights, and the
 //! wiggly space cubic of the CLI tests, sized in millimetres.
-#![allow(dead_code)] // each test crate uses some of them
+#![allow(dead_code)] // each test file uses some of them
 
 use fairfit::{NurbsCurve, NurbsSurface, Vec3};
 

@@ -1,9 +1,7 @@
 //! The integrated method as `fairfit curve` runs it by default, shared by the degree-search test
-//! crates: `--rel-tol 1e-3` with the degree search up to 5 (`--degree auto`), and a fit on a pool
+//! files: `--rel-tol 1e-3` with the degree search up to 5 (`--degree auto`), and a fit on a pool
 //! of a given thread count.
-//!
-//! Included by path (`#[path = "common/degree_auto.rs"] mod degree_auto;`), like `sampled.rs`.
-#![allow(dead_code)] // not every test crate runs fits on its own pool
+#![allow(dead_code)] // not every test file runs fits on its own pool
 
 use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
 use fairfit::Vec3;

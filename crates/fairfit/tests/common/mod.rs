@@ -1,5 +1,14 @@
-//! Random test geometry shared by the integration tests (seeded, so every run is identical).
+//! Helpers shared by the integration tests: random test geometry here (seeded, so every run is
+//! identical), and in submodules the example data, independent deviation checks, CAD fixtures, the
+//! Python peers, the CLI's default integrated options and an allocation counter.
 #![allow(dead_code)]
+
+pub mod alloc_counter;
+pub mod cad_fixtures;
+pub mod degree_auto;
+pub mod example_data;
+pub mod python;
+pub mod sampled;
 
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use rand::{Rng, SeedableRng};

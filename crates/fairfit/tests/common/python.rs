@@ -23,7 +23,7 @@ pub fn python_or_skip(what: &str) -> Option<String> {
 }
 
 /// A point written by a script as the JSON array `[x, y, z]`.
-#[allow(dead_code)] // not every test crate reads points
+#[allow(dead_code)] // not every test file reads points
 pub fn json_point(p: &serde_json::Value) -> Vec3 {
     Vec3::new(
         p[0].as_f64().unwrap(),
@@ -33,7 +33,7 @@ pub fn json_point(p: &serde_json::Value) -> Vec3 {
 }
 
 /// The points of a JSON array of `[x, y, z]` arrays.
-#[allow(dead_code)] // not every test crate reads points
+#[allow(dead_code)] // not every test file reads points
 pub fn json_points(v: &serde_json::Value) -> Vec<Vec3> {
     v.as_array().unwrap().iter().map(json_point).collect()
 }

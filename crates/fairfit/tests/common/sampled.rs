@@ -1,9 +1,7 @@
-//! An independent deviation bound shared by test crates: the largest distance from points to the
+//! An independent deviation bound shared by test files: the largest distance from points to the
 //! nearest of dense curve samples (no projection code involved; an upper bound that converges to the
 //! orthogonal distance as the sampling gets denser).
-//!
-//! Included by path (`#[path = "common/sampled.rs"] mod sampled;`), like `polyline.rs`.
-#![allow(dead_code)] // each test crate uses some of them
+#![allow(dead_code)] // each test file uses some of them
 
 use fairfit::{NurbsCurve, Vec3};
 

@@ -1,0 +1,7 @@
+//! Tests of `fairfit::fit`: the least-squares tolerance fit and its hook guard.
+//!
+//! One file per source module it tests (`src/fit/<name>.rs`).
+
+mod cad_fit;
+mod hooks;
+mod tolerance;

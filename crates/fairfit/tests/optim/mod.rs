@@ -1,0 +1,9 @@
+//! Tests of `fairfit::optim`: the integrated fitting-and-fairing method, stage by stage.
+//!
+//! One file per source module it tests (`src/optim/<name>.rs`).
+
+mod closed;
+mod cornered;
+mod fairing;
+mod pipeline;
+mod stages;
