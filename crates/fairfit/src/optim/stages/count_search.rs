@@ -114,7 +114,7 @@ pub(crate) struct CountChoice {
 }
 
 /// [`run`], with the **extrema cost** of the choice: the chosen candidate's score
-/// `F · EXTRA_POINT_GAIN^extra` over the lowest score of all finished candidates within the
+/// `F · extra_point_gain^extra` (`CountTuning::extra_point_gain`) over the lowest score of all finished candidates within the
 /// tolerance (1 when the fairest candidate was kept; above 1 when the fewest-extrema rule kept a
 /// less fair curve), and the count gain ([`CountChoice`]). The degree search reads both
 /// ([`super::degree_candidates`]).
@@ -349,7 +349,7 @@ fn candidate_draws<'d>(
 
 /// The index of the chosen candidate (module doc): `counts[i]` control points ranked
 /// `ranked[i]`. Of the candidates within the tolerance (finite F), the fewest curvature extrema
-/// first, then the lowest `F · EXTRA_POINT_GAIN^(count − smallest count)`, then the fewer points;
+/// first, then the lowest `F · extra_point_gain^(count − smallest count)`, then the fewer points;
 /// with none within the tolerance, the first.
 pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked], t: &CountTuning) -> usize {
     let Some(lowest) = counts.iter().copied().min() else {
@@ -373,12 +373,12 @@ pub(crate) fn choose_count(counts: &[usize], ranked: &[Ranked], t: &CountTuning)
 }
 
 /// `fairness` priced for its `count` control points above the smallest count `lowest`:
-/// `fairness · EXTRA_POINT_GAIN^(count − lowest)` (module doc).
+/// `fairness · extra_point_gain^(count − lowest)` (module doc).
 fn extra_point_score(fairness: f64, count: usize, lowest: usize, t: &CountTuning) -> f64 {
     fairness * t.extra_point_gain.powi((count - lowest) as i32)
 }
 
-/// True when `f_next` is not at least [`WEAK_STEP_GAIN`] below `f_prev` (no gain from infinity).
+/// True when `f_next` is not at least `CountTuning::weak_step_gain` below `f_prev` (no gain from infinity).
 fn weak_step(f_prev: f64, f_next: f64, t: &CountTuning) -> bool {
     !(f_prev.is_finite() && f_next < f_prev * (1.0 - t.weak_step_gain))
 }

@@ -9,7 +9,7 @@
 //!    degree's own count search ([`super::degree_candidates`]);
 //! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) · point_gain^extra`
 //!    wins (`extra`: control points above the reference's; ties: the lower degree). A higher
-//!    degree must buy the factor [`IntegratedOptions::fairness_gain`] per degree step, so the
+//!    degree must buy the factor `fairness_gain` (1.1) per degree step, so the
 //!    degree does not change for F differences of a few per cent (the swarm's own noise), and
 //!    every control point it adds the count search's price
 //!    ([`crate::optim::tuning::CountTuning::extra_point_gain`]; none after the wiggly trigger's

@@ -67,12 +67,12 @@ impl<'a> CountsSeen<'a> {
 /// Why the next degree gets a count search of its own.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum OwnTrigger {
-    /// The reference's fewest-extrema choice was costly ([`OWN_COUNT_SEARCH_COST`]).
+    /// The reference's fewest-extrema choice was costly (`DegreeTuning::own_count_search_cost`).
     ExtremaCost,
     /// The reference's extra points were still paying where its count search stopped
-    /// ([`STEEP_COUNT_GAIN`]); the counts are also seeded with residual-driven knots.
+    /// (`DegreeTuning::steep_count_gain`); the counts are also seeded with residual-driven knots.
     CountGain,
-    /// The reference's kept curve has at least [`WIGGLY_EXTREMA`] curvature extrema: the count
+    /// The reference's kept curve has at least `DegreeTuning::wiggly_extrema` curvature extrema: the count
     /// above the least-squares baseline, no price per added point in the degree rule (module doc,
     /// "Wiggly curves").
     Wiggly,
