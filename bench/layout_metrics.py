@@ -14,7 +14,8 @@ For every checkout given (default: this repository) it counts, from the sources 
 - `pub` items: lines starting with `pub fn/struct/enum/const/trait/type/mod/static/use` (not
   `pub(crate)`), in `crates/*/src`;
 - named constants: `const` and `static` items (not `const fn`), in `crates/*/src`;
-- test binaries: `tests/*.rs` and `tests/*/main.rs` of every crate;
+- test binaries: `tests/*.rs` and `tests/*/main.rs` of every crate (its `[[test]]` targets when the
+  manifest says `autotests = false`);
 - `#[path]` attributes in `crates/` (tests and benches).
 
 Usage:
@@ -400,7 +401,12 @@ def metrics(root: Path) -> dict:
     for c in sorted(crates.iterdir()):
         tests = c / "tests"
         if tests.is_dir():
-            n = len(list(tests.glob("*.rs"))) + len(list(tests.glob("*/main.rs")))
+            manifest = (c / "Cargo.toml").read_text(encoding="utf-8")
+            if re.search(r"^autotests\s*=\s*false", manifest, re.M):
+                # only the declared targets are built
+                n = len(re.findall(r"^\[\[test\]\]", manifest, re.M))
+            else:
+                n = len(list(tests.glob("*.rs"))) + len(list(tests.glob("*/main.rs")))
             binaries[c.name] = n
     path_includes: dict[str, int] = {}
     for p in sorted(crates.rglob("*.rs")):
