@@ -34,6 +34,25 @@ pub fn points_from_array(
     Ok((out, dim))
 }
 
+/// Anything `np.asarray` takes, as a C-contiguous float64 2-d array (`what` names it in the error).
+pub fn array2<'py>(obj: &Bound<'py, PyAny>, what: &str) -> PyResult<PyReadonlyArray2<'py, f64>> {
+    let np = obj.py().import("numpy")?;
+    let a = np
+        .call_method1("asarray", (obj,))
+        .map_err(|e| crate::py_err(format!("{what} must be an array of numbers: {e}")))?;
+    let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
+    let ndim: usize = a.getattr("ndim")?.extract()?;
+    if !matches!(kind.as_str(), "f" | "i" | "u") || ndim != 2 {
+        return Err(crate::py_err(format!(
+            "{what} must be an (n, 2) or (n, 3) array of numbers, got {} of dtype {}",
+            a.getattr("shape")?.str()?,
+            a.getattr("dtype")?.str()?
+        )));
+    }
+    np.call_method1("ascontiguousarray", (a, "float64"))?
+        .extract()
+}
+
 /// The library's invalid-data error with `message`, as the Python exception.
 pub fn data_err(message: String) -> PyErr {
     crate::lib_err(fairfit::Error::InvalidData(message))

@@ -10,7 +10,7 @@ use fairfit::fair::curve_fairness;
 use fairfit::io::{curve_to_json, Geometry};
 use fairfit::{NurbsCurve, Vec3};
 use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use serde_json::Value;
@@ -63,10 +63,11 @@ impl Curve {
     fn py_new(
         degree: usize,
         knots: Vec<f64>,
-        control_points: PyReadonlyArray2<'_, f64>,
+        control_points: &Bound<'_, PyAny>,
         weights: Option<Vec<f64>>,
     ) -> PyResult<Self> {
-        let (pts, dim) = crate::convert::points_from_array(&control_points, "control_points")?;
+        let cps = crate::convert::array2(control_points, "control_points")?;
+        let (pts, dim) = crate::convert::points_from_array(&cps, "control_points")?;
         let c = NurbsCurve::new(degree, knots, pts, weights).map_err(crate::lib_err)?;
         Ok(Curve::new(c, dim, None))
     }
@@ -224,12 +225,15 @@ impl Curve {
         &self,
         py: Python<'_>,
         path: std::path::PathBuf,
-        points: Option<PyReadonlyArray2<'_, f64>>,
+        points: Option<Bound<'_, PyAny>>,
         units: &str,
         chord_tol: Option<f64>,
     ) -> PyResult<()> {
         let pts = points
-            .map(|p| crate::convert::points_from_array(&p, "points").map(|x| x.0))
+            .map(|p| {
+                let a = crate::convert::array2(&p, "points")?;
+                crate::convert::points_from_array(&a, "points").map(|x| x.0)
+            })
             .transpose()?;
         let c = &self.inner;
         let report = self.report.as_ref();
@@ -280,12 +284,7 @@ impl Curve {
             )));
         }
         let c = c.get_item(pyo3::types::PySlice::new(spline.py(), 0, n as isize, 1))?;
-        let c = spline
-            .py()
-            .import("numpy")?
-            .call_method1("ascontiguousarray", (c,))?;
-        let cps: PyReadonlyArray2<'_, f64> = c.extract()?;
-        Self::py_new(degree, knots, cps, None)
+        Self::py_new(degree, knots, &c, None)
     }
 
     /// Pickling: the curve's JSON, its dimension and its report.

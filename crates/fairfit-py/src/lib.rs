@@ -2,13 +2,13 @@
 //! Python package `fairfit` (`python/fairfit`), which normalises inputs and carries the docstrings.
 //!
 //! What holds across the module:
-//! - every fit and every batch evaluation runs with the GIL released ([`guarded`]), in a local rayon
-//!   pool of the asked number of threads ([`with_pool`], the CLI's `--threads`: results do not depend
+//! - every fit and every batch evaluation runs with the GIL released (`guarded`), in a local rayon
+//!   pool of the asked number of threads (`with_pool`, the CLI's `--threads`: results do not depend
 //!   on it);
 //! - an error of the library becomes `fairfit.FairfitError` (a `ValueError`) whose message is the
 //!   CLI's one-line message (without `error: `), and a Rust panic becomes the same exception with the
 //!   CLI's `internal error (...)` line: nothing unwinds into Python;
-//! - the options of `fit_curve` map to the library in one place ([`options`]), exactly as the CLI's
+//! - the options of `fit_curve` map to the library in one place (the `options` module), exactly as the CLI's
 //!   `fairfit curve` maps its flags, so the same points and seed give byte-identical curve JSON.
 
 use pyo3::prelude::*;
@@ -21,7 +21,7 @@ mod output;
 mod surface;
 
 pyo3::create_exception!(
-    _fairfit,
+    fairfit,
     FairfitError,
     pyo3::exceptions::PyValueError,
     "An error of fairfit: invalid input or options, or a failed read or write. The message is the \
@@ -93,7 +93,7 @@ fn _fairfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-/// Panics inside [`guarded`]: the tests' check that a panic reaches Python as `FairfitError`.
+/// Panics inside `guarded`: the tests' check that a panic reaches Python as `FairfitError`.
 #[pyfunction]
 #[pyo3(name = "_panic_for_tests")]
 fn panic_for_tests(py: Python<'_>) -> PyResult<()> {

@@ -1,7 +1,7 @@
 //! The options of `fit_curve`, checked and mapped to the library exactly as the CLI's `fairfit curve`
 //! maps its flags (`crates/fairfit-cli/src/commands/curve.rs` and `curve_optim.rs`): the same defaults,
 //! the same checks with the same messages (named by their Python keywords), the same library options.
-//! [`integrated_options`] and [`fit_options`] are the only places that build library options.
+//! `integrated_options` and `fit_options` are the only places that build library options.
 
 use fairfit::fit::tolerance::{ClosedMode, FitOptions, KnotRule, Tolerance};
 use fairfit::fit::{Parameterization, SmoothingOrder};

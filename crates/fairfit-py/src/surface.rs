@@ -166,12 +166,15 @@ impl Surface {
         &self,
         py: Python<'_>,
         path: std::path::PathBuf,
-        points: Option<PyReadonlyArray2<'_, f64>>,
+        points: Option<Bound<'_, PyAny>>,
         units: &str,
         chord_tol: Option<f64>,
     ) -> PyResult<()> {
         let pts = points
-            .map(|p| crate::convert::points_from_array(&p, "points").map(|x| x.0))
+            .map(|p| {
+                let a = crate::convert::array2(&p, "points")?;
+                crate::convert::points_from_array(&a, "points").map(|x| x.0)
+            })
             .transpose()?;
         let s = &self.inner;
         let report = self.report.as_ref();

@@ -172,7 +172,7 @@ def test_cad_file_written_and_read_back_gives_the_same_geometry(naca, tmp_path, 
 
 def test_other_outputs_are_written(naca, tmp_path):
     pts = fairfit.read_points(example("naca4412.csv"))
-    for ext in ["obj", "stl", "ply", "svg", "png", "html"]:
+    for ext in ["obj", "ply", "svg", "png", "html"]:
         path = tmp_path / f"c.{ext}"
         naca.save(path, points=pts)
         assert path.stat().st_size > 100, ext
@@ -180,6 +180,8 @@ def test_other_outputs_are_written(naca, tmp_path):
     assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     with pytest.raises(fairfit.FairfitError, match="unknown format"):
         naca.save(tmp_path / "c.xyz")
+    with pytest.raises(fairfit.FairfitError, match="STL holds triangles only: write a curve as .obj or .ply"):
+        naca.save(tmp_path / "c.stl")
 
 
 def test_rational_curve_refuses_scipy_and_evaluates_a_circle_exactly():
@@ -198,6 +200,9 @@ def test_rational_curve_refuses_scipy_and_evaluates_a_circle_exactly():
 
 def test_error_class():
     assert issubclass(fairfit.FairfitError, ValueError)
+    assert fairfit.FairfitError.__module__ == "fairfit"
+    e = pickle.loads(pickle.dumps(fairfit.FairfitError("a message")))
+    assert type(e) is fairfit.FairfitError and str(e) == "a message"
 
 
 def test_nan_points():
@@ -233,7 +238,7 @@ def test_negative_tolerance_gives_the_cli_message(cli, tmp_path):
     assert r.returncode == 2
     with pytest.raises(fairfit.FairfitError) as e:
         fairfit.fit_curve(fairfit.read_points(path), tol=-1)
-    assert str(e.value) == "invalid option: the tolerance must be positive and finite, got -1"
+    assert str(e.value) == "invalid option: the tolerance must be positive, got -1"
     assert r.stderr.startswith(f"error: {e.value}")
 
 

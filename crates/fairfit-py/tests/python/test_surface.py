@@ -23,7 +23,7 @@ def write_sections(tmp_path):
     paths = []
     for k, s in enumerate(sections()):
         p = tmp_path / f"s{k}.csv"
-        p.write_text("".join(f"{x!r},{y!r},{z!r}\n" for x, y, z in s))
+        p.write_text("".join(f"{float(x)!r},{float(y)!r},{float(z)!r}\n" for x, y, z in s))
         paths.append(p)
     return paths
 
@@ -53,7 +53,7 @@ def test_surface_evaluation_equals_the_cli_eval(cli, surface, tmp_path):
     vs = np.linspace(v0, v1, 3)
     grid = surface(us, vs)
     assert grid.shape == (4, 3, 3)
-    at = ",".join(f"{u!r}:{v!r}" for u in us for v in vs)
+    at = ",".join(f"{float(u)!r}:{float(v)!r}" for u in us for v in vs)
     rows = json.loads(cli("eval", path, "--at", at).stdout)
     for n, row in enumerate(rows):
         np.testing.assert_allclose(grid[n // 3, n % 3], row["point"], rtol=1e-12, atol=1e-14)
