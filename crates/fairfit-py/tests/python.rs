@@ -2,7 +2,8 @@
 //! `.ci/run` fills from `tests/python/requirements.txt`: numpy, scipy, pytest, ray).
 //!
 //! The package is staged from this build, not installed: the extension module cargo just built
-//! (`libfairfit_py.so` beside this test binary's folder) is copied as `fairfit/_fairfit.abi3.so` next
+//! (`libfairfit_py.so` in `deps/` beside this test binary; `cargo test` does not copy it up to
+//! `target/<profile>`, where an older `cargo build` may have left one) is copied as `fairfit/_fairfit.abi3.so` next
 //! to the package's Python sources in a temporary folder put on `PYTHONPATH`, so the suite costs no
 //! second build. The tests compare against the CLI binary of the same build (`fairfit` in the same
 //! folder, built by `cargo test --workspace`). Unset `$FAIRFIT_PYTHON`: skipped with a note (except
@@ -28,11 +29,10 @@ fn python_or_skip(what: &str) -> Option<String> {
     }
 }
 
-/// The folder of this build's artifacts (`target/<profile>`): the test binary lives in its `deps`.
-fn artifact_dir() -> PathBuf {
+/// The folder of this test binary and the libraries built with it (`target/<profile>/deps`).
+fn deps_dir() -> PathBuf {
     let exe = std::env::current_exe().expect("test binary path");
     exe.parent()
-        .and_then(Path::parent)
         .expect("target/<profile>/deps/<test>")
         .to_path_buf()
 }
@@ -58,9 +58,9 @@ fn python_package_tests_pass() {
     else {
         return;
     };
-    let dir = artifact_dir();
-    let extension = dir.join("libfairfit_py.so");
-    let cli = dir.join("fairfit");
+    let deps = deps_dir();
+    let extension = deps.join("libfairfit_py.so");
+    let cli = deps.parent().expect("target/<profile>").join("fairfit");
     for (what, path) in [("extension module", &extension), ("CLI binary", &cli)] {
         assert!(
             path.is_file(),
