@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""The Python package's targets (issue 25), measured, not asserted: run it by hand on a quiet machine.
+
+- overhead: `fairfit.fit_curve` on a 200-point curve against the library's own fit time (the report's
+  `optimizer.seconds`), target <= 5 %;
+- evaluation: `curve(u)` for 10^6 parameters on one core, target >= 5 M points/s, and equal to the Rust
+  evaluator's numbers (`fairfit eval` at a sample of them);
+- the GIL: two Python threads fitting at once against the serial time, target <= 0.6x on 2 cores;
+- Ray: the batch of the shared curves on a local 2-CPU Ray against the serial loop, byte for byte, both
+  wall times (needs `ray`; `--data` is the shared data folder, default `../shared/data`).
+
+Usage: python bench/python_targets.py [--data DIR] [--bin target/release/fairfit] [--skip-ray]
+(with the package installed: `pip install ./crates/fairfit-py`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import glob
+import json
+import os
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+import fairfit
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+GROUPS = ["airfoils", "synthetic", os.path.join("iea15mw", "airfoils")]
+
+
+def shared_curves(data: str) -> list[str]:
+    files = []
+    for g in GROUPS:
+        files += sorted(glob.glob(os.path.join(data, g, "*.csv")))
+    return files
+
+
+def overhead() -> dict:
+    pts = fairfit.read_points(os.path.join(REPO, "examples", "data", "quarter_ellipse_200.csv"))
+    fairfit.fit_curve(pts, threads=1)  # warm up
+    rows = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        c = fairfit.fit_curve(pts, threads=1)
+        wall = time.perf_counter() - t0
+        rows.append((wall, c.report["optimizer"]["seconds"]))
+    wall, lib = map(np.median, zip(*rows))
+    return {"points": len(pts), "python_wall_s": wall, "library_s": lib, "overhead": wall / lib - 1}
+
+
+def evaluation(binary: str | None) -> dict:
+    pts = fairfit.read_points(os.path.join(REPO, "examples", "data", "naca4412.csv"))
+    c = fairfit.fit_curve(pts)
+    us = np.random.default_rng(0).uniform(0, 1, 1_000_000)
+    c(us[:1000])
+    t0 = time.perf_counter()
+    out = c(us)
+    dt = time.perf_counter() - t0
+    row = {"parameters": len(us), "seconds": dt, "points_per_s": len(us) / dt}
+    if binary:
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "c.json")
+            c.save(path)
+            sample = us[:: len(us) // 100]
+            at = ",".join(repr(float(u)) for u in sample)
+            rows = json.loads(subprocess.run([binary, "eval", path, "--at", at], check=True,
+                                             capture_output=True, text=True).stdout)
+            ref = np.array([r["point"][:2] for r in rows])
+            row["max_abs_difference_to_cli_eval"] = float(np.abs(out[:: len(us) // 100][: len(ref)] - ref).max())
+    return row
+
+
+def gil() -> dict:
+    pts = fairfit.read_points(os.path.join(REPO, "examples", "data", "naca4412.csv"))
+    fit = lambda _: fairfit.fit_curve(pts, threads=1).to_json()  # noqa: E731
+    fit(0)
+    t0 = time.perf_counter()
+    serial = [fit(0), fit(1)]
+    t_serial = time.perf_counter() - t0
+    with cf.ThreadPoolExecutor(2) as ex:
+        t0 = time.perf_counter()
+        both = list(ex.map(fit, range(2)))
+        t_threads = time.perf_counter() - t0
+    assert both == serial
+    return {"serial_s": t_serial, "two_threads_s": t_threads, "ratio": t_threads / t_serial}
+
+
+def ray_batch(data: str) -> dict:
+    import ray
+
+    import fairfit.ray as fray
+
+    files = shared_curves(data)
+    t0 = time.perf_counter()
+    serial = [fairfit.fit_curve(fairfit.read_points(f), threads=1, name=f).to_json() for f in files]
+    t_serial = time.perf_counter() - t0
+    ray.init(num_cpus=2, include_dashboard=False)
+    try:
+        fray.fit_curves(files[:2])  # workers started
+        t0 = time.perf_counter()
+        batch = fray.fit_curves(files)
+        t_ray = time.perf_counter() - t0
+    finally:
+        ray.shutdown()
+    same = [c.to_json() for c in batch.curves] == serial
+    return {"curves": len(files), "serial_s": t_serial, "ray_s": t_ray, "identical": same}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", default=os.path.join(os.path.dirname(REPO), "shared", "data"))
+    ap.add_argument("--bin", default=os.path.join(REPO, "target", "release", "fairfit"))
+    ap.add_argument("--skip-ray", action="store_true")
+    a = ap.parse_args()
+    binary = a.bin if os.path.exists(a.bin) else None
+    result = {"overhead": overhead(), "evaluation": evaluation(binary), "gil": gil()}
+    if not a.skip_ray:
+        result["ray"] = ray_batch(a.data)
+    print(json.dumps(result, indent=2))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,288 @@
+"""fairfit: fair NURBS curves and surfaces from measured points.
+
+numpy points in, fair NURBS out::
+
+    import numpy as np, fairfit
+    t = np.linspace(0, np.pi, 200)
+    curve = fairfit.fit_curve(np.c_[np.cos(t), 0.5 * np.sin(t)], rel_tol=1e-3)
+    curve(np.linspace(0, 1, 5))          # (5, 2) points
+    curve.report["max_deviation"]        # the fit's report, the keys of `fairfit curve --report`
+    curve.save("curve.step")             # .json .step .iges .obj .stl .ply .svg .png .html
+
+The keyword names and defaults of :func:`fit_curve` and :func:`fit_surface` are those of the
+command-line tool's ``fairfit curve`` and ``fairfit surface`` options (``--rel-tol`` is ``rel_tol``),
+and the same points and seed give a curve whose JSON is byte-identical to the CLI's ``-o`` file. Errors
+raise :class:`FairfitError` (a ``ValueError``) with the CLI's one-line message. Every fit and every
+batch evaluation runs with the GIL released; ``threads`` sets the size of the fit's own thread pool
+(results do not depend on it). :mod:`fairfit.ray` fans fits out on a Ray cluster.
+"""
+
+from __future__ import annotations
+
+import warnings as _warnings
+from os import PathLike, fspath
+from typing import Optional, Sequence, Union
+
+import numpy as _np
+
+from ._fairfit import Curve, FairfitError, Surface, __version__
+from ._fairfit import fit_curve as _fit_curve
+from ._fairfit import fit_surface as _fit_surface
+from ._fairfit import fit_surface_from_mesh as _fit_surface_from_mesh
+from ._fairfit import read as _read
+from ._fairfit import read_points as _read_points
+
+__all__ = [
+    "Curve",
+    "FairfitError",
+    "FairfitWarning",
+    "Surface",
+    "DEFAULT_CORNER_ANGLE",
+    "fit_curve",
+    "fit_surface",
+    "fit_surface_from_mesh",
+    "read",
+    "read_points",
+    "__version__",
+]
+
+#: The turning angle in degrees above which a point is a corner (``fairfit curve --corner-angle``).
+DEFAULT_CORNER_ANGLE = 60.0
+
+
+class FairfitWarning(UserWarning):
+    """A warning of a fit (the CLI's ``warning:`` lines): a tolerance not met, dropped duplicates."""
+
+
+def _points(points, what: str = "points") -> _np.ndarray:
+    """`points` as a C-contiguous float64 (n, 2) or (n, 3) array, or FairfitError."""
+    try:
+        a = _np.asarray(points)
+    except ValueError as e:  # numpy >= 1.24 refuses ragged nested sequences
+        raise FairfitError(
+            f"invalid input data: {what} must be an (n, 2) or (n, 3) array of numbers, "
+            f"and its rows differ in length ({e})"
+        ) from None
+    if a.dtype == object:
+        raise FairfitError(
+            f"invalid input data: {what} must be an (n, 2) or (n, 3) array of numbers; "
+            "its rows differ in length or hold other objects"
+        )
+    if a.dtype.kind not in "fiu":
+        raise FairfitError(
+            f"invalid input data: {what} must be numbers, got an array of dtype {a.dtype}"
+        )
+    if a.ndim != 2 or a.shape[1] not in (2, 3):
+        raise FairfitError(
+            f"invalid input data: {what} must be an (n, 2) or (n, 3) array, got shape {a.shape}"
+        )
+    return _np.ascontiguousarray(a, dtype=_np.float64)
+
+
+def _vector(v, what: str) -> Optional[list]:
+    if v is None:
+        return None
+    a = _np.asarray(v, dtype=_np.float64).ravel()
+    if a.size not in (2, 3):
+        raise FairfitError(f"{what} must be X,Y or X,Y,Z, got {a.size} values")
+    return [float(a[0]), float(a[1]), float(a[2]) if a.size == 3 else 0.0]
+
+
+def _warn(messages) -> None:
+    for m in messages:
+        _warnings.warn(m, FairfitWarning, stacklevel=3)
+
+
+def fit_curve(
+    points,
+    *,
+    tol: Optional[float] = None,
+    rel_tol: float = 1e-3,
+    method: str = "integrated",
+    degree: Union[str, int] = "auto",
+    control_points: Optional[int] = None,
+    closed: Optional[bool] = None,
+    corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
+    ends: str = "pinned",
+    seed: int = 0,
+    threads: Optional[int] = None,
+    band_fairing: bool = True,
+    span_fairness: Optional[float] = None,
+    param: str = "centripetal",
+    knots: str = "refine",
+    correction_rounds: int = 0,
+    smoothing: float = 0.0,
+    smoothing_order: int = 2,
+    start_tangent=None,
+    end_tangent=None,
+    name: Optional[str] = None,
+) -> Curve:
+    """Fits a fair curve to ordered points within a tolerance: ``fairfit curve`` from Python.
+
+    Every keyword is the CLI option of the same name (``rel_tol`` is ``--rel-tol``), with the same
+    default, and the same points and ``seed`` give a curve whose :meth:`Curve.to_json` is
+    byte-identical to what ``fairfit curve POINTS -o curve.json`` writes.
+
+    points: an (n, 2) or (n, 3) array of floats, or anything ``np.asarray`` makes one of. Consecutive
+        duplicate points are dropped (a :class:`FairfitWarning` says how many), as the CLI does.
+    tol: absolute tolerance on the maximum orthogonal deviation (``--tol``); takes precedence over
+        ``rel_tol``.
+    rel_tol: tolerance relative to the largest side of the points' bounding box (``--rel-tol``,
+        default 1e-3).
+    method: ``"integrated"`` (knots by particle swarm optimisation, fitting and fairing in one, the
+        default), ``"lsq"`` (least squares with a tolerance-driven knot count) or ``"fit-then-fair"``.
+    degree: ``"auto"`` (integrated only, its default: degrees 3 to 5, the fairest kept) or 1 to 15;
+        ``lsq`` and ``fit-then-fair`` default to 3.
+    control_points: a fixed number of control points instead of the fewest within the tolerance
+        (integrated only).
+    closed: None detects closed data (the last point repeats the first), True treats the points as a
+        closed curve (``--closed``), False as an open one.
+    corner_angle: turning angle in degrees above which a point is a corner kept as a C0 knot
+        (``--corner-angle``, default 60); None detects no corners (``--no-corners``).
+    ends: ``"pinned"`` (the curve starts and ends at the first and last points) or ``"free"`` (a last
+        fairing pass moves them within the tolerance; integrated, open curves).
+    seed: random seed of the swarm search.
+    threads: worker threads of this fit (``--threads``; None: one per core). Results do not depend on
+        it.
+    band_fairing: False skips the final band fairing (``--no-band-fairing``).
+    span_fairness: per-span fairness target F* (``--span-fairness``; integrated).
+    param: ``"centripetal"``, ``"chord"`` or ``"uniform"`` (``--param``).
+    knots: ``"refine"``, ``"averaging"`` or ``"adaptive"`` (``--knots``; lsq and fit-then-fair).
+    correction_rounds: parameter-correction rounds per least-squares fit.
+    smoothing: scale-free smoothing weight λ (``--smoothing``), with ``smoothing_order`` 2 or 3.
+    start_tangent, end_tangent: tangent directions at the ends (lsq and fit-then-fair).
+    name: what the report's ``input`` and the messages call the points (default ``"<array>"``).
+
+    Returns the :class:`Curve`, with ``curve.report`` the dict ``fairfit curve --report`` writes.
+    Raises :class:`FairfitError` for invalid points or options, with the CLI's message.
+    """
+    if isinstance(degree, bool) or not isinstance(degree, (str, int, _np.integer)):
+        raise FairfitError(f"degree: expected `auto` or a degree from 1 to 15, got `{degree!r}`")
+    curve, warnings = _fit_curve(
+        _points(points),
+        None if tol is None else float(tol),
+        float(rel_tol),
+        method,
+        str(degree),
+        control_points,
+        closed,
+        None if corner_angle is None else float(corner_angle),
+        ends,
+        int(seed),
+        threads,
+        bool(band_fairing),
+        span_fairness,
+        param,
+        knots,
+        int(correction_rounds),
+        float(smoothing),
+        int(smoothing_order),
+        _vector(start_tangent, "start_tangent"),
+        _vector(end_tangent, "end_tangent"),
+        name,
+    )
+    _warn(warnings)
+    return curve
+
+
+def fit_surface(
+    sections: Sequence,
+    *,
+    tol: Optional[float] = None,
+    rel_tol: float = 1e-3,
+    degree: int = 3,
+    degree_v: int = 3,
+    max_ctrl: int = 120,
+    v_params: str = "chord",
+    approximate_v: Optional[int] = None,
+    smooth_v: float = 1e-3,
+    clamped_seam: bool = False,
+    threads: Optional[int] = None,
+    names: Optional[Sequence[str]] = None,
+) -> Surface:
+    """A fair surface through ordered sections: ``fairfit surface SECTIONS...`` from Python.
+
+    sections: a list of (n_k, 2) or (n_k, 3) arrays, one per section, in stacking order (a closed
+        section repeats its first point at the end).
+    tol / rel_tol: absolute tolerance, or relative to the largest section's extent (``--tol``,
+        ``--rel-tol``, default 1e-3).
+    degree, degree_v: degrees across the sections' points (u) and across the sections (v).
+    max_ctrl: most control points per section (``--max-ctrl``).
+    v_params: ``"chord"`` or ``"centripetal"`` parameters of the sections along v.
+    approximate_v: approximate across the sections with this many control points (``--approximate-v``).
+    smooth_v: smoothing across the sections (``--smooth-v``).
+    clamped_seam: closed sections clamped at a seam instead of periodic (``--clamped-seam``).
+    threads: worker threads (None: one per core); names: what the report calls each section.
+
+    One knot vector is searched for all sections together (the sections' fits are not independent),
+    then the compatible curves are skinned. Returns the :class:`Surface` with the report
+    ``fairfit surface --report`` writes.
+    """
+    arrays = [_points(s, f"section {k}") for k, s in enumerate(sections)]
+    return _fit_surface(
+        arrays,
+        None if tol is None else float(tol),
+        float(rel_tol),
+        int(degree),
+        int(degree_v),
+        int(max_ctrl),
+        v_params,
+        approximate_v,
+        float(smooth_v),
+        bool(clamped_seam),
+        threads,
+        None if names is None else [str(n) for n in names],
+    )
+
+
+def fit_surface_from_mesh(
+    path: Union[str, PathLike],
+    slices: int,
+    *,
+    axis: str = "z",
+    normal=None,
+    gap_factor: float = 5.0,
+    tol: Optional[float] = None,
+    rel_tol: float = 1e-3,
+    degree: int = 3,
+    degree_v: int = 3,
+    max_ctrl: int = 120,
+    v_params: str = "chord",
+    approximate_v: Optional[int] = None,
+    smooth_v: float = 1e-3,
+    clamped_seam: bool = False,
+    threads: Optional[int] = None,
+) -> Surface:
+    """A fair surface through a mesh or point cloud (.ply, .stl, .obj) cut by ``slices`` planes along
+    ``axis`` (or ``normal``): ``fairfit surface MESH --slices N --axis z``. The other keywords are
+    those of :func:`fit_surface`."""
+    return _fit_surface_from_mesh(
+        fspath(path),
+        int(slices),
+        axis,
+        _vector(normal, "normal"),
+        float(gap_factor),
+        None if tol is None else float(tol),
+        float(rel_tol),
+        int(degree),
+        int(degree_v),
+        int(max_ctrl),
+        v_params,
+        approximate_v,
+        float(smooth_v),
+        bool(clamped_seam),
+        threads,
+    )
+
+
+def read(path: Union[str, PathLike], index: int = 0) -> Union[Curve, Surface]:
+    """Reads a curve or surface: fairfit JSON, STEP or IGES (for STEP and IGES the first B-spline
+    surface if the file holds one, else its first curve, in millimetres; ``index`` picks another)."""
+    return _read(fspath(path), int(index))
+
+
+def read_points(path: Union[str, PathLike]) -> _np.ndarray:
+    """The points of a point file as ``fairfit curve`` reads them (CSV, TSV or whitespace columns,
+    Selig or Lednicer airfoil ``.dat`` files; consecutive duplicates dropped): an (n, 2) or (n, 3)
+    array."""
+    return _read_points(fspath(path))

@@ -1,0 +1,304 @@
+//! `fit_curve`: one curve fit by the method asked for, with the report `fairfit curve --report` writes
+//! (the same keys, made the same way), run without the GIL in a local rayon pool.
+
+use crate::convert::points_from_array;
+use crate::curve::Curve;
+use crate::options::{
+    fit_options, integrated_options, parse_degree, parse_ends, parse_knots, parse_method,
+    parse_param, CurveSettings, Method,
+};
+use fairfit::fair::{count_shape_exact, curve_fairness, fair_curve, FairingOptions};
+use fairfit::fit::max_orthogonal_deviation;
+use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
+use fairfit::io::points::{drop_consecutive_duplicates, MIN_POINTS};
+use fairfit::optim::closed::{distinct_control_points, is_closed};
+use fairfit::optim::encoding::LOG_LAMBDA_OFF;
+use fairfit::optim::integrated::fit_integrated;
+use fairfit::{NurbsCurve, Vec3};
+use numpy::PyReadonlyArray2;
+use pyo3::prelude::*;
+use serde_json::{json, Value};
+use std::time::Instant;
+
+/// A fitted curve, its report and the warnings the CLI prints on stderr.
+pub struct Fitted {
+    /// The curve.
+    pub curve: NurbsCurve,
+    /// The report (the keys of `fairfit curve --report`).
+    pub report: Value,
+    /// Warnings (`warning: ` lines of the CLI, without the prefix).
+    pub warnings: Vec<String>,
+}
+
+/// The extension's `fit_curve` (the Python wrapper `fairfit.fit_curve` documents it): returns the
+/// curve and the warnings.
+#[pyfunction]
+#[pyo3(signature = (points, tol, rel_tol, method, degree, control_points, closed, corner_angle,
+    ends, seed, threads, band_fairing, span_fairness, param, knots, correction_rounds, smoothing,
+    smoothing_order, start_tangent, end_tangent, input_name))]
+#[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
+pub fn fit_curve(
+    py: Python<'_>,
+    points: PyReadonlyArray2<'_, f64>,
+    tol: Option<f64>,
+    rel_tol: f64,
+    method: &str,
+    degree: &str,
+    control_points: Option<usize>,
+    closed: Option<bool>,
+    corner_angle: Option<f64>,
+    ends: &str,
+    seed: u64,
+    threads: Option<usize>,
+    band_fairing: bool,
+    span_fairness: Option<f64>,
+    param: &str,
+    knots: &str,
+    correction_rounds: usize,
+    smoothing: f64,
+    smoothing_order: u8,
+    start_tangent: Option<[f64; 3]>,
+    end_tangent: Option<[f64; 3]>,
+    input_name: Option<String>,
+) -> PyResult<(Curve, Vec<String>)> {
+    let wall = Instant::now();
+    let settings = CurveSettings {
+        method: parse_method(method).map_err(crate::py_err)?,
+        tol,
+        rel_tol,
+        degree: parse_degree(degree).map_err(crate::py_err)?,
+        control_points,
+        closed,
+        corner_angle,
+        free_ends: parse_ends(ends).map_err(crate::py_err)?,
+        seed,
+        band_fairing,
+        span_fairness,
+        param: parse_param(param).map_err(crate::py_err)?,
+        knots: parse_knots(knots).map_err(crate::py_err)?,
+        knots_name: knots.to_string(),
+        correction_rounds,
+        smoothing,
+        smoothing_order,
+        start_tangent: start_tangent.map(|[x, y, z]| Vec3::new(x, y, z)),
+        end_tangent: end_tangent.map(|[x, y, z]| Vec3::new(x, y, z)),
+    };
+    settings.check().map_err(crate::py_err)?;
+    let input = input_name.unwrap_or_else(|| "<array>".into());
+    let (raw, dim) = points_from_array(&points, &input)?;
+    let fitted = crate::guarded(py, move || {
+        let (points, dropped) = drop_consecutive_duplicates(&raw);
+        if points.len() < MIN_POINTS {
+            return Err(fairfit::Error::InvalidData(format!(
+                "{input}: at least {MIN_POINTS} distinct points are needed, found {}",
+                points.len()
+            ))
+            .to_string());
+        }
+        settings.check_points(points.len())?;
+        let mut fitted = fit_points(&settings, &input, &points, wall, threads)?;
+        if dropped > 0 {
+            fitted.warnings.insert(
+                0,
+                format!("{input}: dropped {dropped} consecutive duplicate point(s)"),
+            );
+        }
+        Ok(fitted)
+    })?;
+    Ok((
+        Curve::new(fitted.curve, dim, Some(fitted.report)),
+        fitted.warnings,
+    ))
+}
+
+/// One fit of `points` by the method of `s`, with its report (`fairfit curve`'s `fit_points`).
+pub fn fit_points(
+    s: &CurveSettings,
+    input: &str,
+    points: &[Vec3],
+    wall: Instant,
+    threads: Option<usize>,
+) -> Result<Fitted, String> {
+    let opts = fit_options(s);
+    if s.method == Method::Lsq {
+        return fit_lsq(s, input, &opts, points, wall);
+    }
+    let (curve, method_report, warnings) = crate::with_pool(threads, || match s.method {
+        Method::Integrated => run_integrated(s, points),
+        _ => run_fit_then_fair(s, points, &opts),
+    })?;
+    let f = curve_fairness(&curve);
+    let (extrema_exact, inflections_exact) = exact_shape_json(&curve, f.length);
+    let mut report = json!({
+        "input": input,
+        "degree": curve.degree(),
+        "points": points.len(),
+        "length": f.length,
+        "fairness": f.fairness,
+        "max_span_fairness": f.max_span_fairness,
+        "curvature_extrema": f.curvature_extrema,
+        "curvature_extrema_exact": extrema_exact,
+        "inflections": f.inflections,
+        "inflections_exact": inflections_exact,
+        "wall_seconds": wall.elapsed().as_secs_f64(),
+    });
+    if let (Some(obj), Some(extra)) = (report.as_object_mut(), method_report.as_object()) {
+        for (k, v) in extra {
+            obj.insert(k.clone(), v.clone());
+        }
+    }
+    Ok(Fitted {
+        curve,
+        report,
+        warnings,
+    })
+}
+
+/// `method="lsq"`.
+fn fit_lsq(
+    s: &CurveSettings,
+    input: &str,
+    opts: &FitOptions,
+    points: &[Vec3],
+    wall: Instant,
+) -> Result<Fitted, String> {
+    let fit = fit_to_tolerance(points, opts).map_err(|e| e.to_string())?;
+    let mut warnings = Vec::new();
+    if fit.smoothing_used != opts.smoothing {
+        warnings.push(format!(
+            "the smoothing {:e} kept the tolerance out of reach; used {:e}",
+            opts.smoothing, fit.smoothing_used
+        ));
+    }
+    let f = curve_fairness(&fit.curve);
+    let (extrema_exact, inflections_exact) = exact_shape_json(&fit.curve, f.length);
+    let report = json!({
+        "input": input,
+        "method": "lsq",
+        "knots": s.knots_name,
+        "degree": fit.curve.degree(),
+        "points": fit.points.len(),
+        "closed": fit.closed,
+        "corners": fit.corners,
+        "control_points": fit.n_control_points,
+        "tolerance": fit.tolerance,
+        "max_deviation": fit.deviation.max,
+        "rms_deviation": fit.deviation.rms,
+        "length": f.length,
+        "fairness": f.fairness,
+        "max_span_fairness": f.max_span_fairness,
+        "curvature_extrema": f.curvature_extrema,
+        "curvature_extrema_exact": extrema_exact,
+        "inflections": f.inflections,
+        "inflections_exact": inflections_exact,
+        "solves": fit.solves,
+        "smoothing_used": fit.smoothing_used,
+        "fit_seconds": fit.fit_seconds,
+        "wall_seconds": wall.elapsed().as_secs_f64(),
+    });
+    Ok(Fitted {
+        curve: fit.curve,
+        report,
+        warnings,
+    })
+}
+
+/// The method part of a report, and the warnings.
+type MethodOutput = (NurbsCurve, Value, Vec<String>);
+
+/// `method="integrated"` (`fairfit curve`'s `run_integrated`, without the Pareto front).
+fn run_integrated(s: &CurveSettings, points: &[Vec3]) -> Result<MethodOutput, String> {
+    let opts = integrated_options(s);
+    let closed = is_closed(points, opts.closed);
+    let r = fit_integrated(points, &opts).map_err(|e| e.to_string())?;
+    let report = json!({
+        "method": "integrated",
+        "closed": closed,
+        "ends": (!closed).then_some(if r.stats.free_ends { "free" } else { "pinned" }),
+        "control_points": distinct_control_points(&r.curve),
+        "tolerance": r.tolerance,
+        "tolerance_met": r.met,
+        "max_deviation": r.quality.max_deviation,
+        "rms_deviation": r.quality.rms_deviation,
+        "span_fairness_target": s.span_fairness,
+        "log10_smoothing": if r.log_lambda.is_finite() && r.log_lambda > LOG_LAMBDA_OFF { Some(r.log_lambda) } else { None },
+        "lsq_baseline_control_points": r.baseline_control_points,
+        "optimizer": {
+            "seed": s.seed,
+            "evaluations": r.stats.evaluations,
+            "iterations": r.stats.iterations,
+            "counts_tried": r.stats.counts_tried,
+            "fairness_by_count": r.stats.fairness_by_count.iter()
+                .map(|(n, f)| json!({"control_points": n, "fairness": if f.is_finite() { Some(*f) } else { None }}))
+                .collect::<Vec<_>>(),
+            "polish_moves": r.stats.polish_moves,
+            "seconds": r.stats.seconds,
+        },
+    });
+    let mut report = report;
+    if !r.stats.degrees_tried.is_empty() {
+        report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
+    }
+    let mut warnings = Vec::new();
+    if !r.met {
+        warnings.push(match s.span_fairness {
+            Some(t) if r.quality.max_deviation <= r.tolerance => format!(
+                "the span fairness target {t:.3e} was not met (largest F_j {:.3e})",
+                r.quality.max_span_fairness
+            ),
+            _ => format!(
+                "the tolerance {:.3e} was not met (max deviation {:.3e})",
+                r.tolerance, r.quality.max_deviation
+            ),
+        });
+    }
+    Ok((r.curve, report, warnings))
+}
+
+/// `method="fit-then-fair"` (`fairfit curve`'s `run_fit_then_fair`).
+fn run_fit_then_fair(
+    s: &CurveSettings,
+    points: &[Vec3],
+    fit_opts: &FitOptions,
+) -> Result<MethodOutput, String> {
+    let fit = fit_to_tolerance(points, fit_opts).map_err(|e| e.to_string())?;
+    let faired = fair_curve(
+        &fit.curve,
+        points,
+        fit.tolerance,
+        &FairingOptions::default(),
+    )
+    .map_err(|e| e.to_string())?;
+    let before = curve_fairness(&fit.curve);
+    let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
+    let report = json!({
+        "method": "fit-then-fair",
+        "control_points": distinct_control_points(&faired.curve),
+        "closed": fit.closed,
+        "tolerance": fit.tolerance,
+        "tolerance_met": dev.max <= fit.tolerance,
+        "max_deviation": dev.max,
+        "rms_deviation": dev.rms,
+        "lsq_fairness": before.fairness,
+        "fairing_moves": faired.iterations,
+        "seed": s.seed,
+    });
+    Ok((faired.curve, report, Vec::new()))
+}
+
+/// The exact curvature-extrema and inflection counts, `null` where only sampling counts them.
+pub fn exact_shape_json(c: &NurbsCurve, length: f64) -> (Value, Value) {
+    let exact = count_shape_exact(c, length);
+    (
+        if exact.extrema.exact {
+            json!(exact.extrema.curvature_extrema)
+        } else {
+            Value::Null
+        },
+        if exact.inflections.exact {
+            json!(exact.inflections.inflections)
+        } else {
+            Value::Null
+        },
+    )
+}

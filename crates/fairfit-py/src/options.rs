@@ -1,0 +1,249 @@
+//! The options of `fit_curve`, checked and mapped to the library exactly as the CLI's `fairfit curve`
+//! maps its flags (`crates/fairfit-cli/src/commands/curve.rs` and `curve_optim.rs`): the same defaults,
+//! the same checks with the same messages (named by their Python keywords), the same library options.
+//! `integrated_options` and `fit_options` are the only places that build library options.
+
+use fairfit::fit::tolerance::{ClosedMode, FitOptions, KnotRule, Tolerance};
+use fairfit::fit::{Parameterization, SmoothingOrder};
+use fairfit::optim::integrated::{self, EndCondition, IntegratedOptions};
+use fairfit::Vec3;
+
+/// The highest degree `degree="auto"` tries (the CLI's `AUTO_MAX_DEGREE`).
+pub const AUTO_MAX_DEGREE: usize = 5;
+
+/// The fitting method (`method=`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// `"lsq"`: least squares with a tolerance-driven knot count.
+    Lsq,
+    /// `"integrated"`: integrated fitting and fairing (the default).
+    Integrated,
+    /// `"fit-then-fair"`: least squares, then fairing within the same tolerance.
+    FitThenFair,
+}
+
+/// Every setting of one curve fit, as the Python keywords give them.
+#[derive(Clone, Debug)]
+pub struct CurveSettings {
+    /// `method`.
+    pub method: Method,
+    /// `tol` (absolute; takes precedence over `rel_tol`).
+    pub tol: Option<f64>,
+    /// `rel_tol` (relative to the largest side of the points' bounding box).
+    pub rel_tol: f64,
+    /// `degree`: `None` for `"auto"`.
+    pub degree: Option<usize>,
+    /// `control_points`.
+    pub control_points: Option<usize>,
+    /// `closed`: `None` detects a repeated first point, `True` forces a closed curve, `False` an open one.
+    pub closed: Option<bool>,
+    /// `corner_angle` in degrees; `None` detects no corners (`--no-corners`).
+    pub corner_angle: Option<f64>,
+    /// `ends`: free end points (`"free"`), else pinned.
+    pub free_ends: bool,
+    /// `seed`.
+    pub seed: u64,
+    /// `band_fairing` (`--no-band-fairing` when false).
+    pub band_fairing: bool,
+    /// `span_fairness` (the per-span target F*).
+    pub span_fairness: Option<f64>,
+    /// `param`.
+    pub param: Parameterization,
+    /// `knots` (the knot rule of `lsq` and `fit-then-fair`).
+    pub knots: KnotRule,
+    /// `knots` as given (the lsq report names it).
+    pub knots_name: String,
+    /// `correction_rounds`.
+    pub correction_rounds: usize,
+    /// `smoothing` λ.
+    pub smoothing: f64,
+    /// `smoothing_order` (2 or 3).
+    pub smoothing_order: u8,
+    /// `start_tangent`.
+    pub start_tangent: Option<Vec3>,
+    /// `end_tangent`.
+    pub end_tangent: Option<Vec3>,
+}
+
+/// `"auto"` or a degree from 1 to 15 (the CLI's `--degree`); `None` is `auto`.
+pub fn parse_degree(text: &str) -> Result<Option<usize>, String> {
+    if text.eq_ignore_ascii_case("auto") {
+        return Ok(None);
+    }
+    match text.trim().parse::<usize>() {
+        Ok(d) if (1..=15).contains(&d) => Ok(Some(d)),
+        _ => Err(format!(
+            "degree: expected `auto` or a degree from 1 to 15, got `{text}`"
+        )),
+    }
+}
+
+/// `method=`.
+pub fn parse_method(text: &str) -> Result<Method, String> {
+    match text {
+        "integrated" => Ok(Method::Integrated),
+        "lsq" => Ok(Method::Lsq),
+        "fit-then-fair" | "fit_then_fair" => Ok(Method::FitThenFair),
+        _ => Err(format!(
+            "method: expected `integrated`, `lsq` or `fit-then-fair`, got `{text}`"
+        )),
+    }
+}
+
+/// `param=`.
+pub fn parse_param(text: &str) -> Result<Parameterization, String> {
+    match text {
+        "centripetal" => Ok(Parameterization::Centripetal),
+        "chord" => Ok(Parameterization::ChordLength),
+        "uniform" => Ok(Parameterization::Uniform),
+        _ => Err(format!(
+            "param: expected `centripetal`, `chord` or `uniform`, got `{text}`"
+        )),
+    }
+}
+
+/// `knots=`.
+pub fn parse_knots(text: &str) -> Result<KnotRule, String> {
+    match text {
+        "refine" => Ok(KnotRule::Refine),
+        "averaging" => Ok(KnotRule::Averaging),
+        "adaptive" => Ok(KnotRule::Adaptive),
+        _ => Err(format!(
+            "knots: expected `refine`, `averaging` or `adaptive`, got `{text}`"
+        )),
+    }
+}
+
+/// `ends=`: true for free ends.
+pub fn parse_ends(text: &str) -> Result<bool, String> {
+    match text {
+        "pinned" => Ok(false),
+        "free" => Ok(true),
+        _ => Err(format!("ends: expected `pinned` or `free`, got `{text}`")),
+    }
+}
+
+impl CurveSettings {
+    /// `degree`, or the method's default: `auto` for the integrated method, 3 otherwise.
+    pub fn degree(&self) -> Option<usize> {
+        match (self.degree, self.method) {
+            (Some(d), _) => Some(d),
+            (None, Method::Integrated) => None,
+            (None, _) => Some(3),
+        }
+    }
+
+    /// The fixed degree, or the lowest (reference) degree of the search.
+    pub fn lowest_degree(&self) -> usize {
+        self.degree().unwrap_or(3)
+    }
+
+    /// The tolerance: `tol` when given, else `rel_tol`.
+    pub fn tolerance(&self) -> Tolerance {
+        match self.tol {
+            Some(t) => Tolerance::Absolute(t),
+            None => Tolerance::Relative(self.rel_tol),
+        }
+    }
+
+    fn closed_mode(&self) -> ClosedMode {
+        match self.closed {
+            None => ClosedMode::Auto,
+            Some(true) => ClosedMode::Closed,
+            Some(false) => ClosedMode::Open,
+        }
+    }
+
+    /// The checks `fairfit curve` makes before it reads its input, with the same messages.
+    pub fn check(&self) -> Result<(), String> {
+        if let Some(a) = self.corner_angle {
+            if !(a.is_finite() && a > 0.0 && a <= 180.0) {
+                return Err(format!("corner_angle must be in (0, 180] degrees, got {a}"));
+            }
+        }
+        if !(self.smoothing.is_finite() && self.smoothing >= 0.0) {
+            return Err(format!(
+                "smoothing must be a finite number >= 0, got {}",
+                self.smoothing
+            ));
+        }
+        if !(2..=3).contains(&self.smoothing_order) {
+            return Err(format!(
+                "smoothing_order must be 2 or 3, got {}",
+                self.smoothing_order
+            ));
+        }
+        let integrated = self.method == Method::Integrated;
+        if self.degree().is_none() && !integrated {
+            return Err("degree='auto' needs method='integrated'".into());
+        }
+        if self.control_points.is_some() && !integrated {
+            return Err("control_points needs method='integrated'".into());
+        }
+        if (self.start_tangent.is_some() || self.end_tangent.is_some()) && integrated {
+            return Err(
+                "start_tangent and end_tangent need method='lsq' or method='fit-then-fair'".into(),
+            );
+        }
+        if self.free_ends && !integrated {
+            return Err("ends='free' needs method='integrated'".into());
+        }
+        Ok(())
+    }
+
+    /// The check `fairfit curve` makes once the points are known.
+    pub fn check_points(&self, distinct: usize) -> Result<(), String> {
+        match self.control_points {
+            Some(n) if n > distinct => Err(format!(
+                "control_points {n} exceeds the {distinct} distinct input points"
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The least-squares options (`method="lsq"` and `"fit-then-fair"`), as `fairfit curve` builds them.
+pub fn fit_options(s: &CurveSettings) -> FitOptions {
+    FitOptions {
+        degree: s.lowest_degree(),
+        parameterization: s.param,
+        tolerance: s.tolerance(),
+        closed: s.closed_mode(),
+        corner_angle_deg: s.corner_angle,
+        correction_rounds: s.correction_rounds,
+        smoothing: s.smoothing,
+        smoothing_order: if s.smoothing_order == 3 {
+            SmoothingOrder::Third
+        } else {
+            SmoothingOrder::Second
+        },
+        knot_rule: s.knots,
+        start_tangent: s.start_tangent,
+        end_tangent: s.end_tangent,
+        ..FitOptions::default()
+    }
+}
+
+/// The integrated method's options, as `fairfit curve` builds them (its `integrated_options`).
+pub fn integrated_options(s: &CurveSettings) -> IntegratedOptions {
+    IntegratedOptions {
+        degree: s.lowest_degree(),
+        max_degree: s.degree().is_none().then_some(AUTO_MAX_DEGREE),
+        tolerance: match s.tolerance() {
+            Tolerance::Absolute(t) => integrated::Tolerance::Absolute(t),
+            Tolerance::Relative(r) => integrated::Tolerance::Relative(r),
+        },
+        span_fairness: s.span_fairness,
+        seed: s.seed,
+        control_points: s.control_points,
+        corner_angle_deg: s.corner_angle,
+        closed: s.closed_mode(),
+        band_fairing: s.band_fairing,
+        ends: if s.free_ends {
+            EndCondition::Free
+        } else {
+            EndCondition::Pinned
+        },
+        ..IntegratedOptions::default()
+    }
+}

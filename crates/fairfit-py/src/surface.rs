@@ -1,0 +1,531 @@
+//! The Python `Surface` and the surface fits: `fit_surface` (sections given as arrays) and
+//! `fit_surface_from_mesh` (a mesh or point cloud sliced into planar sections), with the options,
+//! checks and report of `fairfit surface` (`crates/fairfit-cli/src/commands/surface.rs`).
+//!
+//! The section curves are not independent fits: one knot vector is searched for all sections at once
+//! (its control-point count grows until the worst section is within tolerance, and its candidates are
+//! ranked by the worst span fairness over all sections, `fairfit::surface::compatible`), so a surface
+//! is one task, never a fan-out of per-section fits followed by a skinning step.
+
+use crate::convert::{json_to_py, parameters, points_array3, vector};
+use fairfit::io::mesh_read::read_mesh;
+use fairfit::io::surface_to_json;
+use fairfit::surface::chain::Gap;
+use fairfit::surface::orient::extent;
+use fairfit::surface::slicing::{slice_mesh, SliceOptions};
+use fairfit::surface::{reconstruct_surface, Section, SurfaceOptions, VParams};
+use fairfit::{NurbsSurface, Vec3};
+use numpy::PyReadonlyArray2;
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use serde_json::{json, Value};
+
+/// A NURBS surface (see the `fairfit` package's documentation of `Surface`).
+#[pyclass(module = "fairfit._fairfit", frozen)]
+pub struct Surface {
+    /// The surface.
+    pub inner: NurbsSurface,
+    /// The fit's report, when fitted.
+    pub report: Option<Value>,
+}
+
+impl Surface {
+    /// A surface with an optional report.
+    pub fn new(inner: NurbsSurface, report: Option<Value>) -> Self {
+        Surface { inner, report }
+    }
+}
+
+#[pymethods]
+impl Surface {
+    /// The degrees (p_u, p_v).
+    #[getter]
+    fn degree(&self) -> (usize, usize) {
+        (self.inner.degree_u(), self.inner.degree_v())
+    }
+
+    /// The knot vectors (U, V).
+    #[getter]
+    fn knots<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (
+        Bound<'py, numpy::PyArray1<f64>>,
+        Bound<'py, numpy::PyArray1<f64>>,
+    ) {
+        (
+            vector(py, self.inner.knots_u().to_vec()),
+            vector(py, self.inner.knots_v().to_vec()),
+        )
+    }
+
+    /// The control net, an (n_u, n_v, 3) array.
+    #[getter]
+    fn control_points<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
+        points_array3(
+            py,
+            self.inner.control_points_flat(),
+            self.inner.net_size(),
+            3,
+        )
+    }
+
+    /// The weights, an (n_u, n_v) array.
+    #[getter]
+    fn weights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let (a, b) = self.inner.net_size();
+        vector(py, self.inner.weights_flat().to_vec()).call_method1("reshape", (a, b))
+    }
+
+    /// The parameter domains ((u0, u1), (v0, v1)).
+    #[getter]
+    fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        (self.inner.domain_u(), self.inner.domain_v())
+    }
+
+    /// (closed in u, closed in v): whether opposite boundary curves coincide (to 1e-9 of the control
+    /// net's extent, at 11 points each).
+    #[getter]
+    fn closed(&self) -> (bool, bool) {
+        let s = &self.inner;
+        let ext = fairfit::io::points::bounding_box_extent(s.control_points_flat());
+        let eps = 1e-9 * ext.max(f64::MIN_POSITIVE);
+        let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+        let at = |a: f64, b: f64, t: f64| a + (b - a) * t;
+        let ts = (0..=10).map(|i| i as f64 / 10.0);
+        let cu = ts.clone().all(|t| {
+            s.point(u0, at(v0, v1, t))
+                .distance(s.point(u1, at(v0, v1, t)))
+                <= eps
+        });
+        let cv = ts.into_iter().all(|t| {
+            s.point(at(u0, u1, t), v0)
+                .distance(s.point(at(u0, u1, t), v1))
+                <= eps
+        });
+        (cu, cv)
+    }
+
+    /// The report of the fit (the keys of `fairfit surface --report`), or None.
+    #[getter]
+    fn report<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        self.report.as_ref().map(|r| json_to_py(py, r)).transpose()
+    }
+
+    /// surface(u, v, grid=True) -> ndarray: with grid, the points S(u_i, v_j) for every pair, an
+    /// (m, k, 3) array; without, S(u_i, v_i) for equally long u and v, an (m, 3) array.
+    #[pyo3(signature = (u, v, grid=true))]
+    fn __call__<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        grid: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (us, _) = parameters(u)?;
+        let (vs, _) = parameters(v)?;
+        let uv: Vec<(f64, f64)> = if grid {
+            us.iter()
+                .flat_map(|&a| vs.iter().map(move |&b| (a, b)))
+                .collect()
+        } else {
+            if us.len() != vs.len() {
+                return Err(crate::py_err(format!(
+                    "surface(u, v, grid=False) needs as many u as v values, got {} and {}",
+                    us.len(),
+                    vs.len()
+                )));
+            }
+            us.iter().copied().zip(vs.iter().copied()).collect()
+        };
+        for &(a, b) in &uv {
+            self.inner.check_parameter(a, b).map_err(crate::lib_err)?;
+        }
+        let s = &self.inner;
+        let pts = crate::guarded(py, || {
+            let mut out = vec![Vec3::ZERO; uv.len()];
+            s.points_into(&uv, &mut out);
+            Ok(out)
+        })?;
+        if grid {
+            Ok(points_array3(py, &pts, (us.len(), vs.len()), 3).into_any())
+        } else {
+            Ok(crate::convert::points_array(py, &pts, 3).into_any())
+        }
+    }
+
+    /// to_json() -> str: the surface in fairfit's JSON format, what `fairfit surface -o` writes.
+    fn to_json(&self) -> String {
+        surface_to_json(&self.inner)
+    }
+
+    /// save(path, points=None, *, units="mm", chord_tol=None): writes the surface, its format chosen
+    /// by the extension (.json, .step/.stp, .iges/.igs, .obj/.stl/.ply, .svg/.png, .html).
+    #[pyo3(signature = (path, points=None, *, units="mm", chord_tol=None))]
+    fn save(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        points: Option<Bound<'_, PyAny>>,
+        units: &str,
+        chord_tol: Option<f64>,
+    ) -> PyResult<()> {
+        let pts = points
+            .map(|p| {
+                let a = crate::convert::array2(&p, "points")?;
+                crate::convert::points_from_array(&a, "points").map(|x| x.0)
+            })
+            .transpose()?;
+        let s = &self.inner;
+        let report = self.report.as_ref();
+        crate::guarded(py, || {
+            crate::output::save(
+                crate::output::Shape::Surface(s),
+                &path,
+                pts.as_deref(),
+                report,
+                units,
+                chord_tol,
+            )
+        })
+    }
+
+    /// Pickling: the surface's JSON and its report.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let f = py
+            .import("fairfit._fairfit")?
+            .getattr("_surface_from_state")?;
+        let state = (self.to_json(), self.report.as_ref().map(|r| r.to_string()));
+        PyTuple::new(py, [f.into_any(), state.into_pyobject(py)?.into_any()])
+    }
+
+    fn __repr__(&self) -> String {
+        let (a, b) = self.inner.net_size();
+        format!(
+            "Surface(degree=({}, {}), net=({a}, {b}))",
+            self.inner.degree_u(),
+            self.inner.degree_v()
+        )
+    }
+}
+
+/// Rebuilds a pickled surface.
+#[pyfunction]
+#[pyo3(name = "_surface_from_state")]
+pub fn surface_from_state(json: &str, report: Option<String>) -> PyResult<Surface> {
+    let s = match fairfit::io::json::geometry_from_str(json).map_err(crate::lib_err)? {
+        fairfit::io::Geometry::Surface(s) => s,
+        fairfit::io::Geometry::Curve(_) => {
+            return Err(crate::py_err("_surface_from_state: not a surface"))
+        }
+    };
+    let report = report
+        .map(|r| serde_json::from_str(&r))
+        .transpose()
+        .map_err(|e| crate::py_err(format!("_surface_from_state: {e}")))?;
+    Ok(Surface::new(s, report))
+}
+
+/// The settings of a surface fit (the options of `fairfit surface`).
+#[derive(Clone, Debug)]
+pub struct SurfaceSettings {
+    /// `tol`.
+    pub tol: Option<f64>,
+    /// `rel_tol` (of the largest section's extent).
+    pub rel_tol: f64,
+    /// `degree` (of the sections, in u).
+    pub degree: usize,
+    /// `degree_v`.
+    pub degree_v: usize,
+    /// `max_ctrl`.
+    pub max_ctrl: usize,
+    /// `v_params`: centripetal when true, chord length otherwise.
+    pub centripetal_v: bool,
+    /// `approximate_v`.
+    pub approximate_v: Option<usize>,
+    /// `smooth_v`.
+    pub smooth_v: f64,
+    /// `clamped_seam`.
+    pub clamped_seam: bool,
+    /// `threads`.
+    pub threads: Option<usize>,
+}
+
+/// What the input gave besides its sections (for the report).
+#[derive(Default)]
+struct InputNotes {
+    names: Vec<String>,
+    gaps: Vec<Gap>,
+    empty_planes: Vec<f64>,
+    dropped_chains: Vec<usize>,
+}
+
+/// `fairfit surface`'s checks of the counts, with its messages (named by the Python keywords).
+fn check_counts(s: &SurfaceSettings) -> Result<(), String> {
+    let need = s.degree.saturating_add(1);
+    if s.degree >= 1 && s.max_ctrl < need {
+        return Err(format!(
+            "max_ctrl {} is below the {need} control points a degree-{} section needs; give max_ctrl={need} or more",
+            s.max_ctrl, s.degree
+        ));
+    }
+    if let Some(n) = s.approximate_v.filter(|&n| n < 2) {
+        return Err(format!(
+            "approximate_v {n}: approximation across the sections needs at least 2 control points"
+        ));
+    }
+    if !(s.smooth_v.is_finite() && s.smooth_v >= 0.0) {
+        return Err(format!(
+            "smooth_v must be a finite number >= 0, got {}",
+            s.smooth_v
+        ));
+    }
+    Ok(())
+}
+
+/// The library's surface options, as `fairfit surface` builds them.
+fn surface_options(s: &SurfaceSettings, tol: f64) -> SurfaceOptions {
+    let mut opts = SurfaceOptions::default();
+    opts.sections.degree = s.degree;
+    opts.sections.tolerance = tol;
+    opts.sections.max_control_points = s.max_ctrl;
+    opts.sections.periodic_closed = !s.clamped_seam;
+    opts.skin.degree_v = s.degree_v;
+    opts.skin.params = if s.centripetal_v {
+        VParams::Centripetal
+    } else {
+        VParams::ChordLength
+    };
+    opts.skin.approximate_with = s.approximate_v;
+    opts.skin.smoothing = s.smooth_v;
+    opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
+    opts
+}
+
+/// The surface through `sections`, with the report of `fairfit surface --report`.
+fn fit_sections(
+    s: &SurfaceSettings,
+    sections: Vec<Section>,
+    notes: InputNotes,
+) -> Result<(NurbsSurface, Value), String> {
+    check_counts(s)?;
+    if sections.len() < 2 {
+        return Err(format!(
+            "a surface needs at least 2 sections, got {}",
+            sections.len()
+        ));
+    }
+    let largest = sections
+        .iter()
+        .map(|x| extent(&x.points))
+        .fold(0.0, f64::max);
+    let tol = match s.tol {
+        Some(t) => t,
+        None => s.rel_tol * largest,
+    };
+    if !tol.is_finite() || tol <= 0.0 {
+        return Err(format!("the tolerance must be positive, got {tol}"));
+    }
+    let opts = surface_options(s, tol);
+    let r = crate::with_pool(s.threads, || {
+        reconstruct_surface(sections, &opts).map_err(|e| e.to_string())
+    })?;
+    let (nu, nv) = r.surface.net_size();
+    let within = r.deviation.max <= tol;
+    let per_section: Vec<Value> = r
+        .sections
+        .iter()
+        .enumerate()
+        .map(|(k, x)| {
+            json!({
+                "name": notes.names.get(k),
+                "points": x.points.len(),
+                "closed": x.closed,
+                "reversed": r.alignment[k].0,
+                "seam_shift": r.alignment[k].1,
+                "v": r.v_params[k],
+                "max_deviation": r.section_deviation[k],
+                "exact_max_deviation": Value::Null,
+                "dropped_chains": notes.dropped_chains.get(k),
+            })
+        })
+        .collect();
+    let report = json!({
+        "tolerance": tol,
+        "within_tolerance": within,
+        "net": [nu, nv],
+        "degree": [r.surface.degree_u(), r.surface.degree_v()],
+        "deviation": r.deviation,
+        "section_fit_max_deviation": r.compatible.max_deviation,
+        "section_max_span_fairness": r.compatible.max_span_fairness,
+        "iso_fairness": r.fairness,
+        "knots_u": r.compatible.knots,
+        "periodic_u": r.compatible.periodic,
+        "seam": r.seam,
+        "v_params": r.v_params,
+        "candidates_tried": r.compatible.candidates_tried,
+        "sections": per_section,
+        "gaps": notes.gaps,
+        "empty_planes": notes.empty_planes,
+        "exact_sections": Value::Null,
+    });
+    Ok((r.surface, report))
+}
+
+/// Parses `v_params=`.
+fn centripetal(v_params: &str) -> PyResult<bool> {
+    match v_params {
+        "chord" => Ok(false),
+        "centripetal" => Ok(true),
+        _ => Err(crate::py_err(format!(
+            "v_params: expected `chord` or `centripetal`, got `{v_params}`"
+        ))),
+    }
+}
+
+/// The extension's `fit_surface` (documented by the wrapper `fairfit.fit_surface`).
+#[pyfunction]
+#[pyo3(signature = (sections, tol, rel_tol, degree, degree_v, max_ctrl, v_params, approximate_v,
+    smooth_v, clamped_seam, threads, names))]
+#[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
+pub fn fit_surface(
+    py: Python<'_>,
+    sections: Vec<PyReadonlyArray2<'_, f64>>,
+    tol: Option<f64>,
+    rel_tol: f64,
+    degree: usize,
+    degree_v: usize,
+    max_ctrl: usize,
+    v_params: &str,
+    approximate_v: Option<usize>,
+    smooth_v: f64,
+    clamped_seam: bool,
+    threads: Option<usize>,
+    names: Option<Vec<String>>,
+) -> PyResult<Surface> {
+    let settings = SurfaceSettings {
+        tol,
+        rel_tol,
+        degree,
+        degree_v,
+        max_ctrl,
+        centripetal_v: centripetal(v_params)?,
+        approximate_v,
+        smooth_v,
+        clamped_seam,
+        threads,
+    };
+    let names = names.unwrap_or_else(|| {
+        (0..sections.len())
+            .map(|k| format!("section {k}"))
+            .collect()
+    });
+    let mut secs = Vec::with_capacity(sections.len());
+    for (k, a) in sections.iter().enumerate() {
+        let name = names
+            .get(k)
+            .cloned()
+            .unwrap_or_else(|| format!("section {k}"));
+        let (pts, _) = crate::convert::points_from_array(a, &name)?;
+        if pts.len() < 3 {
+            return Err(crate::py_err(format!(
+                "{name}: a section needs at least 3 points, got {}",
+                pts.len()
+            )));
+        }
+        secs.push(Section::from_points(pts));
+    }
+    let notes = InputNotes {
+        dropped_chains: vec![0; secs.len()],
+        names,
+        ..Default::default()
+    };
+    let (surface, report) = crate::guarded(py, move || fit_sections(&settings, secs, notes))?;
+    Ok(Surface::new(surface, Some(report)))
+}
+
+/// The extension's `fit_surface_from_mesh` (documented by the wrapper).
+#[pyfunction]
+#[pyo3(signature = (path, slices, axis, normal, gap_factor, tol, rel_tol, degree, degree_v,
+    max_ctrl, v_params, approximate_v, smooth_v, clamped_seam, threads))]
+#[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
+pub fn fit_surface_from_mesh(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    slices: usize,
+    axis: &str,
+    normal: Option<[f64; 3]>,
+    gap_factor: f64,
+    tol: Option<f64>,
+    rel_tol: f64,
+    degree: usize,
+    degree_v: usize,
+    max_ctrl: usize,
+    v_params: &str,
+    approximate_v: Option<usize>,
+    smooth_v: f64,
+    clamped_seam: bool,
+    threads: Option<usize>,
+) -> PyResult<Surface> {
+    let settings = SurfaceSettings {
+        tol,
+        rel_tol,
+        degree,
+        degree_v,
+        max_ctrl,
+        centripetal_v: centripetal(v_params)?,
+        approximate_v,
+        smooth_v,
+        clamped_seam,
+        threads,
+    };
+    if slices < 2 {
+        return Err(crate::py_err(format!(
+            "slices {slices}: a surface needs at least 2 slices (slicing planes)"
+        )));
+    }
+    let normal = match (normal, axis) {
+        (Some([x, y, z]), _) => Vec3::new(x, y, z),
+        (None, "x") => Vec3::new(1.0, 0.0, 0.0),
+        (None, "y") => Vec3::new(0.0, 1.0, 0.0),
+        (None, "z") => Vec3::new(0.0, 0.0, 1.0),
+        (None, _) => {
+            return Err(crate::py_err(format!(
+                "axis: expected `x`, `y` or `z`, got `{axis}`"
+            )))
+        }
+    };
+    if !(normal.is_finite() && normal.norm() > 0.0) {
+        return Err(crate::py_err("normal must be a non-zero vector"));
+    }
+    let (surface, report) = crate::guarded(py, move || {
+        check_counts(&settings)?;
+        let mesh = read_mesh(&path).map_err(|e| e.to_string())?;
+        let opts = SliceOptions {
+            slices,
+            normal,
+            gap_factor,
+            ..Default::default()
+        };
+        let s = slice_mesh(&mesh, &opts).map_err(|e| e.to_string())?;
+        if s.sections.len() < 2 {
+            return Err(format!(
+                "slicing gave {} usable section(s) from {slices} planes ({} empty); a surface needs at least 2",
+                s.sections.len(),
+                s.empty_planes.len()
+            ));
+        }
+        let notes = InputNotes {
+            names: s
+                .offsets
+                .iter()
+                .map(|h| format!("plane at {h:.6}"))
+                .collect(),
+            gaps: s.gaps,
+            empty_planes: s.empty_planes,
+            dropped_chains: s.dropped_chains,
+        };
+        fit_sections(&settings, s.sections, notes)
+    })?;
+    Ok(Surface::new(surface, Some(report)))
+}

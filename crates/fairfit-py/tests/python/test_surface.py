@@ -1,0 +1,90 @@
+"""fit_surface and Surface against the CLI of the same build, with numbers."""
+
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+import fairfit
+
+
+def sections():
+    """Five open sections (elliptic arcs growing along z), 40 points each."""
+    t = np.linspace(0.0, np.pi, 40)
+    out = []
+    for k in range(5):
+        a, b = 1.0 + 0.1 * k, 0.5 + 0.05 * k * k
+        out.append(np.c_[a * np.cos(t), b * np.sin(t), np.full_like(t, 0.5 * k)])
+    return out
+
+
+def write_sections(tmp_path):
+    paths = []
+    for k, s in enumerate(sections()):
+        p = tmp_path / f"s{k}.csv"
+        p.write_text("".join(f"{float(x)!r},{float(y)!r},{float(z)!r}\n" for x, y, z in s))
+        paths.append(p)
+    return paths
+
+
+@pytest.fixture(scope="module")
+def surface():
+    return fairfit.fit_surface(sections(), rel_tol=1e-3)
+
+
+def test_fit_surface_gives_the_cli_json_bytes(cli, tmp_path):
+    paths = write_sections(tmp_path)
+    out = tmp_path / "s.json"
+    cli("surface", *paths, "--rel-tol", "1e-3", "-o", out, "--report", tmp_path / "r.json")
+    s = fairfit.fit_surface(sections(), rel_tol=1e-3, names=[str(p) for p in paths])
+    assert s.to_json() == out.read_text()
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert set(s.report) == set(report)
+    for key in ["tolerance", "within_tolerance", "net", "degree", "knots_u", "v_params", "sections"]:
+        assert s.report[key] == report[key], key
+
+
+def test_surface_evaluation_equals_the_cli_eval(cli, surface, tmp_path):
+    path = tmp_path / "s.json"
+    surface.save(path)
+    (u0, u1), (v0, v1) = surface.domain
+    us = np.linspace(u0, u1, 4)
+    vs = np.linspace(v0, v1, 3)
+    grid = surface(us, vs)
+    assert grid.shape == (4, 3, 3)
+    at = ",".join(f"{float(u)!r}:{float(v)!r}" for u in us for v in vs)
+    rows = json.loads(cli("eval", path, "--at", at).stdout)
+    for n, row in enumerate(rows):
+        np.testing.assert_allclose(grid[n // 3, n % 3], row["point"], rtol=1e-12, atol=1e-14)
+    pairs = surface(us[:3], vs, grid=False)
+    np.testing.assert_array_equal(pairs, np.stack([grid[i, i] for i in range(3)]))
+
+
+def test_surface_passes_through_its_sections(surface):
+    assert surface.report["within_tolerance"]
+    assert surface.report["deviation"]["max"] <= surface.report["tolerance"]
+    assert surface.degree == (3, 3)
+    nu, nv = surface.report["net"]
+    assert surface.control_points.shape == (nu, nv, 3)
+    assert surface.weights.shape == (nu, nv)
+    assert surface.closed == (False, False)
+
+
+def test_surface_pickle_and_step_round_trip(surface, tmp_path):
+    back = pickle.loads(pickle.dumps(surface))
+    assert back.to_json() == surface.to_json() and back.report == surface.report
+    path = tmp_path / "s.step"
+    surface.save(path)
+    read = fairfit.read(path)
+    assert isinstance(read, fairfit.Surface)
+    (u0, u1), (v0, v1) = surface.domain
+    us, vs = np.linspace(u0, u1, 9), np.linspace(v0, v1, 7)
+    np.testing.assert_allclose(read(us, vs), surface(us, vs), rtol=0, atol=1e-12)
+
+
+def test_surface_errors():
+    with pytest.raises(fairfit.FairfitError, match="a surface needs at least 2 sections, got 1"):
+        fairfit.fit_surface(sections()[:1])
+    with pytest.raises(fairfit.FairfitError, match="section 1: a section needs at least 3 points, got 2"):
+        fairfit.fit_surface([sections()[0], sections()[1][:2]])
