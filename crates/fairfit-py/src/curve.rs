@@ -118,7 +118,7 @@ impl Curve {
     #[getter]
     fn closed(&self) -> bool {
         let (a, b) = self.inner.domain();
-        let ext = fairfit::io::points::bounding_box_extent(self.inner.control_points());
+        let ext = fairfit::fit::points::bounding_box_extent(self.inner.control_points());
         self.inner.point(a).distance(self.inner.point(b)) <= 1e-9 * ext.max(f64::MIN_POSITIVE)
     }
 

@@ -9,11 +9,10 @@ use crate::options::{
 };
 use fairfit::fair::{count_shape_exact, curve_fairness, fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
+use fairfit::fit::points::drop_consecutive_duplicates;
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
-use fairfit::io::points::{drop_consecutive_duplicates, MIN_POINTS};
-use fairfit::optim::closed::{distinct_control_points, is_closed};
-use fairfit::optim::encoding::LOG_LAMBDA_OFF;
-use fairfit::optim::integrated::fit_integrated;
+use fairfit::io::points::MIN_POINTS;
+use fairfit::optim::{distinct_control_points, fit_integrated, is_closed};
 use fairfit::{NurbsCurve, Vec3};
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
@@ -221,7 +220,7 @@ fn run_integrated(s: &CurveSettings, points: &[Vec3]) -> Result<MethodOutput, St
         "max_deviation": r.quality.max_deviation,
         "rms_deviation": r.quality.rms_deviation,
         "span_fairness_target": s.span_fairness,
-        "log10_smoothing": if r.log_lambda.is_finite() && r.log_lambda > LOG_LAMBDA_OFF { Some(r.log_lambda) } else { None },
+        "log10_smoothing": r.log10_smoothing(),
         "lsq_baseline_control_points": r.baseline_control_points,
         "optimizer": {
             "seed": s.seed,

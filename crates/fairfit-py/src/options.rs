@@ -5,7 +5,7 @@
 
 use fairfit::fit::tolerance::{ClosedMode, FitOptions, KnotRule, Tolerance};
 use fairfit::fit::{Parameterization, SmoothingOrder};
-use fairfit::optim::integrated::{self, EndCondition, IntegratedOptions};
+use fairfit::optim::{EndCondition, IntegratedOptions};
 use fairfit::Vec3;
 
 /// The highest degree `degree="auto"` tries (the CLI's `AUTO_MAX_DEGREE`).
@@ -226,24 +226,18 @@ pub fn fit_options(s: &CurveSettings) -> FitOptions {
 
 /// The integrated method's options, as `fairfit curve` builds them (its `integrated_options`).
 pub fn integrated_options(s: &CurveSettings) -> IntegratedOptions {
-    IntegratedOptions {
-        degree: s.lowest_degree(),
-        max_degree: s.degree().is_none().then_some(AUTO_MAX_DEGREE),
-        tolerance: match s.tolerance() {
-            Tolerance::Absolute(t) => integrated::Tolerance::Absolute(t),
-            Tolerance::Relative(r) => integrated::Tolerance::Relative(r),
-        },
-        span_fairness: s.span_fairness,
-        seed: s.seed,
-        control_points: s.control_points,
-        corner_angle_deg: s.corner_angle,
-        closed: s.closed_mode(),
-        band_fairing: s.band_fairing,
-        ends: if s.free_ends {
+    IntegratedOptions::new(s.tolerance())
+        .degree(s.lowest_degree())
+        .degree_search(s.degree().is_none().then_some(AUTO_MAX_DEGREE))
+        .span_fairness(s.span_fairness)
+        .seed(s.seed)
+        .control_points(s.control_points)
+        .corner_angle(s.corner_angle)
+        .closed(s.closed_mode())
+        .band_fairing(s.band_fairing)
+        .ends(if s.free_ends {
             EndCondition::Free
         } else {
             EndCondition::Pinned
-        },
-        ..IntegratedOptions::default()
-    }
+        })
 }

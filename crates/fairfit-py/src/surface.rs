@@ -88,7 +88,7 @@ impl Surface {
     #[getter]
     fn closed(&self) -> (bool, bool) {
         let s = &self.inner;
-        let ext = fairfit::io::points::bounding_box_extent(s.control_points_flat());
+        let ext = fairfit::fit::points::bounding_box_extent(s.control_points_flat());
         let eps = 1e-9 * ext.max(f64::MIN_POSITIVE);
         let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
         let at = |a: f64, b: f64, t: f64| a + (b - a) * t;
