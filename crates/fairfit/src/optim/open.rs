@@ -42,7 +42,10 @@ pub(crate) fn fit(
         DescentInput {
             n: base.n,
             knots: base.knots,
-            lowest: fixed.unwrap_or(p + 1).max(p + 1).max(4),
+            lowest: fixed
+                .unwrap_or(p + 1)
+                .max(p + 1)
+                .max(ctx.tuning.descent.min_control_points),
             force: false,
             second: true,
             trim_to: fixed,

@@ -13,6 +13,8 @@ use super::search::pso::PsoOptions;
 /// Every measured threshold of the method, per stage.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Tuning {
+    /// The count descent from the least-squares baseline ([`crate::optim::stages::descent`]).
+    pub descent: DescentTuning,
     /// The count search's choice of the control-point count ([`crate::optim::stages::count_search`]).
     pub count: CountTuning,
     /// The degree search: the higher degrees' finishing budgets and the triggers of the next
@@ -22,6 +24,26 @@ pub struct Tuning {
     pub swarm: SwarmTuning,
     /// The finishing stages: band fairing and the polish ([`crate::optim::fairing`]).
     pub fairing: FairingTuning,
+}
+
+/// The count descent's policy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DescentTuning {
+    /// How many of the best knot removals seed a probe at the next count (beside the spread
+    /// knots). Default 3.
+    pub probe_removal_seeds: usize,
+    /// The fewest control points an open curve's descent goes down to (besides `p + 1`; a fixed
+    /// count is kept as given). Default 4.
+    pub min_control_points: usize,
+}
+
+impl Default for DescentTuning {
+    fn default() -> Self {
+        DescentTuning {
+            probe_removal_seeds: 3,
+            min_control_points: 4,
+        }
+    }
 }
 
 /// The count search's policy.
@@ -79,6 +101,12 @@ pub struct DegreeTuning {
     /// The wiggly trigger's counts keep at least this many data points per control point.
     /// Default 4.
     pub wiggly_points_per_control_point: usize,
+    /// Swarm iterations of a higher degree's short search from the reference's knots (0: the
+    /// seeds are only measured, the best is finished). Default 0.
+    pub short_search_iterations: usize,
+    /// The price per control point above the reference's in the degree rule after the wiggly
+    /// trigger (its counts pay only the degree's price). Default 1.0.
+    pub wiggly_point_gain: f64,
 }
 
 impl Default for DegreeTuning {
@@ -91,6 +119,8 @@ impl Default for DegreeTuning {
             wiggly_extrema: 6,
             wiggly_counts_above: 1,
             wiggly_points_per_control_point: 4,
+            short_search_iterations: 0,
+            wiggly_point_gain: 1.0,
         }
     }
 }

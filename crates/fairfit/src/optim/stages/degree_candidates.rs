@@ -126,7 +126,8 @@ pub(crate) fn open_attempt(
     d: usize,
     tuning: &Tuning,
 ) -> Attempt {
-    match open_candidate(q, p, interior, tol, opts, d, 0, tuning) {
+    let iterations = tuning.degree.short_search_iterations;
+    match open_candidate(q, p, interior, tol, opts, d, iterations, tuning) {
         Some(c) => c.attempt(|c| {
             let o = candidate_options(opts, d, &tuning.degree);
             finish(
@@ -259,7 +260,15 @@ pub(crate) fn raise_periodic(
         }
         let o = opts.at_degree(d);
         let seeds = vec![interior.clone(), equal_breaks(&cd.params, n)];
-        match short_search(&problem_at(cd, n, tol, &o), d, &seeds, &o, 0, &tuning.swarm) {
+        let iterations = tuning.degree.short_search_iterations;
+        match short_search(
+            &problem_at(cd, n, tol, &o),
+            d,
+            &seeds,
+            &o,
+            iterations,
+            &tuning.swarm,
+        ) {
             Some(c) => c.attempt(|c| {
                 let o = candidate_options(opts, d, &tuning.degree);
                 finish_periodic(&preps[d - p], cd, &c.interior, c.log_lambda, tol, &o)

@@ -192,7 +192,7 @@ fn descend<K: CurveKind>(
         let pr = family.problem(cand);
         let mut seeds: Vec<Vec<f64>> = removals
             .iter()
-            .take(3)
+            .take(ctx.tuning.descent.probe_removal_seeds)
             .map(|(_, k)| pr.position(k))
             .collect();
         seeds.push(pr.position(&family.spread_knots(cand)));

@@ -3,6 +3,7 @@
 //! the stage is shared by open and periodic curves, and an input, and returns an output.
 
 pub mod baseline;
+pub mod count_choice;
 pub mod count_search;
 pub mod degree_candidates;
 pub mod degree_search;

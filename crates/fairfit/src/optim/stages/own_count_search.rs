@@ -104,7 +104,7 @@ pub(crate) fn raise_open(
     let m = prep.data.points.len();
     // the wiggly trigger's counts pay only the degree's price (module doc, "Wiggly curves")
     let point_gain = match seen.and_then(|s| s.own_count_search(t)) {
-        Some(OwnTrigger::Wiggly) => 1.0,
+        Some(OwnTrigger::Wiggly) => tuning.degree.wiggly_point_gain,
         _ => tuning.count.extra_point_gain,
     };
     let attempt = |d: usize| {
@@ -307,6 +307,8 @@ mod tests {
         wiggly_extrema: 6,
         wiggly_counts_above: 1,
         wiggly_points_per_control_point: 4,
+        short_search_iterations: 0,
+        wiggly_point_gain: 1.0,
     };
 
     #[test]

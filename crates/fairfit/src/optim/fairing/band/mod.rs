@@ -51,6 +51,7 @@
 
 mod later_passes;
 mod model;
+mod node_measures;
 mod options;
 mod schedule;
 mod sign_guard;
@@ -62,7 +63,8 @@ use super::control_map::ControlMap;
 use super::extrema::ExtremaCount;
 use crate::nurbs::Vec3;
 use crate::optim::search::objective::{EvalWorkspace, FitData, MAX_DEGREE};
-use model::{node_fairness, Model};
+use model::Model;
+use node_measures::node_fairness;
 use schedule::Pass;
 
 /// Fairs the control points in `ws.ctrl` (knots `ws.knots` fixed, and the end points unless

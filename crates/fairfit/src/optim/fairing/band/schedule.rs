@@ -16,9 +16,8 @@
 use super::super::cone_ipm::{self, IpmWork};
 use super::super::control_map::ControlMap;
 use super::super::extrema::ExtremaCount;
-use super::model::{
-    distance_at, node_fairness_residuals, node_residuals, violation, Linear, Model, Work,
-};
+use super::model::{Linear, Model, Work};
+use super::node_measures::{distance_at, node_fairness_residuals, node_residuals, violation};
 use super::options::{BandFaired, BandOptions};
 use super::sign_guard::SignGuard;
 use crate::nurbs::Vec3;

@@ -9,7 +9,8 @@
 use super::super::control_map::ControlMap;
 use super::super::extrema::ExtremaCount;
 use super::super::nodes::node_derivatives;
-use super::model::{add_node_row, residual, residual_gradient, SIGN_MARGIN};
+use super::model::SIGN_MARGIN;
+use super::node_measures::{add_node_row, residual, residual_gradient};
 use crate::nurbs::Vec3;
 
 /// Samples of [`ExtremaCount`] held on their side of `dκ/ds = 0`: when a full step is good in
