@@ -128,7 +128,7 @@ pub struct IntegratedOptions {
     /// `None` fits one smooth curve through everything. Set by [`Self::corner_angle`].
     pub corner_angle_deg: Option<f64>,
     /// Whether the final control points are refined by local fairing moves within the tolerance
-    /// ([`super::fairing::polish`]). Set by [`Self::polish`].
+    /// ([`mod@super::fairing::polish`]). Set by [`Self::polish`].
     pub polish: bool,
     /// Closed-curve handling as in the least-squares method (default: closed when the last point
     /// repeats the first); closed data are fitted by [`super::closed`]. Set by [`Self::closed`].

@@ -17,7 +17,7 @@ pub struct OptimStats {
     pub counts_tried: Vec<usize>,
     /// `(count, F)` of every full knot search (F infinite when the tolerance was not met).
     pub fairness_by_count: Vec<(usize, f64)>,
-    /// Accepted control-point moves of the final polish ([`super::polish`]).
+    /// Accepted control-point moves of the final polish ([`mod@super::fairing::polish`]).
     pub polish_moves: usize,
     /// Every degree's fit, in degree order, when the degree was searched
     /// ([`IntegratedOptions::max_degree`](super::IntegratedOptions::max_degree); empty otherwise). Evaluations, iterations and seconds

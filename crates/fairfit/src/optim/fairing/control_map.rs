@@ -1,4 +1,4 @@
-//! Which control points the final fairing stages ([`super::band`], [`super::polish`]) may
+//! Which control points the final fairing stages ([`super::band`], [`mod@super::polish`]) may
 //! move, and how a curve is measured there, for open and for periodic (closed) curves.
 //!
 //! Both stages work on a clamped B-spline in an [`EvalWorkspace`]. Their variables are the

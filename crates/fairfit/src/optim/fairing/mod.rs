@@ -10,7 +10,7 @@
 //!   rows) and its general (clarabel) solver;
 //! - `cone_newton`: the Newton system of the interior-point iterations;
 //! - [`cone_ipm`]: a dense primal–dual interior-point solver for that subproblem's shape;
-//! - [`nodes`]: node rules (basis derivatives precomputed at fixed parameters) and `dκ/ds` sign
+//! - `nodes`: node rules (basis derivatives precomputed at fixed parameters) and `dκ/ds` sign
 //!   changes;
 //! - [`extrema`]: the curvature-extrema count the band fairing and polish guards use;
 //! - [`curvature_signs`]: the sign pattern of `dκ/ds` band fairing keeps (low-persistence
@@ -19,7 +19,7 @@
 //!   periodic: distinct), [`EndCondition`];
 //! - [`band`]: all control points faired together inside the tolerance band (sequential convex
 //!   programming), and the later passes after the polish;
-//! - [`polish`]: local control-point fairing moves within the tolerance;
+//! - [`mod@polish`]: local control-point fairing moves within the tolerance;
 //! - [`periodic`]: band fairing and polish of a periodic curve (seam kept `C^(p−1)`).
 
 pub mod band;

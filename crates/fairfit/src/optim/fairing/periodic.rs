@@ -1,5 +1,5 @@
 //! The final fairing stages of the integrated method on a periodic (closed) curve: band fairing
-//! ([`super::band`]) and the polish ([`super::polish`]), as for open curves, moving the
+//! ([`super::band`]) and the polish ([`mod@super::polish`]), as for open curves, moving the
 //! `n_u` distinct control points of the periodic curve ([`ControlMap::periodic`]) so that the
 //! curve stays periodic and `C^(p−1)` at the seam, with every data point (the seam point
 //! included) held within the tolerance.

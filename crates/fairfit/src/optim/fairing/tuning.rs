@@ -1,5 +1,5 @@
 //! The measured policy of the fairing stages: budgets, step schedules and thresholds of band
-//! fairing ([`super::band`]) and the polish ([`super::polish`]), in one value with documented
+//! fairing ([`super::band`]) and the polish ([`mod@super::polish`]), in one value with documented
 //! defaults. `BandOptions::default()` and `PolishOptions::default()` read these defaults; the
 //! numerical constants of the math (solver tolerances, difference steps, Cholesky guards, the node
 //! and sample rules) stay with the code they belong to.

@@ -9,7 +9,7 @@
 //! knot and count search, the finishing stages, the degree choice), then the chosen open curve
 //! gets one more band fairing pass with its end points released: every control point moves, each
 //! data end point held within the tolerance of the curve's end point
-//! ([`crate::optim::control_map`]), followed by a polish with free ends and a pass holding the
+//! ([`crate::optim::fairing::control_map`]), followed by a polish with free ends and a pass holding the
 //! extrema pattern ([`BandTuning::hold_persistence`]).
 //!
 //! The pass is kept only when it lowers `F` with no new curvature extrema (by the passes' guard,

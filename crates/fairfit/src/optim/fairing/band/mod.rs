@@ -2,7 +2,7 @@
 //! data point stays inside the tolerance band, by sequential convex programming.
 //!
 //! The knot search only reaches curves of the form "least squares (with smoothing λ) on these
-//! knots", and the polish ([`super::polish`]) moves one control point at a time; both leave most
+//! knots", and the polish ([`mod@super::polish`]) moves one control point at a time; both leave most
 //! of the tolerance band unused. Here all movable control points move together:
 //!
 //! - **Variables**: the interior control points `P_1 … P_{n−2}` (x, y for planar data, else x, y, z).
@@ -18,7 +18,7 @@
 //!   feet are projected again (the distance can only shrink), so the next problem starts feasible.
 //!   The feasible set is convex, so every point of the segment from the current control points to
 //!   the step is feasible too: the line search never leaves the band.
-//! - **Objective** ([`model`]): Gauss–Newton on `F = L³ ∫ (dκ/ds)² ds` with the residuals
+//! - **Objective** (`model.rs`): Gauss–Newton on `F = L³ ∫ (dκ/ds)² ds` with the residuals
 //!   `r_g = sqrt(L³ w_g / |C'(u_g)|) dκ/du(u_g)` at the 8 Gauss–Legendre nodes strictly inside every
 //!   knot span (never at a knot, where `C'''` jumps), so `Σ r_g² = F` exactly as the optimiser
 //!   measures it. The Jacobian is analytic in the basis functions and by central differences in
@@ -28,11 +28,11 @@
 //! - **Solver**: each subproblem (a QP with second-order cones, [`super::band_qp`]) is solved by
 //!   the dedicated interior-point solver [`super::cone_ipm`], by `clarabel` when that does not
 //!   converge; sequential and deterministic.
-//! - **Step schedule** ([`schedule`]): a step is kept only when the merit (`F` measured afresh, plus
+//! - **Step schedule** (`schedule.rs`): a step is kept only when the merit (`F` measured afresh, plus
 //!   the sign-target penalty) decreases, the maximum orthogonal deviation stays within the
 //!   allowance, `max_j F_j` within the per-span cap `F*` and the curvature extrema do not grow;
 //!   else it is halved, and after the last trial `μ` grows and the subproblem is solved again.
-//! - **Sign guard** ([`sign_guard`]): a full step that fails only because it adds curvature extrema
+//! - **Sign guard** (`sign_guard.rs`): a full step that fails only because it adds curvature extrema
 //!   is not halved: the extrema count's samples whose `dκ/ds` it flipped are held on their side by
 //!   linearised rows in every later subproblem, and the subproblem is solved again, so the next
 //!   step can be a full one (halved steps along a direction that crosses `dκ/ds = 0` stop the
