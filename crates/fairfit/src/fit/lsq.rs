@@ -213,7 +213,27 @@ impl LsqSolver {
             ctrl_out.extend((0..n_ctrl).map(fixed));
             return Ok(());
         }
-        // shape
+        self.shape_matrix(layout);
+        self.rhs.clear();
+        self.rhs.resize(nu, Vec3::ZERO);
+        self.add_data_term(points, weights, layout, &fixed);
+        self.add_smoothing_term(knots, points.len(), opts, layout, &fixed);
+        self.mat.factor()?;
+        self.mat.solve_vec3(&mut self.rhs);
+        for c in 0..n_ctrl {
+            ctrl_out.push(match layout.unknown(c) {
+                Some(u) => self.rhs[u],
+                None => fixed(c),
+            });
+        }
+        Ok(())
+    }
+
+    /// Sets the normal matrix's shape and zeroes it: a band of width `p` on open curves; on closed
+    /// ones the envelope of the wrapped spans (each row's first non-zero column).
+    fn shape_matrix(&mut self, layout: Layout) {
+        let p = self.degree;
+        let nu = layout.n_unknown;
         if layout.closed {
             let first = self.mat.first_mut(nu);
             for s in p..layout.lo + p {
@@ -230,163 +250,207 @@ impl LsqSolver {
         } else {
             self.mat.reset_band(nu, p);
         }
-        self.rhs.clear();
-        self.rhs.resize(nu, Vec3::ZERO);
-        // data term
+    }
+
+    /// Adds the data term `Σ_k (Σ_j N_j(ū_k) P_j − Q_k)²` to the normal equations, point by point in
+    /// order; open unweighted cubics take each span's run of points at once.
+    fn add_data_term(
+        &mut self,
+        points: &[Vec3],
+        weights: Option<&[f64]>,
+        layout: Layout,
+        fixed: &impl Fn(usize) -> Vec3,
+    ) {
+        let p = self.degree;
         let m = points.len();
         let mut k = 0;
         while k < m {
-            let span = self.basis.spans()[k];
-            let interior = !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl;
-            if !layout.closed && weights.is_none() && p == 3 {
-                // the run of points in this span, summed in registers
-                let run = self.basis.spans()[k..].iter().take_while(|&&s| s == span);
-                let end = k + run.count();
-                // unknown columns a0..a1 of the span's p + 1, the others fixed
-                let first_col = span - p;
-                let a0 = layout.lo.saturating_sub(first_col).min(p + 1);
-                let a1 = (n_ctrl - layout.hi).saturating_sub(first_col).min(p + 1);
-                let mut fixed_cols = [None; 4];
-                for (a, f) in fixed_cols.iter_mut().enumerate() {
-                    if a < a0 || a >= a1 {
-                        *f = Some(fixed(first_col + a));
-                    }
-                }
-                let block = SpanBlock {
-                    base: first_col + a0,
-                    unknown: a0..a1.max(a0),
-                    fixed: fixed_cols,
-                };
-                let values = self.basis.values(k, end);
-                block.add_to(
-                    &mut self.mat,
-                    &mut self.rhs,
-                    layout.lo,
-                    &points[k..end],
-                    values,
-                );
-                k = end;
-                continue;
-            }
-            let q = &points[k];
-            if let Some(w) = weights {
-                let nb = self.basis.values_mut(k);
-                let mut sum = 0.0;
-                for (v, wj) in nb.iter_mut().zip(&w[span - p..]) {
-                    *v *= wj;
-                    sum += *v;
-                }
-                for v in nb.iter_mut() {
-                    *v /= sum;
-                }
-            }
-            let nb = self.basis.values(k, k + 1);
-            k += 1;
-            if interior {
-                // every column of the span is an unknown: no fixed columns, no wrapping
-                let base = span - p - layout.lo;
-                for (a, &ra) in nb.iter().enumerate() {
-                    self.rhs[base + a] += *q * ra;
-                    for (b, &rb) in nb[..=a].iter().enumerate() {
-                        self.mat.add(base + a, base + b, ra * rb);
-                    }
-                }
-                continue;
-            }
-            let mut target = *q;
-            for (j, &v) in nb.iter().enumerate() {
-                let c = span - p + j;
-                if layout.unknown(c).is_none() {
-                    target -= fixed(c) * v;
-                }
-            }
-            for (a, &ra) in nb.iter().enumerate() {
-                let Some(ua) = layout.unknown(span - p + a) else {
-                    continue;
-                };
-                self.rhs[ua] += target * ra;
-                for (b, &rb) in nb.iter().enumerate() {
-                    if let Some(ub) = layout.unknown(span - p + b) {
-                        if ub <= ua {
-                            self.mat.add(ua, ub, ra * rb);
-                        }
-                    }
-                }
-            }
-        }
-        // smoothing term
-        let r = opts.smoothing_order.order();
-        if opts.smoothing > 0.0 && r <= p {
-            let (da, db) = (knots[p], knots[n + 1]);
-            let lam = opts.smoothing * points.len() as f64 * (db - da).powi(2 * r as i32 - 1);
-            let ng = (p - r + 1).min(self.gl.len() - 1);
-            let p1 = p + 1;
-            let same = |a: &[f64], b: &[f64]| {
-                a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+            k = if !layout.closed && weights.is_none() && p == 3 {
+                self.add_cubic_run(k, points, layout, fixed)
+            } else {
+                self.add_point(k, points, weights, layout, fixed)
             };
-            // one walk over the nodes: on new knots (or a new order) each node's derivatives are
-            // computed and cached as it is reached, otherwise read from the cache
-            let refill = self.smooth.r != r || !same(&self.smooth.knots, knots);
-            if refill {
-                self.smooth.r = r;
-                self.smooth.knots.clear();
-                self.smooth.knots.extend_from_slice(knots);
-                self.smooth.ders.clear();
+        }
+    }
+
+    /// The run of points from `k` in `k`'s span (open unweighted cubic), summed in registers as
+    /// one span block; returns the index after the run.
+    fn add_cubic_run(
+        &mut self,
+        k: usize,
+        points: &[Vec3],
+        layout: Layout,
+        fixed: &impl Fn(usize) -> Vec3,
+    ) -> usize {
+        let p = self.degree;
+        let n_ctrl = layout.n_ctrl;
+        let span = self.basis.spans()[k];
+        let run = self.basis.spans()[k..].iter().take_while(|&&s| s == span);
+        let end = k + run.count();
+        // unknown columns a0..a1 of the span's p + 1, the others fixed
+        let first_col = span - p;
+        let a0 = layout.lo.saturating_sub(first_col).min(p + 1);
+        let a1 = (n_ctrl - layout.hi).saturating_sub(first_col).min(p + 1);
+        let mut fixed_cols = [None; 4];
+        for (a, f) in fixed_cols.iter_mut().enumerate() {
+            if a < a0 || a >= a1 {
+                *f = Some(fixed(first_col + a));
             }
-            let rule = &self.gl[ng];
-            let mut node = 0;
-            for s in p..=n {
-                let (u0, u1) = (knots[s], knots[s + 1]);
-                if u1 <= u0 {
-                    continue;
+        }
+        let block = SpanBlock {
+            base: first_col + a0,
+            unknown: a0..a1.max(a0),
+            fixed: fixed_cols,
+        };
+        let values = self.basis.values(k, end);
+        block.add_to(
+            &mut self.mat,
+            &mut self.rhs,
+            layout.lo,
+            &points[k..end],
+            values,
+        );
+        end
+    }
+
+    /// Point `k`'s contribution (rational basis when `weights` are given, normalised in place;
+    /// fixed columns moved to the right-hand side); returns `k + 1`.
+    fn add_point(
+        &mut self,
+        k: usize,
+        points: &[Vec3],
+        weights: Option<&[f64]>,
+        layout: Layout,
+        fixed: &impl Fn(usize) -> Vec3,
+    ) -> usize {
+        let p = self.degree;
+        let n_ctrl = layout.n_ctrl;
+        let span = self.basis.spans()[k];
+        let interior = !layout.closed && span >= p + layout.lo && span + layout.hi < n_ctrl;
+        let q = &points[k];
+        if let Some(w) = weights {
+            let nb = self.basis.values_mut(k);
+            let mut sum = 0.0;
+            for (v, wj) in nb.iter_mut().zip(&w[span - p..]) {
+                *v *= wj;
+                sum += *v;
+            }
+            for v in nb.iter_mut() {
+                *v /= sum;
+            }
+        }
+        let nb = self.basis.values(k, k + 1);
+        if interior {
+            // every column of the span is an unknown: no fixed columns, no wrapping
+            let base = span - p - layout.lo;
+            for (a, &ra) in nb.iter().enumerate() {
+                self.rhs[base + a] += *q * ra;
+                for (b, &rb) in nb[..=a].iter().enumerate() {
+                    self.mat.add(base + a, base + b, ra * rb);
                 }
-                let half = 0.5 * (u1 - u0);
-                for (&x, &w) in rule.nodes().iter().zip(rule.weights()) {
-                    if refill {
-                        ders_basis_funs_into(
-                            s,
-                            u0 + half * (x + 1.0),
-                            p,
-                            r,
-                            knots,
-                            &mut self.left,
-                            &mut self.right,
-                            &mut self.ndu,
-                            &mut self.a,
-                            &mut self.ders,
-                        );
-                        self.smooth
-                            .ders
-                            .extend_from_slice(&self.ders[r * p1..(r + 1) * p1]);
+            }
+            return k + 1;
+        }
+        let mut target = *q;
+        for (j, &v) in nb.iter().enumerate() {
+            let c = span - p + j;
+            if layout.unknown(c).is_none() {
+                target -= fixed(c) * v;
+            }
+        }
+        for (a, &ra) in nb.iter().enumerate() {
+            let Some(ua) = layout.unknown(span - p + a) else {
+                continue;
+            };
+            self.rhs[ua] += target * ra;
+            for (b, &rb) in nb.iter().enumerate() {
+                if let Some(ub) = layout.unknown(span - p + b) {
+                    if ub <= ua {
+                        self.mat.add(ua, ub, ra * rb);
                     }
-                    let d = &self.smooth.ders[node * p1..(node + 1) * p1];
-                    node += 1;
-                    let wg = w * half * lam;
-                    for a in 0..=p {
-                        let Some(ua) = layout.unknown(s - p + a) else {
-                            continue;
-                        };
-                        for b in 0..=p {
-                            let v = wg * d[a] * d[b];
-                            match layout.unknown(s - p + b) {
-                                Some(ub) if ub <= ua => self.mat.add(ua, ub, v),
-                                Some(_) => {}
-                                None => self.rhs[ua] -= fixed(s - p + b) * v,
-                            }
+                }
+            }
+        }
+        k + 1
+    }
+
+    /// Adds the smoothing term `λ ∫ (C^(r))²` (Gauss–Legendre per non-empty span, `λ` scaled by the
+    /// point count and the parameter range so it is invariant to both) when `opts.smoothing > 0`
+    /// and `r ≤ p`. The nodes' basis derivatives are cached across solves on the same knots.
+    fn add_smoothing_term(
+        &mut self,
+        knots: &[f64],
+        n_points: usize,
+        opts: &LsqOptions,
+        layout: Layout,
+        fixed: &impl Fn(usize) -> Vec3,
+    ) {
+        let p = self.degree;
+        let n = layout.n_ctrl - 1;
+        let r = opts.smoothing_order.order();
+        if !(opts.smoothing > 0.0 && r <= p) {
+            return;
+        }
+        let (da, db) = (knots[p], knots[n + 1]);
+        let lam = opts.smoothing * n_points as f64 * (db - da).powi(2 * r as i32 - 1);
+        let ng = (p - r + 1).min(self.gl.len() - 1);
+        let p1 = p + 1;
+        let same = |a: &[f64], b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        // one walk over the nodes: on new knots (or a new order) each node's derivatives are
+        // computed and cached as it is reached, otherwise read from the cache
+        let refill = self.smooth.r != r || !same(&self.smooth.knots, knots);
+        if refill {
+            self.smooth.r = r;
+            self.smooth.knots.clear();
+            self.smooth.knots.extend_from_slice(knots);
+            self.smooth.ders.clear();
+        }
+        let rule = &self.gl[ng];
+        let mut node = 0;
+        for s in p..=n {
+            let (u0, u1) = (knots[s], knots[s + 1]);
+            if u1 <= u0 {
+                continue;
+            }
+            let half = 0.5 * (u1 - u0);
+            for (&x, &w) in rule.nodes().iter().zip(rule.weights()) {
+                if refill {
+                    ders_basis_funs_into(
+                        s,
+                        u0 + half * (x + 1.0),
+                        p,
+                        r,
+                        knots,
+                        &mut self.left,
+                        &mut self.right,
+                        &mut self.ndu,
+                        &mut self.a,
+                        &mut self.ders,
+                    );
+                    self.smooth
+                        .ders
+                        .extend_from_slice(&self.ders[r * p1..(r + 1) * p1]);
+                }
+                let d = &self.smooth.ders[node * p1..(node + 1) * p1];
+                node += 1;
+                let wg = w * half * lam;
+                for a in 0..=p {
+                    let Some(ua) = layout.unknown(s - p + a) else {
+                        continue;
+                    };
+                    for b in 0..=p {
+                        let v = wg * d[a] * d[b];
+                        match layout.unknown(s - p + b) {
+                            Some(ub) if ub <= ua => self.mat.add(ua, ub, v),
+                            Some(_) => {}
+                            None => self.rhs[ua] -= fixed(s - p + b) * v,
                         }
                     }
                 }
             }
         }
-        self.mat.factor()?;
-        self.mat.solve_vec3(&mut self.rhs);
-        for c in 0..n_ctrl {
-            ctrl_out.push(match layout.unknown(c) {
-                Some(u) => self.rhs[u],
-                None => fixed(c),
-            });
-        }
-        Ok(())
     }
 
     /// The algebraic distances `|C(ū_k) − Q_k|` of the curve with control points `ctrl` (the output of

@@ -392,6 +392,91 @@ pub fn make_compatible_with_progress(
     progress: &mut dyn FnMut(usize),
 ) -> Result<CompatibleSections> {
     let p = opts.degree;
+    let min_pts = validate(sections, opts)?;
+    let params = section_params(sections, opts)?;
+    let periodic = opts.periodic_closed && periodic_seam(sections, opts.corner_angle_deg);
+    let form = KnotForm {
+        degree: p,
+        periodic,
+    };
+    let ties = seam_ties(sections, opts, periodic);
+    let cdf = mean_turning_cdf(sections, &params);
+    let n_max = max_control_points(sections, opts, min_pts);
+    let blends = if opts.uniform_blends.is_empty() {
+        vec![1.0]
+    } else {
+        opts.uniform_blends.clone()
+    };
+    let mut search = Search {
+        sections,
+        params: &params,
+        opts,
+        ties: &ties,
+        form,
+        progress,
+        tried: 0,
+    };
+    // Park-style refinement from each initial density: insert a knot where the worst section is worst
+    // until every section is within tolerance, then greedily remove knots that are not needed.
+    let n0 = (p + 1 + 4).min(n_max);
+    let mut finals: Vec<Candidate> = Vec::new();
+    let mut best_fail: Option<Candidate> = None;
+    // a single span first: cheap, and exact when the sections are polynomial (open fits only)
+    if !periodic {
+        if let Some(c) = search.try_knots(knots_from_density(&cdf, 1.0, p, p + 1)) {
+            if c.max_dev <= opts.tolerance {
+                finals.push(c);
+            }
+        }
+    }
+    for &b in &blends {
+        if !finals.is_empty() {
+            break;
+        }
+        let knots = form.by_density(&cdf, b.clamp(0.0, 1.0), n0);
+        let Some(cur) = search.refine(knots, n_max, &mut best_fail) else {
+            continue;
+        };
+        finals.push(search.remove_knots(cur));
+    }
+    let tried = search.tried;
+    if finals.is_empty() {
+        let c = best_fail.ok_or_else(|| {
+            Error::Fit("no knot vector gave a well-posed fit for every section".into())
+        })?;
+        let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
+        let msf = worst_span_fairness(&c.fits);
+        return Ok(CompatibleSections {
+            knots: c.knots,
+            max_deviation: c.max_dev,
+            fits: c.fits,
+            max_span_fairness: msf,
+            within_tolerance: false,
+            candidates_tried: tried,
+            periodic,
+        });
+    }
+    let (msf, c) = fewest_then_fairest(finals)?;
+    // final measurement with global projection (never larger than the search's estimate)
+    let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
+    let c = fair_per_section(sections, &params, c, opts, &ties);
+    let msf = worst_span_fairness(&c.fits).min(msf);
+    Ok(CompatibleSections {
+        knots: c.knots,
+        within_tolerance: c.max_dev <= opts.tolerance,
+        max_deviation: c.max_dev,
+        fits: c.fits,
+        max_span_fairness: msf,
+        candidates_tried: tried,
+        periodic,
+    })
+}
+
+/// Checks the options and the sections (degree, finite non-negative weights, blends in `[0, 1]`,
+/// a positive tolerance, at least `degree + 1` points per section); returns the fewest points of
+/// any section.
+fn validate(sections: &[Section], opts: &CompatibleOptions) -> Result<usize> {
+    let p = opts.degree;
     if p == 0 || p > crate::nurbs::knots::MAX_DEGREE {
         return Err(Error::InvalidOption(format!(
             "section degree must be in 1..={}, got {p}",
@@ -433,7 +518,13 @@ pub fn make_compatible_with_progress(
             p + 1
         )));
     }
-    let params: Vec<Vec<f64>> = match &opts.section_params {
+    Ok(min_pts)
+}
+
+/// Each section's point parameters: chord length, or the caller's lists after checking that each
+/// runs non-decreasing from 0 to 1 with one value per point.
+fn section_params(sections: &[Section], opts: &CompatibleOptions) -> Result<Vec<Vec<f64>>> {
+    Ok(match &opts.section_params {
         None => sections
             .iter()
             .map(|s| chord_length_params(&s.points))
@@ -460,15 +551,15 @@ pub fn make_compatible_with_progress(
             }
             given.clone()
         }
-    };
-    let periodic = opts.periodic_closed && periodic_seam(sections, opts.corner_angle_deg);
-    let form = KnotForm {
-        degree: p,
-        periodic,
-    };
-    // on a clamped knot vector, closed sections that are smooth at the seam get their ends tied
-    // (C^(p-1), at most C^2) unless the user asked for C0 seams
-    let ties: Vec<usize> = sections
+    })
+}
+
+/// The seam tie order per section: on a clamped knot vector, closed sections that are smooth at
+/// the seam get their ends tied (C^(p-1), at most C^2) unless the user asked for C0 seams; 0 means
+/// no tie.
+fn seam_ties(sections: &[Section], opts: &CompatibleOptions, periodic: bool) -> Vec<usize> {
+    let p = opts.degree;
+    sections
         .iter()
         .map(|s| {
             let tie = !periodic && opts.periodic_closed && smooth_at_seam(s, opts.corner_angle_deg);
@@ -478,125 +569,43 @@ pub fn make_compatible_with_progress(
                 0
             }
         })
-        .collect();
+        .collect()
+}
+
+/// The sections' turning-angle CDFs on a common grid of parameters, averaged (summed in section
+/// order, then divided): the density knots are placed by.
+fn mean_turning_cdf(sections: &[Section], params: &[Vec<f64>]) -> Vec<f64> {
     const GRID: usize = 2000;
     let cdfs: Vec<Vec<f64>> = sections
         .iter()
-        .zip(&params)
+        .zip(params)
         .map(|(s, t)| turning_cdf(&s.points, t, GRID))
         .collect();
-    let cdf: Vec<f64> = (0..=GRID)
+    (0..=GRID)
         .map(|g| cdfs.iter().map(|c| c[g]).sum::<f64>() / cdfs.len() as f64)
-        .collect();
-    // without smoothing a span needs data in it: at most (points - 1) control points for the sparsest
-    // section; the bending term keeps spans without data well posed, so then only the densest section
-    // bounds the count (a small top slice of a scan must not cap the large ones)
+        .collect()
+}
+
+/// The most control points a candidate may have. Without smoothing a span needs data in it: at
+/// most (points - 1) control points for the sparsest section; the bending term keeps spans without
+/// data well posed, so then only the densest section bounds the count (a small top slice of a scan
+/// must not cap the large ones). Never below `degree + 1`.
+fn max_control_points(sections: &[Section], opts: &CompatibleOptions, min_pts: usize) -> usize {
+    let p = opts.degree;
     let max_pts = sections.iter().map(|s| s.points.len()).max().unwrap_or(0);
     let cap_pts = if opts.smoothing > 0.0 {
         max_pts
     } else {
         min_pts
     };
-    let n_max = opts
-        .max_control_points
+    opts.max_control_points
         .max(p + 1)
-        .min(cap_pts.saturating_sub(1).max(p + 1));
-    let blends = if opts.uniform_blends.is_empty() {
-        vec![1.0]
-    } else {
-        opts.uniform_blends.clone()
-    };
-    let mut tried = 0usize;
-    // Park-style refinement from each initial density: insert a knot where the worst section is worst
-    // until every section is within tolerance, then greedily remove knots that are not needed.
-    let n0 = (p + 1 + 4).min(n_max);
-    let mut finals: Vec<Candidate> = Vec::new();
-    let mut best_fail: Option<Candidate> = None;
-    // a single span first: cheap, and exact when the sections are polynomial (open fits only)
-    if !periodic {
-        tried += 1;
-        progress(tried);
-        if let Some(c) = evaluate(
-            sections,
-            &params,
-            knots_from_density(&cdf, 1.0, p, p + 1),
-            opts,
-            false,
-            &ties,
-        ) {
-            if c.max_dev <= opts.tolerance {
-                finals.push(c);
-            }
-        }
-    }
-    for &b in &blends {
-        if !finals.is_empty() {
-            break;
-        }
-        let mut knots = form.by_density(&cdf, b.clamp(0.0, 1.0), n0);
-        let mut passed: Option<Candidate> = None;
-        loop {
-            tried += 1;
-            progress(tried);
-            let Some(c) = evaluate(sections, &params, knots.clone(), opts, false, &ties) else {
-                break;
-            };
-            if c.max_dev <= opts.tolerance {
-                passed = Some(c);
-                break;
-            }
-            let n_ctrl = form.distinct(&knots);
-            let room = n_max.saturating_sub(n_ctrl);
-            let next = insertion_knots(&c, p, opts.tolerance, room.min((n_ctrl / 6).max(1)));
-            if best_fail.as_ref().is_none_or(|f| c.max_dev < f.max_dev) {
-                best_fail = Some(c);
-            }
-            if next.is_empty() {
-                break;
-            }
-            let mut interior = form.interior(&knots).to_vec();
-            for t in next {
-                let pos = interior.partition_point(|&k| k <= t);
-                interior.insert(pos, t);
-            }
-            knots = form.full(&interior);
-        }
-        let Some(mut cur) = passed else { continue };
-        // greedy knot removal, smallest spans first
-        let mut i = 0;
-        while i < form.interior(&cur.knots).len() {
-            if form.interior(&cur.knots).len() <= form.min_interior() {
-                break;
-            }
-            let mut interior = form.interior(&cur.knots).to_vec();
-            interior.remove(i);
-            let k2 = form.full(&interior);
-            tried += 1;
-            progress(tried);
-            match evaluate(sections, &params, k2, opts, false, &ties) {
-                Some(c) if c.max_dev <= opts.tolerance => cur = c,
-                _ => i += 1,
-            }
-        }
-        finals.push(cur);
-    }
-    if finals.is_empty() {
-        let c = best_fail.ok_or_else(|| {
-            Error::Fit("no knot vector gave a well-posed fit for every section".into())
-        })?;
-        let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
-        let msf = worst_span_fairness(&c.fits);
-        return Ok(CompatibleSections {
-            knots: c.knots,
-            max_deviation: c.max_dev,
-            fits: c.fits,
-            max_span_fairness: msf,
-            within_tolerance: false,
-            candidates_tried: tried,
-            periodic,
-        });
-    }
-    // fewest control points, then the fairest (smallest worst-span F over all sections)
+        .min(cap_pts.saturating_sub(1).max(p + 1))
+}
+
+/// Of the passing candidates, those with the fewest control points, and of them the fairest
+/// (smallest worst-span F over all sections; the first on ties); returns that F with it.
+fn fewest_then_fairest(finals: Vec<Candidate>) -> Result<(f64, Candidate)> {
     let n_min = finals.iter().map(|c| c.knots.len()).min().unwrap_or(0);
     let mut best: Option<(f64, Candidate)> = None;
     for c in finals.into_iter().filter(|c| c.knots.len() == n_min) {
@@ -605,18 +614,86 @@ pub fn make_compatible_with_progress(
             best = Some((f, c));
         }
     }
-    let (msf, c) = best.ok_or_else(|| Error::Fit("internal: lost the passing candidate".into()))?;
-    // final measurement with global projection (never larger than the search's estimate)
-    let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
-    let c = fair_per_section(sections, &params, c, opts, &ties);
-    let msf = worst_span_fairness(&c.fits).min(msf);
-    Ok(CompatibleSections {
-        knots: c.knots,
-        within_tolerance: c.max_dev <= opts.tolerance,
-        max_deviation: c.max_dev,
-        fits: c.fits,
-        max_span_fairness: msf,
-        candidates_tried: tried,
-        periodic,
-    })
+    best.ok_or_else(|| Error::Fit("internal: lost the passing candidate".into()))
+}
+
+/// The knot search's fixed inputs and its running count of candidates evaluated (each reported to
+/// `progress` before it is evaluated).
+struct Search<'a> {
+    sections: &'a [Section],
+    params: &'a [Vec<f64>],
+    opts: &'a CompatibleOptions,
+    ties: &'a [usize],
+    form: KnotForm,
+    progress: &'a mut dyn FnMut(usize),
+    tried: usize,
+}
+
+impl Search<'_> {
+    /// Counts, reports and evaluates one candidate knot vector (local projection).
+    fn try_knots(&mut self, knots: Vec<f64>) -> Option<Candidate> {
+        self.tried += 1;
+        (self.progress)(self.tried);
+        evaluate(
+            self.sections,
+            self.params,
+            knots,
+            self.opts,
+            false,
+            self.ties,
+        )
+    }
+
+    /// Knot insertion from `knots` until every section is within tolerance (the passing
+    /// candidate), or until no knot can be inserted within `n_max` control points or a fit fails
+    /// (`None`). Keeps the candidate with the smallest deviation that failed in `best_fail`.
+    fn refine(
+        &mut self,
+        mut knots: Vec<f64>,
+        n_max: usize,
+        best_fail: &mut Option<Candidate>,
+    ) -> Option<Candidate> {
+        let (form, p, tol) = (self.form, self.opts.degree, self.opts.tolerance);
+        loop {
+            let c = self.try_knots(knots.clone())?;
+            if c.max_dev <= tol {
+                return Some(c);
+            }
+            let n_ctrl = form.distinct(&knots);
+            let room = n_max.saturating_sub(n_ctrl);
+            let next = insertion_knots(&c, p, tol, room.min((n_ctrl / 6).max(1)));
+            if best_fail.as_ref().is_none_or(|f| c.max_dev < f.max_dev) {
+                *best_fail = Some(c);
+            }
+            if next.is_empty() {
+                return None;
+            }
+            let mut interior = form.interior(&knots).to_vec();
+            for t in next {
+                let pos = interior.partition_point(|&k| k <= t);
+                interior.insert(pos, t);
+            }
+            knots = form.full(&interior);
+        }
+    }
+
+    /// Greedy knot removal from a passing candidate, smallest spans first: drops each interior
+    /// knot whose removal keeps every section within tolerance. The result still passes.
+    fn remove_knots(&mut self, mut cur: Candidate) -> Candidate {
+        let form = self.form;
+        let mut i = 0;
+        while i < form.interior(&cur.knots).len() {
+            if form.interior(&cur.knots).len() <= form.min_interior() {
+                break;
+            }
+            let mut interior = form.interior(&cur.knots).to_vec();
+            interior.remove(i);
+            let k2 = form.full(&interior);
+            match self.try_knots(k2) {
+                Some(c) if c.max_dev <= self.opts.tolerance => cur = c,
+                _ => i += 1,
+            }
+        }
+        cur
+    }
 }

@@ -213,6 +213,9 @@ fn slice_cloud_at(
     Some((sec, gaps, 0))
 }
 
+/// The cross-section of a triangle mesh by the plane `x·n = h`: the longest chain of crossed
+/// edges, with close open pieces bridged onto it (the section, its gaps, and how many pieces were
+/// dropped); `None` when the plane misses the mesh or the chain has fewer than four points.
 fn slice_triangles_at(
     mesh: &Mesh,
     n: Vec3,
@@ -221,17 +224,51 @@ fn slice_triangles_at(
     dir: Vec3,
     index: usize,
 ) -> Cut {
+    let segs = crossing_segments(mesh, n, h);
+    if segs.is_empty() {
+        return None;
+    }
+    let chains = chain_segments(&segs);
+    let mut pieces = chain_points(mesh, n, h, chains);
+    if pieces.is_empty() {
+        return None;
+    }
+    // longest piece first
+    pieces.sort_by(|a, b| chain_length(&b.0).total_cmp(&chain_length(&a.0)));
+    let (mut main, mut closed) = pieces.remove(0);
+    let mut gaps = Vec::new();
+    let typical = median_spacing(&main, closed).max(f64::MIN_POSITIVE);
+    let mut dropped = 0usize;
+    if !closed {
+        closed = join_open_pieces(&mut main, &mut pieces, &mut gaps, opts, index, typical);
+    }
+    dropped += pieces.len();
+    if main.len() < 4 {
+        return None;
+    }
+    let sec = if closed {
+        // start the loop at its extreme point along `dir`, like point-cloud tours
+        let s = (0..main.len())
+            .max_by(|&a, &b| main[a].dot(dir).total_cmp(&main[b].dot(dir)))
+            .unwrap_or(0);
+        main.rotate_left(s);
+        Section::closed_loop(main)
+    } else {
+        Section {
+            points: main,
+            closed: false,
+        }
+    };
+    Some((sec, gaps, dropped))
+}
+
+/// The plane `x·n = h`'s crossing segments, one per triangle with vertices on both sides, each as
+/// its two crossed edges (vertex pairs, smaller index first), in triangle order. Signed distances
+/// that are exactly zero count as positive, so every crossing is a strict sign change.
+fn crossing_segments(mesh: &Mesh, n: Vec3, h: f64) -> Vec<[(usize, usize); 2]> {
     let v = &mesh.vertices;
-    // signed distances; exact zeros count as positive so every crossing is a strict sign change
     let side = |i: usize| v[i].dot(n) - h >= 0.0;
     let key = |a: usize, b: usize| if a < b { (a, b) } else { (b, a) };
-    let point_on = |a: usize, b: usize| {
-        let (da, db) = (v[a].dot(n) - h, v[b].dot(n) - h);
-        let t = da / (da - db);
-        let p = v[a] + (v[b] - v[a]) * t;
-        p - n * (p.dot(n) - h)
-    };
-    // segments between crossed edges
     let mut segs: Vec<[(usize, usize); 2]> = Vec::new();
     for t in &mesh.triangles {
         let s = [side(t[0]), side(t[1]), side(t[2])];
@@ -249,9 +286,13 @@ fn slice_triangles_at(
             segs.push([e[0], e[1]]);
         }
     }
-    if segs.is_empty() {
-        return None;
-    }
+    segs
+}
+
+/// Joins segments sharing a crossed edge into chains of edges (with whether each closes on
+/// itself). Walks from open ends first (edges used once), then loops, in segment order, so the
+/// result is deterministic; every segment is used once.
+fn chain_segments(segs: &[[(usize, usize); 2]]) -> Vec<(Vec<(usize, usize)>, bool)> {
     let mut by_edge: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
     for (i, s) in segs.iter().enumerate() {
         by_edge.entry(s[0]).or_default().push(i);
@@ -259,7 +300,6 @@ fn slice_triangles_at(
     }
     let mut used = vec![false; segs.len()];
     let mut chains: Vec<(Vec<(usize, usize)>, bool)> = Vec::new();
-    // walk from open ends first (edges used once), then loops; iterate in segment order (deterministic)
     let mut starts: Vec<usize> = (0..segs.len())
         .filter(|&i| {
             segs[i]
@@ -302,7 +342,25 @@ fn slice_triangles_at(
         }
         chains.push((chain, closed));
     }
-    let mut pieces: Vec<(Vec<Vec3>, bool)> = chains
+    chains
+}
+
+/// Each chain's points: where each edge crosses the plane (projected back onto it), consecutive
+/// repeats dropped; chains with fewer than two points are left out.
+fn chain_points(
+    mesh: &Mesh,
+    n: Vec3,
+    h: f64,
+    chains: Vec<(Vec<(usize, usize)>, bool)>,
+) -> Vec<(Vec<Vec3>, bool)> {
+    let v = &mesh.vertices;
+    let point_on = |a: usize, b: usize| {
+        let (da, db) = (v[a].dot(n) - h, v[b].dot(n) - h);
+        let t = da / (da - db);
+        let p = v[a] + (v[b] - v[a]) * t;
+        p - n * (p.dot(n) - h)
+    };
+    chains
         .into_iter()
         .map(|(c, closed)| {
             let mut pts: Vec<Vec3> = Vec::with_capacity(c.len());
@@ -315,90 +373,71 @@ fn slice_triangles_at(
             (pts, closed)
         })
         .filter(|(p, _)| p.len() >= 2)
-        .collect();
-    if pieces.is_empty() {
-        return None;
-    }
-    // longest piece first
-    pieces.sort_by(|a, b| chain_length(&b.0).total_cmp(&chain_length(&a.0)));
-    let (mut main, mut closed) = pieces.remove(0);
-    let mut gaps = Vec::new();
-    let typical = median_spacing(&main, closed).max(f64::MIN_POSITIVE);
-    let mut dropped = 0usize;
-    if !closed {
-        // append open pieces end to nearest end while they are close compared with the chain
-        loop {
-            let len = chain_length(&main);
-            let end = main[main.len() - 1];
-            let best = pieces
-                .iter()
-                .enumerate()
-                .filter(|(_, p)| !p.1)
-                .flat_map(|(i, p)| {
-                    [
-                        (i, false, end.distance(p.0[0])),
-                        (i, true, end.distance(p.0[p.0.len() - 1])),
-                    ]
-                })
-                .min_by(|a, b| a.2.total_cmp(&b.2));
-            let Some((i, rev, d)) = best else { break };
-            if d > opts.close_fraction * len || d > main[0].distance(end) {
-                break;
-            }
-            let (mut p, _) = pieces.remove(i);
-            if rev {
-                p.reverse();
-            }
-            // a mesh chain only ends at a boundary edge: every bridge crosses a hole, whatever its size
-            {
-                gaps.push(Gap {
-                    section: index,
-                    from: end.0,
-                    to: p[0].0,
-                    length: d,
-                    typical_spacing: typical,
-                    handling: "bridged".into(),
-                });
-            }
-            main.extend(p);
+        .collect()
+}
+
+/// Appends open `pieces` to the open chain `main`, end to nearest end, while they are close
+/// compared with the chain (each bridge recorded in `gaps`: a mesh chain only ends at a boundary
+/// edge, so every bridge crosses a hole, whatever its size); then records the seam gap and returns
+/// whether it is short enough to close the chain. Appended pieces are removed from `pieces`.
+fn join_open_pieces(
+    main: &mut Vec<Vec3>,
+    pieces: &mut Vec<(Vec<Vec3>, bool)>,
+    gaps: &mut Vec<Gap>,
+    opts: &SliceOptions,
+    index: usize,
+    typical: f64,
+) -> bool {
+    let mut closed = false;
+    loop {
+        let len = chain_length(main);
+        let end = main[main.len() - 1];
+        let best = pieces
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| !p.1)
+            .flat_map(|(i, p)| {
+                [
+                    (i, false, end.distance(p.0[0])),
+                    (i, true, end.distance(p.0[p.0.len() - 1])),
+                ]
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2));
+        let Some((i, rev, d)) = best else { break };
+        if d > opts.close_fraction * len || d > main[0].distance(end) {
+            break;
         }
-        let len = chain_length(&main);
-        let d = main[0].distance(main[main.len() - 1]);
-        let handling = if d <= opts.close_fraction * len {
-            closed = true;
-            "bridged"
-        } else {
-            "open"
-        };
-        {
-            gaps.push(Gap {
-                section: index,
-                from: main[main.len() - 1].0,
-                to: main[0].0,
-                length: d,
-                typical_spacing: typical,
-                handling: handling.into(),
-            });
+        let (mut p, _) = pieces.remove(i);
+        if rev {
+            p.reverse();
         }
+        gaps.push(Gap {
+            section: index,
+            from: end.0,
+            to: p[0].0,
+            length: d,
+            typical_spacing: typical,
+            handling: "bridged".into(),
+        });
+        main.extend(p);
     }
-    dropped += pieces.len();
-    if main.len() < 4 {
-        return None;
-    }
-    let sec = if closed {
-        // start the loop at its extreme point along `dir`, like point-cloud tours
-        let s = (0..main.len())
-            .max_by(|&a, &b| main[a].dot(dir).total_cmp(&main[b].dot(dir)))
-            .unwrap_or(0);
-        main.rotate_left(s);
-        Section::closed_loop(main)
+    let len = chain_length(main);
+    let d = main[0].distance(main[main.len() - 1]);
+    let handling = if d <= opts.close_fraction * len {
+        closed = true;
+        "bridged"
     } else {
-        Section {
-            points: main,
-            closed: false,
-        }
+        "open"
     };
-    Some((sec, gaps, dropped))
+    gaps.push(Gap {
+        section: index,
+        from: main[main.len() - 1].0,
+        to: main[0].0,
+        length: d,
+        typical_spacing: typical,
+        handling: handling.into(),
+    });
+    closed
 }
 
 #[cfg(test)]

@@ -254,10 +254,58 @@ fn iterate<const D: usize, const M: usize>(
     iterations: &mut usize,
     status: &mut &'static str,
 ) -> bool {
-    let (nv, nx, ns) = (dt.nv, dt.nx(), dt.ns::<D>());
-    let l0 = dt.nc * D;
-    let nl = dt.nr + dt.nt;
     *status = "max iterations";
+    size_buffers::<D>(dt, st);
+    start_point::<D, M>(dt, st);
+    let resx0 = dot(&dt.q, &dt.q).sqrt().max(1.0);
+    let resz0 = dot(&dt.h, &dt.h).sqrt().max(1.0);
+    let nu = (dt.nc + dt.nr + dt.nt) as f64;
+    for it in 0..MAX_ITER {
+        *iterations = it;
+        let pcost = residuals::<D, M>(dt, st);
+        let gap = dot(&st.s, &st.z);
+        let pres = dot(&st.rz, &st.rz).sqrt() / resz0;
+        let dres = dot(&st.rx, &st.rx).sqrt() / resx0;
+        if !(gap.is_finite() && pres.is_finite() && dres.is_finite()) {
+            *status = "not finite";
+            return false;
+        }
+        if pres <= FEAS_TOL && dres <= FEAS_TOL && (gap <= GAP_ABS || gap <= GAP_REL * pcost.abs())
+        {
+            *status = "solved";
+            return st.x.iter().all(|v| v.is_finite());
+        }
+        if let Err(e) = scaling::<D>(dt, st) {
+            *status = e;
+            return match e {
+                "cone not interior" => {
+                    almost(pres, dres, gap, pcost) && st.x.iter().all(|v| v.is_finite())
+                }
+                _ => false,
+            };
+        }
+        if !factor::<D, M>(dt, st) {
+            // the normal matrix lost definiteness to round-off near the optimum
+            *status = "cholesky";
+            return almost(pres, dres, gap, pcost) && st.x.iter().all(|v| v.is_finite());
+        }
+        lambda_squared::<D>(dt, st);
+        let mu = gap / nu;
+        let sigma = predictor::<D, M>(dt, st, gap);
+        corrector::<D, M>(dt, st, sigma, mu);
+        if !take_step::<D, M>(dt, st) {
+            *status = "step";
+            return false;
+        }
+    }
+    false
+}
+
+/// Sizes every work vector of `st` for `dt` (zeroed): `x`-sized, cone-and-row-sized, one `η` per
+/// cone and one `d` per row. Reuses the allocations across calls.
+fn size_buffers<const D: usize>(dt: &Data, st: &mut State) {
+    let (nx, ns) = (dt.nx(), dt.ns::<D>());
+    let nl = dt.nr + dt.nt;
     for v in [&mut st.x, &mut st.rx, &mut st.dx] {
         resize(v, nx);
     }
@@ -283,8 +331,13 @@ fn iterate<const D: usize, const M: usize>(
     }
     resize(&mut st.eta, dt.nc);
     resize(&mut st.dl, nl);
-    // starting point (module doc): the current curve, slacks at their rows' violation plus one,
-    // s lifted into the cone, z = μ₀ s⁻¹
+}
+
+/// The starting point (module doc): the current curve, slacks at their rows' violation plus one,
+/// `s` lifted strictly into the cone, `z = μ₀ s⁻¹`. On return `s` and `z` are interior.
+fn start_point<const D: usize, const M: usize>(dt: &Data, st: &mut State) {
+    let (nv, ns) = (dt.nv, dt.ns::<D>());
+    let l0 = dt.nc * D;
     st.x.fill(0.0);
     for (t, &j) in dt.row_of.iter().enumerate() {
         st.x[nv + t] = (-dt.h[l0 + j]).max(0.0) + 1.0;
@@ -309,127 +362,135 @@ fn iterate<const D: usize, const M: usize>(
         *si = si.max(START_MARGIN);
         *zi = START_MU / *si;
     }
-    let resx0 = dot(&dt.q, &dt.q).sqrt().max(1.0);
-    let resz0 = dot(&dt.h, &dt.h).sqrt().max(1.0);
-    let nu = (dt.nc + nl) as f64;
-    for it in 0..MAX_ITER {
-        *iterations = it;
-        // residuals rx = P x + q + Gᵀ z, rz = G x + s − h
-        let mut pcost = 0.0;
-        for i in 0..nx {
-            let px = if i < nv {
-                dot(&dt.p[i * nv..(i + 1) * nv], &st.x[..nv])
-            } else {
-                0.0
-            };
-            pcost += st.x[i] * (0.5 * px + dt.q[i]);
-            st.rx[i] = px + dt.q[i];
-        }
-        gt_mul_add::<D, M>(dt, &st.z, &mut st.rx);
-        g_mul::<D, M>(dt, &st.x, &mut st.gdx);
-        for i in 0..ns {
-            st.rz[i] = st.gdx[i] + st.s[i] - dt.h[i];
-        }
-        let gap = dot(&st.s, &st.z);
-        let pres = dot(&st.rz, &st.rz).sqrt() / resz0;
-        let dres = dot(&st.rx, &st.rx).sqrt() / resx0;
-        if !(gap.is_finite() && pres.is_finite() && dres.is_finite()) {
-            *status = "not finite";
-            return false;
-        }
-        if pres <= FEAS_TOL && dres <= FEAS_TOL && (gap <= GAP_ABS || gap <= GAP_REL * pcost.abs())
-        {
-            *status = "solved";
-            return st.x.iter().all(|v| v.is_finite());
-        }
-        // scaling and λ = W z
-        for (((sk, zk), vk), eta) in st.s[..l0]
-            .chunks_exact(D)
-            .zip(st.z[..l0].chunks_exact(D))
-            .zip(st.v[..l0].chunks_exact_mut(D))
-            .zip(st.eta.iter_mut())
-        {
-            match nt_scaling::<D>(arr(sk), arr(zk), arr_mut(vk)) {
-                Some(e) => *eta = e,
-                None => {
-                    *status = "cone not interior";
-                    return almost(pres, dres, gap, pcost) && st.x.iter().all(|v| v.is_finite());
-                }
-            }
-        }
-        for i in 0..nl {
-            let (si, zi) = (st.s[l0 + i], st.z[l0 + i]);
-            if !(si > 0.0 && zi > 0.0) {
-                *status = "row not interior";
-                return false;
-            }
-            st.dl[i] = (si / zi).sqrt();
-        }
-        w_mul::<D, false>(dt, &st.eta, &st.v, &st.dl, &st.z, &mut st.lambda);
-        w_mul::<D, true>(dt, &st.eta, &st.v, &st.dl, &st.rz, &mut st.wrz);
-        if !factor::<D, M>(dt, st) {
-            // the normal matrix lost definiteness to round-off near the optimum
-            *status = "cholesky";
-            return almost(pres, dres, gap, pcost) && st.x.iter().all(|v| v.is_finite());
-        }
-        for (l, o) in st.lambda[..l0]
-            .chunks_exact(D)
-            .zip(st.lsq[..l0].chunks_exact_mut(D))
-        {
-            jprod::<D>(arr(l), arr(l), arr_mut(o));
-        }
-        for i in l0..ns {
-            st.lsq[i] = st.lambda[i] * st.lambda[i];
-        }
-        let mu = gap / nu;
-        // predictor
-        for (r, &l) in st.rc.iter_mut().zip(&st.lsq) {
-            *r = -l;
-        }
-        newton::<D, M>(dt, st);
-        let step = max_step::<D, M>(dt, &st.s, &st.ds)
-            .min(max_step::<D, M>(dt, &st.z, &st.dz))
-            .min(1.0);
-        let dsdz = dot(&st.ds, &st.dz);
-        let sigma = (1.0 - step + dsdz / gap * step * step)
-            .clamp(0.0, 1.0)
-            .powi(3);
-        // corrector: −λ∘λ − (W⁻¹ ds_a) ∘ (W dz_a) + σ μ e
-        w_mul::<D, true>(dt, &st.eta, &st.v, &st.dl, &st.ds, &mut st.dsa);
-        w_mul::<D, false>(dt, &st.eta, &st.v, &st.dl, &st.dz, &mut st.dza);
-        for (((a, b), r), l) in st.dsa[..l0]
-            .chunks_exact(D)
-            .zip(st.dza[..l0].chunks_exact(D))
-            .zip(st.rc[..l0].chunks_exact_mut(D))
-            .zip(st.lsq[..l0].chunks_exact(D))
-        {
-            let mut prod = [0.0; D];
-            jprod::<D>(arr(a), arr(b), &mut prod);
-            for i in 0..D {
-                r[i] = -l[i] - prod[i];
-            }
-            r[0] += sigma * mu;
-        }
-        for i in l0..ns {
-            st.rc[i] = -st.lsq[i] - st.dsa[i] * st.dza[i] + sigma * mu;
-        }
-        newton::<D, M>(dt, st);
-        let alpha = (STEP
-            * max_step::<D, M>(dt, &st.s, &st.ds).min(max_step::<D, M>(dt, &st.z, &st.dz)))
-        .min(1.0);
-        if !(alpha > 0.0 && alpha.is_finite()) {
-            *status = "step";
-            return false;
-        }
-        for (x, &d) in st.x.iter_mut().zip(&st.dx) {
-            *x += alpha * d;
-        }
-        for i in 0..ns {
-            st.s[i] += alpha * st.ds[i];
-            st.z[i] += alpha * st.dz[i];
+}
+
+/// The residuals `rx = P x + q + Gᵀ z` and `rz = G x + s − h` at the current point; returns the
+/// primal cost `½ xᵀP x + qᵀx` (summed in `x` order, in the same pass as `rx`).
+fn residuals<const D: usize, const M: usize>(dt: &Data, st: &mut State) -> f64 {
+    let (nv, nx, ns) = (dt.nv, dt.nx(), dt.ns::<D>());
+    let mut pcost = 0.0;
+    for i in 0..nx {
+        let px = if i < nv {
+            dot(&dt.p[i * nv..(i + 1) * nv], &st.x[..nv])
+        } else {
+            0.0
+        };
+        pcost += st.x[i] * (0.5 * px + dt.q[i]);
+        st.rx[i] = px + dt.q[i];
+    }
+    gt_mul_add::<D, M>(dt, &st.z, &mut st.rx);
+    g_mul::<D, M>(dt, &st.x, &mut st.gdx);
+    for i in 0..ns {
+        st.rz[i] = st.gdx[i] + st.s[i] - dt.h[i];
+    }
+    pcost
+}
+
+/// The Nesterov–Todd scaling `W` at the current point (`η`, `v` per cone, `d` per row), then
+/// `λ = W z` and `W⁻¹ rz`. Errs with the status when a cone or a row has left the interior (the
+/// cones are checked first, and nothing after the failing one is computed).
+fn scaling<const D: usize>(dt: &Data, st: &mut State) -> Result<(), &'static str> {
+    let l0 = dt.nc * D;
+    let nl = dt.nr + dt.nt;
+    for (((sk, zk), vk), eta) in st.s[..l0]
+        .chunks_exact(D)
+        .zip(st.z[..l0].chunks_exact(D))
+        .zip(st.v[..l0].chunks_exact_mut(D))
+        .zip(st.eta.iter_mut())
+    {
+        match nt_scaling::<D>(arr(sk), arr(zk), arr_mut(vk)) {
+            Some(e) => *eta = e,
+            None => return Err("cone not interior"),
         }
     }
-    false
+    for i in 0..nl {
+        let (si, zi) = (st.s[l0 + i], st.z[l0 + i]);
+        if !(si > 0.0 && zi > 0.0) {
+            return Err("row not interior");
+        }
+        st.dl[i] = (si / zi).sqrt();
+    }
+    w_mul::<D, false>(dt, &st.eta, &st.v, &st.dl, &st.z, &mut st.lambda);
+    w_mul::<D, true>(dt, &st.eta, &st.v, &st.dl, &st.rz, &mut st.wrz);
+    Ok(())
+}
+
+/// `λ ∘ λ` into `st.lsq`: the Jordan product per cone, the plain square per row.
+fn lambda_squared<const D: usize>(dt: &Data, st: &mut State) {
+    let l0 = dt.nc * D;
+    let ns = dt.ns::<D>();
+    for (l, o) in st.lambda[..l0]
+        .chunks_exact(D)
+        .zip(st.lsq[..l0].chunks_exact_mut(D))
+    {
+        jprod::<D>(arr(l), arr(l), arr_mut(o));
+    }
+    for i in l0..ns {
+        st.lsq[i] = st.lambda[i] * st.lambda[i];
+    }
+}
+
+/// The affine (predictor) Newton direction for the right-hand side `−λ∘λ`, left in `st.ds`/`st.dz`;
+/// returns the centring weight `σ = (1 − α + α² ds·dz / gap)³`, clamped to `[0, 1]` before the cube.
+fn predictor<const D: usize, const M: usize>(dt: &Data, st: &mut State, gap: f64) -> f64 {
+    for (r, &l) in st.rc.iter_mut().zip(&st.lsq) {
+        *r = -l;
+    }
+    newton::<D, M>(dt, st);
+    let step = max_step::<D, M>(dt, &st.s, &st.ds)
+        .min(max_step::<D, M>(dt, &st.z, &st.dz))
+        .min(1.0);
+    let dsdz = dot(&st.ds, &st.dz);
+    (1.0 - step + dsdz / gap * step * step)
+        .clamp(0.0, 1.0)
+        .powi(3)
+}
+
+/// The combined (corrector) Newton direction for `−λ∘λ − (W⁻¹ ds_a) ∘ (W dz_a) + σ μ e`, where
+/// `ds_a`, `dz_a` are the predictor's direction in `st.ds`/`st.dz`; overwrites them.
+fn corrector<const D: usize, const M: usize>(dt: &Data, st: &mut State, sigma: f64, mu: f64) {
+    let l0 = dt.nc * D;
+    let ns = dt.ns::<D>();
+    w_mul::<D, true>(dt, &st.eta, &st.v, &st.dl, &st.ds, &mut st.dsa);
+    w_mul::<D, false>(dt, &st.eta, &st.v, &st.dl, &st.dz, &mut st.dza);
+    for (((a, b), r), l) in st.dsa[..l0]
+        .chunks_exact(D)
+        .zip(st.dza[..l0].chunks_exact(D))
+        .zip(st.rc[..l0].chunks_exact_mut(D))
+        .zip(st.lsq[..l0].chunks_exact(D))
+    {
+        let mut prod = [0.0; D];
+        jprod::<D>(arr(a), arr(b), &mut prod);
+        for i in 0..D {
+            r[i] = -l[i] - prod[i];
+        }
+        r[0] += sigma * mu;
+    }
+    for i in l0..ns {
+        st.rc[i] = -st.lsq[i] - st.dsa[i] * st.dza[i] + sigma * mu;
+    }
+    newton::<D, M>(dt, st);
+}
+
+/// Moves `(x, s, z)` along the corrector's direction by `STEP` times the largest step that keeps
+/// `s` and `z` interior (at most 1). False, with nothing moved, when that step is not positive
+/// and finite.
+fn take_step<const D: usize, const M: usize>(dt: &Data, st: &mut State) -> bool {
+    let ns = dt.ns::<D>();
+    let alpha = (STEP
+        * max_step::<D, M>(dt, &st.s, &st.ds).min(max_step::<D, M>(dt, &st.z, &st.dz)))
+    .min(1.0);
+    if !(alpha > 0.0 && alpha.is_finite()) {
+        return false;
+    }
+    for (x, &d) in st.x.iter_mut().zip(&st.dx) {
+        *x += alpha * d;
+    }
+    for i in 0..ns {
+        st.s[i] += alpha * st.ds[i];
+        st.z[i] += alpha * st.dz[i];
+    }
+    true
 }
 
 #[cfg(test)]
