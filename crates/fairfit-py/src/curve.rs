@@ -4,10 +4,10 @@
 //! number exactly.
 
 use crate::convert::{json_to_py, parameters, points_array, vector};
-use crate::fit_curve::exact_shape_json;
 use fairfit::diffgeo::curvature;
 use fairfit::fair::curve_fairness;
 use fairfit::io::{curve_to_json, Geometry};
+use fairfit::report::curve::exact_shape_json;
 use fairfit::{NurbsCurve, Vec3};
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyReadonlyArray1};

@@ -7,16 +7,20 @@ use crate::options::{
     fit_options, integrated_options, parse_degree, parse_ends, parse_knots, parse_method,
     parse_param, CurveSettings, Method,
 };
-use fairfit::fair::{count_shape_exact, curve_fairness, fair_curve, FairingOptions};
+use fairfit::fair::{fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
 use fairfit::fit::points::drop_consecutive_duplicates;
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::points::MIN_POINTS;
-use fairfit::optim::{distinct_control_points, fit_integrated, is_closed};
+use fairfit::optim::{fit_integrated, is_closed};
+use fairfit::report::curve::{
+    fit_then_fair_report, integrated_report, integrated_warning, lsq_report, shape_report,
+    with_method,
+};
 use fairfit::{NurbsCurve, Vec3};
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
-use serde_json::{json, Value};
+use serde_json::Value;
 use std::time::Instant;
 
 /// A fitted curve, its report and the warnings the CLI prints on stderr.
@@ -126,26 +130,8 @@ pub fn fit_points(
         Method::Integrated => run_integrated(s, points),
         _ => run_fit_then_fair(s, points, &opts),
     })?;
-    let f = curve_fairness(&curve);
-    let (extrema_exact, inflections_exact) = exact_shape_json(&curve, f.length);
-    let mut report = json!({
-        "input": input,
-        "degree": curve.degree(),
-        "points": points.len(),
-        "length": f.length,
-        "fairness": f.fairness,
-        "max_span_fairness": f.max_span_fairness,
-        "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": extrema_exact,
-        "inflections": f.inflections,
-        "inflections_exact": inflections_exact,
-        "wall_seconds": wall.elapsed().as_secs_f64(),
-    });
-    if let (Some(obj), Some(extra)) = (report.as_object_mut(), method_report.as_object()) {
-        for (k, v) in extra {
-            obj.insert(k.clone(), v.clone());
-        }
-    }
+    let base = shape_report(&curve, input, points.len(), wall.elapsed().as_secs_f64());
+    let report = with_method(base, &method_report);
     Ok(Fitted {
         curve,
         report,
@@ -169,32 +155,7 @@ fn fit_lsq(
             opts.smoothing, fit.smoothing_used
         ));
     }
-    let f = curve_fairness(&fit.curve);
-    let (extrema_exact, inflections_exact) = exact_shape_json(&fit.curve, f.length);
-    let report = json!({
-        "input": input,
-        "method": "lsq",
-        "knots": s.knots_name,
-        "degree": fit.curve.degree(),
-        "points": fit.points.len(),
-        "closed": fit.closed,
-        "corners": fit.corners,
-        "control_points": fit.n_control_points,
-        "tolerance": fit.tolerance,
-        "max_deviation": fit.deviation.max,
-        "rms_deviation": fit.deviation.rms,
-        "length": f.length,
-        "fairness": f.fairness,
-        "max_span_fairness": f.max_span_fairness,
-        "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": extrema_exact,
-        "inflections": f.inflections,
-        "inflections_exact": inflections_exact,
-        "solves": fit.solves,
-        "smoothing_used": fit.smoothing_used,
-        "fit_seconds": fit.fit_seconds,
-        "wall_seconds": wall.elapsed().as_secs_f64(),
-    });
+    let report = lsq_report(&fit, input, &s.knots_name, wall.elapsed().as_secs_f64());
     Ok(Fitted {
         curve: fit.curve,
         report,
@@ -210,47 +171,10 @@ fn run_integrated(s: &CurveSettings, points: &[Vec3]) -> Result<MethodOutput, St
     let opts = integrated_options(s);
     let closed = is_closed(points, opts.closed);
     let r = fit_integrated(points, &opts).map_err(|e| e.to_string())?;
-    let report = json!({
-        "method": "integrated",
-        "closed": closed,
-        "ends": (!closed).then_some(if r.stats.free_ends { "free" } else { "pinned" }),
-        "control_points": distinct_control_points(&r.curve),
-        "tolerance": r.tolerance,
-        "tolerance_met": r.met,
-        "max_deviation": r.quality.max_deviation,
-        "rms_deviation": r.quality.rms_deviation,
-        "span_fairness_target": s.span_fairness,
-        "log10_smoothing": r.log10_smoothing(),
-        "lsq_baseline_control_points": r.baseline_control_points,
-        "optimizer": {
-            "seed": s.seed,
-            "evaluations": r.stats.evaluations,
-            "iterations": r.stats.iterations,
-            "counts_tried": r.stats.counts_tried,
-            "fairness_by_count": r.stats.fairness_by_count.iter()
-                .map(|(n, f)| json!({"control_points": n, "fairness": if f.is_finite() { Some(*f) } else { None }}))
-                .collect::<Vec<_>>(),
-            "polish_moves": r.stats.polish_moves,
-            "seconds": r.stats.seconds,
-        },
-    });
-    let mut report = report;
-    if !r.stats.degrees_tried.is_empty() {
-        report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
-    }
-    let mut warnings = Vec::new();
-    if !r.met {
-        warnings.push(match s.span_fairness {
-            Some(t) if r.quality.max_deviation <= r.tolerance => format!(
-                "the span fairness target {t:.3e} was not met (largest F_j {:.3e})",
-                r.quality.max_span_fairness
-            ),
-            _ => format!(
-                "the tolerance {:.3e} was not met (max deviation {:.3e})",
-                r.tolerance, r.quality.max_deviation
-            ),
-        });
-    }
+    let report = integrated_report(&r, closed, s.span_fairness, s.seed);
+    let warnings = integrated_warning(&r, s.span_fairness)
+        .into_iter()
+        .collect();
     Ok((r.curve, report, warnings))
 }
 
@@ -268,36 +192,7 @@ fn run_fit_then_fair(
         &FairingOptions::default(),
     )
     .map_err(|e| e.to_string())?;
-    let before = curve_fairness(&fit.curve);
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
-    let report = json!({
-        "method": "fit-then-fair",
-        "control_points": distinct_control_points(&faired.curve),
-        "closed": fit.closed,
-        "tolerance": fit.tolerance,
-        "tolerance_met": dev.max <= fit.tolerance,
-        "max_deviation": dev.max,
-        "rms_deviation": dev.rms,
-        "lsq_fairness": before.fairness,
-        "fairing_moves": faired.iterations,
-        "seed": s.seed,
-    });
+    let report = fit_then_fair_report(&fit, &faired.curve, faired.iterations, &dev, s.seed);
     Ok((faired.curve, report, Vec::new()))
-}
-
-/// The exact curvature-extrema and inflection counts, `null` where only sampling counts them.
-pub fn exact_shape_json(c: &NurbsCurve, length: f64) -> (Value, Value) {
-    let exact = count_shape_exact(c, length);
-    (
-        if exact.extrema.exact {
-            json!(exact.extrema.curvature_extrema)
-        } else {
-            Value::Null
-        },
-        if exact.inflections.exact {
-            json!(exact.inflections.inflections)
-        } else {
-            Value::Null
-        },
-    )
 }

@@ -10,7 +10,7 @@
 use crate::convert::{json_to_py, parameters, points_array3, vector};
 use fairfit::io::mesh_read::read_mesh;
 use fairfit::io::surface_to_json;
-use fairfit::surface::chain::Gap;
+use fairfit::report::surface::{surface_report, SectionNotes};
 use fairfit::surface::orient::extent;
 use fairfit::surface::slicing::{slice_mesh, SliceOptions};
 use fairfit::surface::{reconstruct_surface, Section, SurfaceOptions, VParams};
@@ -18,7 +18,7 @@ use fairfit::{NurbsSurface, Vec3};
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
-use serde_json::{json, Value};
+use serde_json::Value;
 
 /// A NURBS surface (see the `fairfit` package's documentation of `Surface`).
 #[pyclass(module = "fairfit._fairfit", frozen)]
@@ -251,15 +251,6 @@ pub struct SurfaceSettings {
     pub threads: Option<usize>,
 }
 
-/// What the input gave besides its sections (for the report).
-#[derive(Default)]
-struct InputNotes {
-    names: Vec<String>,
-    gaps: Vec<Gap>,
-    empty_planes: Vec<f64>,
-    dropped_chains: Vec<usize>,
-}
-
 /// `fairfit surface`'s checks of the counts, with its messages (named by the Python keywords).
 fn check_counts(s: &SurfaceSettings) -> Result<(), String> {
     let need = s.degree.saturating_add(1);
@@ -306,7 +297,7 @@ fn surface_options(s: &SurfaceSettings, tol: f64) -> SurfaceOptions {
 fn fit_sections(
     s: &SurfaceSettings,
     sections: Vec<Section>,
-    notes: InputNotes,
+    notes: SectionNotes,
 ) -> Result<(NurbsSurface, Value), String> {
     check_counts(s)?;
     if sections.len() < 2 {
@@ -330,45 +321,7 @@ fn fit_sections(
     let r = crate::with_pool(s.threads, || {
         reconstruct_surface(sections, &opts).map_err(|e| e.to_string())
     })?;
-    let (nu, nv) = r.surface.net_size();
-    let within = r.deviation.max <= tol;
-    let per_section: Vec<Value> = r
-        .sections
-        .iter()
-        .enumerate()
-        .map(|(k, x)| {
-            json!({
-                "name": notes.names.get(k),
-                "points": x.points.len(),
-                "closed": x.closed,
-                "reversed": r.alignment[k].0,
-                "seam_shift": r.alignment[k].1,
-                "v": r.v_params[k],
-                "max_deviation": r.section_deviation[k],
-                "exact_max_deviation": Value::Null,
-                "dropped_chains": notes.dropped_chains.get(k),
-            })
-        })
-        .collect();
-    let report = json!({
-        "tolerance": tol,
-        "within_tolerance": within,
-        "net": [nu, nv],
-        "degree": [r.surface.degree_u(), r.surface.degree_v()],
-        "deviation": r.deviation,
-        "section_fit_max_deviation": r.compatible.max_deviation,
-        "section_max_span_fairness": r.compatible.max_span_fairness,
-        "iso_fairness": r.fairness,
-        "knots_u": r.compatible.knots,
-        "periodic_u": r.compatible.periodic,
-        "seam": r.seam,
-        "v_params": r.v_params,
-        "candidates_tried": r.compatible.candidates_tried,
-        "sections": per_section,
-        "gaps": notes.gaps,
-        "empty_planes": notes.empty_planes,
-        "exact_sections": Value::Null,
-    });
+    let report = surface_report(&r, tol, &notes, None);
     Ok((r.surface, report))
 }
 
@@ -435,7 +388,7 @@ pub fn fit_surface(
         }
         secs.push(Section::from_points(pts));
     }
-    let notes = InputNotes {
+    let notes = SectionNotes {
         dropped_chains: vec![0; secs.len()],
         names,
         ..Default::default()
@@ -515,7 +468,7 @@ pub fn fit_surface_from_mesh(
                 s.empty_planes.len()
             ));
         }
-        let notes = InputNotes {
+        let notes = SectionNotes {
             names: s
                 .offsets
                 .iter()

@@ -15,6 +15,7 @@
 //! - [`surface`]: sections and point clouds to compatible fair curves, skinned into surfaces;
 //! - [`io`]: the JSON geometry format, point files, STEP, IGES and meshes;
 //! - [`plot`]: SVG/PNG plots and HTML reports;
+//! - [`report`]: the `--report` JSON of curve and surface fits, and the bytes of every output file;
 //! - [`errors`]: the typed [`Error`] every fallible function returns;
 //! - [`prelude`]: what a user of the library needs in one import (`use fairfit::prelude::*`).
 //!
@@ -32,6 +33,7 @@ pub mod nurbs;
 pub mod optim;
 pub mod plot;
 pub mod prelude;
+pub mod report;
 pub mod surface;
 mod tolerance;
 

@@ -33,8 +33,9 @@ const LAYERS: &[(&str, usize)] = &[
     ("surface", 4),
     ("io", 5),
     ("plot", 6),
+    ("report", 7),
     // the library's front door: re-exports only, above everything it names
-    ("prelude", 7),
+    ("prelude", 8),
 ];
 
 /// Top-level modules every layer may import (they import no layer themselves).

@@ -11,15 +11,14 @@
 
 use super::curve_args::{CurveArgs, DegreeArg, EndsArg, Method};
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
-use super::info::exact_shape_json;
 use super::outputs::{check_output_paths, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
-use fairfit::fair::curve_fairness;
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
 use fairfit::fit::SmoothingOrder;
 use fairfit::io::atomic::write_all_atomic;
 use fairfit::io::curve_to_json;
 use fairfit::prelude::{fit_to_tolerance, FitOptions, FitResult, NurbsCurve, Tolerance, Vec3};
+use fairfit::report::curve::{lsq_report, shape_report, with_method};
 use serde_json::json;
 use std::time::Instant;
 
@@ -169,27 +168,12 @@ fn fit_points(
             let field = |k: &str| out.report[k].as_f64().unwrap_or(f64::NAN);
             let (tolerance, max_deviation) = (field("tolerance"), field("max_deviation"));
             let report = want_report.then(|| {
-                let f = curve_fairness(&out.curve);
-                let (extrema_exact, inflections_exact) = exact_shape_json(&out.curve, f.length);
-                let mut r = json!({
-                    "input": args.input.display().to_string(),
-                    "degree": out.curve.degree(),
-                    "points": points.len(),
-                    "length": f.length,
-                    "fairness": f.fairness,
-                    "max_span_fairness": f.max_span_fairness,
-                    "curvature_extrema": f.curvature_extrema,
-                    "curvature_extrema_exact": extrema_exact,
-                    "inflections": f.inflections,
-                    "inflections_exact": inflections_exact,
-                    "wall_seconds": wall.elapsed().as_secs_f64(),
-                });
-                if let (Some(obj), Some(extra)) = (r.as_object_mut(), out.report.as_object()) {
-                    for (k, v) in extra {
-                        obj.insert(k.clone(), v.clone());
-                    }
-                }
-                r
+                let input = args.input.display().to_string();
+                let wall_seconds = wall.elapsed().as_secs_f64();
+                with_method(
+                    shape_report(&out.curve, &input, points.len(), wall_seconds),
+                    &out.report,
+                )
             });
             Ok(Fitted {
                 curve: out.curve,
@@ -267,30 +251,6 @@ fn fit_cad(
 type FitOutput = (NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
 
 fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_json::Value {
-    let f = curve_fairness(&fit.curve);
-    let (extrema_exact, inflections_exact) = exact_shape_json(&fit.curve, f.length);
-    json!({
-        "input": args.input.display().to_string(),
-        "method": "lsq",
-        "knots": format!("{:?}", args.knots).to_lowercase(),
-        "degree": fit.curve.degree(),
-        "points": fit.points.len(),
-        "closed": fit.closed,
-        "corners": fit.corners,
-        "control_points": fit.n_control_points,
-        "tolerance": fit.tolerance,
-        "max_deviation": fit.deviation.max,
-        "rms_deviation": fit.deviation.rms,
-        "length": f.length,
-        "fairness": f.fairness,
-        "max_span_fairness": f.max_span_fairness,
-        "curvature_extrema": f.curvature_extrema,
-        "curvature_extrema_exact": extrema_exact,
-        "inflections": f.inflections,
-        "inflections_exact": inflections_exact,
-        "solves": fit.solves,
-        "smoothing_used": fit.smoothing_used,
-        "fit_seconds": fit.fit_seconds,
-        "wall_seconds": wall_seconds,
-    })
+    let knots = format!("{:?}", args.knots).to_lowercase();
+    lsq_report(fit, &args.input.display().to_string(), &knots, wall_seconds)
 }

@@ -7,16 +7,15 @@
 
 use super::curve_args::{CurveArgs, DegreeArg, AUTO_MAX_DEGREE};
 use super::CliError;
-use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
+use fairfit::fair::{fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
 use fairfit::io::{curve_to_json, write_atomic};
-use fairfit::optim::{
-    distinct_control_points, is_closed, pareto_csv, pareto_front_of_result, ParetoCurve,
-};
+use fairfit::optim::{is_closed, pareto_csv, pareto_front_of_result, ParetoCurve};
 use fairfit::prelude::{
     fit_integrated_with_stages, fit_to_tolerance, FitOptions, IntegratedOptions, IntegratedResult,
     NurbsCurve, Stage, Vec3,
 };
+use fairfit::report::curve::{fit_then_fair_report, integrated_report, integrated_warning};
 use serde_json::{json, Value};
 
 /// A fitted curve and the method-specific part of its report.
@@ -102,34 +101,7 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     })
     .map_err(|e| cli_error(e, args))?;
     bar.finish_and_clear();
-    let mut report = json!({
-        "method": "integrated",
-        "closed": closed,
-        // a closed curve has no ends; a curve with corners keeps them pinned
-        "ends": (!closed).then_some(if r.stats.free_ends { "free" } else { "pinned" }),
-        "control_points": distinct_control_points(&r.curve),
-        "tolerance": r.tolerance,
-        "tolerance_met": r.met,
-        "max_deviation": r.quality.max_deviation,
-        "rms_deviation": r.quality.rms_deviation,
-        "span_fairness_target": args.span_fairness,
-        "log10_smoothing": r.log10_smoothing(),
-        "lsq_baseline_control_points": r.baseline_control_points,
-        "optimizer": {
-            "seed": args.seed,
-            "evaluations": r.stats.evaluations,
-            "iterations": r.stats.iterations,
-            "counts_tried": r.stats.counts_tried,
-            "fairness_by_count": r.stats.fairness_by_count.iter()
-                .map(|(n, f)| json!({"control_points": n, "fairness": if f.is_finite() { Some(*f) } else { None }}))
-                .collect::<Vec<_>>(),
-            "polish_moves": r.stats.polish_moves,
-            "seconds": r.stats.seconds,
-        },
-    });
-    if !r.stats.degrees_tried.is_empty() {
-        report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
-    }
+    let mut report = integrated_report(&r, closed, args.span_fairness, args.seed);
     if let Some(path) = &args.pareto {
         let front = pareto_front_of_result(points, &opts, &r).map_err(|e| cli_error(e, args))?;
         write_pareto(path, args, &front)?;
@@ -137,18 +109,8 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     } else if args.pareto_curves.is_some() {
         return Err(CliError::usage("--pareto-curves needs --pareto"));
     }
-    if !r.met {
-        match args.span_fairness {
-            // within the tolerance: what was missed is the per-span fairness target
-            Some(t) if r.quality.max_deviation <= r.tolerance => eprintln!(
-                "warning: the span fairness target {t:.3e} was not met (largest F_j {:.3e})",
-                r.quality.max_span_fairness
-            ),
-            _ => eprintln!(
-                "warning: the tolerance {:.3e} was not met (max deviation {:.3e})",
-                r.tolerance, r.quality.max_deviation
-            ),
-        }
+    if let Some(w) = integrated_warning(&r, args.span_fairness) {
+        eprintln!("warning: {w}");
     }
     Ok(MethodOutput {
         curve: r.curve,
@@ -189,23 +151,11 @@ pub fn run_fit_then_fair(
         fit.tolerance,
         &FairingOptions::default(),
     )?;
-    let before = curve_fairness(&fit.curve);
     // measured afresh by projection on the faired curve, started at the least-squares parameters
     // (the fairing's own distances came from an unhinted projection that can stop at a far local
     // minimum on long spans)
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
-    let report = json!({
-        "method": "fit-then-fair",
-        "control_points": distinct_control_points(&faired.curve),
-        "closed": fit.closed,
-        "tolerance": fit.tolerance,
-        "tolerance_met": dev.max <= fit.tolerance,
-        "max_deviation": dev.max,
-        "rms_deviation": dev.rms,
-        "lsq_fairness": before.fairness,
-        "fairing_moves": faired.iterations,
-        "seed": args.seed,
-    });
+    let report = fit_then_fair_report(&fit, &faired.curve, faired.iterations, &dev, args.seed);
     Ok(MethodOutput {
         curve: faired.curve,
         report,

@@ -16,12 +16,10 @@ use super::{print_json, CliError, CmdResult};
 use clap::Args;
 use fairfit::diffgeo::differentials;
 use fairfit::fair::span_hodograph::speed_critical_points;
-use fairfit::fair::{
-    count_shape_exact, curve_fairness, surface_fairness, ExactExtrema, ExactInflections,
-    DEFAULT_ISO_CURVES,
-};
+use fairfit::fair::{curve_fairness, surface_fairness, DEFAULT_ISO_CURVES};
 use fairfit::io::Geometry;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
+use fairfit::report::curve::exact_shape_json;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 
@@ -165,35 +163,6 @@ fn curve_info(c: &NurbsCurve) -> Value {
         }
     }
     info
-}
-
-/// The exact curvature-extrema and inflection counts, each `null` where only the sampled fallback
-/// exists (spatial curves: inflections are binormal reversals, counted only by sampling), made in
-/// one pass ([`count_shape_exact`]).
-pub(crate) fn exact_shape_json(c: &NurbsCurve, length: f64) -> (Value, Value) {
-    let exact = count_shape_exact(c, length);
-    (
-        extrema_value(exact.extrema),
-        inflections_value(exact.inflections),
-    )
-}
-
-/// An exact extrema count as JSON (`null` for the sampled fallback).
-fn extrema_value(e: ExactExtrema) -> Value {
-    if e.exact {
-        json!(e.curvature_extrema)
-    } else {
-        Value::Null
-    }
-}
-
-/// An exact inflection count as JSON (`null` for the sampled fallback).
-fn inflections_value(e: ExactInflections) -> Value {
-    if e.exact {
-        json!(e.inflections)
-    } else {
-        Value::Null
-    }
 }
 
 fn surface_info(s: &NurbsSurface, n_iso: usize) -> Result<Value, CliError> {

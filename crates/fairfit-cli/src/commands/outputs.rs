@@ -10,16 +10,11 @@
 use super::{CliError, CmdResult};
 use clap::Args;
 use fairfit::io::cad_common::{validate_curve, validate_surface, LengthUnit};
-use fairfit::io::iges::{curve_to_iges, surface_to_iges, IgesOptions};
-use fairfit::io::mesh_write::{mesh_bytes, MeshFormat};
-use fairfit::io::step::{curve_to_step, surface_to_step, StepOptions};
-use fairfit::io::tessellate::{tessellate_curve, tessellate_surface, TessellationOptions};
+use fairfit::io::mesh_write::MeshFormat;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
-use fairfit::plot::curve_plots::{curvature_svg, curve_comb_svg, deviation_svg};
-use fairfit::plot::html::{html_report, rows_from_json, Report};
 use fairfit::plot::png::svg_to_png;
-use fairfit::plot::surface_plots::{deviation_map_svg, iso_curvature_svg, IsoDirection};
 use fairfit::plot::PlotSize;
+use fairfit::report::files::{file_bytes, html_report, FileInputs, Format, Shape};
 use std::path::{Path, PathBuf};
 
 /// The geometry to write.
@@ -170,10 +165,13 @@ pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdRes
     Ok(())
 }
 
-fn stem(path: &Path) -> String {
-    path.file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "fairfit".into())
+impl<'a> From<OutputGeometry<'a>> for Shape<'a> {
+    fn from(g: OutputGeometry<'a>) -> Self {
+        match g {
+            OutputGeometry::Curve(c) => Shape::Curve(c),
+            OutputGeometry::Surface(s) => Shape::Surface(s),
+        }
+    }
 }
 
 /// The main plot of a geometry as SVG.
@@ -182,11 +180,7 @@ pub fn main_plot(
     points: Option<&[Vec3]>,
     size: PlotSize,
 ) -> Result<String, CliError> {
-    Ok(match (g, points) {
-        (OutputGeometry::Curve(c), _) => curve_comb_svg(c, points, size)?,
-        (OutputGeometry::Surface(s), Some(p)) if !p.is_empty() => deviation_map_svg(s, p, size)?,
-        (OutputGeometry::Surface(s), _) => iso_curvature_svg(s, IsoDirection::FixedV, 5, size)?,
-    })
+    Ok(fairfit::report::files::main_plot(g.into(), points, size)?)
 }
 
 /// SVG or PNG bytes of `svg` as the extension of `path` asks.
@@ -202,64 +196,6 @@ pub fn plot_bytes(path: &Path, svg: String, size: PlotSize) -> Result<Vec<u8>, C
             path.display()
         ))),
     }
-}
-
-fn report(
-    g: OutputGeometry<'_>,
-    points: Option<&[Vec3]>,
-    metrics: Option<&serde_json::Value>,
-) -> Result<String, CliError> {
-    let size = PlotSize::default();
-    let mut r = Report {
-        title: "fairfit report".into(),
-        ..Default::default()
-    };
-    let pts = points.unwrap_or(&[]);
-    r.inputs.push(("data points".into(), pts.len().to_string()));
-    match g {
-        OutputGeometry::Curve(c) => {
-            r.parameters.push(("kind".into(), "curve".into()));
-            r.parameters.push(("degree".into(), c.degree().to_string()));
-            r.parameters
-                .push(("control points".into(), c.n_control_points().to_string()));
-            r.parameters
-                .push(("knots".into(), c.knots().len().to_string()));
-            r.plots.push((
-                "Curve, data and curvature comb".into(),
-                curve_comb_svg(c, points, size)?,
-            ));
-            r.plots.push((
-                "Curvature against arc length".into(),
-                curvature_svg(c, size)?,
-            ));
-            if !pts.is_empty() {
-                r.plots
-                    .push(("Deviation per point".into(), deviation_svg(c, pts, size)?));
-            }
-        }
-        OutputGeometry::Surface(s) => {
-            let (n_u, n_v) = s.net_size();
-            r.parameters.push(("kind".into(), "surface".into()));
-            r.parameters.push((
-                "degrees".into(),
-                format!("{} x {}", s.degree_u(), s.degree_v()),
-            ));
-            r.parameters
-                .push(("control net".into(), format!("{n_u} x {n_v}")));
-            if !pts.is_empty() {
-                r.plots
-                    .push(("Deviation map".into(), deviation_map_svg(s, pts, size)?));
-            }
-            for (name, dir) in [("u", IsoDirection::FixedV), ("v", IsoDirection::FixedU)] {
-                let caption = format!("Curvature of iso-curves along {name}");
-                r.plots.push((caption, iso_curvature_svg(s, dir, 5, size)?));
-            }
-        }
-    }
-    if let Some(m) = metrics {
-        r.metrics = rows_from_json(m);
-    }
-    Ok(html_report(&r))
 }
 
 /// Writes every output asked for in `args`, all or none. Nothing is written when the geometry or an
@@ -288,49 +224,28 @@ pub fn prepare_outputs(
         OutputGeometry::Surface(s) => validate_surface(s)?,
     }
     let unit: LengthUnit = args.units.parse()?;
+    let inputs = FileInputs {
+        points,
+        report: report_json,
+        unit,
+        chord_tol: args.chord_tol,
+    };
     let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     if let Some(p) = &args.step {
-        let opts = StepOptions {
-            unit,
-            name: stem(p),
-            ..Default::default()
-        };
-        let text = match geometry {
-            OutputGeometry::Curve(c) => curve_to_step(c, &opts)?,
-            OutputGeometry::Surface(s) => surface_to_step(s, &opts)?,
-        };
-        files.push((p.clone(), text.into_bytes()));
+        files.push((
+            p.clone(),
+            file_bytes(geometry.into(), Format::Step, p, &inputs)?,
+        ));
     }
     if let Some(p) = &args.iges {
-        let opts = IgesOptions {
-            unit,
-            name: stem(p),
-            ..Default::default()
-        };
-        let text = match geometry {
-            OutputGeometry::Curve(c) => curve_to_iges(c, &opts)?,
-            OutputGeometry::Surface(s) => surface_to_iges(s, &opts)?,
-        };
-        files.push((p.clone(), text.into_bytes()));
+        files.push((
+            p.clone(),
+            file_bytes(geometry.into(), Format::Iges, p, &inputs)?,
+        ));
     }
     if let Some(p) = &args.mesh {
-        let format = MeshFormat::from_path(p)?;
-        let opts = TessellationOptions {
-            chord_tol: args.chord_tol,
-            ..Default::default()
-        };
-        let mesh = match geometry {
-            OutputGeometry::Curve(c) => tessellate_curve(c, &opts)?,
-            OutputGeometry::Surface(s) => tessellate_surface(s, &opts)?,
-        };
-        if matches!(geometry, OutputGeometry::Surface(_)) && mesh.triangles.is_empty() {
-            return Err(CliError::new(format!(
-                "{}: the surface has no area (every triangle of its mesh is degenerate, e.g. all \
-                 control points at one place), so there is no mesh to write",
-                p.display()
-            )));
-        }
-        files.push((p.clone(), mesh_bytes(&mesh, format)?));
+        let format = Format::Mesh(MeshFormat::from_path(p)?);
+        files.push((p.clone(), file_bytes(geometry.into(), format, p, &inputs)?));
     }
     if let Some(p) = &args.plot {
         let size = PlotSize::default();
@@ -340,10 +255,8 @@ pub fn prepare_outputs(
         ));
     }
     if let Some(p) = &args.html {
-        files.push((
-            p.clone(),
-            report(geometry, points, report_json)?.into_bytes(),
-        ));
+        let html = html_report(geometry.into(), points, report_json)?;
+        files.push((p.clone(), html.into_bytes()));
     }
     Ok(files)
 }

@@ -7,6 +7,7 @@ use clap::{Args, ValueEnum};
 use fairfit::io::mesh_read::read_mesh;
 use fairfit::io::sections::{expand_section_inputs, read_section_file};
 use fairfit::io::{json::write_surface, write_atomic};
+use fairfit::report::surface::{surface_report, SectionNotes};
 use fairfit::surface::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
 use fairfit::surface::chain::Gap;
 use fairfit::surface::orient::extent;
@@ -15,7 +16,6 @@ use fairfit::surface::{
     reconstruct_surface_with_progress, Section, Stage, SurfaceOptions, VParams,
 };
 use fairfit::Vec3;
-use serde_json::json;
 use std::path::PathBuf;
 
 /// Axis perpendicular to the slicing planes.
@@ -375,43 +375,13 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         .flat_map(|s| s.points.iter().copied())
         .collect();
     if args.report.is_some() || args.outputs.html.is_some() {
-        let sections: Vec<serde_json::Value> = r
-            .sections
-            .iter()
-            .enumerate()
-            .map(|(k, s)| {
-                json!({
-                    "name": input.names.get(k),
-                    "points": s.points.len(),
-                    "closed": s.closed,
-                    "reversed": r.alignment[k].0,
-                    "seam_shift": r.alignment[k].1,
-                    "v": r.v_params[k],
-                    "max_deviation": r.section_deviation[k],
-                    "exact_max_deviation": exact.as_ref().map(|e| e.section_max_deviation[k]),
-                    "dropped_chains": input.dropped_chains.get(k),
-                })
-            })
-            .collect();
-        let rep = json!({
-            "tolerance": tol,
-            "within_tolerance": within,
-            "net": [nu, nv],
-            "degree": [r.surface.degree_u(), r.surface.degree_v()],
-            "deviation": r.deviation,
-            "section_fit_max_deviation": r.compatible.max_deviation,
-            "section_max_span_fairness": r.compatible.max_span_fairness,
-            "iso_fairness": r.fairness,
-            "knots_u": r.compatible.knots,
-            "periodic_u": r.compatible.periodic,
-            "seam": r.seam,
-            "v_params": r.v_params,
-            "candidates_tried": r.compatible.candidates_tried,
-            "sections": sections,
-            "gaps": input.gaps,
-            "empty_planes": input.empty_planes,
-            "exact_sections": exact.as_ref().map(exact_json),
-        });
+        let notes = SectionNotes {
+            names: input.names,
+            gaps: input.gaps.clone(),
+            empty_planes: input.empty_planes,
+            dropped_chains: input.dropped_chains,
+        };
+        let rep = surface_report(&r, tol, &notes, exact.as_ref());
         if let Some(path) = &args.report {
             let text = super::json_pretty(&rep)?;
             write_atomic(path, text.as_bytes())?;
@@ -472,17 +442,4 @@ fn note_exact(path: &std::path::Path, e: &ExactSkin) {
             fit_tolerance: e.fit_tolerance,
         },
     );
-}
-
-/// The report's `exact_sections`.
-fn exact_json(e: &ExactSkin) -> serde_json::Value {
-    json!({
-        "max_deviation": e.max_deviation,
-        "within_tolerance": e.met,
-        "checked_points": e.checked,
-        "first_max_deviation": e.first_max_deviation,
-        "refits": e.refits,
-        "fit_tolerance": e.fit_tolerance,
-        "added_points": e.added,
-    })
 }

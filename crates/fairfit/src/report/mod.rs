@@ -1,0 +1,14 @@
+//! What a fit reports and how its files are made: the `--report` JSON of curve and surface fits
+//! ([`curve`], [`surface`]) and the bytes of every output file, the format chosen by the file's
+//! extension or by the caller ([`files`]).
+//!
+//! The command-line tool and the Python package both build their reports and files here, so the same
+//! fit gives the same bytes through either. Nothing here writes a file or prints: callers write the
+//! bytes (all or none, see [`crate::io::atomic`]).
+//!
+//! The top layer below the prelude: it reads the results of [`crate::fit`], [`crate::optim`] and
+//! [`crate::surface`] and formats them with [`crate::io`] and [`crate::plot`].
+
+pub mod curve;
+pub mod files;
+pub mod surface;
