@@ -31,6 +31,9 @@ enum Command {
     Info(commands::info::InfoArgs),
     /// Fit a fair curve to ordered points, or re-fair a STEP/IGES curve.
     Curve(commands::curve_args::CurveArgs),
+    /// Fit a fair curve to every point file of a folder or a list (`fairfit curve` on each, in
+    /// parallel), with a JSONL summary.
+    Batch(commands::batch::BatchArgs),
     /// Fit a fair surface to sections or a point cloud.
     Surface(commands::surface::SurfaceArgs),
     /// Plot a curve or surface (JSON, STEP or IGES).
@@ -130,6 +133,7 @@ fn main() -> ExitCode {
         Command::Eval(a) => commands::eval::run(a),
         Command::Info(a) => commands::info::run(a),
         Command::Curve(a) => commands::curve::run(a),
+        Command::Batch(a) => commands::batch::run(a),
         Command::Surface(a) => commands::surface::run(a),
         Command::Plot(a) => commands::plot::run(a),
         Command::Export(a) => commands::export::run(a),

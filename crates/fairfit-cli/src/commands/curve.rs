@@ -34,6 +34,41 @@ pub fn run(args: CurveArgs) -> CmdResult {
     outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
     outputs.extend(args.outputs.named());
     check_output_paths(&outputs, &[args.input.as_path()])?;
+    check_options(&args)?;
+    let want_report = args.report.is_some() || args.outputs.html.is_some();
+    let (curve, report, points) = fit_input(&args, want_report, wall)?;
+    // Every file is made in memory first and written all or none.
+    let mut files = Vec::new();
+    let text = curve_to_json(&curve);
+    let stdout_text = match &args.output {
+        Some(p) => {
+            files.push((p.clone(), text.into_bytes()));
+            None
+        }
+        None => Some(text),
+    };
+    if let (Some(rp), Some(report)) = (&args.report, &report) {
+        let body = super::json_pretty(report)?;
+        files.push((rp.clone(), body.into_bytes()));
+    }
+    if args.outputs.any() {
+        files.extend(prepare_outputs(
+            OutputGeometry::Curve(&curve),
+            Some(&points),
+            report.as_ref(),
+            &args.outputs,
+        )?);
+    }
+    write_all_atomic(&files)?;
+    if let Some(text) = stdout_text {
+        super::print_stdout(&text)?;
+    }
+    Ok(())
+}
+
+/// Refuses option values and combinations `fairfit curve` does not accept (usage errors), before any
+/// input is read.
+pub fn check_options(args: &CurveArgs) -> CmdResult {
     if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
         return Err(CliError::usage(format!(
             "--corner-angle must be in (0, 180] degrees, got {}",
@@ -64,6 +99,16 @@ pub fn run(args: CurveArgs) -> CmdResult {
     if args.ends == EndsArg::Free && args.method != Method::Integrated {
         return Err(CliError::usage("--ends free needs --method integrated"));
     }
+    Ok(())
+}
+
+/// Reads `args.input` and fits it as `args` ask: the curve, its report when `want_report` (`wall`
+/// started when the run did) and the points it fitted. Warnings go to stderr.
+pub fn fit_input(
+    args: &CurveArgs,
+    want_report: bool,
+    wall: Instant,
+) -> Result<FitOutput, CliError> {
     let (set, cad) = super::cad_input::read_curve_points(&args.input, &args.cad)?;
     if set.dropped_duplicates > 0 {
         eprintln!(
@@ -98,43 +143,14 @@ pub fn run(args: CurveArgs) -> CmdResult {
         end_tangent: args.end_tangent,
         ..FitOptions::default()
     };
-    let want_report = args.report.is_some() || args.outputs.html.is_some();
-    let (curve, report, points) = match cad {
+    match cad {
         None => {
-            let fit = fit_points(&args, &opts, &set.points, want_report, wall)?;
-            (fit.curve, fit.extra, set.points)
+            let fit = fit_points(args, &opts, &set.points, want_report, wall)?;
+            Ok((fit.curve, fit.extra, set.points))
         }
-        Some(cad) => fit_cad(&args, &opts, cad, want_report, wall)?,
-    };
-    // Every file is made in memory first and written all or none.
-    let mut files = Vec::new();
-    let text = curve_to_json(&curve);
-    let stdout_text = match &args.output {
-        Some(p) => {
-            files.push((p.clone(), text.into_bytes()));
-            None
-        }
-        None => Some(text),
-    };
-    if let (Some(rp), Some(report)) = (&args.report, &report) {
-        let body = super::json_pretty(report)?;
-        files.push((rp.clone(), body.into_bytes()));
+        Some(cad) => fit_cad(args, &opts, cad, want_report, wall),
     }
-    if args.outputs.any() {
-        files.extend(prepare_outputs(
-            OutputGeometry::Curve(&curve),
-            Some(&points),
-            report.as_ref(),
-            &args.outputs,
-        )?);
-    }
-    write_all_atomic(&files)?;
-    if let Some(text) = stdout_text {
-        super::print_stdout(&text)?;
-    }
-    Ok(())
 }
-
 /// One fit of `points` by the method asked for, with its report when `want_report`.
 fn fit_points(
     args: &CurveArgs,
@@ -248,7 +264,7 @@ fn fit_cad(
 }
 
 /// A fitted curve, its report and the points it fitted.
-type FitOutput = (NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
+pub type FitOutput = (NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
 
 fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_json::Value {
     let knots = format!("{:?}", args.knots).to_lowercase();

@@ -1,5 +1,6 @@
 //! One module per subcommand; each exposes its clap `Args` struct and `run`.
 
+pub mod batch;
 pub mod cad_input;
 pub mod curve;
 pub mod curve_args;

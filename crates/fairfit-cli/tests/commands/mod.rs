@@ -2,6 +2,7 @@
 //! `cad_input` holds the CAD files (STEP, IGES) as input of every subcommand, `curve_optim` the
 //! integrated method of `fairfit curve`.
 
+mod batch;
 mod cad_input;
 mod curve;
 mod curve_optim;
