@@ -33,6 +33,16 @@ REPO = os.path.dirname(HERE)
 GROUPS = ["airfoils", "synthetic", os.path.join("iea15mw", "airfoils")]
 
 
+def default_data() -> str:
+    """The nearest `shared/data` beside the checkout or one of its parents (a worktree sits deeper)."""
+    d = REPO
+    while True:
+        cand = os.path.join(os.path.dirname(d), "shared", "data")
+        if os.path.isdir(cand) or os.path.dirname(d) == d:
+            return cand
+        d = os.path.dirname(d)
+
+
 def shared_curves(data: str) -> list[str]:
     files = []
     for g in GROUPS:
@@ -113,7 +123,7 @@ def ray_batch(data: str) -> dict:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--data", default=os.path.join(os.path.dirname(REPO), "shared", "data"))
+    ap.add_argument("--data", default=default_data(), help="the shared data folder")
     ap.add_argument("--bin", default=os.path.join(REPO, "target", "release", "fairfit"))
     ap.add_argument("--skip-ray", action="store_true")
     a = ap.parse_args()

@@ -12,7 +12,9 @@ use fairfit::fit::max_orthogonal_deviation;
 use fairfit::fit::points::drop_consecutive_duplicates;
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::points::MIN_POINTS;
-use fairfit::optim::{fit_integrated, is_closed};
+use fairfit::optim::{
+    distinct_control_points, fit_integrated, is_closed, pareto_front_of_result, ParetoCurve,
+};
 use fairfit::report::curve::{
     fit_then_fair_report, integrated_report, integrated_warning, lsq_report, shape_report,
     with_method,
@@ -31,6 +33,9 @@ pub struct Fitted {
     pub report: Value,
     /// Warnings (`warning: ` lines of the CLI, without the prefix).
     pub warnings: Vec<String>,
+    /// The Pareto front of (max deviation, F) when asked for (`fairfit curve --pareto`), by
+    /// increasing deviation; empty otherwise.
+    pub front: Vec<ParetoCurve>,
 }
 
 /// The extension's `fit_curve` (the Python wrapper `fairfit.fit_curve` documents it): returns the
@@ -38,7 +43,7 @@ pub struct Fitted {
 #[pyfunction]
 #[pyo3(signature = (points, tol, rel_tol, method, degree, control_points, closed, corner_angle,
     ends, seed, threads, band_fairing, span_fairness, param, knots, correction_rounds, smoothing,
-    smoothing_order, start_tangent, end_tangent, input_name))]
+    smoothing_order, start_tangent, end_tangent, input_name, pareto=false))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_curve(
     py: Python<'_>,
@@ -63,7 +68,8 @@ pub fn fit_curve(
     start_tangent: Option<[f64; 3]>,
     end_tangent: Option<[f64; 3]>,
     input_name: Option<String>,
-) -> PyResult<(Curve, Vec<String>)> {
+    pareto: bool,
+) -> PyResult<(Curve, Vec<String>, Vec<Curve>)> {
     let wall = Instant::now();
     let settings = CurveSettings {
         method: parse_method(method).map_err(crate::py_err)?,
@@ -87,6 +93,9 @@ pub fn fit_curve(
         end_tangent: end_tangent.map(|[x, y, z]| Vec3::new(x, y, z)),
     };
     settings.check().map_err(crate::py_err)?;
+    if pareto && settings.method != Method::Integrated {
+        return Err(crate::py_err("pareto needs method=\"integrated\""));
+    }
     let input = input_name.unwrap_or_else(|| "<array>".into());
     let (raw, dim) = points_from_array(&points, &input)?;
     let fitted = crate::guarded(py, move || {
@@ -99,7 +108,7 @@ pub fn fit_curve(
             .to_string());
         }
         settings.check_points(points.len())?;
-        let mut fitted = fit_points(&settings, &input, &points, wall, threads)?;
+        let mut fitted = fit_points(&settings, &input, &points, wall, threads, pareto)?;
         if dropped > 0 {
             fitted.warnings.insert(
                 0,
@@ -108,9 +117,18 @@ pub fn fit_curve(
         }
         Ok(fitted)
     })?;
+    let front = fitted
+        .front
+        .into_iter()
+        .map(|m| {
+            let report = pareto_member_report(&m);
+            Curve::new(m.curve, dim, Some(report))
+        })
+        .collect();
     Ok((
         Curve::new(fitted.curve, dim, Some(fitted.report)),
         fitted.warnings,
+        front,
     ))
 }
 
@@ -121,13 +139,14 @@ pub fn fit_points(
     points: &[Vec3],
     wall: Instant,
     threads: Option<usize>,
+    pareto: bool,
 ) -> Result<Fitted, String> {
     let opts = fit_options(s);
     if s.method == Method::Lsq {
         return fit_lsq(s, input, &opts, points, wall);
     }
-    let (curve, method_report, warnings) = crate::with_pool(threads, || match s.method {
-        Method::Integrated => run_integrated(s, points),
+    let (curve, method_report, warnings, front) = crate::with_pool(threads, || match s.method {
+        Method::Integrated => run_integrated(s, points, pareto),
         _ => run_fit_then_fair(s, points, &opts),
     })?;
     let base = shape_report(&curve, input, points.len(), wall.elapsed().as_secs_f64());
@@ -136,6 +155,7 @@ pub fn fit_points(
         curve,
         report,
         warnings,
+        front,
     })
 }
 
@@ -160,22 +180,35 @@ fn fit_lsq(
         curve: fit.curve,
         report,
         warnings,
+        front: Vec::new(),
     })
 }
 
-/// The method part of a report, and the warnings.
-type MethodOutput = (NurbsCurve, Value, Vec<String>);
+/// The curve, the method part of its report, the warnings and the Pareto front (empty unless asked).
+type MethodOutput = (NurbsCurve, Value, Vec<String>, Vec<ParetoCurve>);
 
-/// `method="integrated"` (`fairfit curve`'s `run_integrated`, without the Pareto front).
-fn run_integrated(s: &CurveSettings, points: &[Vec3]) -> Result<MethodOutput, String> {
+/// `method="integrated"` (`fairfit curve`'s `run_integrated`), with the Pareto front when `pareto`
+/// (the report's `pareto_members` its size, as `--pareto` writes it).
+fn run_integrated(
+    s: &CurveSettings,
+    points: &[Vec3],
+    pareto: bool,
+) -> Result<MethodOutput, String> {
     let opts = integrated_options(s);
     let closed = is_closed(points, opts.closed);
     let r = fit_integrated(points, &opts).map_err(|e| e.to_string())?;
-    let report = integrated_report(&r, closed, s.span_fairness, s.seed);
+    let mut report = integrated_report(&r, closed, s.span_fairness, s.seed);
     let warnings = integrated_warning(&r, s.span_fairness)
         .into_iter()
         .collect();
-    Ok((r.curve, report, warnings))
+    let front = if pareto {
+        let front = pareto_front_of_result(points, &opts, &r).map_err(|e| e.to_string())?;
+        report["pareto_members"] = front.len().into();
+        front
+    } else {
+        Vec::new()
+    };
+    Ok((r.curve, report, warnings, front))
 }
 
 /// `method="fit-then-fair"` (`fairfit curve`'s `run_fit_then_fair`).
@@ -194,5 +227,16 @@ fn run_fit_then_fair(
     .map_err(|e| e.to_string())?;
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
     let report = fit_then_fair_report(&fit, &faired.curve, faired.iterations, &dev, s.seed);
-    Ok((faired.curve, report, Vec::new()))
+    Ok((faired.curve, report, Vec::new(), Vec::new()))
+}
+
+/// The report of a Pareto front member: the columns of `fairfit curve --pareto`'s CSV.
+fn pareto_member_report(m: &ParetoCurve) -> Value {
+    serde_json::json!({
+        "control_points": distinct_control_points(&m.curve),
+        "max_deviation": m.quality.max_deviation,
+        "rms_deviation": m.quality.rms_deviation,
+        "fairness": m.quality.fairness,
+        "max_span_fairness": m.quality.max_span_fairness,
+    })
 }

@@ -161,7 +161,8 @@ fn fit_points(
 ) -> Result<Fitted<Option<serde_json::Value>>, CliError> {
     match args.method {
         Method::Lsq => {
-            let fit = fit_to_tolerance(points, opts)?;
+            let fit =
+                crate::progress::with_spinner("least squares", || fit_to_tolerance(points, opts))?;
             if fit.smoothing_used != opts.smoothing {
                 eprintln!(
                     "warning: the smoothing {:e} kept the tolerance out of reach; used {:e}",
@@ -179,7 +180,9 @@ fn fit_points(
         Method::Integrated | Method::FitThenFair => {
             let out = with_pool(args.threads, || match args.method {
                 Method::Integrated => run_integrated(args, points),
-                _ => run_fit_then_fair(args, points, opts),
+                _ => crate::progress::with_spinner("fit then fair", || {
+                    run_fit_then_fair(args, points, opts)
+                }),
             })?;
             let field = |k: &str| out.report[k].as_f64().unwrap_or(f64::NAN);
             let (tolerance, max_deviation) = (field("tolerance"), field("max_deviation"));

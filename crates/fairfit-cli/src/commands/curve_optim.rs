@@ -13,7 +13,7 @@ use fairfit::io::{curve_to_json, write_atomic};
 use fairfit::optim::{is_closed, pareto_csv, pareto_front_of_result, ParetoCurve};
 use fairfit::prelude::{
     fit_integrated_with_stages, fit_to_tolerance, FitOptions, IntegratedOptions, IntegratedResult,
-    NurbsCurve, Stage, Vec3,
+    NurbsCurve, Vec3,
 };
 use fairfit::report::curve::{fit_then_fair_report, integrated_report, integrated_warning};
 use serde_json::{json, Value};
@@ -92,15 +92,12 @@ fn cli_error(e: fairfit::Error, args: &CurveArgs) -> CliError {
 pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput, CliError> {
     let opts = integrated_options(args);
     let closed = is_closed(points, opts.closed);
-    let bar = crate::progress::bar(0, "knot search");
-    let r: IntegratedResult = fit_integrated_with_stages(points, &opts, &|stage| {
-        bar.set_message(stage.to_string());
-        if let Stage::KnotSearch { iteration, .. } = stage {
-            bar.set_position(iteration as u64);
-        }
-    })
-    .map_err(|e| cli_error(e, args))?;
-    bar.finish_and_clear();
+    let bar = crate::progress::FitBar::new();
+    let r = fit_integrated_with_stages(points, &opts, &|stage, done, total| {
+        bar.update(stage, done, total)
+    });
+    bar.finish();
+    let r: IntegratedResult = r.map_err(|e| cli_error(e, args))?;
     let mut report = integrated_report(&r, closed, args.span_fairness, args.seed);
     if let Some(path) = &args.pareto {
         let front = pareto_front_of_result(points, &opts, &r).map_err(|e| cli_error(e, args))?;

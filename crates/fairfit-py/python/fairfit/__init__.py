@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import warnings as _warnings
 from os import PathLike, fspath
-from typing import Optional, Sequence, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as _np
 
@@ -116,7 +116,8 @@ def fit_curve(
     start_tangent=None,
     end_tangent=None,
     name: Optional[str] = None,
-) -> Curve:
+    pareto: bool = False,
+) -> Union[Curve, Tuple[Curve, List[Curve]]]:
     """Fits a fair curve to ordered points within a tolerance: ``fairfit curve`` from Python.
 
     Every keyword is the CLI option of the same name (``rel_tol`` is ``--rel-tol``), with the same
@@ -152,13 +153,19 @@ def fit_curve(
     smoothing: scale-free smoothing weight λ (``--smoothing``), with ``smoothing_order`` 2 or 3.
     start_tangent, end_tangent: tangent directions at the ends (lsq and fit-then-fair).
     name: what the report's ``input`` and the messages call the points (default ``"<array>"``).
+    pareto: also return the Pareto front of (max deviation, F) at the fitted count (``--pareto``;
+        integrated only): a list of :class:`Curve` by increasing deviation (so decreasing F), each
+        with a ``report`` of the CSV's columns (``control_points``, ``max_deviation``,
+        ``rms_deviation``, ``fairness``, ``max_span_fairness``); ``curve.report["pareto_members"]``
+        is its length.
 
-    Returns the :class:`Curve`, with ``curve.report`` the dict ``fairfit curve --report`` writes.
+    Returns the :class:`Curve`, with ``curve.report`` the dict ``fairfit curve --report`` writes;
+    with ``pareto=True``, the pair ``(curve, front)``.
     Raises :class:`FairfitError` for invalid points or options, with the CLI's message.
     """
     if isinstance(degree, bool) or not isinstance(degree, (str, int, _np.integer)):
         raise FairfitError(f"degree: expected `auto` or a degree from 1 to 15, got `{degree!r}`")
-    curve, warnings = _fit_curve(
+    curve, warnings, front = _fit_curve(
         _points(points),
         None if tol is None else float(tol),
         float(rel_tol),
@@ -180,9 +187,10 @@ def fit_curve(
         _vector(start_tangent, "start_tangent"),
         _vector(end_tangent, "end_tangent"),
         name,
+        bool(pareto),
     )
     _warn(warnings)
-    return curve
+    return (curve, front) if pareto else curve
 
 
 def fit_surface(

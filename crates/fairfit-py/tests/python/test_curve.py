@@ -51,6 +51,27 @@ def test_other_methods_and_options_match_the_cli(cli, tmp_path, method, flags, k
     assert curve.to_json() == out.read_text()
 
 
+def test_pareto_front_is_the_clis_csv_and_curves(cli, tmp_path):
+    path = example("naca4412.csv")
+    csv, members = tmp_path / "front.csv", tmp_path / "members"
+    cli("curve", path, "--seed", "2", "--pareto", csv, "--pareto-curves", members, "-o", tmp_path / "c.json")
+    curve, front = fairfit.fit_curve(fairfit.read_points(path), seed=2, pareto=True)
+    assert curve.to_json() == (tmp_path / "c.json").read_text()
+    rows = csv.read_text().splitlines()[1:]
+    assert len(front) == len(rows) == curve.report["pareto_members"] >= 1
+    for i, (member, row) in enumerate(zip(front, rows)):
+        assert member.to_json() == (members / f"front_{i:03}.json").read_text()
+        cols = row.split(",")
+        assert member.report["control_points"] == int(cols[1])
+        assert member.report["max_deviation"] == pytest.approx(float(cols[2]), rel=1e-5)
+        assert member.report["fairness"] == pytest.approx(float(cols[4]), rel=1e-5)
+    # by increasing deviation, so decreasing F
+    devs = [m.report["max_deviation"] for m in front]
+    assert devs == sorted(devs)
+    with pytest.raises(fairfit.FairfitError, match="pareto needs"):
+        fairfit.fit_curve(fairfit.read_points(path), method="lsq", degree=3, pareto=True)
+
+
 def test_threads_do_not_change_the_result_and_threads_fit_concurrently():
     pts = fairfit.read_points(example("quarter_ellipse_200.csv"))
     one = fairfit.fit_curve(pts, threads=1).to_json()

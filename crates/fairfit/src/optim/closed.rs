@@ -19,6 +19,7 @@ use super::cornered;
 use super::fairing::EndCondition;
 use super::kind::periodic::PeriodicKind;
 use super::options::IntegratedOptions;
+use super::progress::Stage;
 use super::result::IntegratedResult;
 use super::search::periodic::ClosedData;
 use super::search::prepare::{prepare, Prepared};
@@ -102,6 +103,7 @@ fn fit_periodic(
         opts,
     };
 
+    (ctx.progress)(Stage::Baseline, 0, 1);
     let base = baseline::run(&ctx, &kind);
     let down = descent::run(
         &ctx,
@@ -124,6 +126,7 @@ fn fit_periodic(
     };
     let (mut result, _) = count_search::run(&ctx, &kind, start_at)?;
     if opts.searches_degree() {
+        (ctx.progress)(Stage::DegreeSearch, 0, 1);
         result = degree_candidates::raise_periodic(prep, result, ctx.tol, opts, ctx.tuning)?;
     }
     let mut stats = ctx.into_stats();

@@ -3,14 +3,15 @@
 //! stages add to.
 
 use super::options::IntegratedOptions;
+use super::progress::Stage;
 use super::result::OptimStats;
 use super::search::prepare::Prepared;
 use super::tuning::Tuning;
 use crate::tolerance::Tolerance;
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-/// The progress callback `(stage, iteration)` (stage: the control-point count being searched).
-pub(crate) type Progress<'a> = dyn Fn(usize, usize) + Sync + 'a;
+/// The progress callback `(stage, done, total)` ([`Stage`]).
+pub(crate) type Progress<'a> = dyn Fn(Stage, usize, usize) + Sync + 'a;
 
 /// One fit's context (module doc).
 pub(crate) struct FitContext<'a> {

@@ -73,9 +73,7 @@ pub use fairing::EndCondition;
 pub use kind::periodic::distinct_control_points;
 pub use options::{Budget, IntegratedOptions, NonExhaustive};
 pub use pareto::{pareto_csv, pareto_front, pareto_front_of_result, ParetoCurve};
-pub use pipeline::{
-    fit_integrated, fit_integrated_with_progress, fit_integrated_with_stages, fit_lsq_baseline,
-};
+pub use pipeline::{fit_integrated, fit_integrated_with_stages, fit_lsq_baseline};
 pub use progress::Stage;
 pub use result::{DegreeTrial, FitQuality, IntegratedResult, OptimStats};
 pub use tuning::Tuning;

@@ -5,6 +5,7 @@ use super::context::FitContext;
 use super::fairing::EndCondition;
 use super::kind::open::OpenKind;
 use super::options::IntegratedOptions;
+use super::progress::Stage;
 use super::result::IntegratedResult;
 use super::search::prepare::Prepared;
 use super::stages::count_search::CountStart;
@@ -35,6 +36,7 @@ pub(crate) fn fit(
     };
     let (p, fixed) = (opts.degree, opts.control_points);
 
+    (ctx.progress)(Stage::Baseline, 0, 1);
     let base = baseline::run(&ctx, &kind);
     let down = descent::run(
         &ctx,
@@ -67,8 +69,10 @@ pub(crate) fn fit(
         // a fixed count, or no extra points, leaves the next degree no counts of its own
         let seen = (fixed.is_none() && opts.max_extra_control_points > 0)
             .then(|| CountsSeen::of(&start_at, &choice));
+        (ctx.progress)(Stage::DegreeSearch, 0, 1);
         result = own_count_search::raise_open(&ctx, result, first, seen)?;
     }
+    (ctx.progress)(Stage::ReleaseEnds, 0, 1);
     let mut result = release_ends::run(&ctx, result)?;
     let mut stats = ctx.into_stats();
     stats.free_ends = opts.ends == EndCondition::Free;

@@ -7,7 +7,7 @@ use super::context::tolerance_of;
 use super::cornered;
 use super::kind::open::finish;
 use super::options::{validate, IntegratedOptions};
-use super::progress::{untyped, Stage};
+use super::progress::Stage;
 use super::result::IntegratedResult;
 use super::search::prepare::{averaging_interior_knots, prepare};
 use crate::errors::{Error, Result};
@@ -30,16 +30,39 @@ use std::time::Instant;
 /// assert!(r.curve.n_control_points() <= r.baseline_control_points);
 /// ```
 pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<IntegratedResult> {
-    fit_integrated_with_progress(points, opts, &|_, _| {})
+    fit_integrated_with_stages(points, opts, &|_, _, _| {})
 }
 
-/// [`fit_integrated`] with a progress callback `(stage, iteration)` called from the calling thread
-/// between swarm iterations (stage = control-point count being searched); with a degree search
-/// ([`IntegratedOptions::max_degree`]) every degree's fit reports from its own worker thread.
-pub fn fit_integrated_with_progress(
+/// [`fit_integrated`] reporting its progress to `progress` as `(stage, done, total)`: the
+/// [`Stage`] the fit is in and how far it is (from the thread running the work concerned, see
+/// [`Stage`]). The result does not depend on the callback.
+///
+/// ```
+/// use fairfit::prelude::*;
+/// use std::sync::Mutex;
+/// let pts: Vec<Vec3> = (0..40)
+///     .map(|i| {
+///         let t = i as f64 / 39.0;
+///         Vec3::new(t, (2.0 * t).sin(), 0.0)
+///     })
+///     .collect();
+/// let seen = Mutex::new(Vec::new());
+/// let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
+/// let r = fit_integrated_with_stages(&pts, &opts, &|stage, done, total| {
+///     assert!(done <= total, "{stage}: {done} of {total}");
+///     seen.lock().unwrap().push(stage);
+/// })
+/// .unwrap();
+/// let seen = seen.into_inner().unwrap();
+/// assert!(r.met);
+/// assert_eq!(seen[0], Stage::Baseline);
+/// assert!(seen.iter().any(|s| matches!(s, Stage::CountSearch { control_points } if *control_points >= 4)));
+/// assert!(seen.contains(&Stage::BandFairing));
+/// ```
+pub fn fit_integrated_with_stages(
     points: &[Vec3],
     opts: &IntegratedOptions,
-    progress: &(dyn Fn(usize, usize) + Sync),
+    progress: &(dyn Fn(Stage, usize, usize) + Sync),
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
@@ -48,36 +71,6 @@ pub fn fit_integrated_with_progress(
     } else {
         cornered::fit(points, opts, progress, start)
     }
-}
-
-/// [`fit_integrated`] reporting its progress as [`Stage`] values to
-/// `progress` (from the thread running the search concerned; see [`Stage`]).
-///
-/// ```
-/// use fairfit::prelude::*;
-/// use std::sync::atomic::{AtomicUsize, Ordering};
-/// let pts: Vec<Vec3> = (0..40)
-///     .map(|i| {
-///         let t = i as f64 / 39.0;
-///         Vec3::new(t, (2.0 * t).sin(), 0.0)
-///     })
-///     .collect();
-/// let reports = AtomicUsize::new(0);
-/// let opts = IntegratedOptions::new(Tolerance::Relative(1e-3));
-/// let r = fit_integrated_with_stages(&pts, &opts, &|stage| {
-///     let Stage::KnotSearch { control_points, .. } = stage else { return };
-///     assert!(control_points >= 4);
-///     reports.fetch_add(1, Ordering::Relaxed);
-/// })
-/// .unwrap();
-/// assert!(r.met && reports.load(Ordering::Relaxed) > 0);
-/// ```
-pub fn fit_integrated_with_stages(
-    points: &[Vec3],
-    opts: &IntegratedOptions,
-    progress: &(dyn Fn(Stage) + Sync),
-) -> Result<IntegratedResult> {
-    fit_integrated_with_progress(points, opts, &untyped(progress))
 }
 
 /// The least-squares fit with averaging knots and `n_ctrl` control points (the baseline the

@@ -1,50 +1,63 @@
-//! Typed progress of the integrated method: the [`Stage`] a fit reports, as
-//! [`crate::surface::Stage`] does for surfaces.
+//! Typed progress of the integrated method: the [`Stage`] a fit is in, reported with how far it is
+//! (`done` of `total` steps), as [`crate::surface::Stage`] does for surfaces.
 //!
-//! The stages call an untyped `Fn(control_points, iteration)`; `untyped` turns a typed callback
-//! into one, so a caller sees only [`Stage`] values.
+//! Every pipeline reports its stages in the order of the map in [`super`]: the least-squares
+//! baseline, the count descent's probes, the count search's swarms, the band fairing of its
+//! candidates, the degree search, the release of the ends. Progress only observes: the result
+//! does not depend on the callback.
 
-/// What a running fit is doing, reported by
-/// [`fit_integrated_with_stages`](super::fit_integrated_with_stages).
+/// The stage a running fit is in, reported by
+/// [`fit_integrated_with_stages`](super::fit_integrated_with_stages) with `(done, total)`.
 ///
-/// Reports come from the thread running the search concerned: with a degree search every degree
-/// reports from its own worker, so iterations of different counts interleave.
+/// Reports come from the thread running the work concerned: swarms at several counts, the pieces
+/// between corners and the degree search's candidates run side by side, so reports of different
+/// stages and counts interleave, and `done` may repeat or step back between them.
 ///
 /// ```
 /// use fairfit::optim::Stage;
-/// let s = Stage::KnotSearch { control_points: 12, iteration: 3 };
-/// assert_eq!(s.to_string(), "12 control points");
+/// let s = Stage::CountSearch { control_points: 12 };
+/// assert_eq!(s.to_string(), "count search, 12 points");
+/// assert_eq!(Stage::BandFairing.to_string(), "band fairing");
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Stage {
-    /// A swarm iteration of a knot search (a feasibility probe or a full search) at
-    /// `control_points` control points.
-    KnotSearch {
+    /// The least-squares baseline (`done` 0 of 1 when it starts).
+    Baseline,
+    /// A feasibility probe of the count descent at `control_points` (`done`: swarm iterations of
+    /// the probe's budget).
+    Descent {
+        /// The control-point count probed.
+        control_points: usize,
+    },
+    /// A full swarm search of the count search at `control_points` (`done`: swarm iterations of
+    /// the search's budget).
+    CountSearch {
         /// The control-point count searched.
         control_points: usize,
-        /// The swarm iteration just finished (0: the initial swarm).
-        iteration: usize,
     },
+    /// The band fairing of the count search's candidates (`done` of `total` candidates finished).
+    BandFairing,
+    /// The degree search: the next degrees tried at the reference's counts (`done` 0 of 1 when it
+    /// starts).
+    DegreeSearch,
+    /// The last fairing pass of an open curve, with the requested end condition (`done` 0 of 1
+    /// when it starts).
+    ReleaseEnds,
 }
 
 impl std::fmt::Display for Stage {
-    /// A short label for a progress bar (e.g. `12 control points`).
+    /// A short label for a progress bar (e.g. `count search, 12 points`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Stage::KnotSearch { control_points, .. } => {
-                write!(f, "{control_points} control points")
+            Stage::Baseline => f.write_str("least-squares baseline"),
+            Stage::Descent { control_points } => write!(f, "descent, {control_points} points"),
+            Stage::CountSearch { control_points } => {
+                write!(f, "count search, {control_points} points")
             }
+            Stage::BandFairing => f.write_str("band fairing"),
+            Stage::DegreeSearch => f.write_str("degree search"),
+            Stage::ReleaseEnds => f.write_str("release ends"),
         }
-    }
-}
-
-/// The untyped `(control_points, iteration)` callback the stages call, reporting to `typed`.
-pub(crate) fn untyped(typed: &(dyn Fn(Stage) + Sync)) -> impl Fn(usize, usize) + Sync + '_ {
-    move |control_points, iteration| {
-        typed(Stage::KnotSearch {
-            control_points,
-            iteration,
-        })
     }
 }

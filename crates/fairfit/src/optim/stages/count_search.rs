@@ -48,6 +48,7 @@ use crate::errors::{Error, Result};
 use crate::fair::metrics::curve_fairness;
 use crate::optim::context::FitContext;
 use crate::optim::kind::CurveKind;
+use crate::optim::progress::Stage;
 use crate::optim::result::{IntegratedResult, OptimStats};
 use crate::optim::search::objective::CandidateEval;
 use crate::optim::search::problem::CountProblem;
@@ -55,6 +56,7 @@ use crate::optim::search::pso::{run_pso, PsoResult};
 use crate::optim::search::smoothing::tune_smoothing;
 use crate::optim::tuning::CountTuning;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 pub(crate) use super::count_choice::{
     choose_count, count_gain, extrema_cost, weak_step, CountChoice, Ranked,
@@ -152,7 +154,7 @@ pub(crate) fn run<K: CurveKind>(
     }
     let t = &ctx.tuning.count;
     let candidates = candidate_draws(&chain, &independent, n, top, t);
-    let mut finished = finish_draws(family, &candidates);
+    let mut finished = finish_draws(ctx, family, &candidates);
     let mut counts: Vec<usize> = candidates.iter().map(|d| d.count).collect();
     let mut ranked: Vec<Ranked> = finished.iter().map(rank).collect();
     let mut best = choose_count(&counts, &ranked, t);
@@ -169,7 +171,7 @@ pub(crate) fn run<K: CurveKind>(
         stats.counts_tried.extend(&d.stats.counts_tried);
         stats.fairness_by_count.extend(&d.stats.fairness_by_count);
         if d.fairness.is_finite() {
-            let r = finish_draws(family, &[&d]).remove(0);
+            let r = finish_draws(ctx, family, &[&d]).remove(0);
             counts.push(d.count);
             ranked.push(rank(&r));
             finished.push(r);
@@ -189,15 +191,27 @@ pub(crate) fn run<K: CurveKind>(
     Ok((chosen, choice))
 }
 
-/// Finishes the draws in parallel (an error for a draw without knots).
-fn finish_draws<K: CurveKind>(family: &K, draws: &[&Draw]) -> Vec<Result<IntegratedResult>> {
+/// Finishes the draws in parallel (an error for a draw without knots), reporting
+/// [`Stage::BandFairing`] as each is done.
+fn finish_draws<K: CurveKind>(
+    ctx: &FitContext,
+    family: &K,
+    draws: &[&Draw],
+) -> Vec<Result<IntegratedResult>> {
+    let done = AtomicUsize::new(0);
+    (ctx.progress)(Stage::BandFairing, 0, draws.len());
     draws
         .par_iter()
-        .map(|d| match &d.interior {
-            Some(k) => family.finish(k, d.log_lambda),
-            None => Err(Error::Fit(
-                "no valid knot vector for the data (too few points?)".into(),
-            )),
+        .map(|d| {
+            let r = match &d.interior {
+                Some(k) => family.finish(k, d.log_lambda),
+                None => Err(Error::Fit(
+                    "no valid knot vector for the data (too few points?)".into(),
+                )),
+            };
+            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+            (ctx.progress)(Stage::BandFairing, n, draws.len());
+            r
         })
         .collect()
 }
@@ -297,7 +311,10 @@ fn full_search<K: CurveKind>(
         .tuning
         .swarm
         .options(opts, opts.max_iterations, false, n as u64 + salt);
-    let mut r = run_pso(&pr, &x0, &po, &|it| progress(n, it));
+    let stage = Stage::CountSearch { control_points: n };
+    let mut r = run_pso(&pr, &x0, &po, &|it| {
+        progress(stage, it, opts.max_iterations)
+    });
     stats.evaluations += r.evaluations;
     stats.iterations += r.iterations;
     if let Some(coord) = pr.smoothing_coord() {

@@ -13,6 +13,7 @@
 
 use crate::optim::context::FitContext;
 use crate::optim::kind::CurveKind;
+use crate::optim::progress::Stage;
 use crate::optim::result::OptimStats;
 use crate::optim::search::problem::CountProblem;
 use crate::optim::search::pso::run_pso;
@@ -202,7 +203,12 @@ fn descend<K: CurveKind>(
             &ctx.tuning
                 .swarm
                 .options(opts, opts.probe_iterations, true, cand as u64 + down.salt),
-            &|it| progress(cand, it),
+            &|it| {
+                let stage = Stage::Descent {
+                    control_points: cand,
+                };
+                progress(stage, it, opts.probe_iterations)
+            },
         );
         stats.evaluations += r.evaluations;
         stats.iterations += r.iterations;
