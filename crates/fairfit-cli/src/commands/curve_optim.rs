@@ -6,10 +6,11 @@
 //! a progress spinner on stderr only when it is a terminal.
 
 use super::curve_args::{CurveArgs, DegreeArg, AUTO_MAX_DEGREE};
+use super::files::Output;
 use super::CliError;
 use fairfit::fair::{curve_fairness, fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
-use fairfit::io::{curve_to_json, write_atomic};
+use fairfit::io::curve_to_json;
 use fairfit::optim::{
     distinct_control_points, is_closed, pareto_csv, pareto_front_of_result, ParetoCurve,
 };
@@ -25,6 +26,8 @@ pub struct MethodOutput {
     pub curve: NurbsCurve,
     /// Report fields of the method (merged into the report).
     pub report: Value,
+    /// Files of the method (the Pareto front and its curves), written with the others.
+    pub files: Vec<Output>,
 }
 
 /// Runs `f` inside a rayon pool of `threads` workers (0 = rayon's default).
@@ -130,50 +133,50 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     if !r.stats.degrees_tried.is_empty() {
         report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
     }
+    let mut files = Vec::new();
     if let Some(path) = &args.pareto {
         let front = pareto_front_of_result(points, &opts, &r).map_err(|e| cli_error(e, args))?;
-        write_pareto(path, args, &front)?;
+        files = pareto_files(path, args, &front)?;
         report["pareto_members"] = json!(front.len());
-    } else if args.pareto_curves.is_some() {
-        return Err(CliError::usage("--pareto-curves needs --pareto"));
     }
     if !r.met {
         match args.span_fairness {
             // within the tolerance: what was missed is the per-span fairness target
-            Some(t) if r.quality.max_deviation <= r.tolerance => eprintln!(
+            Some(t) if r.quality.max_deviation <= r.tolerance => diag!(
                 "warning: the span fairness target {t:.3e} was not met (largest F_j {:.3e})",
                 r.quality.max_span_fairness
             ),
-            _ => eprintln!(
+            _ => diag!(
                 "warning: the tolerance {:.3e} was not met (max deviation {:.3e})",
-                r.tolerance, r.quality.max_deviation
+                r.tolerance,
+                r.quality.max_deviation
             ),
         }
     }
     Ok(MethodOutput {
         curve: r.curve,
         report,
+        files,
     })
 }
 
-/// Writes the front as CSV to `path`, and every member as a curve JSON into `--pareto-curves`.
-fn write_pareto(
+/// The front as CSV at `path`, and every member as a curve JSON in `--pareto-curves` (the folder is
+/// made by the command just before its commit).
+fn pareto_files(
     path: &std::path::Path,
     args: &CurveArgs,
     front: &[ParetoCurve],
-) -> Result<(), CliError> {
-    write_atomic(path, pareto_csv(front).as_bytes())?;
+) -> Result<Vec<Output>, CliError> {
+    let mut files = vec![Output::new(path, pareto_csv(front).into_bytes())];
     if let Some(dir) = &args.pareto_curves {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::new(fairfit::Error::io(dir, &e).to_string()))?;
         for (i, c) in front.iter().enumerate() {
-            write_atomic(
+            files.push(Output::geometry(
                 dir.join(format!("front_{i:03}.json")),
-                curve_to_json(&c.curve).as_bytes(),
-            )?;
+                curve_to_json(&c.curve).into_bytes(),
+            ));
         }
     }
-    Ok(())
+    Ok(files)
 }
 
 /// `--method fit-then-fair`: the least-squares fit, then fairing within the same tolerance.
@@ -209,6 +212,7 @@ pub fn run_fit_then_fair(
     Ok(MethodOutput {
         curve: faired.curve,
         report,
+        files: Vec::new(),
     })
 }
 

@@ -47,7 +47,7 @@ pub fn run(args: InfoArgs) -> CmdResult {
     for path in &args.input {
         let (geometry, source) = super::cad_input::read_input_with_source(path, &args.cad)?;
         let mut v = match geometry {
-            Geometry::Curve(c) => curve_info(&c),
+            Geometry::Curve(c) => curve_info(&c)?,
             Geometry::Surface(s) => surface_info(&s, args.iso as usize)?,
         };
         if let (Some(src), Value::Object(m)) = (source, &mut v) {
@@ -116,7 +116,7 @@ fn unbounded_curvature_at(c: &NurbsCurve, u: f64) -> bool {
     }
 }
 
-fn curve_info(c: &NurbsCurve) -> Value {
+fn curve_info(c: &NurbsCurve) -> Result<Value, CliError> {
     let f = curve_fairness(c);
     let (a, b) = c.domain();
     // with zero speed somewhere the curvature is unbounded there and F, the energies are undefined
@@ -125,10 +125,16 @@ fn curve_info(c: &NurbsCurve) -> Value {
         .then(|| first_irregular_parameter(c, true))
         .flatten();
     let regular = first_irregular_parameter(c, false).is_none();
-    if irregular.is_none()
-        && !(f.length.is_finite() && f.energy.is_finite() && f.bending_energy.is_finite())
-    {
-        super::warn_unrepresentable("a fairness integral");
+    super::finite("curve's length", f.length)?;
+    if irregular.is_none() {
+        for (what, x) in [
+            ("curve's energy", f.energy),
+            ("curve's fairness F", f.fairness),
+            ("curve's largest span fairness", f.max_span_fairness),
+            ("curve's bending energy", f.bending_energy),
+        ] {
+            super::finite(what, x)?;
+        }
     }
     let (extrema_exact, inflections_exact) = exact_shape_json(c, f.length);
     let mut info = json!({
@@ -164,13 +170,18 @@ fn curve_info(c: &NurbsCurve) -> Value {
             fields.insert(key.into(), Value::Null);
         }
     }
-    info
+    Ok(info)
 }
 
 /// The exact curvature-extrema and inflection counts, each `null` where only the sampled fallback
 /// exists (spatial curves: inflections are binormal reversals, counted only by sampling), made in
 /// one pass ([`count_shape_exact`]).
 pub(crate) fn exact_shape_json(c: &NurbsCurve, length: f64) -> (Value, Value) {
+    let p = c.control_points();
+    if p.iter().all(|q| *q == p[0]) {
+        // a point: no curvature, so no extrema and no inflections (and no plane to count them in)
+        return (json!(0), json!(0));
+    }
     let exact = count_shape_exact(c, length);
     (
         extrema_value(exact.extrema),
@@ -198,6 +209,8 @@ fn inflections_value(e: ExactInflections) -> Value {
 
 fn surface_info(s: &NurbsSurface, n_iso: usize) -> Result<Value, CliError> {
     let f = surface_fairness(s, n_iso)?;
+    super::finite("largest iso-curve fairness along u", f.max_fairness_v)?;
+    super::finite("largest iso-curve fairness along v", f.max_fairness_u)?;
     let (n_u, n_v) = s.net_size();
     let iso = serde_json::to_value(&f).map_err(|e| CliError::new(format!("internal: {e}")))?;
     Ok(json!({
