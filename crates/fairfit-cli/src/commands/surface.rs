@@ -381,6 +381,20 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     });
     pb.finish_and_clear();
     let (r, exact) = result?;
+    for (what, x) in [
+        ("surface's largest deviation", r.deviation.max),
+        ("surface's rms deviation", r.deviation.rms),
+        (
+            "largest iso-curve fairness along u",
+            r.fairness.max_fairness_v,
+        ),
+        (
+            "largest iso-curve fairness along v",
+            r.fairness.max_fairness_u,
+        ),
+    ] {
+        super::finite(what, x)?;
+    }
     if let Some(e) = &exact {
         note_exact(&args.input[0], e);
     }
