@@ -6,7 +6,10 @@
 //! `Error::InvalidOption` and `Error::InvalidSetting`, whose setting is named by its flag; the line ends with the `--help` to read), 1 for everything else
 //! (unreadable or invalid input, failed writes); the library's typed errors already name what is wrong. `--help` and `--version` print
 //! normally and exit 0; `fairfit` without a subcommand prints the help on stderr and exits 2. A closed
-//! stdout (`fairfit info x.json | head -c 10`) ends the run quietly with exit 0.
+//! stdout (`fairfit info x.json | head -c 10`) ends the run quietly with exit 0. The `warning:` and
+//! `note:` lines of a run are printed when it succeeds; a failed run prints only its error line, the
+//! warnings folded in (`commands::messages`). SIGINT and SIGTERM remove the temporary files of the
+//! outputs not yet in place (`commands::files`) and end the run with exit code 128 + the signal.
 
 mod commands;
 mod progress;
@@ -30,15 +33,19 @@ enum Command {
     /// Summarise a curve or surface (JSON, STEP or IGES): size, domain, length, fairness.
     Info(commands::info::InfoArgs),
     /// Fit a fair curve to ordered points, or re-fair a STEP/IGES curve.
+    #[command(after_help = commands::files::OUTPUT_RULES)]
     Curve(commands::curve_args::CurveArgs),
     /// Fit a fair curve to every point file of a folder or a list (`fairfit curve` on each, in
     /// parallel), with a JSONL summary.
     Batch(commands::batch::BatchArgs),
     /// Fit a fair surface to sections or a point cloud.
+    #[command(after_help = commands::files::OUTPUT_RULES)]
     Surface(commands::surface::SurfaceArgs),
     /// Plot a curve or surface (JSON, STEP or IGES).
+    #[command(after_help = commands::files::OUTPUT_RULES)]
     Plot(commands::plot::PlotArgs),
     /// Export a curve or surface (JSON, STEP or IGES) to STEP, IGES or a mesh.
+    #[command(after_help = commands::files::OUTPUT_RULES)]
     Export(commands::export::ExportArgs),
 }
 
@@ -95,6 +102,27 @@ fn command_path(args: &[String]) -> String {
     }
 }
 
+/// On SIGINT or SIGTERM: removes the temporary files of outputs not yet in place, prints one line
+/// and exits with 128 + the signal (the outputs of a run are all in place or none).
+#[cfg(unix)]
+fn remove_temporaries_on_signal() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+        return; // no handler: the default action ends the run, as before
+    };
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            fairfit::io::atomic::remove_pending_temporaries();
+            let name = if sig == SIGINT { "SIGINT" } else { "SIGTERM" };
+            eprintln!("error: interrupted by {name}; no partial output left");
+            std::process::exit(128 + sig);
+        }
+    });
+}
+
+#[cfg(not(unix))]
+fn remove_temporaries_on_signal() {}
+
 fn main() -> ExitCode {
     // Last line of defence: a bug must still print one line, never a backtrace.
     std::panic::set_hook(Box::new(|info| {
@@ -104,8 +132,12 @@ fn main() -> ExitCode {
             .map(|s| s.to_string())
             .or_else(|| info.payload().downcast_ref::<String>().cloned())
             .unwrap_or_else(|| "unknown cause".into());
-        eprintln!("error: internal error ({msg}); please report it with the input that caused it");
+        let line = format!(
+            "error: internal error ({msg}); please report it with the input that caused it"
+        );
+        eprintln!("{}", commands::messages::one_line(&line));
     }));
+    remove_temporaries_on_signal();
     let args: Vec<String> = std::env::args_os()
         .map(|a| a.to_string_lossy().into_owned())
         .collect();
@@ -123,7 +155,8 @@ fn main() -> ExitCode {
                     ExitCode::from(USAGE_ERROR)
                 }
                 _ => {
-                    eprintln!("{}", one_line_usage_error(&e, &args));
+                    let line = one_line_usage_error(&e, &args);
+                    eprintln!("{}", commands::messages::one_line(&line));
                     ExitCode::from(USAGE_ERROR)
                 }
             };
@@ -139,13 +172,17 @@ fn main() -> ExitCode {
         Command::Export(a) => commands::export::run(a),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => {
+            commands::messages::flush();
+            ExitCode::SUCCESS
+        }
         Err(e) if e.usage => {
-            eprintln!("error: {e}; see '{} --help'", command_path(&args));
+            let message = format!("{e}; see '{} --help'", command_path(&args));
+            eprintln!("{}", commands::messages::failure_line(&message));
             ExitCode::from(USAGE_ERROR)
         }
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("{}", commands::messages::failure_line(&e.message));
             ExitCode::FAILURE
         }
     }

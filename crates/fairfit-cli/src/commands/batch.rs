@@ -13,7 +13,7 @@
 
 use super::curve::{check_options, fit_input};
 use super::curve_args::CurveArgs;
-use super::outputs::check_output_paths;
+use super::files::{check_outputs, Inputs};
 use super::{CliError, CmdResult};
 use clap::Args;
 use fairfit::io::atomic::write_all_atomic;
@@ -290,17 +290,18 @@ fn fit_and_write(
 ) -> Result<serde_json::Value, CliError> {
     let curve_path = outdir.join(format!("{name}.json"));
     let report_path = outdir.join(format!("{name}.report.json"));
-    check_output_paths(
+    check_outputs(
         &[
             ("-o", curve_path.as_path()),
             ("--report", report_path.as_path()),
         ],
-        &[input],
+        &[],
+        &Inputs::files(vec![input]),
     )?;
     let mut args = c.clone();
     args.input = input.to_path_buf();
     args.threads = 1;
-    let (curve, report, _) = fit_input(&args, true, wall)?;
+    let (curve, report, _, _) = fit_input(&args, true, wall)?;
     let mut report = report.unwrap_or_default();
     if report.get("control_points").is_none() {
         report["control_points"] = distinct_control_points(&curve).into();

@@ -92,7 +92,7 @@ fn note_read(path: &Path, what: &str, source: &str, index: usize, count: usize, 
         } else {
             String::new()
         };
-        eprintln!(
+        diag!(
             "note: {}: read {what} {source}{choice}{unit}",
             path.display()
         );
@@ -195,7 +195,7 @@ pub fn read_curve_points(
             &chain.unit,
         );
         let samples = sample_chain_params(&chain.segments);
-        eprintln!(
+        diag!(
             "note: {}: fitting {} points sampled on {} (degree {}, {} control points; {} per knot span)",
             path.display(),
             samples.len(),
@@ -236,7 +236,7 @@ pub fn read_curve_points(
     } else {
         format!("; not joined where they are apart: {}", gaps.join(", "))
     };
-    eprintln!(
+    diag!(
         "note: {}: fitting {} points sampled on the composite curve {}{choice}, segments of degree {} joined in order{unit}{gaps}",
         path.display(),
         samples.len(),
@@ -307,7 +307,7 @@ pub fn read_cad_sections(
             s.sections.len()
         ),
     };
-    eprintln!("note: {}: {what}{unit}", path.display());
+    diag!("note: {}: {what}{unit}", path.display());
     let mut sections = Vec::with_capacity(s.sections.len());
     let mut names = Vec::with_capacity(s.sections.len());
     for (name, pts) in s.sections {

@@ -9,13 +9,13 @@
 //! the tolerance of the exact curve (`fairfit::fit::cad_fit`: refitted with points of it added while it
 //! strays between the samples; a note and the report's `exact_curve` say how far it is).
 
-use super::curve_args::{CurveArgs, DegreeArg, EndsArg, Method};
+use super::curve_args::{CurveArgs, DegreeArg, EndsArg, KnotArg, Method, ParamArg};
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
-use super::outputs::{check_output_paths, prepare_outputs, OutputGeometry};
+use super::files::{check_outputs, commit, Inputs, Output, OutputFolder};
+use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
 use fairfit::fit::SmoothingOrder;
-use fairfit::io::atomic::write_all_atomic;
 use fairfit::io::curve_to_json;
 use fairfit::prelude::{fit_to_tolerance, FitOptions, FitResult, NurbsCurve, Tolerance, Vec3};
 use fairfit::report::curve::{lsq_report, shape_report, with_method};
@@ -25,50 +25,48 @@ use std::time::Instant;
 /// Runs `fairfit curve`.
 pub fn run(args: CurveArgs) -> CmdResult {
     let wall = Instant::now();
-    let mut outputs: Vec<(&str, &std::path::Path)> = args
-        .output
-        .as_deref()
-        .map(|p| ("-o", p))
-        .into_iter()
-        .collect();
-    outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
-    outputs.extend(args.outputs.named());
-    check_output_paths(&outputs, &[args.input.as_path()])?;
+    check_curve_outputs(&args)?;
     check_options(&args)?;
     let want_report = args.report.is_some() || args.outputs.html.is_some();
-    let (curve, report, points) = fit_input(&args, want_report, wall)?;
+    let new_folder = args.pareto_curves.as_ref().filter(|d| !d.exists());
+    let (curve, report, points, pareto) = fit_input(&args, want_report, wall)?;
     // Every file is made in memory first and written all or none.
-    let mut files = Vec::new();
-    let text = curve_to_json(&curve);
-    let stdout_text = match &args.output {
-        Some(p) => {
-            files.push((p.clone(), text.into_bytes()));
-            None
-        }
-        None => Some(text),
-    };
+    let mut files = vec![Output::geometry(
+        args.output.clone().unwrap_or_else(|| "-".into()),
+        curve_to_json(&curve).into_bytes(),
+    )];
     if let (Some(rp), Some(report)) = (&args.report, &report) {
         let body = super::json_pretty(report)?;
-        files.push((rp.clone(), body.into_bytes()));
+        files.push(Output::new(rp, body.into_bytes()));
     }
+    files.extend(pareto);
     if args.outputs.any() {
-        files.extend(prepare_outputs(
-            OutputGeometry::Curve(&curve),
-            Some(&points),
-            report.as_ref(),
-            &args.outputs,
-        )?);
+        files.extend(
+            prepare_outputs(
+                OutputGeometry::Curve(&curve),
+                Some(&points),
+                report.as_ref(),
+                &args.outputs,
+            )?
+            .into_iter()
+            .map(|(p, b)| Output::new(p, b)),
+        );
     }
-    write_all_atomic(&files)?;
-    if let Some(text) = stdout_text {
-        super::print_stdout(&text)?;
+    if let Some(d) = new_folder {
+        std::fs::create_dir_all(d)
+            .map_err(|e| CliError::new(fairfit::Error::io(d, &e).to_string()))?;
     }
-    Ok(())
+    commit(files).inspect_err(|_| {
+        if let Some(d) = new_folder {
+            let _ = std::fs::remove_dir(d); // the folder made for the front's curves, if still empty
+        }
+    })
 }
 
 /// Refuses option values and combinations `fairfit curve` does not accept (usage errors), before any
 /// input is read.
 pub fn check_options(args: &CurveArgs) -> CmdResult {
+    check_method_options(args)?;
     if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
         return Err(CliError::usage(format!(
             "--corner-angle must be in (0, 180] degrees, got {}",
@@ -103,7 +101,8 @@ pub fn check_options(args: &CurveArgs) -> CmdResult {
 }
 
 /// Reads `args.input` and fits it as `args` ask: the curve, its report when `want_report` (`wall`
-/// started when the run did) and the points it fitted. Warnings go to stderr.
+/// started when the run did), the points it fitted and the Pareto files. Warnings are queued
+/// (`diag!`).
 pub fn fit_input(
     args: &CurveArgs,
     want_report: bool,
@@ -111,7 +110,7 @@ pub fn fit_input(
 ) -> Result<FitOutput, CliError> {
     let (set, cad) = super::cad_input::read_curve_points(&args.input, &args.cad)?;
     if set.dropped_duplicates > 0 {
-        eprintln!(
+        diag!(
             "warning: {}: dropped {} consecutive duplicate point(s)",
             args.input.display(),
             set.dropped_duplicates
@@ -146,11 +145,96 @@ pub fn fit_input(
     match cad {
         None => {
             let fit = fit_points(args, &opts, &set.points, want_report, wall)?;
-            Ok((fit.curve, fit.extra, set.points))
+            Ok((fit.curve, fit.extra.0, set.points, fit.extra.1))
         }
         Some(cad) => fit_cad(args, &opts, cad, want_report, wall),
     }
 }
+
+/// The outputs of `fairfit curve`, checked before any work (`files::check_outputs`): `-o` (stdout
+/// when absent), `--report`, `--pareto`, the CAD, mesh, plot and HTML outputs, and the folder
+/// `--pareto-curves` (its `front_NNN.json` files).
+fn check_curve_outputs(args: &CurveArgs) -> CmdResult {
+    let stdout = std::path::Path::new("-");
+    let mut outputs: Vec<(&str, &std::path::Path)> =
+        vec![("-o", args.output.as_deref().unwrap_or(stdout))];
+    outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
+    outputs.extend(args.pareto.as_deref().map(|p| ("--pareto", p)));
+    outputs.extend(args.outputs.named());
+    let folders: Vec<OutputFolder<'_>> = args
+        .pareto_curves
+        .as_deref()
+        .map(|path| OutputFolder {
+            flag: "--pareto-curves",
+            path,
+            writes: is_front_file,
+        })
+        .into_iter()
+        .collect();
+    check_outputs(
+        &outputs,
+        &folders,
+        &Inputs::files(vec![args.input.as_path()]),
+    )?;
+    check_output_formats(&outputs)
+}
+
+/// Whether `--pareto-curves` writes a file of this name (`front_000.json`, ...).
+fn is_front_file(name: &str) -> bool {
+    name.strip_prefix("front_")
+        .and_then(|r| r.strip_suffix(".json"))
+        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Refuses (a usage error) an option the chosen method would ignore.
+fn check_method_options(args: &CurveArgs) -> CmdResult {
+    let given = |flag: &'static str, set: bool| set.then_some(flag);
+    let (ignored, method): (Vec<&str>, &str) = match args.method {
+        Method::Integrated => (
+            [
+                given("--knots", args.knots != KnotArg::Refine),
+                given("--param", args.param != ParamArg::Centripetal),
+                given("--correction-rounds", args.correction_rounds != 0),
+                given("--smoothing", args.smoothing != 0.0),
+                given("--smoothing-order", args.smoothing_order != 2),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
+            "integrated",
+        ),
+        m => (
+            [
+                given("--span-fairness", args.span_fairness.is_some()),
+                given("--pareto", args.pareto.is_some()),
+                given("--pareto-curves", args.pareto_curves.is_some()),
+                given("--no-band-fairing", args.no_band_fairing),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
+            if m == Method::Lsq {
+                "lsq"
+            } else {
+                "fit-then-fair"
+            },
+        ),
+    };
+    if let Some(flag) = ignored.first() {
+        let uses = match args.method {
+            Method::Integrated => "--method lsq or --method fit-then-fair",
+            _ => "--method integrated",
+        };
+        return Err(CliError::usage(format!(
+            "{flag} has no effect with --method {method}; it needs {uses}"
+        )));
+    }
+    if args.pareto_curves.is_some() && args.pareto.is_none() {
+        return Err(CliError::usage("--pareto-curves needs --pareto"));
+    }
+    Ok(())
+}
+
 /// One fit of `points` by the method asked for, with its report when `want_report`.
 fn fit_points(
     args: &CurveArgs,
@@ -158,23 +242,27 @@ fn fit_points(
     points: &[Vec3],
     want_report: bool,
     wall: Instant,
-) -> Result<Fitted<Option<serde_json::Value>>, CliError> {
+) -> Result<Fitted<MethodExtra>, CliError> {
     match args.method {
         Method::Lsq => {
             let fit =
                 crate::progress::with_spinner("least squares", || fit_to_tolerance(points, opts))?;
             if fit.smoothing_used != opts.smoothing {
-                eprintln!(
+                diag!(
                     "warning: the smoothing {:e} kept the tolerance out of reach; used {:e}",
-                    opts.smoothing, fit.smoothing_used
+                    opts.smoothing,
+                    fit.smoothing_used
                 );
             }
-            let report = want_report.then(|| report_json(args, &fit, wall.elapsed().as_secs_f64()));
+            let report = match want_report {
+                true => Some(report_json(args, &fit, wall.elapsed().as_secs_f64())?),
+                false => None,
+            };
             Ok(Fitted {
                 tolerance: fit.tolerance,
                 max_deviation: fit.deviation.max,
                 curve: fit.curve,
-                extra: report,
+                extra: (report, Vec::new()),
             })
         }
         Method::Integrated | Method::FitThenFair => {
@@ -189,16 +277,16 @@ fn fit_points(
             let report = want_report.then(|| {
                 let input = args.input.display().to_string();
                 let wall_seconds = wall.elapsed().as_secs_f64();
-                with_method(
+                checked_report(with_method(
                     shape_report(&out.curve, &input, points.len(), wall_seconds),
                     &out.report,
-                )
+                ))
             });
             Ok(Fitted {
                 curve: out.curve,
                 tolerance,
                 max_deviation,
-                extra: report,
+                extra: (report.transpose()?, out.files),
             })
         }
     }
@@ -244,7 +332,7 @@ fn fit_cad(
             fit_tolerance: r.fit.tolerance,
         },
     );
-    let mut report = r.fit.extra;
+    let (mut report, pareto) = r.fit.extra;
     if let Some(obj) = report.as_mut().and_then(|v| v.as_object_mut()) {
         obj.insert("tolerance".into(), json!(r.tolerance));
         if let Some(met) = obj.get("tolerance_met").and_then(|v| v.as_bool()) {
@@ -263,13 +351,49 @@ fn fit_cad(
             }),
         );
     }
-    Ok((r.fit.curve, report, r.points))
+    Ok((r.fit.curve, report, r.points, pareto))
 }
 
-/// A fitted curve, its report and the points it fitted.
-pub type FitOutput = (NurbsCurve, Option<serde_json::Value>, Vec<Vec3>);
+/// What a method gives beside its curve: the report (when asked for) and its own files (the Pareto
+/// front).
+type MethodExtra = (Option<serde_json::Value>, Vec<Output>);
 
-fn report_json(args: &CurveArgs, fit: &FitResult, wall_seconds: f64) -> serde_json::Value {
+/// A fitted curve, its report, the points it fitted and the Pareto files.
+pub type FitOutput = (
+    NurbsCurve,
+    Option<serde_json::Value>,
+    Vec<Vec3>,
+    Vec<Output>,
+);
+
+fn report_json(
+    args: &CurveArgs,
+    fit: &FitResult,
+    wall_seconds: f64,
+) -> Result<serde_json::Value, CliError> {
     let knots = format!("{:?}", args.knots).to_lowercase();
-    lsq_report(fit, &args.input.display().to_string(), &knots, wall_seconds)
+    checked_report(lsq_report(
+        fit,
+        &args.input.display().to_string(),
+        &knots,
+        wall_seconds,
+    ))
+}
+
+/// The report, refused (one line, nothing written) when one of its measures is not a finite number:
+/// the library's report holds `null` for it.
+fn checked_report(report: serde_json::Value) -> Result<serde_json::Value, CliError> {
+    const MEASURES: [(&str, &str); 5] = [
+        ("max_deviation", "largest deviation"),
+        ("rms_deviation", "rms deviation"),
+        ("length", "curve's length"),
+        ("fairness", "curve's fairness F"),
+        ("max_span_fairness", "curve's largest span fairness"),
+    ];
+    for (key, what) in MEASURES {
+        if report.get(key).is_some_and(|v| v.is_null()) {
+            super::finite(what, f64::NAN)?;
+        }
+    }
+    Ok(report)
 }

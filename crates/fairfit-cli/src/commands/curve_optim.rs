@@ -6,10 +6,11 @@
 //! a progress spinner on stderr only when it is a terminal.
 
 use super::curve_args::{CurveArgs, DegreeArg, AUTO_MAX_DEGREE};
+use super::files::Output;
 use super::CliError;
 use fairfit::fair::{fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
-use fairfit::io::{curve_to_json, write_atomic};
+use fairfit::io::curve_to_json;
 use fairfit::optim::{is_closed, pareto_csv, pareto_front_of_result, ParetoCurve};
 use fairfit::prelude::{
     fit_integrated_with_stages, fit_to_tolerance, FitOptions, IntegratedOptions, IntegratedResult,
@@ -24,6 +25,8 @@ pub struct MethodOutput {
     pub curve: NurbsCurve,
     /// Report fields of the method (merged into the report).
     pub report: Value,
+    /// Files of the method (the Pareto front and its curves), written with the others.
+    pub files: Vec<Output>,
 }
 
 /// Runs `f` inside a rayon pool of `threads` workers (0 = rayon's default).
@@ -99,40 +102,39 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     bar.finish();
     let r: IntegratedResult = r.map_err(|e| cli_error(e, args))?;
     let mut report = integrated_report(&r, closed, args.span_fairness, args.seed);
+    let mut files = Vec::new();
     if let Some(path) = &args.pareto {
         let front = pareto_front_of_result(points, &opts, &r).map_err(|e| cli_error(e, args))?;
-        write_pareto(path, args, &front)?;
+        files = pareto_files(path, args, &front)?;
         report["pareto_members"] = json!(front.len());
-    } else if args.pareto_curves.is_some() {
-        return Err(CliError::usage("--pareto-curves needs --pareto"));
     }
     if let Some(w) = integrated_warning(&r, args.span_fairness) {
-        eprintln!("warning: {w}");
+        diag!("warning: {w}");
     }
     Ok(MethodOutput {
         curve: r.curve,
         report,
+        files,
     })
 }
 
-/// Writes the front as CSV to `path`, and every member as a curve JSON into `--pareto-curves`.
-fn write_pareto(
+/// The front as CSV at `path`, and every member as a curve JSON in `--pareto-curves` (the folder is
+/// made by the command just before its commit).
+fn pareto_files(
     path: &std::path::Path,
     args: &CurveArgs,
     front: &[ParetoCurve],
-) -> Result<(), CliError> {
-    write_atomic(path, pareto_csv(front).as_bytes())?;
+) -> Result<Vec<Output>, CliError> {
+    let mut files = vec![Output::new(path, pareto_csv(front).into_bytes())];
     if let Some(dir) = &args.pareto_curves {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::new(fairfit::Error::io(dir, &e).to_string()))?;
         for (i, c) in front.iter().enumerate() {
-            write_atomic(
+            files.push(Output::geometry(
                 dir.join(format!("front_{i:03}.json")),
-                curve_to_json(&c.curve).as_bytes(),
-            )?;
+                curve_to_json(&c.curve).into_bytes(),
+            ));
         }
     }
-    Ok(())
+    Ok(files)
 }
 
 /// `--method fit-then-fair`: the least-squares fit, then fairing within the same tolerance.
@@ -156,6 +158,7 @@ pub fn run_fit_then_fair(
     Ok(MethodOutput {
         curve: faired.curve,
         report,
+        files: Vec::new(),
     })
 }
 

@@ -144,11 +144,12 @@ fn eval_curve(c: &NurbsCurve, us: &[f64]) -> Result<Vec<Value>, CliError> {
                     "note": "the curve is not regular at u: its speed |C'| vanishes (below 1e-10 of the control points' extent per unit of parameter, e.g. where control points coincide), so curvature, torsion and dkappa_ds are undefined",
                 }));
             }
-            if ![d.curvature, d.torsion, d.dkappa_ds]
-                .iter()
-                .all(|x| x.is_finite())
-            {
-                super::warn_unrepresentable("a curvature quantity");
+            for (what, x) in [
+                ("curvature", d.curvature),
+                ("torsion", d.torsion),
+                ("dκ/ds", d.dkappa_ds),
+            ] {
+                super::finite(&format!("{what} at u = {}", short(u)), x)?;
             }
             Ok(json!({
                 "u": u,
@@ -189,8 +190,10 @@ fn eval_surface(s: &NurbsSurface, uv: &[(f64, f64)]) -> Result<Vec<Value>, CliEr
                 }
                 _ => surface_curvature_from(d[3], d[1], d[6], d[4], d[2]),
             };
-            if curv.is_some_and(|c| !(c.gaussian.is_finite() && c.mean.is_finite())) {
-                super::warn_unrepresentable("a surface curvature");
+            if let Some(c) = curv {
+                let at = format!("at (u, v) = ({}, {})", short(u), short(v));
+                super::finite(&format!("Gaussian curvature {at}"), c.gaussian)?;
+                super::finite(&format!("mean curvature {at}"), c.mean)?;
             }
             Ok(json!({
                 "u": u,

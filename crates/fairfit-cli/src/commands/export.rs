@@ -2,7 +2,8 @@
 //! [--units mm|m] [--samples S.json]`: any curve or surface JSON file to CAD files, meshes, plots or a
 //! report; `--samples` writes parameters and fairfit's points for checking the CAD file elsewhere.
 
-use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeometry};
+use super::files::{check_outputs, commit, Inputs, Output};
+use super::outputs::{check_output_formats, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::Args;
 use fairfit::io::samples::{curve_samples_json, surface_samples_json};
@@ -41,7 +42,8 @@ pub fn run(args: ExportArgs) -> CmdResult {
     }
     let mut inputs = vec![args.input.as_path()];
     inputs.extend(args.points.as_deref());
-    check_output_paths(&outputs, &inputs)?;
+    check_outputs(&outputs, &[], &Inputs::files(inputs))?;
+    check_output_formats(&outputs)?;
     let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),
@@ -51,13 +53,16 @@ pub fn run(args: ExportArgs) -> CmdResult {
         Geometry::Curve(c) => OutputGeometry::Curve(c),
         Geometry::Surface(s) => OutputGeometry::Surface(s),
     };
-    write_outputs(g, points.as_deref(), None, &args.outputs)?;
+    let mut files: Vec<Output> = prepare_outputs(g, points.as_deref(), None, &args.outputs)?
+        .into_iter()
+        .map(|(p, b)| Output::new(p, b))
+        .collect();
     if let Some(p) = &args.samples {
         let text = match &geometry {
             Geometry::Curve(c) => curve_samples_json(c, 120),
             Geometry::Surface(s) => surface_samples_json(s, 12, 10),
         };
-        fairfit::io::write_atomic(p, text.as_bytes())?;
+        files.push(Output::geometry(p, text.into_bytes()));
     }
-    Ok(())
+    commit(files)
 }

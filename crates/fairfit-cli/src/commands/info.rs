@@ -45,7 +45,7 @@ pub fn run(args: InfoArgs) -> CmdResult {
     for path in &args.input {
         let (geometry, source) = super::cad_input::read_input_with_source(path, &args.cad)?;
         let mut v = match geometry {
-            Geometry::Curve(c) => curve_info(&c),
+            Geometry::Curve(c) => curve_info(&c)?,
             Geometry::Surface(s) => surface_info(&s, args.iso as usize)?,
         };
         if let (Some(src), Value::Object(m)) = (source, &mut v) {
@@ -114,7 +114,7 @@ fn unbounded_curvature_at(c: &NurbsCurve, u: f64) -> bool {
     }
 }
 
-fn curve_info(c: &NurbsCurve) -> Value {
+fn curve_info(c: &NurbsCurve) -> Result<Value, CliError> {
     let f = curve_fairness(c);
     let (a, b) = c.domain();
     // with zero speed somewhere the curvature is unbounded there and F, the energies are undefined
@@ -123,10 +123,16 @@ fn curve_info(c: &NurbsCurve) -> Value {
         .then(|| first_irregular_parameter(c, true))
         .flatten();
     let regular = first_irregular_parameter(c, false).is_none();
-    if irregular.is_none()
-        && !(f.length.is_finite() && f.energy.is_finite() && f.bending_energy.is_finite())
-    {
-        super::warn_unrepresentable("a fairness integral");
+    super::finite("curve's length", f.length)?;
+    if irregular.is_none() {
+        for (what, x) in [
+            ("curve's energy", f.energy),
+            ("curve's fairness F", f.fairness),
+            ("curve's largest span fairness", f.max_span_fairness),
+            ("curve's bending energy", f.bending_energy),
+        ] {
+            super::finite(what, x)?;
+        }
     }
     let (extrema_exact, inflections_exact) = exact_shape_json(c, f.length);
     let mut info = json!({
@@ -162,11 +168,13 @@ fn curve_info(c: &NurbsCurve) -> Value {
             fields.insert(key.into(), Value::Null);
         }
     }
-    info
+    Ok(info)
 }
 
 fn surface_info(s: &NurbsSurface, n_iso: usize) -> Result<Value, CliError> {
     let f = surface_fairness(s, n_iso)?;
+    super::finite("largest iso-curve fairness along u", f.max_fairness_v)?;
+    super::finite("largest iso-curve fairness along v", f.max_fairness_u)?;
     let (n_u, n_v) = s.net_size();
     let iso = serde_json::to_value(&f).map_err(|e| CliError::new(format!("internal: {e}")))?;
     Ok(json!({

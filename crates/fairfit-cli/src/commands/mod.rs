@@ -1,4 +1,13 @@
-//! One module per subcommand; each exposes its clap `Args` struct and `run`.
+//! One module per subcommand; each exposes its clap `Args` struct and `run`. `files` holds the rules
+//! for output paths and the all-or-nothing commit, `messages` the one-line form of what reaches stderr.
+
+/// Queues a `warning: ...` or `note: ...` line for stderr (see [`messages`]): printed when the run
+/// succeeds; on failure the warnings are folded into the one error line.
+macro_rules! diag {
+    ($($t:tt)*) => {
+        $crate::commands::messages::diagnostic(format!($($t)*))
+    };
+}
 
 pub mod batch;
 pub mod cad_input;
@@ -7,7 +16,9 @@ pub mod curve_args;
 pub mod curve_optim;
 pub mod eval;
 pub mod export;
+pub mod files;
 pub mod info;
+pub mod messages;
 pub mod outputs;
 pub mod plot;
 pub mod surface;
@@ -72,6 +83,30 @@ impl From<String> for CliError {
 impl From<&str> for CliError {
     fn from(s: &str) -> Self {
         CliError::new(s)
+    }
+}
+
+/// Writes `bytes` on stdout, with a newline after text that does not end with one.
+pub fn write_stdout(bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    out.write_all(bytes)?;
+    if std::str::from_utf8(bytes).is_ok() && !bytes.ends_with(b"\n") {
+        out.write_all(b"\n")?;
+    }
+    out.flush()
+}
+
+/// Fails (one line) when the measure `what` of a result is not a finite number: outputs hold finite
+/// numbers or are not written.
+pub fn finite(what: &str, x: f64) -> Result<f64, CliError> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(CliError::new(format!(
+            "the {what} cannot be computed as a finite number at this geometry's scale (got {x}); \
+             nothing was written; rescale the input"
+        )))
     }
 }
 
@@ -156,7 +191,7 @@ pub fn note_exact_deviation(
             d.fit_tolerance,
         )
     };
-    eprintln!(
+    diag!(
         "note: {}: {exact} {lie} within {:.3e} of {near} ({:.4} of the tolerance; {} points of {them} \
          checked){refits}",
         path.display(),
@@ -165,22 +200,12 @@ pub fn note_exact_deviation(
         d.checked
     );
     if !d.met {
-        eprintln!(
+        diag!(
             "warning: {exact} {stray} {:.3e} from the {fitted}, beyond the tolerance {:.3e}",
-            d.max_deviation, d.tolerance
+            d.max_deviation,
+            d.tolerance
         );
     }
-}
-
-/// Warns on stderr (once per run) that some quantity is beyond the range of f64 at the geometry's scale
-/// and is printed as `null` (e.g. dκ/ds of a curve 1e-300 long, about 1e600).
-pub fn warn_unrepresentable(what: &str) {
-    static WARNED: std::sync::Once = std::sync::Once::new();
-    WARNED.call_once(|| {
-        eprintln!(
-            "warning: {what} is beyond the floating-point range at this geometry's scale and is printed as null; rescale the geometry for a number"
-        )
-    });
 }
 
 /// clap value parser: a whole number `>= 0` (a count), with a message that says so for `-1` or `2.5`

@@ -1,11 +1,13 @@
 //! Output flags shared by `fairfit export`, `fairfit curve` and `fairfit surface`: `--step`, `--iges`,
 //! `--mesh`, `--plot`, `--html` (with `--chord-tol` and `--units`). Subcommands `#[command(flatten)]`
-//! [`OutputArgs`] and call [`write_outputs`] (or [`prepare_outputs`] to write them together with their
-//! own files).
+//! [`OutputArgs`] and call [`prepare_outputs`], then write them together with their own files by
+//! `files::commit`.
 //!
 //! Every output is produced in memory first, so invalid geometry or options fail before any file is
 //! written; the files are then written all or none (temporary files renamed into place only when all
-//! were written: a failed write leaves no partial file and no half of the outputs).
+//! were written: a failed write leaves no partial file and no half of the outputs). A mesh whose
+//! vertices are not all finite (huge control points, evaluated beyond the floating-point range) is
+//! refused before it is written.
 
 use super::{CliError, CmdResult};
 use clap::Args;
@@ -80,22 +82,6 @@ impl OutputArgs {
     }
 }
 
-/// The file `path` names, for comparing paths: canonical when it exists, else its canonical directory
-/// joined with its name, else the path made absolute (so `a.out`, `./a.out` and `dir/../a.out` agree).
-fn file_identity(path: &Path) -> PathBuf {
-    if let Ok(p) = path.canonicalize() {
-        return p;
-    }
-    let parent = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    match (parent.canonicalize(), path.file_name()) {
-        (Ok(d), Some(name)) => d.join(name),
-        _ => std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
-    }
-}
-
 /// Fails (a usage error) when the file name of a `--plot` or `--mesh` output has no extension the
 /// writer knows, so a long fit does not end with that error. The writers check again.
 fn check_format(flag: &str, path: &Path) -> CmdResult {
@@ -125,40 +111,9 @@ fn check_extension(flag: &str, path: &Path, known: &[&str], expected: &str) -> C
     )))
 }
 
-/// Fails, before any work, when two outputs name the same file, an output names an input file, an
-/// output names a folder, or a `--plot`/`--mesh` file name has an unknown extension. A device or pipe (`-o /dev/null`, `/dev/stdout`) is fine: the library's
-/// atomic write writes into it directly instead of renaming a file over it, and several outputs may
-/// name the same one. `outputs` are (flag, path) pairs such as `("--step", a.out)`, `inputs` the files read.
-pub fn check_output_paths(outputs: &[(&str, &Path)], inputs: &[&Path]) -> CmdResult {
-    let ids: Vec<PathBuf> = outputs.iter().map(|(_, p)| file_identity(p)).collect();
-    for (i, (flag, path)) in outputs.iter().enumerate() {
-        if let Ok(meta) = std::fs::metadata(path) {
-            if meta.is_dir() {
-                return Err(CliError::new(format!(
-                    "{flag} names the folder {}; name a file (e.g. {})",
-                    path.display(),
-                    path.join("out.json").display()
-                )));
-            }
-            if !meta.is_file() {
-                // a device or pipe: several outputs may share it (`/dev/null`)
-                continue;
-            }
-        }
-        if let Some(j) = ids[..i].iter().position(|id| *id == ids[i]) {
-            return Err(CliError::new(format!(
-                "{} and {flag} both name the file {}; give each output its own file",
-                outputs[j].0,
-                path.display()
-            )));
-        }
-        if inputs.iter().any(|inp| file_identity(inp) == ids[i]) {
-            return Err(CliError::new(format!(
-                "{flag} names the input file {}; choose another output file",
-                path.display()
-            )));
-        }
-    }
+/// Fails (a usage error), before any work, when a `--plot`/`--mesh` file name of `outputs` (flag,
+/// path) has an unknown extension. The paths themselves are checked by `files::check_outputs`.
+pub fn check_output_formats(outputs: &[(&str, &Path)]) -> CmdResult {
     for (flag, path) in outputs {
         check_format(flag, path)?;
     }
@@ -196,19 +151,6 @@ pub fn plot_bytes(path: &Path, svg: String, size: PlotSize) -> Result<Vec<u8>, C
             path.display()
         ))),
     }
-}
-
-/// Writes every output asked for in `args`, all or none. Nothing is written when the geometry or an
-/// option is invalid.
-pub fn write_outputs(
-    geometry: OutputGeometry<'_>,
-    points: Option<&[Vec3]>,
-    report_json: Option<&serde_json::Value>,
-    args: &OutputArgs,
-) -> CmdResult {
-    let files = prepare_outputs(geometry, points, report_json, args)?;
-    fairfit::io::atomic::write_all_atomic(&files)?;
-    Ok(())
 }
 
 /// Every output asked for in `args` as (path, bytes), made in memory; nothing is written. Fails on

@@ -1,9 +1,8 @@
 //! `fairfit plot FILE.json [--points POINTS.csv] -o out.svg|out.png [--width W --height H] [--kind K]`:
 //! curvature combs, curvature against arc length, deviations, deviation maps and iso-curve curvature.
 
-use super::outputs::{
-    check_output_paths, check_plot_format, main_plot, plot_bytes, OutputGeometry,
-};
+use super::files::{check_outputs, commit, Inputs, Output};
+use super::outputs::{check_plot_format, main_plot, plot_bytes, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::io::{read_points, Geometry};
@@ -61,7 +60,7 @@ pub fn run(args: PlotArgs) -> CmdResult {
     let size = PlotSize::new(args.width, args.height)?;
     let mut inputs = vec![args.input.as_path()];
     inputs.extend(args.points.as_deref());
-    check_output_paths(&[("-o", &args.output)], &inputs)?;
+    check_outputs(&[("-o", &args.output)], &[], &Inputs::files(inputs))?;
     check_plot_format("-o", &args.output)?;
     let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
     let points = match &args.points {
@@ -100,7 +99,8 @@ pub fn run(args: PlotArgs) -> CmdResult {
             )));
         }
     };
+    // checked finite as SVG text, before a PNG is made of it
+    super::files::check_finite_output(&args.output, svg.as_bytes(), false)?;
     let bytes = plot_bytes(&args.output, svg, size)?;
-    fairfit::io::write_atomic(&args.output, &bytes)?;
-    Ok(())
+    commit(vec![Output::new(&args.output, bytes)])
 }

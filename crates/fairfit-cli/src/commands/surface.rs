@@ -1,12 +1,13 @@
 //! `fairfit surface`: a fair NURBS surface through section files, or through a mesh / point cloud sliced
 //! into planar sections; writes the surface JSON and optionally a report of its measures.
 
-use super::outputs::{check_output_paths, write_outputs, OutputArgs, OutputGeometry};
+use super::files::{check_outputs, commit, Inputs, Output};
+use super::outputs::{check_output_formats, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
 use fairfit::io::mesh_read::read_mesh;
-use fairfit::io::sections::{expand_section_inputs, read_section_file};
-use fairfit::io::{json::write_surface, write_atomic};
+use fairfit::io::sections::{expand_section_inputs, read_section_file, SECTION_EXTENSIONS};
+use fairfit::io::surface_to_json;
 use fairfit::report::surface::{surface_report, SectionNotes};
 use fairfit::surface::cad_skin::{skin_to_exact, ExactSection, ExactSkin};
 use fairfit::surface::chain::Gap;
@@ -303,8 +304,25 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     let mut outputs = vec![("-o", args.output.as_path())];
     outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
     outputs.extend(args.outputs.named());
-    let inputs: Vec<&std::path::Path> = args.input.iter().map(|p| p.as_path()).collect();
-    check_output_paths(&outputs, &inputs)?;
+    let inputs = Inputs {
+        paths: args.input.iter().map(|p| p.as_path()).collect(),
+        folder_reads: &SECTION_EXTENSIONS,
+    };
+    check_outputs(&outputs, &[], &inputs)?;
+    check_output_formats(&outputs)?;
+    if args.slices.is_some() {
+        if let Some(p) = args
+            .input
+            .iter()
+            .find(|p| fairfit::io::cad_read::CadFormat::from_path(p).is_some())
+        {
+            return Err(CliError::usage(format!(
+                "--slices takes a mesh or point cloud (.ply, .stl, .obj, .xyz, .csv), and {} is a \
+                 STEP/IGES file; drop --slices to take its curves as sections",
+                p.display()
+            )));
+        }
+    }
     if stacking_normal(&args)?.norm() <= 0.0 {
         return Err(CliError::usage("--normal must be a non-zero vector"));
     }
@@ -363,10 +381,27 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     });
     pb.finish_and_clear();
     let (r, exact) = result?;
+    for (what, x) in [
+        ("surface's largest deviation", r.deviation.max),
+        ("surface's rms deviation", r.deviation.rms),
+        (
+            "largest iso-curve fairness along u",
+            r.fairness.max_fairness_v,
+        ),
+        (
+            "largest iso-curve fairness along v",
+            r.fairness.max_fairness_u,
+        ),
+    ] {
+        super::finite(what, x)?;
+    }
     if let Some(e) = &exact {
         note_exact(&args.input[0], e);
     }
-    write_surface(&args.output, &r.surface)?;
+    let mut files = vec![Output::geometry(
+        &args.output,
+        surface_to_json(&r.surface).into_bytes(),
+    )];
     let (nu, nv) = r.surface.net_size();
     let within = r.deviation.max <= tol && exact.as_ref().is_none_or(|e| e.met);
     let all_points: Vec<Vec3> = r
@@ -384,25 +419,29 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         let rep = surface_report(&r, tol, &notes, exact.as_ref());
         if let Some(path) = &args.report {
             let text = super::json_pretty(&rep)?;
-            write_atomic(path, text.as_bytes())?;
+            files.push(Output::new(path, text.into_bytes()));
         }
         if args.outputs.any() {
-            write_outputs(
+            let made = prepare_outputs(
                 OutputGeometry::Surface(&r.surface),
                 Some(&all_points),
                 Some(&rep),
                 &args.outputs,
             )?;
+            files.extend(made.into_iter().map(|(p, b)| Output::new(p, b)));
         }
     } else if args.outputs.any() {
-        write_outputs(
+        let made = prepare_outputs(
             OutputGeometry::Surface(&r.surface),
             Some(&all_points),
             None,
             &args.outputs,
         )?;
+        files.extend(made.into_iter().map(|(p, b)| Output::new(p, b)));
     }
-    super::print_stdout(&format!(
+    let summary_on_stdout = !outputs.iter().any(|(_, p)| super::files::is_stdout(p));
+    commit(files)?;
+    let summary = format!(
         "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along u (the sections) {:.3e}, along v (across them) {:.3e}; {} gap(s) reported",
         r.deviation.max,
         r.deviation.rms,
@@ -412,9 +451,14 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         r.fairness.max_fairness_v,
         r.fairness.max_fairness_u,
         input.gaps.len()
-    ))?;
+    );
+    if summary_on_stdout {
+        super::print_stdout(&summary)?;
+    } else {
+        diag!("note: {summary}");
+    }
     if r.deviation.max > tol {
-        eprintln!(
+        diag!(
             "warning: the tolerance {tol:.3e} is not met (max deviation {:.3e}); raise --max-ctrl or the tolerance",
             r.deviation.max
         );

@@ -8,6 +8,7 @@ mod curve;
 mod curve_optim;
 mod eval;
 mod export;
+mod hostile;
 mod info;
 mod outputs;
 mod surface;

@@ -24,6 +24,11 @@ use serde_json::{json, Value};
 /// assert_eq!((extrema, inflections), (serde_json::json!(1), serde_json::json!(0)));
 /// ```
 pub fn exact_shape_json(c: &NurbsCurve, length: f64) -> (Value, Value) {
+    let p = c.control_points();
+    if p.iter().all(|q| *q == p[0]) {
+        // a point: no curvature, so no extrema and no inflections (and no plane to count them in)
+        return (json!(0), json!(0));
+    }
     let exact = count_shape_exact(c, length);
     (
         if exact.extrema.exact {

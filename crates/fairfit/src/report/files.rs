@@ -170,7 +170,8 @@ pub fn entity_name(path: &Path) -> String {
         .unwrap_or_else(|| "fairfit".into())
 }
 
-/// The mesh file of `shape`; a surface whose every triangle is degenerate has no mesh.
+/// The mesh file of `shape`; a mesh with a non-finite vertex or normal is refused, and a surface whose
+/// every triangle is degenerate has no mesh.
 fn mesh_file(
     shape: Shape<'_>,
     format: MeshFormat,
@@ -185,6 +186,18 @@ fn mesh_file(
         Shape::Curve(c) => tessellate_curve(c, &opts)?,
         Shape::Surface(s) => tessellate_surface(s, &opts)?,
     };
+    if mesh
+        .vertices
+        .iter()
+        .chain(&mesh.normals)
+        .any(|v| !v.is_finite())
+    {
+        return Err(Error::InvalidData(format!(
+            "{}: the mesh has points beyond the floating-point range at this geometry's scale; \
+             nothing was written; rescale the geometry",
+            path.display()
+        )));
+    }
     if matches!(shape, Shape::Surface(_)) && mesh.triangles.is_empty() {
         return Err(Error::InvalidData(format!(
             "{}: the surface has no area (every triangle of its mesh is degenerate, e.g. all \

@@ -1,0 +1,466 @@
+//! Hostile inputs and option combinations, one test per class of failure: an output over an input,
+//! partial outputs, non-finite outputs, options a method ignores, and messages (one line, echoes cut,
+//! control characters escaped, exit code 2 for option problems and 1 for input/output problems).
+//! Every failing run is checked for its exact exit code, a single stderr line, no file left behind
+//! (no output, no temporary) and every file of its folder unchanged, byte for byte.
+
+use crate::common::{data, fairfit};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+/// Every file under `dir` (recursively, hidden ones included) with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            let meta = std::fs::symlink_metadata(&p).unwrap();
+            if meta.is_dir() {
+                out.insert(p.clone(), b"<folder>".to_vec());
+                stack.push(p);
+            } else if meta.file_type().is_symlink() {
+                let target = std::fs::read_link(&p).unwrap();
+                out.insert(p, target.to_string_lossy().as_bytes().to_vec());
+            } else if meta.is_file() {
+                out.insert(p.clone(), std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    out
+}
+
+/// Runs `fairfit ARGS` in `dir` and asserts a failure with exit `code`, one stderr line starting
+/// `error: ` with every needle, nothing on stdout, and `dir` exactly as before. Returns the line.
+fn refused(dir: &Path, args: &[&str], code: i32, needles: &[&str]) -> String {
+    let before = snapshot(dir);
+    let out = fairfit().current_dir(dir).args(args).output().unwrap();
+    let line = one_line(&out, code, args);
+    for n in needles {
+        assert!(line.contains(n), "{args:?}: expected `{n}` in {line}");
+    }
+    assert!(out.stdout.is_empty(), "{args:?}");
+    assert_eq!(
+        snapshot(dir),
+        before,
+        "{args:?}: files changed or left behind"
+    );
+    line
+}
+
+fn one_line(out: &Output, code: i32, args: &[&str]) -> String {
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+    assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+    assert!(err.starts_with("error: ") && err.ends_with('\n'), "{err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("internal error"),
+        "{err}"
+    );
+    err.trim_end().to_string()
+}
+
+/// A folder with the points `p.csv` (naca4412) and three small sections `sec/a.csv`, `b.csv`,
+/// `c.csv` (ellipses at z = 0, 1, 2).
+fn workspace() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::copy(data("naca4412.csv"), d.join("p.csv")).unwrap();
+    std::fs::create_dir(d.join("sec")).unwrap();
+    for (k, name) in ["a", "b", "c"].iter().enumerate() {
+        let z = k as f64;
+        let text: String = (0..24)
+            .map(|i| {
+                let t = std::f64::consts::PI * i as f64 / 23.0;
+                format!(
+                    "{},{},{z}\n",
+                    (2.0 + 0.2 * z) * t.cos(),
+                    (1.0 + 0.1 * z) * t.sin()
+                )
+            })
+            .collect();
+        std::fs::write(d.join("sec").join(format!("{name}.csv")), text).unwrap();
+    }
+    dir
+}
+
+#[test]
+fn an_output_over_an_input_is_refused_before_any_work() {
+    let dir = workspace();
+    let d = dir.path();
+    // an output inside an input folder that is read
+    refused(
+        d,
+        &["surface", "sec", "-o", "sec/a.csv"],
+        2,
+        &["input folder sec"],
+    );
+    refused(
+        d,
+        &["surface", "sec", "-o", "sec/new.csv"],
+        2,
+        &["input folder"],
+    );
+    // the input as --pareto, and one file for two outputs
+    refused(
+        d,
+        &["curve", "p.csv", "-o", "out.json", "--pareto", "p.csv"],
+        2,
+        &["--pareto names the input file"],
+    );
+    refused(
+        d,
+        &["curve", "p.csv", "--pareto", "x.json", "-o", "x.json"],
+        2,
+        &["both name the file"],
+    );
+    // an output where --pareto-curves writes
+    std::fs::create_dir(d.join("pc")).unwrap();
+    refused(
+        d,
+        &[
+            "curve",
+            "p.csv",
+            "-o",
+            "pc/front_000.json",
+            "--pareto",
+            "f.csv",
+            "--pareto-curves",
+            "pc",
+        ],
+        2,
+        &["--pareto-curves pc would overwrite -o"],
+    );
+    refused(
+        d,
+        &[
+            "curve",
+            "p.csv",
+            "--pareto",
+            "f.csv",
+            "--pareto-curves",
+            "p.csv",
+        ],
+        2,
+        &["is a file"],
+    );
+    // the input through a symbolic link and a hard link
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("p.csv", d.join("link.json")).unwrap();
+        std::fs::hard_link(d.join("p.csv"), d.join("hard.json")).unwrap();
+        refused(
+            d,
+            &["curve", "p.csv", "-o", "link.json"],
+            2,
+            &["names the input file"],
+        );
+        refused(
+            d,
+            &["curve", "p.csv", "--report", "hard.json"],
+            2,
+            &["names the input file"],
+        );
+        refused(
+            d,
+            &["plot", "hard.json", "--points", "p.csv", "-o", "p.csv"],
+            2,
+            &["input file"],
+        );
+        // a link to nothing is refused (an input/output problem), not created
+        std::os::unix::fs::symlink("nothing.json", d.join("dangling.json")).unwrap();
+        refused(
+            d,
+            &["curve", "p.csv", "--method", "lsq", "-o", "dangling.json"],
+            1,
+            &["does not exist"],
+        );
+    }
+    // two outputs on stdout
+    refused(
+        d,
+        &["curve", "p.csv", "--report", "-"],
+        2,
+        &["both write to stdout"],
+    );
+}
+
+#[test]
+#[cfg(unix)]
+fn links_and_stdout_are_written_through_never_replaced() {
+    let dir = workspace();
+    let d = dir.path();
+    // -o /dev/stdout and -o - write to stdout (here a pipe)
+    for o in ["/dev/stdout", "-"] {
+        let out = fairfit()
+            .current_dir(d)
+            .args(["curve", "p.csv", "--method", "lsq", "-o", o])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["kind"], "curve");
+    }
+    assert!(std::fs::symlink_metadata("/dev/stdout").map_or(true, |m| !m.is_file()));
+    // a link to a regular file elsewhere: the file is replaced, the link kept
+    std::fs::create_dir(d.join("real")).unwrap();
+    std::fs::write(d.join("real/c.json"), "old").unwrap();
+    std::os::unix::fs::symlink("real/c.json", d.join("c.json")).unwrap();
+    let out = fairfit()
+        .current_dir(d)
+        .args(["curve", "p.csv", "--method", "lsq", "-o", "c.json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(std::fs::symlink_metadata(d.join("c.json"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("real/c.json")).unwrap()).unwrap();
+    assert_eq!(v["kind"], "curve");
+    let names: Vec<_> = std::fs::read_dir(d.join("real")).unwrap().collect();
+    assert_eq!(names.len(), 1, "no temporary left");
+}
+
+#[test]
+#[cfg(unix)]
+fn a_failing_output_leaves_none_of_the_others() {
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let dir = workspace();
+    let d = dir.path();
+    refused(
+        d,
+        &["curve", "p.csv", "-o", "out.json", "--report", "/dev/full"],
+        1,
+        &["/dev/full"],
+    );
+    std::fs::write(d.join("c.json"), crate::common::CIRCLE).unwrap();
+    refused(
+        d,
+        &[
+            "export",
+            "c.json",
+            "--step",
+            "a.step",
+            "--iges",
+            "/dev/full",
+        ],
+        1,
+        &["/dev/full"],
+    );
+    // the front and its curves are written with the rest, so a failing -o leaves none of them
+    // (nor the folder made for the curves)
+    refused(
+        d,
+        &[
+            "curve",
+            "p.csv",
+            "--pareto",
+            "front.csv",
+            "--pareto-curves",
+            "pc",
+            "-o",
+            "/dev/full",
+        ],
+        1,
+        &["/dev/full"],
+    );
+    // the mesh fails after the fit: the surface JSON is not written either
+    refused(
+        d,
+        &[
+            "surface",
+            "sec",
+            "-o",
+            "out.json",
+            "--mesh",
+            "m.stl",
+            "--chord-tol",
+            "1e-12",
+        ],
+        2,
+        &["chord tolerance"],
+    );
+}
+
+#[test]
+#[cfg(unix)]
+fn a_signal_removes_the_temporaries_and_the_next_run_removes_stale_ones() {
+    let dir = workspace();
+    let d = dir.path();
+    // a FIFO output blocks the commit (no reader) after every temporary is written: SIGTERM then
+    let fifo = d.join("fifo");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        return; // no mkfifo here
+    }
+    let bin = assert_cmd::cargo::cargo_bin("fairfit");
+    let child = std::process::Command::new(bin)
+        .current_dir(d)
+        .args([
+            "curve", "p.csv", "--method", "lsq", "-o", "out.json", "--report", "fifo",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let tmp = d.join(format!(".out.json.fairfit-{}.tmp", child.id()));
+    let start = std::time::Instant::now();
+    while !tmp.exists() {
+        assert!(start.elapsed().as_secs() < 60, "no temporary file appeared");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let killed = std::process::Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let line = one_line(&out, 143, &["SIGTERM"]);
+    assert!(line.contains("interrupted by SIGTERM"), "{line}");
+    assert!(!tmp.exists() && !d.join("out.json").exists());
+    // a temporary of a killed run (PIDs above 2^22 are never alive) goes with the next write there
+    let stale = d.join(".out.json.fairfit-4999999.tmp");
+    let foreign = d.join(".out.json.tmp4999999");
+    std::fs::write(&stale, "x").unwrap();
+    std::fs::write(&foreign, "x").unwrap();
+    let ok = fairfit()
+        .current_dir(d)
+        .args(["curve", "p.csv", "--method", "lsq", "-o", "out.json"])
+        .output()
+        .unwrap();
+    assert!(ok.status.success());
+    if Path::new("/proc/self").exists() {
+        assert!(!stale.exists(), "the stale temporary is removed");
+    }
+    assert!(foreign.exists(), "a file of another naming is kept");
+}
+
+#[test]
+fn a_value_that_is_not_finite_fails_the_run_and_writes_nothing() {
+    let dir = workspace();
+    let d = dir.path();
+    let huge = r#"{"kind": "curve", "degree": 2, "knots": [0,0,0,1,1,1],
+        "control_points": [[0,0,0],[1e308,1e308,0],[-1e308,0,0]]}"#;
+    std::fs::write(d.join("huge.json"), huge).unwrap();
+    refused(
+        d,
+        &[
+            "export",
+            "huge.json",
+            "--plot",
+            "h.svg",
+            "--mesh",
+            "h.ply",
+            "--step",
+            "h.step",
+        ],
+        1,
+        &["finite"],
+    );
+    refused(d, &["plot", "huge.json", "-o", "h.svg"], 1, &["finite"]);
+    // a curve 1e-300 long: its fairness integrals are beyond f64
+    let tiny = r#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,0.5,1,1,1,1],
+      "control_points": [[0,0,0],[1e-300,2e-300,0],[3e-300,1e-300,5e-301],[4e-300,-1e-300,0],[6e-300,5e-301,2e-301]]}"#;
+    std::fs::write(d.join("tiny.json"), tiny).unwrap();
+    refused(
+        d,
+        &["info", "tiny.json"],
+        1,
+        &["cannot be computed as a finite number"],
+    );
+    // a point (every control point the same) has no inflections: 0, not null
+    let point = r#"{"kind": "curve", "degree": 2, "knots": [0,0,0,1,1,1],
+        "control_points": [[1,1,0],[1,1,0],[1,1,0]]}"#;
+    std::fs::write(d.join("point.json"), point).unwrap();
+    let out = fairfit()
+        .current_dir(d)
+        .args(["info", "point.json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["inflections_exact"], 0);
+    assert_eq!(v["curvature_extrema_exact"], 0);
+}
+
+#[test]
+fn an_option_the_method_ignores_is_a_usage_error() {
+    let dir = workspace();
+    let d = dir.path();
+    for (args, flag) in [
+        (vec!["--knots", "averaging"], "--knots"),
+        (vec!["--param", "chord"], "--param"),
+        (vec!["--smoothing", "0.1"], "--smoothing"),
+        (vec!["--correction-rounds", "2"], "--correction-rounds"),
+    ] {
+        let mut a = vec!["curve", "p.csv", "-o", "c.json"];
+        a.extend(args);
+        refused(d, &a, 2, &[flag, "--method integrated"]);
+    }
+    for method in ["lsq", "fit-then-fair"] {
+        for (args, flag) in [
+            (vec!["--span-fairness", "10"], "--span-fairness"),
+            (vec!["--pareto", "f.csv"], "--pareto"),
+            (vec!["--no-band-fairing"], "--no-band-fairing"),
+        ] {
+            let mut a = vec!["curve", "p.csv", "--method", method, "-o", "c.json"];
+            a.extend(args);
+            refused(d, &a, 2, &[flag, "has no effect"]);
+        }
+    }
+    refused(d, &["curve", "p.csv", "--degree", "1"], 2, &["--degree"]);
+    refused(d, &["curve", "p.csv", "--degree", "15"], 2, &["--degree"]);
+}
+
+#[test]
+fn a_failed_run_prints_one_line_with_echoes_cut_and_controls_escaped() {
+    let dir = workspace();
+    let d = dir.path();
+    // a warning before the error is folded into its line
+    std::fs::write(d.join("dup.csv"), "0,0\n".repeat(199) + "1,1\n").unwrap();
+    let line = refused(d, &["curve", "dup.csv", "-o", "c.json"], 1, &["too few"]);
+    assert!(
+        line.contains("earlier warning: dup.csv: dropped 198 consecutive duplicate"),
+        "{line}"
+    );
+    // a 1 MB token is cut
+    std::fs::write(
+        d.join("long.csv"),
+        format!("0,0\n1,{}\n", "x".repeat(1 << 20)),
+    )
+    .unwrap();
+    let line = refused(d, &["curve", "long.csv", "-o", "c.json"], 1, &["long.csv"]);
+    assert!(line.len() < 400, "{} characters", line.len());
+    // a newline in a file name is escaped
+    let line = refused(
+        d,
+        &["curve", "no\nsuch.csv", "-o", "c.json"],
+        1,
+        &["no\\nsuch.csv"],
+    );
+    assert!(!line.contains('\n'));
+    // --slices on a CAD file names the rule
+    std::fs::write(d.join("c.json"), crate::common::CIRCLE).unwrap();
+    let step = d.join("c.step");
+    let out = fairfit()
+        .current_dir(d)
+        .args(["export", "c.json", "--step"])
+        .arg(&step)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    refused(
+        d,
+        &["surface", "c.step", "--slices", "4", "-o", "s.json"],
+        2,
+        &["--slices takes a mesh or point cloud"],
+    );
+}
