@@ -233,6 +233,26 @@ def test_report_tables_render_every_row():
     assert len(tg.splitlines()) == 2 + 9
 
 
+def test_splprep_search_is_coarse_first_and_capped():
+    calls = []
+
+    def meets(s):
+        calls.append(s)
+        return s <= 5.3
+
+    dense._grid_search(meets, [1.0, 2.0, 4.0, 8.0, 16.0], refine=6)
+    # the largest grid value meeting is 4; nothing finer than it is fitted; bisection towards 8
+    assert calls[:3] == [16.0, 8.0, 4.0] and min(calls) == 4.0
+    assert max(c for c in calls if c <= 5.3) > 5.0
+    c = _case("naca4412-1e3-tol10")
+    d = dense.make_data(c)
+    tol = dense.measure.tolerance(d.points)
+    run, curve = dense.run_splprep(c, d, tol, cap_s=0.0)
+    assert run.status == "skipped" and "time cap" in run.reason and curve is None
+    run, curve = dense.run_splprep(c, d, tol, max_points=999)
+    assert run.status == "skipped" and "999 points" in run.reason and curve is None
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_") and callable(fn):
