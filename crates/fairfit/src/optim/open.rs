@@ -85,10 +85,13 @@ fn check_fixed_count(prep: &Prepared, opts: &IntegratedOptions) -> Result<()> {
     let m1 = prep.data.points.len();
     if let Some(n) = opts.control_points {
         if n + 1 > m1 {
-            return Err(Error::InvalidOption(format!(
-                "{n} control points are too many for {m1} points (at most {})",
-                m1 - 1
-            )));
+            return Err(Error::InvalidSetting {
+                option: "control_points",
+                reason: format!(
+                    "{n} control points are too many for {m1} points (at most {})",
+                    m1 - 1
+                ),
+            });
         }
     }
     Ok(())
