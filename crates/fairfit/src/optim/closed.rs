@@ -103,6 +103,7 @@ fn fit_periodic(
         data: &data,
         tol: ctx.tol,
         opts,
+        tuning: &tuning,
     };
 
     let base = baseline::run(&ctx, &kind);

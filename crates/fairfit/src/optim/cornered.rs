@@ -135,7 +135,7 @@ fn fit_with_corners(
         }
     };
     let highest = opts_in.max_degree.unwrap_or(p).max(p);
-    keep_degree(reference, p + 1..=highest, opts_in, &tuning, &attempt)
+    keep_degree(reference, p + 1..=highest, &tuning, &attempt)
 }
 
 /// The pieces joined C0 into the curve of the whole data (input coordinates), measured.

@@ -32,6 +32,7 @@ pub(crate) fn fit(
         prep,
         tol: ctx.tol,
         opts,
+        tuning: &tuning,
     };
     let (p, fixed) = (opts.degree, opts.control_points);
 

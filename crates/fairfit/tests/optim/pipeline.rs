@@ -196,7 +196,7 @@ fn non_finite_or_shrinking_options_are_typed_errors() {
             Vec3::new(t, (3.0 * t).sin(), 0.0)
         })
         .collect();
-    // the fairness gain per degree is tuning, not a setting: optim::options unit-tests its checks
+    // (the fairness gain per degree is tuning, not a setting: optim::tuning holds it)
     for o in [
         opts().span_fairness(f64::NAN),
         opts().span_fairness(0.0),
