@@ -78,6 +78,8 @@ GEN_POLYLINE = 400_000  # vertices of the noise-free generator's polyline
 FIT_POLYLINE = 200_000  # samples of a fit for its distance to the generator
 MEET_SLACK = 1e-6  # relative round-off slack of "meets the tolerance" (as bench/compare.py)
 CORNER_ANGLE_DEFAULT = 60.0  # fairfit's default --corner-angle (degrees)
+# a fit's corner is a knot of multiplicity >= degree (C0) whose one-sided tangents turn by more than this
+CORNER_MIN_TURN_DEG = 1.0
 
 # fairfit report keys read by this benchmark (missing keys are "n/a", never an error)
 OUTLIERS_KEY = "outliers"  # list of {"index": i, "distance": d}, 0-based input rows
@@ -389,7 +391,8 @@ class Run:
     F: float = float("nan")
     extrema: int | None = None
     clean_dist: float = float("nan")
-    corners_found: list = field(default_factory=list)  # input rows
+    corners: list = field(default_factory=list)  # corner positions measured on the fit (c0_corners)
+    report_corners: int | None = None  # how many corners the report lists (None: no such key)
     outliers: list = field(default_factory=list)  # input rows
     sigma_est: float | None = None
     noise_warnings: int = 0
@@ -477,14 +480,39 @@ def run_fairfit(exe, csv, case, tmp, timeout):
     except (OSError, ValueError, KeyError, TypeError) as e:
         return Run("error", f"unreadable output: {e}"[:200], wall_s=wall, peak_mb=peak), None
     run = Run("ok", wall_s=wall, peak_mb=peak, report=report,
-              corners_found=report_rows(report, CORNERS_KEY), outliers=report_rows(report, OUTLIERS_KEY),
+              report_corners=len(report_rows(report, CORNERS_KEY)) if CORNERS_KEY in report else None,
+              outliers=report_rows(report, OUTLIERS_KEY),
               sigma_est=report_sigma(report), noise_warnings=noise_warning_lines(stderr))
     return run, curve
+
+
+def c0_corners(curve, closed):
+    """The corners of a fitted curve, measured on it: the points at interior knots of multiplicity
+    >= degree whose one-sided tangents turn by more than CORNER_MIN_TURN_DEG, and for closed data the
+    start of a clamped curve that ends where it starts (a loop cut at a corner)."""
+    t, k = curve.t, curve.k
+    lo, hi = curve.lo, curve.hi
+    eps = 1e-7 * (hi - lo)
+    pairs = [(u, u) for u in curve.breaks[1:-1] if np.count_nonzero(t == u) >= k]
+    if closed and np.all(t[: k + 1] == lo) and np.all(t[-k - 1 :] == hi):
+        ends = curve.points(np.array([lo, hi]))
+        ext = float(np.max(np.ptp(curve.points(curve.breaks), axis=0)))
+        if np.linalg.norm(ends[0] - ends[1]) <= 1e-9 * max(ext, 1e-300):
+            pairs.append((hi, lo))
+    out = []
+    for before, after in pairs:
+        d = curve.derivs(np.array([before - eps, after + eps]), 1)[1]
+        a, b = d[0], d[1]
+        c = float(a @ b) / max(float(np.linalg.norm(a) * np.linalg.norm(b)), 1e-300)
+        if math.degrees(math.acos(min(1.0, max(-1.0, c)))) > CORNER_MIN_TURN_DEG:
+            out.append(curve.points(np.array([after]))[0])
+    return out
 
 
 def measure_fit(run, curve, case, data):
     """Fill the measured numbers of a successful run (in place)."""
     run.n_ctrl = curve.n_independent
+    run.corners = [p[: data.points.shape[1]] for p in c0_corners(curve, case.shape.closed)]
     if run.n_ctrl > MEASURE_CTRL_CAP:
         run.reason = f"{run.n_ctrl} control points: not measured"
         return run
@@ -583,21 +611,20 @@ def meets(run, tol):
 
 
 def corner_match(row):
-    """(matched true corners, false corners): a found corner (an input row) matches a true corner when
-    its point lies within tol of it; each true corner matches at most once."""
+    """(matched true corners, false corners): a corner of the fit matches a true corner when it lies
+    within tol of it; each true corner matches at most once."""
     run = row.fairfit
     if run is None or run.status != "ok":
         return 0, 0
-    found = [row.points[i] for i in run.corners_found if 0 <= i < len(row.points)]
     free = list(range(len(row.true_corners)))
     false = 0
-    for p in found:
-        d = [float(np.linalg.norm(p - row.true_corners[j])) for j in free]
+    for p in run.corners:
+        d = [float(np.linalg.norm(np.asarray(p) - row.true_corners[j])) for j in free]
         if d and min(d) <= row.tol:
             free.pop(int(np.argmin(d)))
         else:
             false += 1
-    return len(row.true_corners) - len(free), false + (len(run.corners_found) - len(found))
+    return len(row.true_corners) - len(free), false
 
 
 def spike_match(row):
@@ -647,7 +674,7 @@ def targets(rows, quick=False):
             continue
         cmp += 1
         if a is None or a.status != "ok" or a.n_ctrl is None or a.extrema is None:
-            worse.append(f"{r.case.name}: fairfit {a.status if a else 'not run'}")
+            worse.append(f"{r.case.name}: fairfit {_state(a) if a else 'not run'}")
             continue
         why = [w for w, bad_ in (("ctrl", a.n_ctrl > b.n_ctrl), ("F", not a.F <= b.F),
                                   ("extrema", a.extrema > b.extrema)) if bad_]
@@ -744,7 +771,8 @@ def _ratio(x, tol):
 
 def fairfit_table(rows):
     head = ("| case | points | sigma/tol | status | ctrl | max dev/tol | all pts/tol | F | extrema | "
-            "dist to clean/tol | corners (true) | false corners | spikes found (true) | other removed | "
+            "dist to clean/tol | corners (true) | false corners | report corners | spikes found (true) | "
+            "other removed | "
             "sigma est/true | noise warnings | wall s | peak MB |")
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for r in rows:
@@ -756,7 +784,7 @@ def fairfit_table(rows):
             r.case.name, str(r.case.n), _g(r.case.noise), _state(a), _g(a.n_ctrl),
             _ratio(a.max_dev, r.tol), _ratio(a.max_dev_all, r.tol), _g(a.F), _g(a.extrema),
             _ratio(a.clean_dist, r.tol), f"{got} ({len(r.true_corners)})", str(false),
-            f"{hit} ({len(r.true_spikes)})", str(extra),
+            _g(a.report_corners), f"{hit} ({len(r.true_spikes)})", str(extra),
             "n/a" if est is None or r.sigma == 0 else f"{est / r.sigma:.3g}", str(a.noise_warnings),
             _g(a.wall_s), _g(a.peak_mb),
         ]) + " |")
@@ -805,6 +833,9 @@ capped at {args.timeout:.0f} s. scipy splprep: s-search to the same max deviatio
 Every number is measured by `bench/measure.py`; tol = {REL_TOL:g} x the largest side of the input's bounding
 box; "max dev" excludes the rows fairfit reports as outliers (`{OUTLIERS_KEY}`), "all pts" does not.
 "dist to clean" is the largest distance between the fit and the noise-free generating curve, both ways.
+A corner of a fit is a C0 knot (multiplicity >= degree) whose tangents turn by more than
+{CORNER_MIN_TURN_DEG:g} degree, measured on the curve; it matches a true corner within tol.
+"report corners" counts the report's `{CORNERS_KEY}` list.
 
 ## Targets (issue 24)
 

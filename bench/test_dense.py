@@ -131,14 +131,14 @@ def test_run_process_times_out_and_measures_memory():
     assert rc == 3 and peak >= 120 and dense.noise_warning_lines(err) == 1
 
 
-def _row(name, n, noise, tol=1.0, family="", spikes=(), corners=(), points=None, **ff):
+def _row(name, n, noise, tol=1.0, family="", spikes=(), true_corners=(), points=None, **ff):
     case = dense.Case(name, dense.Shape(name, None), n, noise, family=family)
     run = dense.Run("ok", n_ctrl=10, max_dev=0.9 * tol, max_dev_all=0.9 * tol, F=1.0, extrema=2,
                     clean_dist=0.5 * tol, wall_s=1.0, peak_mb=50.0, sigma_est=noise * tol or None)
     for k, v in ff.items():
         setattr(run, k, v)
     pts = np.zeros((n, 2)) if points is None else points
-    return dense.Row(case, tol, noise * tol, list(spikes), np.asarray(corners, dtype=float).reshape(-1, 2),
+    return dense.Row(case, tol, noise * tol, list(spikes), np.asarray(true_corners, dtype=float).reshape(-1, 2),
                      pts, run, dense.Run("skipped"))
 
 
@@ -147,21 +147,38 @@ def _status(rows, tid):
 
 
 def test_corner_and_spike_matching():
-    pts = np.zeros((100, 2))
-    pts[10] = [1.0, 0.0]
-    pts[50] = [0.0, 1.0]
-    pts[70] = [0.3, 0.3]
-    r = _row("c", 100, 0.0, tol=0.01, corners=[[1.005, 0.0], [0.0, 1.0]], points=pts,
-             corners_found=[10, 70], outliers=[3, 4])
+    r = _row("c", 100, 0.0, tol=0.01, true_corners=[[1.005, 0.0], [0.0, 1.0]],
+             corners=[np.array([1.0, 0.0]), np.array([0.3, 0.3])], outliers=[3, 4])
     r.true_spikes = [3, 5]
-    assert dense.corner_match(r) == (1, 1)  # 10 matches within tol, 70 is false, (0, 1) is missed
+    assert dense.corner_match(r) == (1, 1)  # (1, 0) matches within tol, (0.3, 0.3) is false, (0, 1) missed
     assert dense.spike_match(r) == (1, 1)  # 3 found, 5 missed, 4 removed wrongly
     assert _status([r], dense.T_FEATURES) == "not met"
-    r.fairfit.corners_found, r.fairfit.outliers, r.true_spikes = [50, 10], [3, 5], [5, 3]
+    r.fairfit.corners = [np.array([0.0, 1.0]), np.array([1.0, 0.0])]
+    r.fairfit.outliers, r.true_spikes = [3, 5], [5, 3]
     assert dense.corner_match(r) == (2, 0) and dense.spike_match(r) == (2, 0)
-    # a row out of range is a false corner, not a crash
-    r.fairfit.corners_found = [50, 10, 1000]
+    assert _status([r], dense.T_FEATURES) == "met"
+    # two fit corners at one true corner: the second is false
+    r.fairfit.corners = [np.array([0.0, 1.0]), np.array([1.0, 0.0]), np.array([1.002, 0.0])]
     assert dense.corner_match(r) == (2, 1)
+
+
+def test_corners_are_measured_on_the_fit():
+    # a cubic with a triple knot at 0.5 through (1, 0): a 90-degree corner there
+    knots = [0, 0, 0, 0, 0.5, 0.5, 0.5, 1, 1, 1, 1]
+    ctrl = np.array([[0, 0], [0.3, 0], [0.6, 0], [1, 0], [1, 0.3], [1, 0.6], [1, 1]], dtype=float)
+    c = dense.measure.Curve(3, knots, ctrl)
+    got = dense.c0_corners(c, closed=False)
+    assert len(got) == 1 and np.allclose(got[0], [1.0, 0.0])
+    # the same knots on a straight line: a C0 knot without a turn is no corner
+    straight = dense.measure.Curve(3, knots, np.column_stack([np.arange(7.0), np.zeros(7)]))
+    assert dense.c0_corners(straight, closed=False) == []
+    # a clamped loop around a square-ish path: its start, where it turns by 90 degrees, is a corner
+    loop = np.array([[0, 0], [0.5, 0], [1, 0], [1, 0.5], [1, 1], [0.5, 1], [0, 1], [0, 0.5], [0, 0]], dtype=float)
+    lk = [0, 0, 0, 0, 0.2, 0.4, 0.6, 0.8, 0.9, 1, 1, 1, 1]
+    lc = dense.measure.Curve(3, lk, loop)
+    got = dense.c0_corners(lc, closed=True)
+    assert len(got) == 1 and np.allclose(got[0], [0.0, 0.0])
+    assert dense.c0_corners(lc, closed=False) == []
 
 
 def test_targets_tolerance_clean_distance_and_splprep():
