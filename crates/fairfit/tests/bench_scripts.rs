@@ -51,3 +51,8 @@ fn band_optimum_study_tests_pass() {
 fn band_lower_bound_tests_pass() {
     run_bench_test("test_band_lower_bound.py");
 }
+
+#[test]
+fn dense_benchmark_bookkeeping_tests_pass() {
+    run_bench_test("test_dense.py");
+}

@@ -4,6 +4,8 @@
 #![allow(dead_code)]
 
 pub mod polyline;
+/// The Python peers (`$FAIRFIT_PYTHON`): one file, shared with the library's tests.
+#[path = "../../../fairfit/tests/common/python.rs"]
 pub mod python;
 
 use assert_cmd::Command;

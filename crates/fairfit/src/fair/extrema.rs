@@ -14,9 +14,9 @@
 //! [`super::exact_extrema`] and [`super::exact_inflections`].
 //!
 //! The sampling and the noise floor are the benchmark measurer's (`bench/measure.py`, 4 × 48 samples
-//! per span), so the counts agree with it: with 32 samples per span (before session 8) shallow
-//! wiggles next to knots were stepped over (naca633418 faired at 12 control points: 1 extremum at 32
-//! samples, 3 at 192, as the measurer counts).
+//! per span), so the counts agree with it. A coarser sampling steps over shallow wiggles next to
+//! knots: naca633418 faired at 12 control points has 3 curvature extrema at 192 samples per span,
+//! as the measurer counts, but only 1 is seen at 32.
 //!
 //! **Noise floor** (scale-free, hysteresis): the counts work on the dimensionless signals `dκ/ds L²`
 //! and `κ L` (`L` the arc length); a sample counts only when its signal's magnitude is at least

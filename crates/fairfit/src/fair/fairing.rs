@@ -93,6 +93,47 @@ pub fn fair_curve(
     tol: f64,
     opts: &FairingOptions,
 ) -> Result<FairingResult> {
+    check_inputs(points, tol)?;
+    if let Some(r) = fair_rescaled(curve, points, tol, opts) {
+        return r;
+    }
+    let moves = Moves::new(curve, opts);
+    let samples = opts.projection_samples.max(2);
+    let mut ev = FairnessEvaluator::new();
+    let fairness_before = ev.evaluate(curve).0;
+    let mut state = State::new(curve, points, samples, fairness_before);
+    let max_deviation_before = state.dist.iter().fold(0.0f64, |m, &d| m.max(d));
+    let allowance: Vec<f64> = state.dist.iter().map(|&d| d.max(tol)).collect();
+    let mut iterations = 0;
+    let mut candidates: Vec<(f64, usize, Vec3)> = Vec::with_capacity(moves.movable.len());
+    while iterations < opts.max_iterations {
+        moves.rank(&state.ctrl, &mut candidates);
+        let accepted = candidates
+            .iter()
+            .take(opts.max_candidates.max(1))
+            .any(|&(_, r, delta)| {
+                moves.try_move(
+                    r, delta, &mut state, points, &allowance, samples, opts, &mut ev,
+                )
+            });
+        if !accepted {
+            break;
+        }
+        iterations += 1;
+    }
+    let max_deviation_after = state.dist.iter().fold(0.0f64, |m, &d| m.max(d));
+    Ok(FairingResult {
+        curve: state.current,
+        iterations,
+        fairness_before,
+        fairness_after: state.f_cur,
+        max_deviation_before,
+        max_deviation_after,
+    })
+}
+
+/// A positive finite tolerance and finite data points, at least one.
+fn check_inputs(points: &[Vec3], tol: f64) -> Result<()> {
     if !(tol.is_finite() && tol > 0.0) {
         return Err(Error::InvalidOption(format!(
             "fairing tolerance must be a positive finite number, got {tol}"
@@ -106,74 +147,128 @@ pub fn fair_curve(
     if let Some(i) = points.iter().position(|p| !p.is_finite()) {
         return Err(Error::InvalidData(format!("data point {i} is not finite")));
     }
-    // far outside unit size F overflows or underflows and no move is ever judged; fair an exactly
-    // rescaled copy (see `nurbs::scale`) and scale the result back
+    Ok(())
+}
+
+/// Far outside unit size F overflows or underflows and no move is ever judged: the fairing of an
+/// exactly rescaled copy (see `nurbs::scale`), scaled back; `None` when the curve is of unit size
+/// or the copy cannot be made or scaled back (then the curve is faired as it is).
+fn fair_rescaled(
+    curve: &NurbsCurve,
+    points: &[Vec3],
+    tol: f64,
+    opts: &FairingOptions,
+) -> Option<Result<FairingResult>> {
     let f = crate::nurbs::scale::normalising_factor(curve.control_points());
     let scaled_points: Vec<Vec3> = points.iter().map(|&q| q * f).collect();
-    if let Some(c) = (f != 1.0 && scaled_points.iter().all(|q| q.is_finite()))
+    let c = (f != 1.0 && scaled_points.iter().all(|q| q.is_finite()))
         .then(|| crate::nurbs::scale::scaled_curve(curve, f).ok())
-        .flatten()
-    {
-        let r = fair_curve(&c, &scaled_points, tol * f, opts)?;
-        if let Ok(back) = crate::nurbs::scale::scaled_curve(&r.curve, 1.0 / f) {
-            return Ok(FairingResult {
-                curve: back,
-                max_deviation_before: r.max_deviation_before / f,
-                max_deviation_after: r.max_deviation_after / f,
-                ..r
-            });
-        }
-    }
-    let p = curve.degree();
-    let n = curve.n_control_points();
-    let knots = curve.knots().to_vec();
-    let weights = curve.weights().to_vec();
-    let order = opts.energy_order.unwrap_or(3).clamp(1, p);
-    let gram = Gram::new(p, &knots, n, order);
-    let samples = opts.projection_samples.max(2);
+        .flatten()?;
+    let r = match fair_curve(&c, &scaled_points, tol * f, opts) {
+        Ok(r) => r,
+        Err(e) => return Some(Err(e)),
+    };
+    let back = crate::nurbs::scale::scaled_curve(&r.curve, 1.0 / f).ok()?;
+    Some(Ok(FairingResult {
+        curve: back,
+        max_deviation_before: r.max_deviation_before / f,
+        max_deviation_after: r.max_deviation_after / f,
+        ..r
+    }))
+}
 
-    let mut ctrl = curve.control_points().to_vec();
-    let mut current = curve.clone();
-    let mut ev = FairnessEvaluator::new();
-    let fairness_before = ev.evaluate(&current).0;
-    let mut f_cur = fairness_before;
+/// The current curve of the fairing, its control points and `F`, and every data point's foot
+/// parameter and distance (with scratch copies for a trial move).
+struct State {
+    ctrl: Vec<Vec3>,
+    current: NurbsCurve,
+    f_cur: f64,
+    params: Vec<f64>,
+    dist: Vec<f64>,
+    trial_params: Vec<f64>,
+    trial_dist: Vec<f64>,
+}
 
-    let (mut params, mut dist) = (
-        Vec::with_capacity(points.len()),
-        Vec::with_capacity(points.len()),
-    );
-    {
-        let proj = CurveProjector::new(&current, samples);
+impl State {
+    /// The input curve with `F = fairness` and the data points' feet on it.
+    fn new(curve: &NurbsCurve, points: &[Vec3], samples: usize, fairness: f64) -> Self {
+        let (mut params, mut dist) = (
+            Vec::with_capacity(points.len()),
+            Vec::with_capacity(points.len()),
+        );
+        let proj = CurveProjector::new(curve, samples);
         for &q in points {
             let pr = proj.project(q);
             params.push(pr.u);
             dist.push(pr.distance);
         }
+        State {
+            ctrl: curve.control_points().to_vec(),
+            current: curve.clone(),
+            f_cur: fairness,
+            trial_params: params.clone(),
+            trial_dist: dist.clone(),
+            params,
+            dist,
+        }
     }
-    let max_deviation_before = dist.iter().fold(0.0f64, |m, &d| m.max(d));
-    let allowance: Vec<f64> = dist.iter().map(|&d| d.max(tol)).collect();
+}
 
-    // a periodic curve (the last p control points repeat the first): every distinct point moves,
-    // together with its copy, so the seam stays C^(p−1)
-    let wrap = periodic_copies(curve);
-    let n_distinct = wrap.unwrap_or(n);
-    let copies = |r: usize| -> ([usize; 2], usize) {
-        match wrap {
-            Some(nu) if r < p => ([r, r + nu], 2),
+/// The control-point moves of the fairing: the energy's Gram matrix, the knots and weights every
+/// trial curve keeps, and which control points move (with their periodic copies).
+struct Moves {
+    p: usize,
+    n: usize,
+    knots: Vec<f64>,
+    weights: Vec<f64>,
+    gram: Gram,
+    /// The number of distinct control points of a periodic curve.
+    wrap: Option<usize>,
+    movable: Vec<usize>,
+}
+
+impl Moves {
+    fn new(curve: &NurbsCurve, opts: &FairingOptions) -> Self {
+        let p = curve.degree();
+        let n = curve.n_control_points();
+        let knots = curve.knots().to_vec();
+        let weights = curve.weights().to_vec();
+        let order = opts.energy_order.unwrap_or(3).clamp(1, p);
+        let gram = Gram::new(p, &knots, n, order);
+        // a periodic curve (the last p control points repeat the first): every distinct point
+        // moves, together with its copy, so the seam stays C^(p−1)
+        let wrap = periodic_copies(curve);
+        let n_distinct = wrap.unwrap_or(n);
+        let movable: Vec<usize> = (0..n_distinct)
+            .filter(|&r| wrap.is_some() || !(opts.fix_ends && (r == 0 || r + 1 == n)))
+            .collect();
+        Moves {
+            p,
+            n,
+            knots,
+            weights,
+            gram,
+            wrap,
+            movable,
+        }
+    }
+
+    /// The control points that move with `r`: itself, and its copy on a periodic curve.
+    fn copies(&self, r: usize) -> ([usize; 2], usize) {
+        match self.wrap {
+            Some(nu) if r < self.p => ([r, r + nu], 2),
             _ => ([r, r], 1),
         }
-    };
-    let movable: Vec<usize> = (0..n_distinct)
-        .filter(|&r| wrap.is_some() || !(opts.fix_ends && (r == 0 || r + 1 == n)))
-        .collect();
-    let mut iterations = 0;
-    let mut candidates: Vec<(f64, usize, Vec3)> = Vec::with_capacity(movable.len());
-    let (mut trial_params, mut trial_dist) = (params.clone(), dist.clone());
-    while iterations < opts.max_iterations {
+    }
+
+    /// Every movable point's energy gain `|g_r|² / G_rr` and step `−g_r / G_rr`, best first (ties
+    /// by index).
+    fn rank(&self, ctrl: &[Vec3], candidates: &mut Vec<(f64, usize, Vec3)>) {
+        let (p, n, gram) = (self.p, self.n, &self.gram);
         candidates.clear();
-        for &r in &movable {
+        for &r in &self.movable {
             // the energy over the moved point: Σ G_ab over its copies a, b, gradient Σ_a (G P)_a
-            let (idx, k) = copies(r);
+            let (idx, k) = self.copies(r);
             let idx = &idx[..k];
             let mut grr = 0.0;
             let mut g = Vec3::ZERO;
@@ -198,61 +293,64 @@ pub fn fair_curve(
             }
         }
         candidates.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-        let mut accepted = false;
-        'candidates: for &(_, r, delta) in candidates.iter().take(opts.max_candidates.max(1)) {
-            let mut t = 1.0;
-            for _ in 0..=opts.step_halvings {
-                let mut trial_ctrl = ctrl.clone();
-                let (idx, k) = copies(r);
-                for &a in &idx[..k] {
-                    trial_ctrl[a] += delta * t;
+    }
+
+    /// Moves `r` by `delta` with steps `1, ½, ¼, …` and keeps the first trial that lowers `F` with
+    /// every data point within its allowance; whether one was kept.
+    #[allow(clippy::too_many_arguments)]
+    fn try_move(
+        &self,
+        r: usize,
+        delta: Vec3,
+        state: &mut State,
+        points: &[Vec3],
+        allowance: &[f64],
+        samples: usize,
+        opts: &FairingOptions,
+        ev: &mut FairnessEvaluator,
+    ) -> bool {
+        let mut t = 1.0;
+        for _ in 0..=opts.step_halvings {
+            let mut trial_ctrl = state.ctrl.clone();
+            let (idx, k) = self.copies(r);
+            for &a in &idx[..k] {
+                trial_ctrl[a] += delta * t;
+            }
+            t *= 0.5;
+            let Ok(trial) = NurbsCurve::new(
+                self.p,
+                self.knots.clone(),
+                trial_ctrl.clone(),
+                Some(self.weights.clone()),
+            ) else {
+                continue;
+            };
+            let f_trial = ev.evaluate(&trial).0;
+            if f_trial.is_nan() || f_trial >= state.f_cur * (1.0 - 1e-12) {
+                continue;
+            }
+            let proj = CurveProjector::new(&trial, samples);
+            let mut ok = true;
+            for (i, &q) in points.iter().enumerate() {
+                let pr = proj.project_near(q, state.params[i]);
+                if pr.distance > allowance[i] {
+                    ok = false;
+                    break;
                 }
-                t *= 0.5;
-                let Ok(trial) =
-                    NurbsCurve::new(p, knots.clone(), trial_ctrl.clone(), Some(weights.clone()))
-                else {
-                    continue;
-                };
-                let f_trial = ev.evaluate(&trial).0;
-                if f_trial.is_nan() || f_trial >= f_cur * (1.0 - 1e-12) {
-                    continue;
-                }
-                let proj = CurveProjector::new(&trial, samples);
-                let mut ok = true;
-                for (i, &q) in points.iter().enumerate() {
-                    let pr = proj.project_near(q, params[i]);
-                    if pr.distance > allowance[i] {
-                        ok = false;
-                        break;
-                    }
-                    trial_params[i] = pr.u;
-                    trial_dist[i] = pr.distance;
-                }
-                if ok {
-                    ctrl = trial_ctrl;
-                    current = trial;
-                    f_cur = f_trial;
-                    params.copy_from_slice(&trial_params);
-                    dist.copy_from_slice(&trial_dist);
-                    accepted = true;
-                    break 'candidates;
-                }
+                state.trial_params[i] = pr.u;
+                state.trial_dist[i] = pr.distance;
+            }
+            if ok {
+                state.ctrl = trial_ctrl;
+                state.current = trial;
+                state.f_cur = f_trial;
+                state.params.copy_from_slice(&state.trial_params);
+                state.dist.copy_from_slice(&state.trial_dist);
+                return true;
             }
         }
-        if !accepted {
-            break;
-        }
-        iterations += 1;
+        false
     }
-    let max_deviation_after = dist.iter().fold(0.0f64, |m, &d| m.max(d));
-    Ok(FairingResult {
-        curve: current,
-        iterations,
-        fairness_before,
-        fairness_after: f_cur,
-        max_deviation_before,
-        max_deviation_after,
-    })
 }
 
 /// For a periodic curve (unclamped knots, the last `p` control points and weights repeating the

@@ -87,11 +87,14 @@ fn fit_periodic(
     let fixed = opts.control_points;
     if let Some(n) = fixed {
         if n < p + 1 || n > max_n {
-            return Err(Error::InvalidOption(format!(
-                "{n} control points do not fit a closed curve of degree {p} through {m} points \
-                 (give between {} and {max_n})",
-                p + 1
-            )));
+            return Err(Error::InvalidSetting {
+                option: "control_points",
+                reason: format!(
+                    "{n} control points do not fit a closed curve of degree {p} through {m} points \
+                     (give between {} and {max_n})",
+                    p + 1
+                ),
+            });
         }
     }
     let tuning = Tuning::default();
@@ -101,6 +104,7 @@ fn fit_periodic(
         data: &data,
         tol: ctx.tol,
         opts,
+        tuning: &tuning,
     };
 
     (ctx.progress)(Stage::Baseline, 0, 1);

@@ -15,7 +15,7 @@
 //! So `N` equal to the free result's count reproduces the free curve exactly (within the
 //! tolerance), a larger `N` spends the extra points where the data need most points, and a smaller
 //! `N` takes them evenly (the tolerance may then be missed; the result says so). An `N` outside what
-//! the pieces can take is an [`Error::InvalidOption`] naming the range.
+//! the pieces can take is an [`Error::InvalidSetting`] of `control_points` naming the range.
 
 use super::context::{tolerance_of, Progress};
 use super::corners::{join, pieces, straight_piece};
@@ -135,7 +135,7 @@ fn fit_with_corners(
         }
     };
     let highest = opts_in.max_degree.unwrap_or(p).max(p);
-    keep_degree(reference, p + 1..=highest, opts_in, &tuning, &attempt)
+    keep_degree(reference, p + 1..=highest, &tuning, &attempt)
 }
 
 /// The pieces joined C0 into the curve of the whole data (input coordinates), measured.
@@ -320,12 +320,15 @@ pub fn share_budget(n: usize, free: &[usize], lo: &[usize], hi: &[usize]) -> Res
     let total = n + k - 1;
     let (min, max) = (lo.iter().sum::<usize>(), hi.iter().sum::<usize>());
     if total < min || total > max {
-        return Err(Error::InvalidOption(format!(
-            "--control-points {n} cannot be shared among the {k} pieces between corners: give \
-             between {} and {} (or fit without corner detection)",
-            min + 1 - k,
-            max + 1 - k
-        )));
+        return Err(Error::InvalidSetting {
+            option: "control_points",
+            reason: format!(
+                "{n} control points cannot be shared among the {k} pieces between corners: give \
+                 between {} and {} (or fit without corner detection)",
+                min + 1 - k,
+                max + 1 - k
+            ),
+        });
     }
     let mut c = free.to_vec();
     let mut sum: usize = c.iter().sum();

@@ -33,6 +33,7 @@ pub(crate) fn fit(
         prep,
         tol: ctx.tol,
         opts,
+        tuning: &tuning,
     };
     let (p, fixed) = (opts.degree, opts.control_points);
 
@@ -89,10 +90,13 @@ fn check_fixed_count(prep: &Prepared, opts: &IntegratedOptions) -> Result<()> {
     let m1 = prep.data.points.len();
     if let Some(n) = opts.control_points {
         if n + 1 > m1 {
-            return Err(Error::InvalidOption(format!(
-                "{n} control points are too many for {m1} points (at most {})",
-                m1 - 1
-            )));
+            return Err(Error::InvalidSetting {
+                option: "control_points",
+                reason: format!(
+                    "{n} control points are too many for {m1} points (at most {})",
+                    m1 - 1
+                ),
+            });
         }
     }
     Ok(())

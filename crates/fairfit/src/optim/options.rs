@@ -110,16 +110,10 @@ pub struct IntegratedOptions {
     pub(crate) probe_iterations: usize,
     /// Evaluations of the final pattern search ([`Budget::refine_evaluations`]).
     pub(crate) refine_evaluations: usize,
-    /// Whether the smoothing weight λ is searched along with the knots.
-    pub(crate) search_smoothing: bool,
     /// Most control points added above the smallest feasible count for fairness (every extra
     /// count is finished in full before the count is chosen, [`super::stages::count_search`];
     /// [`Budget::max_extra_control_points`]).
     pub(crate) max_extra_control_points: usize,
-    /// A higher degree is kept only if F shrinks by at least this factor per degree
-    /// ([`super::stages::degree_search`]; the count search has its own factor, 1.05 per point, module
-    /// `count_search`).
-    pub(crate) fairness_gain: f64,
     /// A fixed number of control points (no count search) instead of the fewest meeting the
     /// tolerance. Set by [`Self::control_points`].
     pub control_points: Option<usize>,
@@ -161,9 +155,7 @@ impl Default for IntegratedOptions {
             max_iterations: 30,
             probe_iterations: 10,
             refine_evaluations: 100,
-            search_smoothing: true,
             max_extra_control_points: 1,
-            fairness_gain: 1.1,
             control_points: None,
             polish: true,
             band_fairing: true,
@@ -383,15 +375,6 @@ pub(crate) fn validate(opts: &IntegratedOptions) -> Result<()> {
             "at least one particle is needed (particles = 0)".into(),
         ));
     }
-    if !(opts.fairness_gain.is_finite() && opts.fairness_gain >= 1.0) {
-        return Err(invalid(
-            "fairness_gain",
-            format!(
-                "the fairness gain per added degree must be a finite factor >= 1, got {}",
-                opts.fairness_gain
-            ),
-        ));
-    }
     if let Some(a) = opts.corner_angle_deg {
         if !(a.is_finite() && a > 0.0 && a <= 180.0) {
             return Err(invalid(
@@ -457,21 +440,5 @@ mod tests {
             ..Budget::default()
         };
         assert_eq!(refused(&o().budget(no_particles)).0, "budget");
-    }
-
-    #[test]
-    fn a_non_finite_or_shrinking_fairness_gain_is_refused() {
-        for gain in [f64::NAN, 0.5, f64::INFINITY] {
-            let opts = IntegratedOptions {
-                fairness_gain: gain,
-                ..IntegratedOptions::default()
-            };
-            assert_eq!(refused(&opts).0, "fairness_gain", "{gain}");
-        }
-        let exactly_one = IntegratedOptions {
-            fairness_gain: 1.0,
-            ..IntegratedOptions::default()
-        };
-        assert!(validate(&exactly_one).is_ok());
     }
 }

@@ -83,11 +83,14 @@ pub fn fit_lsq_baseline(
     validate(opts)?;
     let prep = prepare(points, opts.degree)?;
     if n_ctrl < opts.degree + 1 || n_ctrl > prep.data.points.len() {
-        return Err(Error::InvalidOption(format!(
-            "{n_ctrl} control points: need between {} and {}",
-            opts.degree + 1,
-            prep.data.points.len()
-        )));
+        return Err(Error::InvalidSetting {
+            option: "control_points",
+            reason: format!(
+                "{n_ctrl} control points: need between {} and {}",
+                opts.degree + 1,
+                prep.data.points.len()
+            ),
+        });
     }
     let tol = tolerance_of(opts, prep.scale);
     let knots = averaging_interior_knots(&prep.data.params, opts.degree, n_ctrl);

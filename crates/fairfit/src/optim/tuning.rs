@@ -107,6 +107,10 @@ pub struct DegreeTuning {
     /// The price per control point above the reference's in the degree rule after the wiggly
     /// trigger (its counts pay only the degree's price). Default 1.0.
     pub wiggly_point_gain: f64,
+    /// The factor by which F must shrink per degree step for a higher degree to be kept (the
+    /// degree rule, `choose_degree_priced`): F differences of a few per cent (the swarm's own
+    /// noise) do not change the degree. Default 1.1.
+    pub fairness_gain: f64,
 }
 
 impl Default for DegreeTuning {
@@ -121,6 +125,7 @@ impl Default for DegreeTuning {
             wiggly_points_per_control_point: 4,
             short_search_iterations: 0,
             wiggly_point_gain: 1.0,
+            fairness_gain: 1.1,
         }
     }
 }
@@ -140,6 +145,9 @@ pub struct SwarmTuning {
     pub seed_spread: f64,
     /// Fraction of the non-seed particles placed uniformly at random. Default 0.1.
     pub random_fraction: f64,
+    /// Whether the knot searches carry the smoothing weight `log λ` as one more coordinate beside
+    /// the knots (else every candidate is a plain least-squares fit). Default true.
+    pub search_smoothing: bool,
 }
 
 impl Default for SwarmTuning {
@@ -149,6 +157,7 @@ impl Default for SwarmTuning {
             stall_rel: 1e-4,
             seed_spread: 0.03,
             random_fraction: 0.1,
+            search_smoothing: true,
         }
     }
 }

@@ -1,5 +1,6 @@
 //! The Python used by tests that run scripts of the repository (`$FAIRFIT_PYTHON`), and the points
-//! those scripts print as JSON.
+//! those scripts print as JSON. One file for both crates: the command-line tool's tests include it
+//! (`crates/fairfit-cli/tests/common/mod.rs`).
 
 use fairfit::Vec3;
 

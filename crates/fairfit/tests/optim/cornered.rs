@@ -68,9 +68,18 @@ fn budget_is_shared_in_proportion_to_the_free_counts() {
         vec![8, 4, 16]
     );
     // bounds: at least 4 + 4 + 4 - 2 = 10, at most 50 + 4 + 60 - 2 = 112
-    let e = share_budget(9, &[10, 4, 20], &lo, &hi)
-        .unwrap_err()
-        .to_string();
+    let e = share_budget(9, &[10, 4, 20], &lo, &hi).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            fairfit::Error::InvalidSetting {
+                option: "control_points",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = e.to_string();
     assert!(e.contains("between 10 and 112"), "{e}");
     assert!(share_budget(112, &[10, 4, 20], &lo, &hi).is_ok());
     assert!(share_budget(113, &[10, 4, 20], &lo, &hi).is_err());

@@ -196,7 +196,7 @@ fn non_finite_or_shrinking_options_are_typed_errors() {
             Vec3::new(t, (3.0 * t).sin(), 0.0)
         })
         .collect();
-    // the fairness gain per degree is tuning, not a setting: optim::options unit-tests its checks
+    // (the fairness gain per degree is tuning, not a setting: optim::tuning holds it)
     for o in [
         opts().span_fairness(f64::NAN),
         opts().span_fairness(0.0),
@@ -206,6 +206,59 @@ fn non_finite_or_shrinking_options_are_typed_errors() {
         let e = fit_integrated(&pts, &o).unwrap_err();
         assert!(matches!(e, fairfit::Error::InvalidSetting { .. }), "{e}");
     }
+}
+
+#[test]
+fn a_count_the_data_cannot_take_is_refused_naming_the_control_points_setting() {
+    use fairfit::optim::{fit_lsq_baseline, ClosedMode};
+    let named = |r: fairfit::Result<fairfit::optim::IntegratedResult>| match r {
+        Err(fairfit::Error::InvalidSetting { option, reason }) => {
+            assert_eq!(option, "control_points", "{reason}");
+            reason
+        }
+        other => panic!("expected a refused control-point count, got {other:?}"),
+    };
+    // open: 40 points take at most 39 control points (a data parameter inside every span)
+    let open: Vec<Vec3> = (0..40)
+        .map(|i| {
+            let t = i as f64 / 39.0;
+            Vec3::new(t, (3.0 * t).sin(), 0.0)
+        })
+        .collect();
+    let r = named(fit_integrated(&open, &opts().control_points(40)));
+    assert!(r.contains("at most 39"), "{r}");
+    // the least-squares baseline: between degree + 1 and the point count
+    let r = named(fit_lsq_baseline(&open, 41, &opts()));
+    assert!(r.contains("between 4 and 40"), "{r}");
+    named(fit_lsq_baseline(&open, 3, &opts()));
+    // closed: 30 distinct points on a circle take at most 29 distinct control points
+    let circle: Vec<Vec3> = (0..30)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / 30.0;
+            Vec3::new(t.cos(), t.sin(), 0.0)
+        })
+        .collect();
+    let closed = opts().closed(ClosedMode::Closed);
+    let r = named(fit_integrated(&circle, &closed.clone().control_points(30)));
+    assert!(r.contains("between 4 and 29"), "{r}");
+    // a square's four corners cut it into four straight pieces of 4 control points each: the joined
+    // count is at least 4 * 4 - 3 = 13
+    let mut square = Vec::new();
+    for side in 0..4 {
+        for i in 0..10 {
+            let s = i as f64 / 10.0;
+            let (x, y) = match side {
+                0 => (s, 0.0),
+                1 => (1.0, s),
+                2 => (1.0 - s, 1.0),
+                _ => (0.0, 1.0 - s),
+            };
+            square.push(Vec3::new(x, y, 0.0));
+        }
+    }
+    square.push(square[0]);
+    let r = named(fit_integrated(&square, &opts().control_points(5)));
+    assert!(r.contains("pieces between corners"), "{r}");
 }
 
 #[test]

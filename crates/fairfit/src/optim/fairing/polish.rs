@@ -18,7 +18,7 @@
 
 use super::control_map::{ControlMap, EndCondition};
 use super::extrema::ExtremaCount;
-use super::tuning::PolishTuning;
+use super::tuning::{PolishTuning, MIN_ACCEPTED_GAIN};
 use crate::fair::gram::Gram;
 use crate::nurbs::Vec3;
 use crate::optim::search::objective::{
@@ -165,7 +165,10 @@ fn measure_trial(
         return measure_moved(data, map, v, start, true, ws);
     }
     let e = measure_moved(data, map, v, start, false, ws);
-    if e.solved && e.max_span_fairness <= span_cap && e.fairness < cur.fairness * (1.0 - 1e-9) {
+    if e.solved
+        && e.max_span_fairness <= span_cap
+        && e.fairness < cur.fairness * (1.0 - MIN_ACCEPTED_GAIN)
+    {
         let j = map.col(v)[0].0;
         let e = measure_move_deviations(data, j, start, allowed, e, ws);
         map.with_seam(e, data, ws)
@@ -265,7 +268,7 @@ pub fn polish_mapped(
                 if e.solved
                     && e.max_deviation <= allowed
                     && e.max_span_fairness <= span_cap
-                    && e.fairness < cur.fairness * (1.0 - 1e-9)
+                    && e.fairness < cur.fairness * (1.0 - MIN_ACCEPTED_GAIN)
                     && guard.admits(&ws.ctrl, map, r)
                 {
                     copy_moved(map, r, &ws.ctrl, &mut ctrl);
@@ -363,7 +366,7 @@ fn gradient_move(
             if e.solved
                 && e.max_deviation <= allowed
                 && e.max_span_fairness <= span_cap
-                && e.fairness < cur.fairness * (1.0 - 1e-9)
+                && e.fairness < cur.fairness * (1.0 - MIN_ACCEPTED_GAIN)
                 && guard.admits(&ws.ctrl, map, r)
             {
                 copy_moved(map, r, &ws.ctrl, ctrl);

@@ -6,6 +6,10 @@
 //!
 //! Where each default was measured is recorded in the tuning ledger of `docs/optim.md`.
 
+/// The relative fall of the objective (band fairing's merit, the polish's F) a trial step must
+/// beat to be accepted: a gain of round-off size is no progress, and accepting it could cycle.
+pub const MIN_ACCEPTED_GAIN: f64 = 1e-9;
+
 /// The policy of the fairing stages.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FairingTuning {
@@ -77,6 +81,10 @@ pub struct StepTuning {
     pub solves_per_subproblem: usize,
     /// Trial steps `1, ½, ¼, …` of the line search along one solution. Default 3.
     pub line_search_steps: usize,
+    /// After an accepted shortened step of length `t < 1`, `μ` is divided by `t` to this power:
+    /// the model overreached, so the next step is shorter (×4 after a half step, ×16 after a
+    /// quarter). Default 2.
+    pub mu_short_step_power: i32,
 }
 
 /// The policy of the polish: the defaults of [`super::polish::PolishOptions`].
@@ -130,6 +138,7 @@ impl StepTuning {
             mu_failed_solve_growth: 10.0,
             solves_per_subproblem: 3,
             line_search_steps: 3,
+            mu_short_step_power: 2,
         }
     }
 }
@@ -173,5 +182,17 @@ mod tests {
         assert_eq!(t.band.step.sign_near_met, 0.01);
         assert_eq!(t.polish.max_evaluations, 2000);
         assert_eq!(t.polish.max_moves, 400);
+        assert_eq!(t.band.step.mu_short_step_power, 2);
+        assert_eq!(MIN_ACCEPTED_GAIN, 1e-9);
+    }
+
+    #[test]
+    fn the_short_step_rule_divides_mu_by_t_squared_exactly() {
+        // the line search's steps are powers of one half: t^2 by powi is the product t * t
+        let p = StepTuning::default().mu_short_step_power;
+        for t in [0.5f64, 0.25, 0.125] {
+            assert_eq!(t.powi(p), t * t);
+            assert_eq!(3e-4 / t.powi(p), 3e-4 / (t * t));
+        }
     }
 }

@@ -22,6 +22,7 @@ use crate::optim::search::objective::{
 };
 use crate::optim::search::prepare::{averaging_interior_knots, Prepared};
 use crate::optim::search::problem::KnotProblem;
+use crate::optim::tuning::{SwarmTuning, Tuning};
 use rayon::prelude::*;
 
 /// Smallest knot gap as a fraction of the parameter domain.
@@ -33,10 +34,11 @@ pub(crate) fn open_problem<'a>(
     n: usize,
     tol: f64,
     opts: &IntegratedOptions,
+    swarm: &SwarmTuning,
 ) -> KnotProblem<'a> {
     KnotProblem {
         data,
-        encoding: KnotEncoding::new(n - opts.degree - 1, MIN_KNOT_GAP, opts.search_smoothing),
+        encoding: KnotEncoding::new(n - opts.degree - 1, MIN_KNOT_GAP, swarm.search_smoothing),
         tolerance: tol,
         span_target: opts.span_fairness,
         fairness_cutoff: 1.0,
@@ -51,6 +53,8 @@ pub(crate) struct OpenKind<'a> {
     pub tol: f64,
     /// The fit's options.
     pub opts: &'a IntegratedOptions,
+    /// The method's measured thresholds.
+    pub tuning: &'a Tuning,
 }
 
 impl<'a> CurveKind for OpenKind<'a> {
@@ -110,7 +114,7 @@ impl<'a> CurveKind for OpenKind<'a> {
     }
 
     fn problem(&self, n: usize) -> KnotProblem<'a> {
-        open_problem(&self.prep.data, n, self.tol, self.opts)
+        open_problem(&self.prep.data, n, self.tol, self.opts, &self.tuning.swarm)
     }
 
     fn spread_knots(&self, n: usize) -> Vec<f64> {

@@ -23,6 +23,7 @@ use crate::optim::search::objective::CandidateEval;
 use crate::optim::search::periodic::{evaluate_closed, ClosedData, ClosedProblem, ClosedWorkspace};
 use crate::optim::search::prepare::Prepared;
 use crate::optim::search::pso::SwarmProblem;
+use crate::optim::tuning::{SwarmTuning, Tuning};
 use rayon::prelude::*;
 
 /// Smallest breakpoint gap as a fraction of the loop's parameter length.
@@ -48,12 +49,13 @@ pub(crate) fn problem_at<'a>(
     n: usize,
     tol: f64,
     opts: &IntegratedOptions,
+    swarm: &SwarmTuning,
 ) -> ClosedProblem<'a> {
     ClosedProblem::new(
         data,
         n,
         MIN_BREAK_GAP,
-        opts.search_smoothing,
+        swarm.search_smoothing,
         tol,
         opts.span_fairness,
     )
@@ -69,6 +71,8 @@ pub(crate) struct PeriodicKind<'a> {
     pub tol: f64,
     /// The fit's options.
     pub opts: &'a IntegratedOptions,
+    /// The method's measured thresholds.
+    pub tuning: &'a Tuning,
 }
 
 impl<'a> CurveKind for PeriodicKind<'a> {
@@ -114,7 +118,7 @@ impl<'a> CurveKind for PeriodicKind<'a> {
     }
 
     fn problem(&self, n: usize) -> ClosedProblem<'a> {
-        problem_at(self.data, n, self.tol, self.opts)
+        problem_at(self.data, n, self.tol, self.opts, &self.tuning.swarm)
     }
 
     fn spread_knots(&self, n: usize) -> Vec<f64> {

@@ -42,11 +42,14 @@ pub fn pareto_front(
     let prep = prepare(points, opts.degree)?;
     let p = opts.degree;
     if n_ctrl < p + 1 || n_ctrl > prep.data.points.len() {
-        return Err(Error::InvalidOption(format!(
-            "{n_ctrl} control points: need between {} and {}",
-            p + 1,
-            prep.data.points.len()
-        )));
+        return Err(Error::InvalidSetting {
+            option: "control_points",
+            reason: format!(
+                "{n_ctrl} control points: need between {} and {}",
+                p + 1,
+                prep.data.points.len()
+            ),
+        });
     }
     let tol = tolerance_of(opts, prep.scale);
     let problem = KnotProblem {

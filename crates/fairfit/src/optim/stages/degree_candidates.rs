@@ -193,7 +193,7 @@ pub(crate) fn open_candidate_with(
     seeds.push(averaging_interior_knots(&q.data.params, d, n));
     seeds.extend(extra.iter().cloned());
     short_search(
-        &open_problem(&q.data, n, tol, &o),
+        &open_problem(&q.data, n, tol, &o, &tuning.swarm),
         d,
         &seeds,
         &o,
@@ -262,7 +262,7 @@ pub(crate) fn raise_periodic(
         let seeds = vec![interior.clone(), equal_breaks(&cd.params, n)];
         let iterations = tuning.degree.short_search_iterations;
         match short_search(
-            &problem_at(cd, n, tol, &o),
+            &problem_at(cd, n, tol, &o, &tuning.swarm),
             d,
             &seeds,
             &o,
@@ -276,7 +276,7 @@ pub(crate) fn raise_periodic(
             None => Attempt::default(),
         }
     };
-    keep_degree(reference, p + 1..=highest, opts, tuning, &attempt)
+    keep_degree(reference, p + 1..=highest, tuning, &attempt)
 }
 
 /// The prepared data at every degree from `p` to `highest` (only the degree differs).

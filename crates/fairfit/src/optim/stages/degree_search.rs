@@ -1,6 +1,6 @@
 //! The degree search of the integrated method (`fairfit curve --degree auto`, the default of
-//! `fairfit curve`; [`IntegratedOptions::max_degree`]): besides the *reference* degree
-//! [`IntegratedOptions::degree`] (the cubic), higher degrees up to `max_degree` are tried, and one
+//! `fairfit curve`; [`IntegratedOptions::max_degree`](crate::optim::IntegratedOptions::max_degree)): besides the *reference* degree
+//! [`IntegratedOptions::degree`](crate::optim::IntegratedOptions::degree) (the cubic), higher degrees up to `max_degree` are tried, and one
 //! result is kept by [`choose_degree`]:
 //!
 //! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the
@@ -9,7 +9,8 @@
 //!    degree's own count search ([`super::degree_candidates`]);
 //! 2. of the admissible degrees, the lowest `F · fairness_gain^(d − reference) · point_gain^extra`
 //!    wins (`extra`: control points above the reference's; ties: the lower degree). A higher
-//!    degree must buy the factor `fairness_gain` (1.1) per degree step, so the
+//!    degree must buy the factor `fairness_gain`
+//!    ([`crate::optim::tuning::DegreeTuning::fairness_gain`], 1.1) per degree step, so the
 //!    degree does not change for F differences of a few per cent (the swarm's own noise), and
 //!    every control point it adds the count search's price
 //!    ([`crate::optim::tuning::CountTuning::extra_point_gain`]; none after the wiggly trigger's
@@ -45,7 +46,6 @@
 use crate::errors::Result;
 use crate::fair::curve_fairness;
 use crate::optim::kind::periodic::distinct_control_points;
-use crate::optim::options::IntegratedOptions;
 use crate::optim::result::{DegreeTrial, IntegratedResult};
 use crate::optim::tuning::{CountTuning, Tuning};
 
@@ -66,12 +66,17 @@ pub(crate) struct Attempt {
 pub(crate) fn keep_degree(
     reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
-    opts: &IntegratedOptions,
     tuning: &Tuning,
     attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
     let point_gain = tuning.count.extra_point_gain;
-    keep_degree_priced(reference, higher, opts, point_gain, attempt)
+    keep_degree_priced(
+        reference,
+        higher,
+        tuning.degree.fairness_gain,
+        point_gain,
+        attempt,
+    )
 }
 
 /// [`keep_degree`] with `point_gain` per control point above the reference's in place of
@@ -79,7 +84,7 @@ pub(crate) fn keep_degree(
 pub(crate) fn keep_degree_priced(
     reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
-    opts: &IntegratedOptions,
+    fairness_gain: f64,
     point_gain: f64,
     attempt: &(dyn Fn(usize) -> Attempt + Sync),
 ) -> Result<IntegratedResult> {
@@ -94,11 +99,11 @@ pub(crate) fn keep_degree_priced(
         trials.push(trial_of(&r));
         results.push(r);
         // a degree higher still only when this one won
-        if choose_degree_priced(&trials, opts.fairness_gain, point_gain) + 1 != trials.len() {
+        if choose_degree_priced(&trials, fairness_gain, point_gain) + 1 != trials.len() {
             break;
         }
     }
-    let pick = choose_degree_priced(&trials, opts.fairness_gain, point_gain);
+    let pick = choose_degree_priced(&trials, fairness_gain, point_gain);
     evaluations += results.iter().map(|r| r.stats.evaluations).sum::<usize>();
     iterations += results.iter().map(|r| r.stats.iterations).sum::<usize>();
     let mut chosen = results.swap_remove(pick);

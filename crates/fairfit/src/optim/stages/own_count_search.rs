@@ -141,7 +141,13 @@ pub(crate) fn raise_open(
             _ => a,
         }
     };
-    keep_degree_priced(reference, p + 1..=highest, opts, point_gain, &attempt)
+    keep_degree_priced(
+        reference,
+        p + 1..=highest,
+        tuning.degree.fairness_gain,
+        point_gain,
+        &attempt,
+    )
 }
 
 /// The wiggly trigger's counts (module doc): above the least-squares baseline `limit`, at most
@@ -309,6 +315,7 @@ mod tests {
         wiggly_points_per_control_point: 4,
         short_search_iterations: 0,
         wiggly_point_gain: 1.0,
+        fairness_gain: 1.1,
     };
 
     #[test]

@@ -16,6 +16,7 @@
 use super::super::cone_ipm::{self, IpmWork};
 use super::super::control_map::ControlMap;
 use super::super::extrema::ExtremaCount;
+use super::super::tuning::MIN_ACCEPTED_GAIN;
 use super::model::{Linear, Model, Work};
 use super::node_measures::{distance_at, node_fairness_residuals, node_residuals, violation};
 use super::options::{BandFaired, BandOptions};
@@ -227,7 +228,7 @@ impl Pass<'_> {
             if e.solved
                 && e.max_deviation <= allowed
                 && fmax <= span_cap
-                && merit < cur_merit * (1.0 - 1e-9)
+                && merit < cur_merit * (1.0 - MIN_ACCEPTED_GAIN)
                 && (!opts.keep_extrema || {
                     ext = self.extrema.count(&ws.ctrl);
                     ext <= self.cur_ext
@@ -250,9 +251,8 @@ impl Pass<'_> {
                 if t == 1.0 {
                     self.mu = (self.mu / st.mu_full_step_divisor).max(st.mu_min);
                 } else {
-                    // the model overreached: a shorter step next time (×4 after a half step,
-                    // ×16 after a quarter)
-                    self.mu /= t * t;
+                    // the model overreached: a shorter step next time
+                    self.mu /= t.powi(st.mu_short_step_power);
                 }
                 break;
             }
@@ -261,7 +261,7 @@ impl Pass<'_> {
                 && e.solved
                 && e.max_deviation <= allowed
                 && fmax <= span_cap
-                && merit < cur_merit * (1.0 - 1e-9)
+                && merit < cur_merit * (1.0 - MIN_ACCEPTED_GAIN)
                 && self.guard.hold(self.extrema, &self.ctrl, &ws.ctrl)
             {
                 // only new extrema spoilt the full step: solve again with the flipped samples

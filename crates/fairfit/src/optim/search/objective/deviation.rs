@@ -2,7 +2,9 @@
 //! from its own parameter (a planar fast path for flat data), with max and RMS totals and an early
 //! exit once a bound is exceeded.
 
-use super::*;
+use super::power_form::{power_eval2, power_span_from};
+use super::{EvalWorkspace, FitData};
+use crate::nurbs::Vec3;
 
 /// Max and RMS orthogonal deviation: Newton projection started at each point's own parameter
 /// (fills `ws.foot_params` and `ws.dev2`).

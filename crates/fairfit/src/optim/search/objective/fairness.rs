@@ -2,7 +2,9 @@
 //! 8-node Gauss–Legendre rule per knot span (nodes strictly inside spans, so C''' is never taken at
 //! a knot).
 
-use super::*;
+use super::power_form::power_eval;
+use super::{EvalWorkspace, FitData, GL_W, GL_X};
+use crate::nurbs::Vec3;
 
 /// `(F, max_j F_j)` by 8-point Gauss–Legendre per span; fills `ws.span_fairness`.
 pub(super) fn fairness(data: &FitData, ws: &mut EvalWorkspace) -> (f64, f64) {

@@ -12,7 +12,6 @@
 //! the scale-free smoothing term `λ ∫|C'''|² du` (third order: it penalises curvature variation).
 
 use crate::fit::lsq::{LsqOptions, LsqSolver, SmoothingOrder};
-use crate::nurbs::basis::ders_basis_funs_into;
 use crate::nurbs::Vec3;
 
 /// Highest degree the allocation-free evaluator supports.
@@ -52,7 +51,9 @@ pub struct FitData {
 /// (a run-time degree above) when [`is_flat`], else [`project`]. Each arm compiles `$body` with its
 /// own closure (monomorphised loops); every arm gives the same feet and distances as [`project`].
 /// The one place the choice is made, so the passes that project ([`deviations_bounded`],
-/// [`measure_move_deviations`]) cannot pick different projections.
+/// [`measure_move_deviations`]) cannot pick different projections. The expansion names
+/// `FitData`, `EvalWorkspace`, `is_flat`, `project` and `project_planar_any`: a module that invokes
+/// it imports them.
 macro_rules! with_projection {
     ($data:expr, $ws:expr, |$proj:ident| $body:expr) => {{
         let data: &FitData = $data;
@@ -95,11 +96,11 @@ mod fairness;
 mod moves;
 mod power_form;
 
-use deviation::*;
+use deviation::{deviations, deviations_bounded};
+use fairness::fairness;
 pub(crate) use fairness::speed_and_dkappa_du;
-use fairness::*;
-pub use moves::*;
-use power_form::*;
+pub use moves::{measure_move, measure_move_deviations, measure_move_within};
+use power_form::build_power_form;
 
 /// The measured quality of one candidate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -253,7 +254,7 @@ fn bspline_ders(knots: &[f64], ctrl: &[Vec3], p: usize, u: f64, nd: usize, out: 
     let (mut left, mut right) = ([0.0; P1], [0.0; P1]);
     let (mut ndu, mut a) = ([0.0; P1 * P1], [0.0; 2 * P1]);
     let mut ders = [0.0; 4 * P1];
-    ders_basis_funs_into(
+    crate::nurbs::basis::ders_basis_funs_into(
         span, u, p, nd, knots, &mut left, &mut right, &mut ndu, &mut a, &mut ders,
     );
     for (k, o) in out.iter_mut().enumerate().take(nd + 1) {

@@ -2,7 +2,10 @@
 //! touches get new power-form coefficients and fairness parts, and only the data points whose feet
 //! lie there are projected again.
 
-use super::*;
+use super::deviation::{deviation_totals, is_flat, project, project_planar_any};
+use super::fairness::{fairness_totals, span_energy_length};
+use super::power_form::{ensure_span_ders, span_power_coefs_cached};
+use super::{CandidateEval, EvalWorkspace, FitData};
 
 /// Re-measures the curve in `ws` after a change of the single control point `ws.ctrl[r]`, reusing
 /// everything the move cannot change: only the `p + 1` spans holding `P_r` get new power-form

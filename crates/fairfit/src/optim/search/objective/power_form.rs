@@ -2,7 +2,9 @@
 //! start) and its Horner evaluation, so points and derivatives cost one Horner scheme instead of a
 //! basis-function recursion.
 
-use super::*;
+use super::{EvalWorkspace, P1};
+use crate::nurbs::basis::ders_basis_funs_into;
+use crate::nurbs::Vec3;
 
 /// Converts the B-spline in `ws` to its piecewise power form (Taylor coefficients at each span start),
 /// so points and derivatives cost one Horner scheme instead of a basis-function recursion.

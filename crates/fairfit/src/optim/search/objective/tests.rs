@@ -1,3 +1,5 @@
+use super::deviation::{is_flat, project, project_planar_any};
+use super::power_form::{power_span, power_span_from};
 use super::*;
 
 fn circle_data(n: usize, radius: f64) -> FitData {
