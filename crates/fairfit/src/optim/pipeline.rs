@@ -97,17 +97,7 @@ fn fit_reduced(
             ..opts.clone()
         };
         let r = dispatch(&red.points(), &o, progress, start)?;
-        let (max, rms, per_bin) = reduce::verify(&r.curve, points, &red);
-        if std::env::var_os("FAIRFIT_DEBUG_REDUCE").is_some() {
-            eprintln!(
-                "reduce: {} reps, inner {:.4} tol, met {}, ctrl {}, max {:.4} tol",
-                red.bins.len(),
-                inner / tol,
-                r.met,
-                r.curve.n_control_points(),
-                max / tol
-            );
-        }
+        let (max, rms, per_bin) = reduce::verify(&r.curve, points, &red, tol);
         if max <= tol || tightened || !r.met {
             return Ok(reduce::measured(r, max, rms, tol, opts.span_fairness));
         }

@@ -198,19 +198,35 @@ pub fn refine(
 }
 
 /// The deviation of every input point from `curve`: `(max, rms, per-bin max)` by exact foot-point
-/// projection (each bin's points near its representative's foot), the first and last point
-/// counted as zero like the pipeline does (the curve interpolates them).
-pub fn verify(curve: &NurbsCurve, points: &[Vec3], r: &Reduced) -> (f64, f64, Vec<f64>) {
+/// projection, the first and last point counted as zero like the pipeline does (the curve
+/// interpolates them). Each point is projected by Newton from its predecessor's foot (the bin's
+/// first from its representative's foot); a point whose Newton run does not converge, or lands
+/// farther than `tol`, is projected again by the safeguarded search near that foot
+/// ([`CurveProjector::project_near`]), so every reported violation is the exact distance.
+pub fn verify(curve: &NurbsCurve, points: &[Vec3], r: &Reduced, tol: f64) -> (f64, f64, Vec<f64>) {
     let proj = CurveProjector::new(curve, 8);
     let n = points.len();
     let per_bin: Vec<(f64, f64)> = r
         .bins
         .par_iter()
         .map(|b| {
-            let hint = proj.project(b.point).u;
+            let mut u = proj.project(b.point).u;
             let (mut worst, mut sum2) = (0.0f64, 0.0);
+            let mut d3 = [Vec3::ZERO; 3];
             for k in b.first.max(1)..=b.last.min(n - 2) {
-                let d = proj.project_near(points[k], hint).distance;
+                let q = points[k];
+                let (nu, mut d) = match newton(curve, q, u, &mut d3) {
+                    Some(x) if x.1 <= tol => x,
+                    _ => {
+                        let f = proj.project_near(q, u);
+                        (f.u, f.distance)
+                    }
+                };
+                if d > tol {
+                    // a violation is confirmed by the whole-curve search
+                    d = d.min(proj.project(q).distance);
+                }
+                u = nu;
                 worst = worst.max(d);
                 sum2 += d * d;
             }
@@ -224,6 +240,27 @@ pub fn verify(curve: &NurbsCurve, points: &[Vec3], r: &Reduced) -> (f64, f64, Ve
         (sum2 / n as f64).sqrt(),
         per_bin.into_iter().map(|x| x.0).collect(),
     )
+}
+
+/// Foot parameter and distance of `q` by Newton on `C'·(C − q)` from `u` (inside the domain),
+/// `None` unless it converges to a minimum within a few steps.
+fn newton(curve: &NurbsCurve, q: Vec3, mut u: f64, d: &mut [Vec3; 3]) -> Option<(f64, f64)> {
+    let (a, b) = curve.domain();
+    for _ in 0..8 {
+        curve.derivatives_into(u, 2, d);
+        let diff = d[0] - q;
+        let f = d[1].dot(diff);
+        let fp = d[2].dot(diff) + d[1].norm_squared();
+        if !(fp > 0.0) {
+            return None;
+        }
+        let next = (u - f / fp).clamp(a, b);
+        if (next - u).abs() <= 1e-12 * (b - a) {
+            return Some((next, (curve.point(next) - q).norm()));
+        }
+        u = next;
+    }
+    None
 }
 
 /// `r` measured on the input points: its quality's deviations and `met` replaced by those of every
