@@ -13,10 +13,9 @@ use super::progress::{untyped, Stage};
 use super::result::IntegratedResult;
 use super::search::prepare::{averaging_interior_knots, prepare};
 use super::stages::reduce;
-use super::tuning::{ReduceTuning, Tuning};
+use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::nurbs::Vec3;
-use crate::tolerance::Tolerance;
 use std::time::Instant;
 
 /// Fits a fair cubic B-spline to ordered `points` by the integrated method.
@@ -49,68 +48,10 @@ pub fn fit_integrated_with_progress(
     let start = Instant::now();
     validate(opts)?;
     let tuning = Tuning::default();
-    let tol = absolute_tolerance(points, opts);
-    match reduce::reduce(points, tol, &tuning.reduce) {
+    let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
+    match reduce::Dense::of(points, opts, &tuning.reduce) {
         None => dispatch(points, opts, progress, start),
-        Some(red) => fit_reduced(points, red, tol, opts, &tuning.reduce, progress, start),
-    }
-}
-
-/// The tolerance in input units (0 when the points have no extent: the pipeline says why).
-fn absolute_tolerance(points: &[Vec3], opts: &IntegratedOptions) -> f64 {
-    let Some(&first) = points.first() else {
-        return 0.0;
-    };
-    let (mut lo, mut hi) = (first, first);
-    for p in points {
-        for c in 0..3 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
-        }
-    }
-    let scale = (hi - lo).max_abs();
-    if scale.is_finite() {
-        tolerance_of(opts, scale) * scale
-    } else {
-        0.0
-    }
-}
-
-/// The reduced data `red` of `points` fitted within `tol` less the bins' spread, measured on every
-/// input point, and repaired while a point misses `tol` (module doc of [`reduce`]).
-fn fit_reduced(
-    points: &[Vec3],
-    mut red: reduce::Reduced,
-    tol: f64,
-    opts: &IntegratedOptions,
-    tuning: &ReduceTuning,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    start: Instant,
-) -> Result<IntegratedResult> {
-    let h = tuning.bin_tolerances * tol;
-    // a spread beyond the tolerance is noise no fit within it can average (the fit then says so)
-    let mut inner = (tol - red.spread()).max(0.25 * tol);
-    let (mut round, mut tightened) = (0, false);
-    loop {
-        let o = IntegratedOptions {
-            tolerance: Tolerance::Absolute(inner),
-            ..opts.clone()
-        };
-        let r = dispatch(&red.points(), &o, progress, start)?;
-        let (max, rms, per_bin) = reduce::verify(&r.curve, points, &red, tol);
-        if max <= tol || tightened || !r.met {
-            return Ok(reduce::measured(r, max, rms, tol, opts.span_fairness));
-        }
-        let cut: Vec<bool> = per_bin.iter().map(|&d| d > tol).collect();
-        if round < tuning.repair_rounds && reduce::refine(points, &mut red, &cut, h, tuning) {
-            round += 1;
-            continue;
-        }
-        inner -= max - tol;
-        tightened = true;
-        if inner <= 0.0 {
-            return Ok(reduce::measured(r, max, rms, tol, opts.span_fairness));
-        }
+        Some(dense) => dense.fit(points, opts, &tuning.reduce, &fit),
     }
 }
 

@@ -9,6 +9,7 @@
 pub use super::fairing::{BandTuning, FairingTuning, PolishTuning, StepTuning};
 use super::options::IntegratedOptions;
 use super::search::pso::PsoOptions;
+pub use crate::fit::reduce::ReduceTuning;
 
 /// Every measured threshold of the method, per stage.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -26,35 +27,6 @@ pub struct Tuning {
     pub fairing: FairingTuning,
     /// The reduction of dense data before every stage ([`crate::optim::stages::reduce`]).
     pub reduce: ReduceTuning,
-}
-
-/// The reduction of dense data to representative points of tolerance-sized arcs.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ReduceTuning {
-    /// Bin length in tolerances: a bin's centroid lies within `κh²/24` of the arc, below `tol/15`
-    /// wherever the radius of curvature is at least 10 tolerances. Default 4.
-    pub bin_tolerances: f64,
-    /// How far back along its direction (a fraction of the bin length) the path may return before
-    /// its bin closes (a hairpin's two sides stay apart; above any noise the tolerance can
-    /// meet). Default 0.25.
-    pub turn_back: f64,
-    /// The reduction applies when the bins hold at least this many points each on average;
-    /// sparser data are their own reduced form. Default 2.
-    pub min_points_per_bin: f64,
-    /// Rounds of bin cutting where an input point misses the tolerance, before the tolerance
-    /// itself is tightened once. Default 3.
-    pub repair_rounds: usize,
-}
-
-impl Default for ReduceTuning {
-    fn default() -> Self {
-        ReduceTuning {
-            bin_tolerances: 4.0,
-            turn_back: 0.25,
-            min_points_per_bin: 2.0,
-            repair_rounds: 3,
-        }
-    }
 }
 
 /// The count descent's policy.
