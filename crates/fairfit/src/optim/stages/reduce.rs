@@ -53,7 +53,8 @@ use rayon::prelude::*;
 
 /// Dense data in their reduced form: the points and bins in the normalised units of
 /// `search::prepare` (bounding-box minimum `lo`, largest side `scale`), so scaled or translated
-/// inputs give bit-identical representatives (snapped to its grid).
+/// inputs give bit-identical bins and representatives (snapped to its grid; the pipeline then
+/// re-normalises them by their own bounding box, which is not yet bit-identical).
 pub(crate) struct Dense {
     normalised: Vec<Vec3>,
     red: Reduced,
