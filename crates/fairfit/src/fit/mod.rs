@@ -15,6 +15,7 @@ pub mod lsq;
 pub mod parameterize;
 pub mod points;
 pub mod power;
+pub mod reduce;
 pub mod sampling;
 pub mod shape;
 pub mod tolerance;

@@ -6,8 +6,10 @@
 //!
 //! # Pipelines
 //!
-//! [`pipeline`] (`pipeline.rs`) validates the options and sends the data to one pipeline; none
-//! calls back into it:
+//! [`pipeline`] (`pipeline.rs`) validates the options, reduces dense data
+//! ([`stages::reduce`], `stages/reduce.rs`: representative points of tolerance-sized arcs, the fit
+//! then verified against every input point and repaired), and sends the data to one pipeline;
+//! none calls back into it:
 //!
 //! - closed data → [`closed`] (`closed.rs`): periodic without corners, else cut at the first
 //!   corner and fitted as open data;

@@ -1,6 +1,8 @@
-//! The entry points of the integrated method: [`fit_integrated`] sends the data to the pipeline
-//! for its shape, closed data to [`super::closed`], open data to [`super::cornered`] (which fits
-//! data without corners by the open pipeline, [`super::open`]); nothing calls back in here.
+//! The entry points of the integrated method: [`fit_integrated`] first reduces dense data
+//! ([`super::stages::reduce`]: representative points of tolerance-sized arcs, verified and
+//! repaired against every input point), then sends the (reduced) data to the pipeline for its
+//! shape, closed data to [`super::closed`], open data to [`super::cornered`] (which fits data
+//! without corners by the open pipeline, [`super::open`]); nothing calls back in here.
 
 use super::closed;
 use super::context::tolerance_of;
@@ -10,6 +12,8 @@ use super::options::{validate, IntegratedOptions};
 use super::progress::Stage;
 use super::result::IntegratedResult;
 use super::search::prepare::{averaging_interior_knots, prepare};
+use super::stages::reduce;
+use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::nurbs::Vec3;
 use std::time::Instant;
@@ -66,6 +70,21 @@ pub fn fit_integrated_with_stages(
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
+    let tuning = Tuning::default();
+    let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
+    match reduce::Dense::of(points, opts, &tuning.reduce) {
+        None => dispatch(points, opts, progress, start),
+        Some(dense) => dense.fit(points, opts, &tuning.reduce, &fit),
+    }
+}
+
+/// The data to the pipeline for their shape (module doc).
+fn dispatch(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    progress: &(dyn Fn(Stage, usize, usize) + Sync),
+    start: Instant,
+) -> Result<IntegratedResult> {
     if closed::is_closed(points, opts.closed) {
         closed::fit(points, opts, progress, start)
     } else {

@@ -9,6 +9,7 @@
 pub use super::fairing::{BandTuning, FairingTuning, PolishTuning, StepTuning};
 use super::options::IntegratedOptions;
 use super::search::pso::PsoOptions;
+pub use crate::fit::reduce::ReduceTuning;
 
 /// Every measured threshold of the method, per stage.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -24,6 +25,8 @@ pub struct Tuning {
     pub swarm: SwarmTuning,
     /// The finishing stages: band fairing and the polish ([`crate::optim::fairing`]).
     pub fairing: FairingTuning,
+    /// The reduction of dense data before every stage ([`crate::optim::stages::reduce`]).
+    pub reduce: ReduceTuning,
 }
 
 /// The count descent's policy.

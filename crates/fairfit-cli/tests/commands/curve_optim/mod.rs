@@ -3,5 +3,6 @@
 
 mod closed;
 mod degree;
+mod dense;
 mod ends;
 mod integrated;

@@ -9,4 +9,5 @@ pub mod degree_candidates;
 pub mod degree_search;
 pub mod descent;
 pub mod own_count_search;
+pub mod reduce;
 pub mod release_ends;

@@ -2,4 +2,5 @@
 
 mod degree_search;
 mod own_count_search;
+mod reduce;
 mod release_ends;

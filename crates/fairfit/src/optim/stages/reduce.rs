@@ -1,0 +1,230 @@
+//! Reduction of dense data: the stage before every other, so that the knot search, the count search
+//! and the band fairing cost what the shape and the tolerance need, not what the point count is.
+//!
+//! # The reduced form: representative points of tolerance-sized arcs
+//!
+//! The points are cut, in their order, into *bins*: runs of consecutive points that stay within
+//! `h = bin_tolerances · tol` of the bin's first point (a bin also closes where the path turns back
+//! towards its first point by more than a quarter of `h`: measured along the bin's direction: a hairpin's two sides never share more
+//! than that).
+//! Each bin is replaced by its centroid; the first and the last point stay as they are (the curve's
+//! ends interpolate them). Why this form rather than moments or a pre-fit:
+//!
+//! - **It is the same kind of data.** Every later stage (corners, closure, centripetal
+//!   parameters, knot search, band fairing, polish) runs unchanged on the representatives, so the
+//!   method's policy is the one measured on the clean tables.
+//! - **It is even in arc length.** A bin holds an arc of length about `h` however many points were
+//!   sampled on it: a burst of 100:1 density gives the same representatives as even sampling
+//!   (least squares on the raw burst would weight it 100 times), a gap simply has none.
+//! - **It averages the noise.** A representative of `m` points carries `σ/√m` of noise; a
+//!   centripetal parameterisation of raw dense noisy points is dominated by the noise instead.
+//! - **Its error is bounded by the shape.** The centroid of an arc of length `h` and curvature `κ`
+//!   lies within `κh²/24` of the arc (the mean sagitta): with `h = 4 tol` that is below `tol/15`
+//!   wherever the radius of curvature is at least `10 tol`, less than any feature a tolerance-`tol`
+//!   fit can resolve. It is scale-free: `h` is a multiple of the tolerance.
+//!
+//! # Certificate and repair
+//!
+//! Every bin records its *spread*: how far its points lie from the line through its centroid along
+//! the bin's direction (noise plus sagitta). The reduced data are fitted within `tol − spread`
+//! (largest spread), so a curve within that of every representative is within `tol` of the bin's
+//! points. The fit is then measured on **every input point** by exact foot-point projection
+//! ([`crate::diffgeo::projection::CurveProjector`]); where a point is still outside `tol`, its bin
+//! is cut in two (`h/2` there) and the reduced data fitted again ([`ReduceTuning::repair_rounds`]
+//! times at most; then once more with the tolerance tightened by the largest excess).
+//!
+//! # When it applies
+//!
+//! Only when the bins at least halve the points ([`ReduceTuning::min_points_per_bin`]): data whose
+//! typical tolerance-sized arc holds one point are already their own reduced form and go to the
+//! pipeline untouched (all the clean tables, 60-400 points with spacings of several tolerances,
+//! give byte-identical results).
+
+use super::super::context::tolerance_of;
+use super::super::options::IntegratedOptions;
+use super::super::result::{FitQuality, IntegratedResult};
+use super::super::search::prepare::{normalise, snap};
+use crate::diffgeo::projection::CurveProjector;
+use crate::errors::Result;
+use crate::fit::reduce::{reduce, refine, ReduceTuning, Reduced};
+use crate::nurbs::{NurbsCurve, Vec3};
+use crate::tolerance::Tolerance;
+use rayon::prelude::*;
+
+/// Dense data in their reduced form: the points and bins in the normalised units of
+/// `search::prepare` (bounding-box minimum `lo`, largest side `scale`), so scaled or translated
+/// inputs give bit-identical bins and representatives (snapped to its grid; the pipeline then
+/// re-normalises them by their own bounding box, which is not yet bit-identical).
+pub(crate) struct Dense {
+    normalised: Vec<Vec3>,
+    red: Reduced,
+    lo: Vec3,
+    scale: f64,
+    /// The tolerance in normalised units.
+    tol: f64,
+}
+
+impl Dense {
+    /// The reduced form of `points` under `opts`, or `None` when the points are their own reduced
+    /// form (or unfit for one: the pipeline then says why).
+    pub fn of(points: &[Vec3], opts: &IntegratedOptions, tuning: &ReduceTuning) -> Option<Dense> {
+        let &first = points.first()?;
+        let (mut lo, mut hi) = (first, first);
+        for p in points {
+            if !p.is_finite() {
+                return None;
+            }
+            for c in 0..3 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        let scale = (hi - lo).max_abs();
+        if !(scale.is_finite() && scale > 0.0) {
+            return None;
+        }
+        let tol = tolerance_of(opts, scale);
+        let normalised: Vec<Vec3> = points.iter().map(|&p| normalise(p, lo, scale)).collect();
+        let red = reduce(&normalised, tol, tuning)?;
+        Some(Dense {
+            normalised,
+            red,
+            lo,
+            scale,
+            tol,
+        })
+    }
+
+    /// The representatives in input units.
+    fn points(&self) -> Vec<Vec3> {
+        let (lo, s) = (self.lo, self.scale);
+        self.red
+            .bins
+            .iter()
+            .map(|b| lo + snap(b.point) * s)
+            .collect()
+    }
+
+    /// The reduced data fitted by `fit` within the tolerance less the bins' spread, measured on
+    /// every input point (`points`), and repaired while a point misses the tolerance (module doc).
+    pub fn fit(
+        mut self,
+        points: &[Vec3],
+        opts: &IntegratedOptions,
+        tuning: &ReduceTuning,
+        fit: &dyn Fn(&[Vec3], &IntegratedOptions) -> Result<IntegratedResult>,
+    ) -> Result<IntegratedResult> {
+        let h = tuning.bin_tolerances * self.tol;
+        let tol = self.tol * self.scale;
+        // a spread beyond the tolerance is noise no fit within it can average (the fit says so)
+        let mut inner = (self.tol - self.red.spread()).max(0.25 * self.tol) * self.scale;
+        let (mut round, mut tightened) = (0, false);
+        loop {
+            let o = IntegratedOptions {
+                tolerance: Tolerance::Absolute(inner),
+                ..opts.clone()
+            };
+            let r = fit(&self.points(), &o)?;
+            let (max, rms, per_bin) = verify(&r.curve, points, &self.red, tol);
+            let done = max <= tol || tightened || !r.met;
+            let cut: Vec<bool> = per_bin.iter().map(|&d| d > tol).collect();
+            if !done
+                && round < tuning.repair_rounds
+                && refine(&self.normalised, &mut self.red, &cut, h, tuning)
+            {
+                round += 1;
+                continue;
+            }
+            if done || inner - (max - tol) <= 0.0 {
+                return Ok(measured(r, max, rms, tol, opts.span_fairness));
+            }
+            inner -= max - tol;
+            tightened = true;
+        }
+    }
+}
+
+/// The deviation of every input point from `curve`: `(max, rms, per-bin max)` by exact foot-point
+/// projection, the first and last point counted as zero like the pipeline does (the curve
+/// interpolates them). Each point is projected by Newton from its predecessor's foot (the bin's
+/// first from its representative's foot); a point whose Newton run does not converge, or lands
+/// farther than `tol`, is projected again by the safeguarded search near that foot
+/// ([`CurveProjector::project_near`]), so every reported violation is the exact distance.
+pub fn verify(curve: &NurbsCurve, points: &[Vec3], r: &Reduced, tol: f64) -> (f64, f64, Vec<f64>) {
+    let proj = CurveProjector::new(curve, 8);
+    let n = points.len();
+    let per_bin: Vec<(f64, f64)> = r
+        .bins
+        .par_iter()
+        .map(|b| {
+            let mut u = proj.project(b.point).u;
+            let (mut worst, mut sum2) = (0.0f64, 0.0);
+            let mut d3 = [Vec3::ZERO; 3];
+            for k in b.first.max(1)..=b.last.min(n - 2) {
+                let q = points[k];
+                let (nu, mut d) = match newton(curve, q, u, &mut d3) {
+                    Some(x) if x.1 <= tol => x,
+                    _ => {
+                        let f = proj.project_near(q, u);
+                        (f.u, f.distance)
+                    }
+                };
+                if d > tol {
+                    // a violation is confirmed by the whole-curve search
+                    d = d.min(proj.project(q).distance);
+                }
+                u = nu;
+                worst = worst.max(d);
+                sum2 += d * d;
+            }
+            (worst, sum2)
+        })
+        .collect();
+    let max = per_bin.iter().map(|x| x.0).fold(0.0, f64::max);
+    let sum2: f64 = per_bin.iter().map(|x| x.1).sum();
+    (
+        max,
+        (sum2 / n as f64).sqrt(),
+        per_bin.into_iter().map(|x| x.0).collect(),
+    )
+}
+
+/// Foot parameter and distance of `q` by Newton on `C'·(C − q)` from `u` (inside the domain),
+/// `None` unless it converges to a minimum within a few steps.
+fn newton(curve: &NurbsCurve, q: Vec3, mut u: f64, d: &mut [Vec3; 3]) -> Option<(f64, f64)> {
+    let (a, b) = curve.domain();
+    for _ in 0..8 {
+        curve.derivatives_into(u, 2, d);
+        let diff = d[0] - q;
+        let f = d[1].dot(diff);
+        let fp = d[2].dot(diff) + d[1].norm_squared();
+        if fp.is_nan() || fp <= 0.0 {
+            return None;
+        }
+        let next = (u - f / fp).clamp(a, b);
+        if (next - u).abs() <= 1e-12 * (b - a) {
+            return Some((next, (curve.point(next) - q).norm()));
+        }
+        u = next;
+    }
+    None
+}
+
+/// `r` measured on the input points: its quality's deviations and `met` replaced by those of every
+/// input point (`max`, `rms`) against the tolerance `tol` (input units), which becomes the result's.
+pub fn measured(
+    mut r: IntegratedResult,
+    max: f64,
+    rms: f64,
+    tol: f64,
+    span_fairness: Option<f64>,
+) -> IntegratedResult {
+    r.quality = FitQuality {
+        max_deviation: max,
+        rms_deviation: rms,
+        ..r.quality
+    };
+    r.tolerance = tol;
+    r.met = max <= tol && span_fairness.is_none_or(|t| r.quality.max_span_fairness <= t);
+    r
+}

@@ -1,0 +1,132 @@
+//! The reduction stage (`fairfit::optim::stages::reduce`) through `fit_integrated`, without corner
+//! detection, on a noisy spiral (size about 2.2, noise tol/20): the dense fit meets the tolerance on
+//! every input point (an independent whole-curve projection) and stays within 1.1 tol of the
+//! noise-free spiral; a burst of 100:1 density gives the count of even sampling. Two known defects
+//! are kept as ignored tests until fixed: 10 times fewer points giving the count within one, and
+//! the data scaled by 1000 giving the same knots.
+
+use fairfit::diffgeo::projection::CurveProjector;
+use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
+use fairfit::Vec3;
+
+/// The noise-free spiral at `t ∈ [0, 1]`.
+fn spiral(t: f64) -> Vec3 {
+    let a = 7.2 * t;
+    let r = 0.4 + 1.125 * t;
+    Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+}
+
+/// A deterministic standard normal stream (xorshift and Box–Muller).
+struct Gauss(u64);
+
+impl Gauss {
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+    fn next(&mut self) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
+/// The spiral at parameters `ts` with Gaussian noise `sigma` on each coordinate.
+fn noisy(ts: &[f64], sigma: f64, seed: u64) -> Vec<Vec3> {
+    let mut g = Gauss(seed);
+    ts.iter()
+        .map(|&t| spiral(t) + Vec3::new(sigma * g.next(), sigma * g.next(), 0.0))
+        .collect()
+}
+
+fn even(n: usize) -> Vec<f64> {
+    (0..n).map(|i| i as f64 / (n - 1) as f64).collect()
+}
+
+fn fit(points: &[Vec3]) -> IntegratedResult {
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).corner_angle(None);
+    fit_integrated(points, &opts).unwrap()
+}
+
+/// Tolerance of the spiral data (relative 1e-3 of the bounding box's largest side).
+fn tolerance(points: &[Vec3]) -> f64 {
+    let (mut lo, mut hi) = (points[0], points[0]);
+    for p in points {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    1e-3 * (hi - lo).max_abs()
+}
+
+const SIGMA: f64 = 1.1e-4;
+
+#[test]
+fn a_dense_noisy_spiral_meets_the_tolerance_on_every_point_and_averages_the_noise() {
+    let dense = noisy(&even(20_000), SIGMA, 7);
+    let tol = tolerance(&dense);
+    let r = fit(&dense);
+    assert!(r.met, "max deviation {} > {tol}", r.quality.max_deviation);
+    assert!((r.tolerance / tol - 1.0).abs() < 1e-12);
+    let proj = CurveProjector::new(&r.curve, 16);
+    let worst = dense
+        .iter()
+        .map(|&q| proj.project(q).distance)
+        .fold(0.0, f64::max);
+    assert!(worst <= tol * (1.0 + 1e-9), "{worst} > {tol}");
+    assert!((worst / r.quality.max_deviation - 1.0).abs() < 1e-6);
+    // the noise-free spiral (which the noise hides) within 1.1 tol of the fit
+    let truth = (0..=4000)
+        .map(|i| proj.project(spiral(i as f64 / 4000.0)).distance)
+        .fold(0.0, f64::max);
+    assert!(truth <= 1.1 * tol, "{truth} from the noise-free spiral");
+    let a = r.curve.n_control_points();
+    assert!(a < 40, "{a} control points follow the noise");
+}
+
+#[test]
+#[ignore = "known defect: 20,000 points give 11 control points, 2,000 give 13 (2,000 points put under \
+            3 points in a bin, so their representatives keep more noise); 10^4, 10^5, 10^6 agree"]
+fn ten_times_fewer_points_give_the_count_within_one() {
+    let dense = fit(&noisy(&even(20_000), SIGMA, 7));
+    let sparse = fit(&noisy(&even(2_000), SIGMA, 11));
+    let (a, b) = (
+        dense.curve.n_control_points(),
+        sparse.curve.n_control_points(),
+    );
+    assert!(a.abs_diff(b) <= 1, "{a} vs {b} control points");
+}
+
+#[test]
+#[ignore = "known defect: same count, knots differ by about 1e-3: the pipeline re-normalises the \
+            representatives by their own bounding box; fix: hand it the normalised representatives"]
+fn scaled_dense_data_give_the_same_knots() {
+    let dense = noisy(&even(12_000), SIGMA, 3);
+    let scaled: Vec<Vec3> = dense.iter().map(|&p| p * 1000.0).collect();
+    let (a, b) = (fit(&dense), fit(&scaled));
+    assert_eq!(a.curve.n_control_points(), b.curve.n_control_points());
+    assert_eq!(a.curve.knots(), b.curve.knots());
+    assert_eq!(a.met, b.met);
+}
+
+#[test]
+fn a_burst_of_density_gives_the_count_of_even_sampling() {
+    // even sampling at 12,000 points, and the same with two stretches 100 times denser
+    let base = even(12_000);
+    let mut burst = Vec::new();
+    for w in base.windows(2) {
+        let dense = (0.2..0.3).contains(&w[0]) || (0.6..0.65).contains(&w[0]);
+        let k = if dense { 100 } else { 1 };
+        for j in 0..k {
+            burst.push(w[0] + (w[1] - w[0]) * j as f64 / k as f64);
+        }
+    }
+    burst.push(1.0);
+    assert!(burst.len() > 6 * base.len());
+    let (a, b) = (fit(&noisy(&base, SIGMA, 5)), fit(&noisy(&burst, SIGMA, 5)));
+    assert!(a.met && b.met);
+    let (na, nb) = (a.curve.n_control_points(), b.curve.n_control_points());
+    assert!(na.abs_diff(nb) <= 1, "{na} evenly vs {nb} with bursts");
+}
