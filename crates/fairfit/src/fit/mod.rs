@@ -12,6 +12,7 @@ pub mod foot;
 pub mod hooks;
 pub mod knot_placement;
 pub mod lsq;
+pub mod noise;
 pub mod parameterize;
 pub mod points;
 pub mod power;
