@@ -4,12 +4,13 @@
 //! - the points (outliers already found excluded) are grouped into bins of `r` consecutive points,
 //!   `r = block / 8` from the noise measure (`r = 1` on clean or sparse data), so that a bin's mean
 //!   carries `1/√r` of the noise and [`SIDE_BINS`] bins span about one noise block;
-//! - on each side, a quadratic through the means of the [`SIDE_BINS`] nearest bins that hold no part of
-//!   the point's own bin is extrapolated to the point; its *side distance* is how far it lies from that
-//!   quadratic, and its distance is the smaller of its two side distances.
+//! - on each side, the least-squares line through the means of the [`SIDE_BINS`] nearest bins that
+//!   hold no part of the point's own bin is extrapolated to the point; the point's distance is the
+//!   smallest of its distances from the two side lines and from the polyline of all those means
+//!   (the polyline measures a spike displaced along the curve across it).
 //!
 //! A point is a spike when that distance exceeds all of `SPIKE_TOLS · tol`, `SPIKE_SIGMAS · σ` and
-//! `SPIKE_SPACINGS ·` half the gap between its two sides. Taking the smaller side keeps every feature
+//! `SPIKE_SPACINGS ·` half the gap between its two sides. Taking the smallest keeps every feature
 //! made of points: a corner lies on the extrapolation of the side it ends, a trailing edge point on
 //! both surfaces' extrapolations, a point of a short straight piece on the side holding the rest of
 //! the piece. The spacing term keeps sparse data (where a point's neighbours can be further apart
@@ -131,9 +132,13 @@ impl Bins {
         let left = &self.mean[before.saturating_sub(SIDE_BINS)..before];
         let right = &self.mean[after..(after + SIDE_BINS).min(self.mean.len())];
         let p = points[i];
-        let dl = side_distance(left, p);
-        let dr = side_distance(right, p);
-        let d = dl.min(dr);
+        let mut both = [Vec3::new(0.0, 0.0, 0.0); 2 * SIDE_BINS];
+        let nb = left.len() + right.len();
+        both[..left.len()].copy_from_slice(left);
+        both[left.len()..nb].copy_from_slice(right);
+        let d = side_distance(left, p)
+            .min(side_distance(right, p))
+            .min(polyline_distance(&both[..nb], p));
         if !(d.is_finite() && d > thr) {
             return None;
         }
@@ -148,67 +153,43 @@ impl Bins {
     }
 }
 
-/// Distance of `p` from the quadratic (a line for two means) through the means `q` (infinite for
-/// fewer than two).
+/// Distance of `p` from the least-squares line through the means `q`, extrapolated (infinite for
+/// fewer than two). A line, not a curve: its error grows with the distance along it, never wildly,
+/// so a spike displaced along the curve still measures its offset across it.
 fn side_distance(q: &[Vec3], p: Vec3) -> f64 {
     if q.len() < 2 {
         return f64::INFINITY;
     }
+    let c = q.iter().fold(Vec3::new(0.0, 0.0, 0.0), |a, &v| a + v) / q.len() as f64;
     let d = q[q.len() - 1] - q[0];
     let len = d.norm();
     if !(len > 0.0) {
         return f64::INFINITY;
     }
     let u = d / len;
-    let x = |v: Vec3| (v - q[0]).dot(u) / len;
-    let deg = if q.len() >= 3 { 2 } else { 1 };
-    // normal equations of the vector-valued polynomial a + b x (+ c x²)
-    let mut g = [[0.0; 3]; 3];
-    let mut rhs = [Vec3::new(0.0, 0.0, 0.0); 3];
+    let (mut sxx, mut sxv) = (0.0, Vec3::new(0.0, 0.0, 0.0));
     for &v in q {
-        let xv = x(v);
-        let phi = [1.0, xv, xv * xv];
-        for a in 0..=deg {
-            for b in 0..=deg {
-                g[a][b] += phi[a] * phi[b];
-            }
-            rhs[a] += v * phi[a];
-        }
+        let x = (v - c).dot(u);
+        sxx += x * x;
+        sxv += (v - c) * x;
     }
-    let Some(coef) = solve(&mut g, &mut rhs, deg + 1) else {
+    if !(sxx > 0.0) {
         return f64::INFINITY;
-    };
-    let xp = x(p);
-    let phi = [1.0, xp, xp * xp];
-    let at = (0..=deg).fold(Vec3::new(0.0, 0.0, 0.0), |a, k| a + coef[k] * phi[k]);
-    (p - at).norm()
+    }
+    let slope = sxv / sxx;
+    let x = (p - c).dot(u);
+    (p - (c + slope * x)).norm()
 }
 
-/// Gaussian elimination with partial pivoting on the leading `k × k` block.
-fn solve(g: &mut [[f64; 3]; 3], rhs: &mut [Vec3; 3], k: usize) -> Option<[Vec3; 3]> {
-    for col in 0..k {
-        let piv = (col..k).max_by(|&a, &b| g[a][col].abs().total_cmp(&g[b][col].abs()))?;
-        if g[piv][col].abs() < 1e-12 {
-            return None;
-        }
-        g.swap(col, piv);
-        rhs.swap(col, piv);
-        for r in col + 1..k {
-            let f = g[r][col] / g[col][col];
-            for c in col..k {
-                g[r][c] -= f * g[col][c];
-            }
-            let sub = rhs[col] * f;
-            rhs[r] -= sub;
-        }
-    }
-    let mut out = [Vec3::new(0.0, 0.0, 0.0); 3];
-    for r in (0..k).rev() {
-        let mut s = rhs[r];
-        for c in r + 1..k {
-            s -= out[c] * g[r][c];
-        }
-        out[r] = s / g[r][r];
-    }
-    Some(out)
+/// Distance of `p` from the polyline through the means `q` (infinite for fewer than two).
+fn polyline_distance(q: &[Vec3], p: Vec3) -> f64 {
+    q.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let d = b - a;
+            let l2 = d.norm_squared();
+            let t = if l2 > 0.0 { ((p - a).dot(d) / l2).clamp(0.0, 1.0) } else { 0.0 };
+            (p - (a + d * t)).norm()
+        })
+        .fold(f64::INFINITY, f64::min)
 }
