@@ -50,7 +50,11 @@ impl CornerScale {
     /// The scale for tolerance `tol` (the points' units), measured noise `noise` and corner angle.
     pub fn new(tol: f64, noise: NoiseEstimate, angle_deg: f64) -> Self {
         let min_window = NOISE_WINDOW * noise.sigma / angle_deg.to_radians();
-        let stride = if noise.sigma > 0.0 { (noise.block / 4).max(1) } else { 1 };
+        let stride = if noise.sigma > 0.0 {
+            (noise.block / 4).max(1)
+        } else {
+            1
+        };
         CornerScale {
             window: tol.max(min_window),
             min_window,
@@ -70,7 +74,12 @@ pub fn corners_at_tolerance(points: &[Vec3], closed: bool, angle_deg: f64, tol: 
     if points.len() < 3 {
         return Vec::new();
     }
-    detect_corners_at(points, closed, angle_deg, &CornerScale::measure(points, tol, angle_deg))
+    detect_corners_at(
+        points,
+        closed,
+        angle_deg,
+        &CornerScale::measure(points, tol, angle_deg),
+    )
 }
 
 /// Indices of the corners of `points` (module doc). For `closed` data (last point not repeated) every
@@ -114,7 +123,8 @@ pub fn detect_corners_at(
             j += 1;
         }
         jr = jr.max(ki + 1);
-        while w.in_range(jr) && w.pos(jr) - tk < scale.window && !(!closed && jr as usize == n - 1) {
+        while w.in_range(jr) && w.pos(jr) - tk < scale.window && !(!closed && jr as usize == n - 1)
+        {
             jr += 1;
         }
         if !w.in_range(jr) {
@@ -200,7 +210,12 @@ impl<'a> Windows<'a> {
             }
             acc += d;
         }
-        let length = acc + if closed { (points[0] - points[n - 1]).norm() } else { 0.0 };
+        let length = acc
+            + if closed {
+                (points[0] - points[n - 1]).norm()
+            } else {
+                0.0
+            };
         let mut sums = Vec::with_capacity(n + 1);
         let mut s = Vec3::new(0.0, 0.0, 0.0);
         sums.push(s);

@@ -1,31 +1,33 @@
 //! The noise of ordered points, measured before any fit.
 //!
-//! The points are cut into consecutive blocks of `m` points. In each block a cubic `y(x)` is fitted by
-//! least squares in the block's own frame (`x` along the block, from the mean of its first half to the
-//! mean of its second half; `y` across it: the in-plane normal for planar data, both normal directions
-//! otherwise). Each residual is divided by `√(1 - h_ii)` (its leverage), so that for Gaussian noise of
-//! standard deviation `σ` across the curve every standardised residual has standard deviation `σ`
-//! exactly; `σ` is then the median absolute standardised residual over all blocks divided by
+//! The points are grouped into bins of `r` consecutive points (`r = 1` first) and each bin is replaced
+//! by its mean. Every bin mean is compared with the cubic through its two neighbours on each side
+//! (Lagrange interpolation in the frame of the five-mean stencil's chord, across the chord: the
+//! in-plane normal for planar data, both normal directions otherwise). The residual is divided by
+//! its own standard deviation for unit noise, `√((1 + Σ ℓ_j²) / r)` with `ℓ_j` the four Lagrange
+//! weights, so that for Gaussian noise of standard deviation `σ` across the curve every standardised
+//! residual has standard deviation `σ`; `σ` is the median absolute standardised residual divided by
 //! `Φ⁻¹(3/4) ≈ 0.6745` (the MAD of a normal law).
 //!
 //! Why this form:
-//! - a cubic over a block follows the curve's curvature and its change, so clean data (an airfoil
-//!   table) report `σ` far below any tolerance: the residuals are the curve's fourth-order terms;
-//! - the median ignores the few blocks where a cubic cannot follow (a leading edge, a corner) and the
-//!   blocks holding a spike;
-//! - `m` starts at [`MIN_BLOCK`] points and doubles while the blocks are shorter than
-//!   [`FRAME_SIGMAS`] `σ`: at a density where the noise is larger than the point spacing, a short block
-//!   is a blob of noise with no direction, and its frame would be noise too. Each try is one O(n) pass,
-//!   so the whole estimate is O(n log n) at worst.
+//! - a cubic through the nearest neighbours follows the curve's curvature and its change; what is
+//!   left on clean data is a fourth-order term over four spacings, far below any tolerance on an
+//!   airfoil table of a hundred points;
+//! - the median ignores the few stencils where a cubic cannot follow (a leading edge, a corner) and
+//!   the ones holding a spike;
+//! - `r` doubles while the stencils are shorter than [`FRAME_SIGMAS`] `σ`: at a density where the
+//!   noise is larger than the point spacing, a short stencil is a blob of noise with no direction,
+//!   and its frame would be noise too. Each try is one O(n) pass, so the estimate is O(n log n) at
+//!   worst.
 //!
 //! The estimate is scale-free (a scaled input gives a scaled `σ`) and deterministic.
 
 use crate::nurbs::Vec3;
 
-/// Fewest points in a block (a cubic has 4 coefficients: 4 degrees of freedom are left).
-pub const MIN_BLOCK: usize = 8;
+/// Fewest points measured (fewer give `σ = 0`); also the fewest bins at any bin size.
+pub const MIN_POINTS: usize = 16;
 
-/// A block's chord must be at least this many `σ` for its frame to follow the curve, not the noise.
+/// A stencil's chord must be at least this many `σ` for its frame to follow the curve, not the noise.
 pub const FRAME_SIGMAS: f64 = 30.0;
 
 /// `Φ⁻¹(3/4)`: the median absolute value of a standard normal variable.
@@ -36,12 +38,13 @@ const MAD_NORMAL: f64 = 0.674_489_750_196_081_7;
 pub struct NoiseEstimate {
     /// Standard deviation of the noise across the curve, in the points' units (0 when too few points).
     pub sigma: f64,
-    /// Points per block at which it was measured: the shortest run of consecutive points whose chord
-    /// reaches [`FRAME_SIGMAS`] `σ` (the scale below which the data's direction is noise).
+    /// Points per stencil at which it was measured (four bins): the shortest run of consecutive
+    /// points whose chord reaches [`FRAME_SIGMAS`] `σ` (the scale below which the data's direction is
+    /// noise).
     pub block: usize,
 }
 
-/// Measures the noise of `points` (module doc). Fewer than `2 ·` [`MIN_BLOCK`] points give `σ = 0`.
+/// Measures the noise of `points` (module doc). Fewer than [`MIN_POINTS`] points give `σ = 0`.
 ///
 /// ```
 /// use fairfit::fit::noise::estimate_noise;
@@ -57,8 +60,7 @@ pub struct NoiseEstimate {
 /// ```
 pub fn estimate_noise(points: &[Vec3]) -> NoiseEstimate {
     let n = points.len();
-    let mut block = MIN_BLOCK;
-    if n < 2 * MIN_BLOCK {
+    if n < MIN_POINTS {
         return NoiseEstimate {
             sigma: 0.0,
             block: 1,
@@ -66,80 +68,75 @@ pub fn estimate_noise(points: &[Vec3]) -> NoiseEstimate {
     }
     let planar = points.iter().all(|p| p[2] == points[0][2]);
     let mut scratch = Vec::with_capacity(if planar { n } else { 2 * n });
+    let mut r = 1;
     loop {
-        let (sigma, chord) = blocks_sigma(points, block, planar, &mut scratch);
-        if chord >= FRAME_SIGMAS * sigma || 2 * block > n / 2 {
-            return NoiseEstimate { sigma, block };
+        let (sigma, chord) = blocks_sigma(points, r, planar, &mut scratch);
+        if chord >= FRAME_SIGMAS * sigma || 2 * r * MIN_POINTS > n {
+            return NoiseEstimate {
+                sigma,
+                block: 4 * r,
+            };
         }
-        block *= 2;
+        r *= 2;
     }
 }
 
-/// `σ` and the median block chord at block size `m` (module doc).
-fn blocks_sigma(points: &[Vec3], m: usize, planar: bool, res: &mut Vec<f64>) -> (f64, f64) {
+/// `σ` and the median stencil chord at bin size `r` (module doc).
+fn blocks_sigma(points: &[Vec3], r: usize, planar: bool, res: &mut Vec<f64>) -> (f64, f64) {
     res.clear();
-    let nb = points.len() / m;
-    let mut chords = Vec::with_capacity(nb);
-    for b in 0..nb {
-        // the last block takes the remainder
-        let end = if b + 1 == nb {
-            points.len()
-        } else {
-            (b + 1) * m
-        };
-        let blk = &points[b * m..end];
-        chords.push((blk[blk.len() - 1] - blk[0]).norm());
-        block_residuals(blk, planar, res);
+    let q: Vec<Vec3> = points
+        .chunks_exact(r)
+        .map(|c| c.iter().fold(Vec3::new(0.0, 0.0, 0.0), |a, &p| a + p) / r as f64)
+        .collect();
+    let mut chords = Vec::with_capacity(q.len());
+    for w in q.windows(5) {
+        chords.push((w[4] - w[0]).norm());
+        stencil_residual(w, planar, r, res);
     }
     (median(res) / MAD_NORMAL, median(&mut chords))
 }
 
-/// Pushes the standardised residuals (absolute values) of one block's cubic onto `out`.
-fn block_residuals(blk: &[Vec3], planar: bool, out: &mut Vec<f64>) {
-    let m = blk.len();
-    let mean = |s: &[Vec3]| s.iter().fold(Vec3::new(0.0, 0.0, 0.0), |a, &p| a + p) / s.len() as f64;
-    let (a, b) = (mean(&blk[..m / 2]), mean(&blk[m / 2..]));
-    let d = b - a;
-    if !(d.norm() > 0.0) {
+/// Pushes the standardised residual(s) of the middle of five bin means `w` from the cubic through
+/// the other four (in their chord's frame) onto `out`: the residual over its standard deviation
+/// `σ √((1 + Σ ℓ_j²) / r)` (`ℓ_j` the Lagrange weights, `r` points per mean).
+fn stencil_residual(w: &[Vec3], planar: bool, r: usize, out: &mut Vec<f64>) {
+    let d = w[4] - w[0];
+    let len = d.norm();
+    if !(len > 0.0) {
         return;
     }
-    let u = d / d.norm();
-    let c = (a + b) * 0.5;
-    let half = 0.5
-        * blk
-            .iter()
-            .map(|&p| (p - c).dot(u).abs())
-            .fold(0.0, f64::max)
-            .max(1e-300);
-    let xs: Vec<f64> = blk.iter().map(|&p| (p - c).dot(u) / half).collect();
-    let Some(ginv) = inverse_gram(&xs) else {
-        return;
-    };
+    let u = d / len;
+    let x: Vec<f64> = w.iter().map(|&p| (p - w[0]).dot(u) / len).collect();
+    let nodes = [0usize, 1, 3, 4];
+    let mut weights = [0.0; 4];
+    for (k, &a) in nodes.iter().enumerate() {
+        let mut l = 1.0;
+        for &b in &nodes {
+            if b != a {
+                let den = x[a] - x[b];
+                if den.abs() < 1e-9 {
+                    return;
+                }
+                l *= (x[2] - x[b]) / den;
+            }
+        }
+        weights[k] = l;
+    }
+    let var = (1.0 + weights.iter().map(|l| l * l).sum::<f64>()) / r as f64;
     let normals: Vec<Vec3> = if planar {
-        vec![Vec3::new(-u[1], u[0], 0.0) / (u[0].hypot(u[1])).max(1e-300)]
+        let h = u[0].hypot(u[1]);
+        if !(h > 0.0) {
+            return;
+        }
+        vec![Vec3::new(-u[1] / h, u[0] / h, 0.0)]
     } else {
-        let (v, w) = perpendicular_pair(u);
-        vec![v, w]
+        let (v, n2) = perpendicular_pair(u);
+        vec![v, n2]
     };
     for nrm in normals {
-        let ys: Vec<f64> = blk.iter().map(|&p| (p - c).dot(nrm)).collect();
-        let mut rhs = [0.0; 4];
-        for (&x, &y) in xs.iter().zip(&ys) {
-            let phi = [1.0, x, x * x, x * x * x];
-            for k in 0..4 {
-                rhs[k] += phi[k] * y;
-            }
-        }
-        let coef = mat_vec(&ginv, &rhs);
-        for (&x, &y) in xs.iter().zip(&ys) {
-            let phi = [1.0, x, x * x, x * x * x];
-            let fit: f64 = (0..4).map(|k| coef[k] * phi[k]).sum();
-            let g = mat_vec(&ginv, &phi);
-            let lev: f64 = (0..4).map(|k| g[k] * phi[k]).sum();
-            if lev < 0.99 {
-                out.push((y - fit).abs() / (1.0 - lev).sqrt());
-            }
-        }
+        let y = |i: usize| (w[i] - w[0]).dot(nrm);
+        let pred: f64 = nodes.iter().zip(&weights).map(|(&i, l)| l * y(i)).sum();
+        out.push((y(2) - pred).abs() / var.sqrt());
     }
 }
 
@@ -153,52 +150,6 @@ fn perpendicular_pair(u: Vec3) -> (Vec3, Vec3) {
     let v = u.cross(e);
     let v = v / v.norm();
     (v, u.cross(v))
-}
-
-fn mat_vec(a: &[[f64; 4]; 4], v: &[f64; 4]) -> [f64; 4] {
-    let mut o = [0.0; 4];
-    for (oi, row) in o.iter_mut().zip(a) {
-        *oi = (0..4).map(|k| row[k] * v[k]).sum();
-    }
-    o
-}
-
-/// The inverse of the cubic's Gram matrix `Σ φ φᵀ` (Gauss–Jordan with pivoting); `None` if singular.
-fn inverse_gram(xs: &[f64]) -> Option<[[f64; 4]; 4]> {
-    let mut g = [[0.0; 8]; 4];
-    for &x in xs {
-        let phi = [1.0, x, x * x, x * x * x];
-        for i in 0..4 {
-            for j in 0..4 {
-                g[i][j] += phi[i] * phi[j];
-            }
-        }
-    }
-    for (i, row) in g.iter_mut().enumerate() {
-        row[4 + i] = 1.0;
-    }
-    let scale = g[0][0].max(1.0);
-    for col in 0..4 {
-        let piv = (col..4).max_by(|&a, &b| g[a][col].abs().total_cmp(&g[b][col].abs()))?;
-        if g[piv][col].abs() < 1e-12 * scale {
-            return None;
-        }
-        g.swap(col, piv);
-        let d = g[col][col];
-        g[col].iter_mut().for_each(|v| *v /= d);
-        for r in 0..4 {
-            if r != col {
-                let f = g[r][col];
-                let src = g[col];
-                g[r].iter_mut().zip(src).for_each(|(v, s)| *v -= f * s);
-            }
-        }
-    }
-    let mut inv = [[0.0; 4]; 4];
-    for i in 0..4 {
-        inv[i].copy_from_slice(&g[i][4..]);
-    }
-    Some(inv)
 }
 
 /// The median of `v` (reordered; 0 for an empty slice).

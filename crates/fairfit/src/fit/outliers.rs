@@ -15,7 +15,7 @@
 //! both surfaces' extrapolations, a point of a short straight piece on the side holding the rest of
 //! the piece. The spacing term keeps sparse data (where a point's neighbours can be further apart
 //! than any tolerance) from calling geometry a spike. A run of more than [`MAX_RUN`] consecutive
-//! candidates is a feature, not spikes.
+//! candidates is a feature, not spikes, and the first and last points (one side only) are never spikes.
 //!
 //! Candidates are found in one pass, then tested again with all candidates excluded from the bins: a
 //! spike near another can spoil the first pass's extrapolation, never the second's.
@@ -117,7 +117,9 @@ impl Bins {
         let mut span = Vec::with_capacity(kept.len() / r + 1);
         let mut mean = Vec::with_capacity(kept.len() / r + 1);
         for c in kept.chunks(r) {
-            let s = c.iter().fold(Vec3::new(0.0, 0.0, 0.0), |a, &i| a + points[i]);
+            let s = c
+                .iter()
+                .fold(Vec3::new(0.0, 0.0, 0.0), |a, &i| a + points[i]);
             span.push((c[0], c[c.len() - 1]));
             mean.push(s / c.len() as f64);
         }
@@ -142,14 +144,15 @@ impl Bins {
         if !(d.is_finite() && d > thr) {
             return None;
         }
-        let gap = match (left.last(), right.first()) {
-            (Some(&a), Some(&b)) => 0.5 * (b - a).norm(),
-            // at an end: the spacing of the side's two nearest bins
-            (Some(_), None) => 0.5 * (left[left.len() - 1] - left[left.len() - 2]).norm(),
-            (None, Some(_)) => 0.5 * (right[1] - right[0]).norm(),
-            (None, None) => return None,
+        // an end point has one side only: a turn there cannot be told from a spike, so it stays
+        let (Some(&l), Some(&r)) = (left.last(), right.first()) else {
+            return None;
         };
-        (d > SPIKE_SPACINGS * gap).then_some(Outlier { index: i, distance: d })
+        let gap = 0.5 * (r - l).norm();
+        (d > SPIKE_SPACINGS * gap).then_some(Outlier {
+            index: i,
+            distance: d,
+        })
     }
 }
 
@@ -188,7 +191,11 @@ fn polyline_distance(q: &[Vec3], p: Vec3) -> f64 {
             let (a, b) = (w[0], w[1]);
             let d = b - a;
             let l2 = d.norm_squared();
-            let t = if l2 > 0.0 { ((p - a).dot(d) / l2).clamp(0.0, 1.0) } else { 0.0 };
+            let t = if l2 > 0.0 {
+                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             (p - (a + d * t)).norm()
         })
         .fold(f64::INFINITY, f64::min)

@@ -106,4 +106,3 @@ pub fn spikes_beyond(points: &[Vec3], tol: f64, max: usize) -> Vec<Outlier> {
     found.truncate(max);
     found
 }
-

@@ -49,12 +49,12 @@ pub fn pareto_front_of_result(
             seq.pop();
         }
         let prep = prepare(&seq, p)?;
-        let c0 = opts
-            .corner_angle_deg
-            .and_then(|a| {
-                let tol = tolerance_of(opts, prep.scale);
-                corners_at_tolerance(&prep.data.points, true, a, tol).first().copied()
-            });
+        let c0 = opts.corner_angle_deg.and_then(|a| {
+            let tol = tolerance_of(opts, prep.scale);
+            corners_at_tolerance(&prep.data.points, true, a, tol)
+                .first()
+                .copied()
+        });
         let Some(c0) = c0 else {
             return super::periodic::pareto_front_periodic(&seq, opts, r);
         };
@@ -67,7 +67,9 @@ pub fn pareto_front_of_result(
     };
     let prep = prepare(&seq, p)?;
     let corners = match opts.corner_angle_deg {
-        Some(a) => corners_at_tolerance(&prep.data.points, false, a, tolerance_of(opts, prep.scale)),
+        Some(a) => {
+            corners_at_tolerance(&prep.data.points, false, a, tolerance_of(opts, prep.scale))
+        }
         None => Vec::new(),
     };
     let ranges = pieces(prep.data.points.len(), &corners);
