@@ -318,7 +318,11 @@ fn add_screening(
     obj.insert("meaningful_tolerance".into(), json!(s.noise_limited));
     obj.insert(
         "outliers_mode".into(),
-        json!(if args.outliers == OutliersArg::Off { "off" } else { "auto" }),
+        json!(if args.outliers == OutliersArg::Off {
+            "off"
+        } else {
+            "auto"
+        }),
     );
     obj.insert("outliers".into(), json!(s.outliers));
 }

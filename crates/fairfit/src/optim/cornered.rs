@@ -194,6 +194,7 @@ fn joined(
             .is_none_or(|t| quality.max_span_fairness <= t);
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(IntegratedResult {
+        screening: Default::default(),
         curve,
         quality,
         tolerance: tol * prep.scale,

@@ -11,7 +11,9 @@ use super::progress::{untyped, Stage};
 use super::result::IntegratedResult;
 use super::search::prepare::{averaging_interior_knots, prepare};
 use crate::errors::{Error, Result};
+use crate::fit::screening::screen;
 use crate::nurbs::Vec3;
+use crate::tolerance::Tolerance;
 use std::time::Instant;
 
 /// Fits a fair cubic B-spline to ordered `points` by the integrated method.
@@ -43,11 +45,19 @@ pub fn fit_integrated_with_progress(
 ) -> Result<IntegratedResult> {
     let start = Instant::now();
     validate(opts)?;
-    if closed::is_closed(points, opts.closed) {
+    let tol = match opts.tolerance {
+        Tolerance::Relative(r) => r * crate::fit::points::bounding_box_extent(points),
+        Tolerance::Absolute(t) => t,
+    };
+    let (screening, kept) = screen(points, tol, opts.outliers);
+    let points = kept.as_deref().unwrap_or(points);
+    let mut r = if closed::is_closed(points, opts.closed) {
         closed::fit(points, opts, progress, start)
     } else {
         cornered::fit(points, opts, progress, start)
-    }
+    }?;
+    r.screening = screening;
+    Ok(r)
 }
 
 /// [`fit_integrated`] reporting its progress as [`Stage`] values to
@@ -100,6 +110,7 @@ pub fn fit_lsq_baseline(
     let knots = averaging_interior_knots(&prep.data.params, opts.degree, n_ctrl);
     let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts, None)?;
     Ok(IntegratedResult {
+        screening: Default::default(),
         baseline_control_points: n_ctrl,
         ..r
     })
