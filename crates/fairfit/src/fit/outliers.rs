@@ -5,9 +5,10 @@
 //!   `r = block / 8` from the noise measure (`r = 1` on clean or sparse data), so that a bin's mean
 //!   carries `1/√r` of the noise and [`SIDE_BINS`] bins span about one noise block;
 //! - on each side, the least-squares line through the means of the [`SIDE_BINS`] nearest bins that
-//!   hold no part of the point's own bin is extrapolated to the point; the point's distance is the
-//!   smallest of its distances from the two side lines and from the polyline of all those means
-//!   (the polyline measures a spike displaced along the curve across it).
+//!   hold no part of the point's own bin is extrapolated to the point, over the stretch where the
+//!   point belongs in the sequence (just behind that side's nearest mean to just beyond the other
+//!   side's); the point's distance is the smaller of its distances from the two side stretches, so a
+//!   spike displaced along the curve, out of its order, is as far off as one displaced across it.
 //!
 //! A point is a spike when that distance exceeds all of `SPIKE_TOLS · tol`, `SPIKE_SIGMAS · σ` and
 //! `SPIKE_SPACINGS ·` half the gap between its two sides. Taking the smallest keeps every feature
@@ -134,20 +135,19 @@ impl Bins {
         let left = &self.mean[before.saturating_sub(SIDE_BINS)..before];
         let right = &self.mean[after..(after + SIDE_BINS).min(self.mean.len())];
         let p = points[i];
-        let mut both = [Vec3::new(0.0, 0.0, 0.0); 2 * SIDE_BINS];
-        let nb = left.len() + right.len();
-        both[..left.len()].copy_from_slice(left);
-        both[left.len()..nb].copy_from_slice(right);
-        let d = side_distance(left, p)
-            .min(side_distance(right, p))
-            .min(polyline_distance(&both[..nb], p));
+        let (Some(&l), Some(&r)) = (left.last(), right.first()) else {
+            return None;
+        };
+        let mut far_to_near = [Vec3::new(0.0, 0.0, 0.0); SIDE_BINS];
+        let nr = right.len();
+        for (k, &v) in right.iter().rev().enumerate() {
+            far_to_near[k] = v;
+        }
+        let d = side_distance(left, p, r).min(side_distance(&far_to_near[..nr], p, l));
         if !(d.is_finite() && d > thr) {
             return None;
         }
         // an end point has one side only: a turn there cannot be told from a spike, so it stays
-        let (Some(&l), Some(&r)) = (left.last(), right.first()) else {
-            return None;
-        };
         let gap = 0.5 * (r - l).norm();
         (d > SPIKE_SPACINGS * gap).then_some(Outlier {
             index: i,
@@ -156,15 +156,19 @@ impl Bins {
     }
 }
 
-/// Distance of `p` from the least-squares line through the means `q`, extrapolated (infinite for
-/// fewer than two). A line, not a curve: its error grows with the distance along it, never wildly,
-/// so a spike displaced along the curve still measures its offset across it.
-fn side_distance(q: &[Vec3], p: Vec3) -> f64 {
+/// Distance of `p` from the least-squares line through the means `q` (ordered from far to near
+/// `p`), on the stretch where `p` belongs: from half a bin spacing behind the nearest mean to the
+/// larger of two bin spacings and the distance to `reach` (the other side's nearest mean) ahead of
+/// it. A line, not a curve: its error grows slowly along it; the stretch makes a spike displaced
+/// along the curve (out of its order) as far off as one displaced across it. Infinite for fewer than
+/// two means.
+fn side_distance(q: &[Vec3], p: Vec3, reach: Vec3) -> f64 {
     if q.len() < 2 {
         return f64::INFINITY;
     }
     let c = q.iter().fold(Vec3::new(0.0, 0.0, 0.0), |a, &v| a + v) / q.len() as f64;
-    let d = q[q.len() - 1] - q[0];
+    let near = q[q.len() - 1];
+    let d = near - q[0];
     let len = d.norm();
     if !(len > 0.0) {
         return f64::INFINITY;
@@ -180,23 +184,12 @@ fn side_distance(q: &[Vec3], p: Vec3) -> f64 {
         return f64::INFINITY;
     }
     let slope = sxv / sxx;
-    let x = (p - c).dot(u);
-    (p - (c + slope * x)).norm()
-}
-
-/// Distance of `p` from the polyline through the means `q` (infinite for fewer than two).
-fn polyline_distance(q: &[Vec3], p: Vec3) -> f64 {
-    q.windows(2)
-        .map(|w| {
-            let (a, b) = (w[0], w[1]);
-            let d = b - a;
-            let l2 = d.norm_squared();
-            let t = if l2 > 0.0 {
-                ((p - a).dot(d) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (p - (a + d * t)).norm()
-        })
-        .fold(f64::INFINITY, f64::min)
+    let spacing = (near - q[q.len() - 2]).norm();
+    let t_near = (near - c).dot(u);
+    let (lo, hi) = (
+        t_near - 0.5 * spacing,
+        t_near + (2.0 * spacing).max((reach - near).norm()),
+    );
+    let t = (p - c).dot(u).clamp(lo, hi);
+    (p - (c + slope * t)).norm()
 }
