@@ -72,21 +72,31 @@ pub fn screen(points: &[Vec3], tol: f64, mode: OutlierMode) -> (Screening, Optio
     let (outliers, kept) = match mode {
         OutlierMode::Off => (Vec::new(), None),
         OutlierMode::Auto => {
-            let found = find_outliers(points, tol, noise);
-            if found.is_empty() {
-                (found, None)
-            } else {
-                let mut drop = vec![false; points.len()];
-                found.iter().for_each(|o| drop[o.index] = true);
-                let kept: Vec<Vec3> = points
-                    .iter()
-                    .zip(&drop)
-                    .filter(|(_, &d)| !d)
-                    .map(|(&p, _)| p)
-                    .collect();
-                noise = estimate_noise(&kept);
-                (found, Some(kept))
+            // spikes inflate the first σ (and with it the threshold): measure again without the
+            // ones found and look again, until σ settles
+            let mut found = find_outliers(points, tol, noise);
+            let mut kept = None;
+            for _ in 0..MAX_ROUNDS {
+                if found.is_empty() {
+                    break;
+                }
+                let k = without(points, &found);
+                let again = estimate_noise(&k);
+                kept = Some(k);
+                let settled = again.sigma >= SETTLED * noise.sigma;
+                noise = again;
+                if settled {
+                    break;
+                }
+                found = find_outliers(points, tol, noise);
+                kept = None;
             }
+            if !found.is_empty() && kept.is_none() {
+                let k = without(points, &found);
+                noise = estimate_noise(&k);
+                kept = Some(k);
+            }
+            (found, kept)
         }
     };
     let limit = NOISE_TOLERANCE_SIGMAS * noise.sigma;
@@ -96,6 +106,23 @@ pub fn screen(points: &[Vec3], tol: f64, mode: OutlierMode) -> (Screening, Optio
         outliers,
     };
     (screening, kept)
+}
+
+/// Rounds of outlier search with a re-measured noise.
+const MAX_ROUNDS: usize = 4;
+/// The noise has settled when a new measure keeps this share of the last.
+const SETTLED: f64 = 0.9;
+
+/// `points` without the `found` ones.
+fn without(points: &[Vec3], found: &[Outlier]) -> Vec<Vec3> {
+    let mut drop = vec![false; points.len()];
+    found.iter().for_each(|o| drop[o.index] = true);
+    points
+        .iter()
+        .zip(&drop)
+        .filter(|(_, &d)| !d)
+        .map(|(&p, _)| p)
+        .collect()
 }
 
 /// The points of `points` farther than `tol` from their neighbours' curve, for an error line when a

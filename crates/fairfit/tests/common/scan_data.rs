@@ -8,7 +8,7 @@ use rand_chacha::ChaCha8Rng;
 
 /// A standard normal sample (Box–Muller).
 pub fn gauss(r: &mut ChaCha8Rng) -> f64 {
-    let (a, b): (f64, f64) = (r.gen::<f64>().max(1e-300), r.gen());
+    let (a, b): (f64, f64) = (r.random::<f64>().max(1e-300), r.random());
     (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
 }
 
