@@ -9,12 +9,14 @@
 //! the tolerance of the exact curve (`fairfit::fit::cad_fit`: refitted with points of it added while it
 //! strays between the samples; a note and the report's `exact_curve` say how far it is).
 
-use super::curve_args::{CurveArgs, DegreeArg, EndsArg, KnotArg, Method, ParamArg};
+use super::curve_args::{CurveArgs, DegreeArg, EndsArg, KnotArg, Method, OutliersArg, ParamArg};
 use super::curve_optim::{run_fit_then_fair, run_integrated, with_pool};
 use super::files::{check_outputs, commit, Inputs, Output, OutputFolder};
 use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
+use fairfit::fit::points::bounding_box_extent;
+use fairfit::fit::screening::{screen, spikes_beyond, OutlierMode, Screening};
 use fairfit::fit::SmoothingOrder;
 use fairfit::io::curve_to_json;
 use fairfit::prelude::{fit_to_tolerance, FitOptions, FitResult, NurbsCurve, Tolerance, Vec3};
@@ -144,8 +146,20 @@ pub fn fit_input(
     };
     match cad {
         None => {
-            let fit = fit_points(args, &opts, &set.points, want_report, wall)?;
-            Ok((fit.curve, fit.extra.0, set.points, fit.extra.1))
+            let (screening, kept) = screen_points(args, &set.points);
+            let points = kept.unwrap_or(set.points);
+            let fit = fit_points(args, &opts, &points, want_report, wall);
+            let fit = fit.map_err(|e| name_spikes(args, &points, e))?;
+            if args.outliers == OutliersArg::Off && fit.max_deviation > fit.tolerance {
+                if let Some(note) = spikes_note(&points, fit.tolerance) {
+                    diag!("warning: {note}");
+                }
+            }
+            let (mut report, pareto) = fit.extra;
+            if let Some(obj) = report.as_mut().and_then(|v| v.as_object_mut()) {
+                add_screening(obj, args, screening.as_ref());
+            }
+            Ok((fit.curve, report, points, pareto))
         }
         Some(cad) => fit_cad(args, &opts, cad, want_report, wall),
     }
@@ -357,6 +371,83 @@ fn fit_cad(
 /// What a method gives beside its curve: the report (when asked for) and its own files (the Pareto
 /// front).
 type MethodExtra = (Option<serde_json::Value>, Vec<Output>);
+
+/// The tolerance of `args` in the units of `points` (`None` when it is not a usable number: the fit
+/// refuses it with its own message).
+fn absolute_tolerance(args: &CurveArgs, points: &[Vec3]) -> Option<f64> {
+    let t = match args.tolerance() {
+        Tolerance::Absolute(t) => t,
+        Tolerance::Relative(r) => r * bounding_box_extent(points),
+    };
+    (t.is_finite() && t > 0.0).then_some(t)
+}
+
+/// The screening stage (`fairfit::fit::screening`): noise measured, spikes excluded with
+/// `--outliers auto`, and the one-line warning when the tolerance is below the noise. Returns the
+/// findings and the kept points when any were excluded.
+fn screen_points(args: &CurveArgs, points: &[Vec3]) -> (Option<Screening>, Option<Vec<Vec3>>) {
+    let Some(tol) = absolute_tolerance(args, points) else {
+        return (None, None);
+    };
+    let mode = match args.outliers {
+        OutliersArg::Off => OutlierMode::Off,
+        OutliersArg::Auto => OutlierMode::Auto,
+    };
+    let (s, kept) = screen(points, tol, mode);
+    if let Some(w) = s.noise_warning(tol) {
+        diag!("{w}");
+    }
+    (Some(s), kept)
+}
+
+/// The report's screening keys: `noise_sigma`, `noise_limited`, `meaningful_tolerance`,
+/// `outliers_mode` and `outliers` (`index` into the input's distinct points, `distance`).
+fn add_screening(
+    obj: &mut serde_json::Map<String, serde_json::Value>,
+    args: &CurveArgs,
+    s: Option<&Screening>,
+) {
+    let Some(s) = s else { return };
+    obj.insert("noise_sigma".into(), json!(s.noise_sigma));
+    obj.insert("noise_limited".into(), json!(s.noise_limited.is_some()));
+    obj.insert("meaningful_tolerance".into(), json!(s.noise_limited));
+    obj.insert(
+        "outliers_mode".into(),
+        json!(if args.outliers == OutliersArg::Off {
+            "off"
+        } else {
+            "auto"
+        }),
+    );
+    obj.insert("outliers".into(), json!(s.outliers));
+}
+
+/// The spikes that keep tolerance `tol` out of reach, as a sentence (`None` when there are none).
+fn spikes_note(points: &[Vec3], tol: f64) -> Option<String> {
+    let found = spikes_beyond(points, tol, 5);
+    if found.is_empty() {
+        return None;
+    }
+    let list: Vec<String> = found
+        .iter()
+        .map(|o| format!("point {} ({:.2e} off)", o.index, o.distance))
+        .collect();
+    Some(format!(
+        "isolated spikes keep the tolerance out of reach: {}; --outliers auto excludes them",
+        list.join(", ")
+    ))
+}
+
+/// A failed fit's error with the spikes that caused it named (`--outliers off`).
+fn name_spikes(args: &CurveArgs, points: &[Vec3], e: CliError) -> CliError {
+    if args.outliers != OutliersArg::Off || e.usage {
+        return e;
+    }
+    match absolute_tolerance(args, points).and_then(|t| spikes_note(points, t)) {
+        Some(note) => CliError::new(format!("{}; {note}", e.message)),
+        None => e,
+    }
+}
 
 /// A fitted curve, its report, the points it fitted and the Pareto files.
 pub type FitOutput = (

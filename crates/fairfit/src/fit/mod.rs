@@ -5,6 +5,7 @@
 
 pub mod banded;
 pub mod cad_fit;
+pub mod corners;
 pub mod correction;
 pub mod data_basis;
 pub mod deviation;
@@ -12,11 +13,14 @@ pub mod foot;
 pub mod hooks;
 pub mod knot_placement;
 pub mod lsq;
+pub mod noise;
+pub mod outliers;
 pub mod parameterize;
 pub mod points;
 pub mod power;
 pub mod reduce;
 pub mod sampling;
+pub mod screening;
 pub mod shape;
 pub mod tolerance;
 

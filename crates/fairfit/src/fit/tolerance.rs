@@ -15,7 +15,7 @@ use super::hooks::{end_chord_index, end_hooks};
 use super::knot_placement::{averaging_knots, curvature_adaptive_knots};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
 use super::parameterize::{parameterize_into, Parameterization};
-use super::shape::{detect_corners, looks_closed, DEFAULT_CORNER_ANGLE_DEG};
+use super::shape::{looks_closed, DEFAULT_CORNER_ANGLE_DEG};
 use crate::errors::{Error, Result};
 use crate::fit::points::{bounding_box_extent, drop_consecutive_duplicates};
 use crate::nurbs::scale::{normalising_factor, scaled_curve};
@@ -276,7 +276,7 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
         )));
     }
     let corners = match opts.corner_angle_deg {
-        Some(a) => detect_corners(&pts, closed, a),
+        Some(a) => super::corners::corners_at_tolerance(&pts, closed, a, tol),
         None => Vec::new(),
     };
     let mut ctx = Ctx {

@@ -28,7 +28,8 @@ use super::stages::descent::{self, DescentInput};
 use super::stages::{baseline, degree_candidates};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
-use crate::fit::shape::{detect_corners, looks_closed};
+use crate::fit::corners::corners_at_tolerance;
+use crate::fit::shape::looks_closed;
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::Vec3;
 use std::time::Instant;
@@ -55,7 +56,8 @@ pub(crate) fn fit(
     }
     let prep = prepare(&pts, opts.degree)?;
     if let Some(angle) = opts.corner_angle_deg {
-        let found = detect_corners(&prep.data.points, true, angle);
+        let tol = super::context::tolerance_of(opts, prep.scale);
+        let found = corners_at_tolerance(&prep.data.points, true, angle, tol);
         if let Some(&c0) = found.first() {
             // cut the loop at its first corner: an open curve from the corner back to it
             let mut seq: Vec<Vec3> = pts[c0..].iter().chain(&pts[..c0]).copied().collect();

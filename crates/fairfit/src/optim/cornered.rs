@@ -45,7 +45,12 @@ pub(crate) fn fit(
 ) -> Result<IntegratedResult> {
     let prep = prepare(points, opts.degree)?;
     if let Some(angle) = opts.corner_angle_deg {
-        let corners = crate::fit::shape::detect_corners(&prep.data.points, false, angle);
+        let corners = crate::fit::corners::corners_at_tolerance(
+            &prep.data.points,
+            false,
+            angle,
+            tolerance_of(opts, prep.scale),
+        );
         let ranges = pieces(prep.data.points.len(), &corners);
         if ranges.len() > 1 {
             return fit_with_corners(&prep, &ranges, opts, progress, start);
@@ -189,6 +194,7 @@ fn joined(
             .is_none_or(|t| quality.max_span_fairness <= t);
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(IntegratedResult {
+        screening: Default::default(),
         curve,
         quality,
         tolerance: tol * prep.scale,

@@ -79,6 +79,7 @@ pub(crate) fn fit(
     stats.free_ends = opts.ends == EndCondition::Free;
     stats.absorb(&mut result.stats, start);
     Ok(IntegratedResult {
+        screening: Default::default(),
         baseline_control_points: base.baseline,
         stats,
         ..result

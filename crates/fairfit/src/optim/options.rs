@@ -121,6 +121,9 @@ pub struct IntegratedOptions {
     /// the data are split at corners, the pieces fitted separately and joined C0 ([`super::corners`]).
     /// `None` fits one smooth curve through everything. Set by [`Self::corner_angle`].
     pub corner_angle_deg: Option<f64>,
+    /// Whether isolated spikes are found and excluded before the fit ([`crate::fit::screening`]);
+    /// the noise is measured either way. Set by [`Self::outliers`].
+    pub outliers: crate::fit::screening::OutlierMode,
     /// Whether the final control points are refined by local fairing moves within the tolerance
     /// ([`mod@super::fairing::polish`]). Set by [`Self::polish`].
     pub polish: bool,
@@ -162,6 +165,7 @@ impl Default for IntegratedOptions {
             band_solves: BandOptions::default().max_solves,
             polish_evaluations: PolishOptions::default().max_evaluations,
             corner_angle_deg: Some(crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG),
+            outliers: crate::fit::screening::OutlierMode::Off,
             closed: crate::fit::tolerance::ClosedMode::Auto,
             ends: EndCondition::Pinned,
         }
@@ -232,6 +236,30 @@ impl IntegratedOptions {
     /// `None` fits one smooth curve through every point.
     pub fn corner_angle(mut self, degrees: impl Into<Option<f64>>) -> Self {
         self.corner_angle_deg = degrees.into();
+        self
+    }
+
+    /// `OutlierMode::Auto` excludes isolated spikes before the fit (listed in
+    /// [`IntegratedResult::screening`](super::IntegratedResult::screening)); the default keeps
+    /// every point.
+    ///
+    /// ```
+    /// use fairfit::fit::screening::OutlierMode;
+    /// use fairfit::prelude::*;
+    /// let mut pts: Vec<Vec3> = (0..200)
+    ///     .map(|i| {
+    ///         let t = i as f64 / 199.0 * 1.5;
+    ///         Vec3::new(2.0 * t.cos(), t.sin(), 0.0)
+    ///     })
+    ///     .collect();
+    /// pts[77] = pts[77] * 1.1; // a spike
+    /// let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).outliers(OutlierMode::Auto);
+    /// let r = fit_integrated(&pts, &opts).unwrap();
+    /// assert_eq!(r.screening.outliers[0].index, 77);
+    /// assert!(r.met && r.screening.noise_sigma < 1e-6);
+    /// ```
+    pub fn outliers(mut self, mode: crate::fit::screening::OutlierMode) -> Self {
+        self.outliers = mode;
         self
     }
 

@@ -15,7 +15,9 @@ use super::search::prepare::{averaging_interior_knots, prepare};
 use super::stages::reduce;
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
+use crate::fit::screening::screen;
 use crate::nurbs::Vec3;
+use crate::tolerance::Tolerance;
 use std::time::Instant;
 
 /// Fits a fair cubic B-spline to ordered `points` by the integrated method.
@@ -71,11 +73,20 @@ pub fn fit_integrated_with_stages(
     let start = Instant::now();
     validate(opts)?;
     let tuning = Tuning::default();
+    // screening: noise measured, spikes excluded (`opts.outliers`) before any other stage
+    let tol = match opts.tolerance {
+        Tolerance::Relative(r) => r * crate::fit::points::bounding_box_extent(points),
+        Tolerance::Absolute(t) => t,
+    };
+    let (screening, kept) = screen(points, tol, opts.outliers);
+    let points = kept.as_deref().unwrap_or(points);
     let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
-    match reduce::Dense::of(points, opts, &tuning.reduce) {
+    let mut r = match reduce::Dense::of(points, opts, &tuning.reduce) {
         None => dispatch(points, opts, progress, start),
         Some(dense) => dense.fit(points, opts, &tuning.reduce, &fit),
-    }
+    }?;
+    r.screening = screening;
+    Ok(r)
 }
 
 /// The data to the pipeline for their shape (module doc).
@@ -115,6 +126,7 @@ pub fn fit_lsq_baseline(
     let knots = averaging_interior_knots(&prep.data.params, opts.degree, n_ctrl);
     let r = finish(&prep, &knots, f64::NEG_INFINITY, tol, opts, None)?;
     Ok(IntegratedResult {
+        screening: Default::default(),
         baseline_control_points: n_ctrl,
         ..r
     })

@@ -72,6 +72,9 @@ pub struct IntegratedResult {
     pub baseline_control_points: usize,
     /// Optimiser statistics.
     pub stats: OptimStats,
+    /// The screening stage's findings ([`crate::fit::screening`]): the measured noise, a tolerance
+    /// below it, the excluded spikes (indices into the input).
+    pub screening: crate::fit::screening::Screening,
 }
 
 /// One degree's integrated fit, as the degree search saw it.

@@ -9,6 +9,7 @@ pub mod degree_auto;
 pub mod example_data;
 pub mod python;
 pub mod sampled;
+pub mod scan_data;
 
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use rand::{Rng, SeedableRng};

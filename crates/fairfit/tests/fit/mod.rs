@@ -3,5 +3,9 @@
 //! One file per source module it tests (`src/fit/<name>.rs`).
 
 mod cad_fit;
+mod corners;
 mod hooks;
+mod noise;
+mod outliers;
+mod screening;
 mod tolerance;

@@ -332,6 +332,7 @@ pub(crate) fn finish(
             .span_fairness
             .is_none_or(|t| quality.max_span_fairness <= t);
     Ok(IntegratedResult {
+        screening: Default::default(),
         curve,
         quality,
         tolerance: tol * prep.scale,

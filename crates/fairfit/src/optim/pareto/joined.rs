@@ -22,7 +22,8 @@
 use super::front::{pareto_front, ParetoCurve};
 use crate::errors::Result;
 use crate::fair::curve_fairness;
-use crate::fit::shape::{detect_corners, looks_closed};
+use crate::fit::corners::corners_at_tolerance;
+use crate::fit::shape::looks_closed;
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
 use crate::optim::closed::is_closed;
@@ -48,9 +49,12 @@ pub fn pareto_front_of_result(
             seq.pop();
         }
         let prep = prepare(&seq, p)?;
-        let c0 = opts
-            .corner_angle_deg
-            .and_then(|a| detect_corners(&prep.data.points, true, a).first().copied());
+        let c0 = opts.corner_angle_deg.and_then(|a| {
+            let tol = tolerance_of(opts, prep.scale);
+            corners_at_tolerance(&prep.data.points, true, a, tol)
+                .first()
+                .copied()
+        });
         let Some(c0) = c0 else {
             return super::periodic::pareto_front_periodic(&seq, opts, r);
         };
@@ -63,7 +67,9 @@ pub fn pareto_front_of_result(
     };
     let prep = prepare(&seq, p)?;
     let corners = match opts.corner_angle_deg {
-        Some(a) => detect_corners(&prep.data.points, false, a),
+        Some(a) => {
+            corners_at_tolerance(&prep.data.points, false, a, tolerance_of(opts, prep.scale))
+        }
         None => Vec::new(),
     };
     let ranges = pieces(prep.data.points.len(), &corners);
