@@ -3,5 +3,6 @@
 //! One file per source module it tests (`src/fit/<name>.rs`).
 
 mod cad_fit;
+mod end_constraints;
 mod hooks;
 mod tolerance;
