@@ -55,12 +55,13 @@ pub fn run(args: CurveArgs) -> CmdResult {
             "--control-points needs --method integrated",
         ));
     }
-    if (args.start_tangent.is_some() || args.end_tangent.is_some())
-        && args.method == Method::Integrated
-    {
-        return Err(CliError::usage(
-            "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair",
-        ));
+    let conditions = args.end_conditions();
+    for (c, flag) in [(&conditions.start, "--start"), (&conditions.end, "--end")] {
+        if args.method != Method::Integrated && (c.point.is_some() || c.curvature.is_some()) {
+            return Err(CliError::usage(format!(
+                "{flag} with a point or a curvature needs --method integrated (lsq and fit-then-fair take tangent:X,Y[,Z])"
+            )));
+        }
     }
     if args.ends == EndsArg::Free && args.method != Method::Integrated {
         return Err(CliError::usage("--ends free needs --method integrated"));
@@ -95,8 +96,8 @@ pub fn run(args: CurveArgs) -> CmdResult {
             SmoothingOrder::Second
         },
         knot_rule: args.knots.into(),
-        start_tangent: args.start_tangent,
-        end_tangent: args.end_tangent,
+        start_tangent: conditions.start.tangent,
+        end_tangent: conditions.end.tangent,
         ..FitOptions::default()
     };
     let want_report = args.report.is_some() || args.outputs.html.is_some();
