@@ -402,3 +402,33 @@ pub fn achieved(curve: &NurbsCurve, at_end: bool, c: &EndConstraint) -> Achieved
     out.curvature_relative = (got - want).norm() / want.norm().max(f64::MIN_POSITIVE);
     out
 }
+
+/// Refuses a tangent that points backwards from the data at its end (more than 90° from the
+/// data's direction there, [`Error::InvalidSetting`] naming the end): the curve would have to
+/// reverse inside the tolerance band, a hook at any scale. The data's direction is the chord from
+/// the end point to the first data point outside twice the tolerance `tol` of it (noise within
+/// the tolerance does not define a direction); data that never leave that ball are not checked.
+pub fn check_against_data(ends: &EndConstraints, points: &[Vec3], tol: f64) -> Result<()> {
+    let (Some(&first), Some(&last)) = (points.first(), points.last()) else {
+        return Ok(());
+    };
+    let backwards = |c: &EndConstraint, end: Vec3, mut seq: Box<dyn Iterator<Item = Vec3> + '_>| {
+        let (Some(t), at) = (c.tangent, c.point.unwrap_or(end)) else {
+            return false;
+        };
+        seq.find(|q| (*q - at).norm() > 2.0 * tol)
+            .is_some_and(|q| (q - at).dot(t) <= 0.0)
+    };
+    let start_back = backwards(&ends.start, first, Box::new(points.iter().copied()));
+    let end = ends.end.reversed();
+    let end_back = backwards(&end, last, Box::new(points.iter().rev().copied()));
+    for (bad, which) in [(start_back, "start"), (end_back, "end")] {
+        if bad {
+            return Err(Error::InvalidSetting {
+                option: which,
+                reason: "the tangent points backwards from the data's direction at that end (more than 90° from it)".into(),
+            });
+        }
+    }
+    Ok(())
+}

@@ -46,6 +46,11 @@ pub(crate) fn fit(
     let mut prep = prepare(points, opts.degree)?;
     let conditions = &opts.end_conditions;
     prep.data.ends = conditions.normalized(prep.origin, prep.scale);
+    crate::fit::end_constraints::check_against_data(
+        &prep.data.ends,
+        &prep.data.points,
+        tolerance_of(opts, prep.scale),
+    )?;
     if let Some(angle) = opts.corner_angle_deg {
         let corners = crate::fit::shape::detect_corners(&prep.data.points, false, angle);
         let ranges = pieces(prep.data.points.len(), &corners);
