@@ -156,6 +156,12 @@ fn parse_end_condition(s: &str) -> Result<EndConstraint, String> {
     }
 }
 
+/// [`parse_end_condition`] as a check: the text is kept (a parsed condition would make the
+/// arguments much larger) and parsed again by [`CurveArgs::end_conditions`].
+fn check_end_condition(s: &str) -> Result<String, String> {
+    parse_end_condition(s).map(|_| s.to_string())
+}
+
 /// Arguments of `fairfit curve`.
 #[derive(Args, Debug, Clone)]
 pub struct CurveArgs {
@@ -228,11 +234,11 @@ pub struct CurveArgs {
     /// Condition at the first point (open curves): point[:X,Y[,Z]] (G0), tangent:X,Y[,Z] (G1,
     /// direction only) or curvature:X,Y[,Z]:KAPPA (G2, signed curvature; in 3-D also
     /// curvature:X,Y,Z:KX,KY,KZ). Curvature and a given point need --method integrated.
-    #[arg(long, value_parser = parse_end_condition, allow_hyphen_values = true)]
-    pub start: Option<EndConstraint>,
+    #[arg(long, value_parser = check_end_condition, allow_hyphen_values = true)]
+    pub start: Option<String>,
     /// Condition at the last point (as --start; the tangent is the direction the curve arrives in).
-    #[arg(long, value_parser = parse_end_condition, allow_hyphen_values = true)]
-    pub end: Option<EndConstraint>,
+    #[arg(long, value_parser = check_end_condition, allow_hyphen_values = true)]
+    pub end: Option<String>,
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
     #[arg(long, allow_hyphen_values = true)]
     pub span_fairness: Option<f64>,
@@ -265,13 +271,13 @@ pub struct CurveArgs {
 impl CurveArgs {
     /// `--start`/`--end`, with `--start-tangent`/`--end-tangent` as `tangent:` conditions.
     pub fn end_conditions(&self) -> EndConstraints {
+        // the texts were checked by clap (`check_end_condition`)
+        let parsed = |s: &Option<String>| s.as_deref().and_then(|s| parse_end_condition(s).ok());
         EndConstraints {
-            start: self
-                .start
+            start: parsed(&self.start)
                 .or(self.start_tangent.map(EndConstraint::tangent))
                 .unwrap_or_default(),
-            end: self
-                .end
+            end: parsed(&self.end)
                 .or(self.end_tangent.map(EndConstraint::tangent))
                 .unwrap_or_default(),
         }
