@@ -323,7 +323,7 @@ pub fn fixed_start(
 
 /// The fixed control points `P_n, P_{n−1}, …` (in that order) of the end condition `c`: the start
 /// rule on the reversed curve (mirrored gaps [`end_gaps`], reversed control points,
-/// [`EndConstraint::reversed`]).
+/// `EndConstraint::reversed`).
 pub fn fixed_end(
     c: &EndConstraint,
     p: usize,
