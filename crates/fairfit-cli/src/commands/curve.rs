@@ -89,12 +89,13 @@ pub fn check_options(args: &CurveArgs) -> CmdResult {
             "--control-points needs --method integrated",
         ));
     }
-    if (args.start_tangent.is_some() || args.end_tangent.is_some())
-        && args.method == Method::Integrated
-    {
-        return Err(CliError::usage(
-            "--start-tangent and --end-tangent need --method lsq or --method fit-then-fair",
-        ));
+    let conditions = args.end_conditions();
+    for (c, flag) in [(&conditions.start, "--start"), (&conditions.end, "--end")] {
+        if args.method != Method::Integrated && (c.point.is_some() || c.curvature.is_some()) {
+            return Err(CliError::usage(format!(
+                "{flag} with a point or a curvature needs --method integrated (lsq and fit-then-fair take tangent:X,Y[,Z])"
+            )));
+        }
     }
     if args.ends == EndsArg::Free && args.method != Method::Integrated {
         return Err(CliError::usage("--ends free needs --method integrated"));
@@ -126,6 +127,7 @@ pub fn fit_input(
             set.points.len()
         )));
     }
+    let conditions = args.end_conditions();
     let opts = FitOptions {
         degree: args.degree().lowest(),
         parameterization: args.param.into(),
@@ -140,8 +142,8 @@ pub fn fit_input(
             SmoothingOrder::Second
         },
         knot_rule: args.knots.into(),
-        start_tangent: args.start_tangent,
-        end_tangent: args.end_tangent,
+        start_tangent: conditions.start.tangent,
+        end_tangent: conditions.end.tangent,
         ..FitOptions::default()
     };
     match cad {

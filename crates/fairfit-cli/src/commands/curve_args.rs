@@ -3,6 +3,7 @@
 
 use super::outputs::OutputArgs;
 use clap::{Args, ValueEnum};
+use fairfit::fit::end_constraints::{EndConstraint, EndConstraints};
 use fairfit::fit::{KnotRule, Parameterization};
 use fairfit::prelude::{ClosedMode, EndCondition, Tolerance, Vec3};
 use std::path::PathBuf;
@@ -137,6 +138,39 @@ fn parse_vector(s: &str) -> Result<Vec3, String> {
     }
 }
 
+/// An end condition `point[:X,Y[,Z]]`, `tangent:X,Y[,Z]`, `curvature:X,Y[,Z]:KAPPA` (signed
+/// curvature) or `curvature:X,Y,Z:KX,KY,KZ` (curvature vector).
+fn parse_end_condition(s: &str) -> Result<EndConstraint, String> {
+    let (kind, rest) = s.split_once(':').unwrap_or((s, ""));
+    match kind.trim() {
+        "point" if rest.is_empty() => Ok(EndConstraint::default()),
+        "point" => parse_vector(rest).map(EndConstraint::point),
+        "tangent" => parse_vector(rest).map(EndConstraint::tangent),
+        "curvature" => {
+            let (t, k) = rest
+                .split_once(':')
+                .ok_or("expected curvature:X,Y[,Z]:KAPPA")?;
+            let t = parse_vector(t)?;
+            if k.contains(',') {
+                Ok(EndConstraint::curvature_vector(t, parse_vector(k)?))
+            } else {
+                let kappa = k
+                    .trim()
+                    .parse::<f64>()
+                    .map_err(|e| format!("expected curvature:X,Y[,Z]:KAPPA: {e}"))?;
+                Ok(EndConstraint::curvature(t, kappa))
+            }
+        }
+        _ => Err("expected point[:X,Y[,Z]], tangent:X,Y[,Z] or curvature:X,Y[,Z]:KAPPA".into()),
+    }
+}
+
+/// [`parse_end_condition`] as a check: the text is kept (a parsed condition would make the
+/// arguments much larger) and parsed again by [`CurveArgs::end_conditions`].
+fn check_end_condition(s: &str) -> Result<String, String> {
+    parse_end_condition(s).map(|_| s.to_string())
+}
+
 /// Arguments of `fairfit curve`.
 #[derive(Args, Debug, Clone)]
 pub struct CurveArgs {
@@ -206,12 +240,20 @@ pub struct CurveArgs {
     /// Knot placement (lsq and fit-then-fair methods).
     #[arg(long, value_enum, default_value_t = KnotArg::Refine)]
     pub knots: KnotArg,
-    /// Tangent direction X,Y or X,Y,Z at the first point (open curves; lsq and fit-then-fair methods).
-    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
+    /// Tangent direction X,Y or X,Y,Z at the first point (open curves): `--start tangent:X,Y[,Z]`.
+    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true, conflicts_with = "start")]
     pub start_tangent: Option<Vec3>,
-    /// Tangent direction X,Y or X,Y,Z at the last point (open curves; lsq and fit-then-fair methods).
-    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true)]
+    /// Tangent direction X,Y or X,Y,Z at the last point (open curves): `--end tangent:X,Y[,Z]`.
+    #[arg(long, value_parser = parse_vector, allow_hyphen_values = true, conflicts_with = "end")]
     pub end_tangent: Option<Vec3>,
+    /// Condition at the first point (open curves): point[:X,Y[,Z]] (G0), tangent:X,Y[,Z] (G1,
+    /// direction only) or curvature:X,Y[,Z]:KAPPA (G2, signed curvature; in 3-D also
+    /// curvature:X,Y,Z:KX,KY,KZ). Curvature and a given point need --method integrated.
+    #[arg(long, value_parser = check_end_condition, allow_hyphen_values = true)]
+    pub start: Option<String>,
+    /// Condition at the last point (as --start; the tangent is the direction the curve arrives in).
+    #[arg(long, value_parser = check_end_condition, allow_hyphen_values = true)]
+    pub end: Option<String>,
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
     #[arg(long, allow_hyphen_values = true)]
     pub span_fairness: Option<f64>,
@@ -242,6 +284,20 @@ pub struct CurveArgs {
 }
 
 impl CurveArgs {
+    /// `--start`/`--end`, with `--start-tangent`/`--end-tangent` as `tangent:` conditions.
+    pub fn end_conditions(&self) -> EndConstraints {
+        // the texts were checked by clap (`check_end_condition`)
+        let parsed = |s: &Option<String>| s.as_deref().and_then(|s| parse_end_condition(s).ok());
+        EndConstraints {
+            start: parsed(&self.start)
+                .or(self.start_tangent.map(EndConstraint::tangent))
+                .unwrap_or_default(),
+            end: parsed(&self.end)
+                .or(self.end_tangent.map(EndConstraint::tangent))
+                .unwrap_or_default(),
+        }
+    }
+
     /// `--tol` (absolute) or `--rel-tol`, else 1e-3 of the points' size.
     pub fn tolerance(&self) -> Tolerance {
         match (self.tol, self.rel_tol) {

@@ -11,7 +11,9 @@ use super::CliError;
 use fairfit::fair::{fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
 use fairfit::io::curve_to_json;
-use fairfit::optim::{is_closed, pareto_csv, pareto_front_of_result, ParetoCurve};
+use fairfit::optim::{
+    distinct_control_points, is_closed, pareto_csv, pareto_front_of_result, ParetoCurve,
+};
 use fairfit::prelude::{
     fit_integrated_with_stages, fit_to_tolerance, FitOptions, IntegratedOptions, IntegratedResult,
     NurbsCurve, Vec3,
@@ -63,6 +65,8 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
         .closed(args.closed_mode())
         .band_fairing(!args.no_band_fairing)
         .ends(args.ends.into())
+        .start(args.end_conditions().start)
+        .end(args.end_conditions().end)
 }
 
 /// The command-line flag of a library setting named in an [`fairfit::Error::InvalidSetting`].
@@ -75,6 +79,10 @@ fn flag_of(option: &str, args: &CurveArgs) -> Option<&'static str> {
         "span_fairness" => "--span-fairness",
         "corner_angle" => "--corner-angle",
         "ends" => "--ends",
+        "start" if args.start_tangent.is_some() => "--start-tangent",
+        "start" => "--start",
+        "end" if args.end_tangent.is_some() => "--end-tangent",
+        "end" => "--end",
         "seed" => "--seed",
         _ => return None,
     })
@@ -103,6 +111,9 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     let r: IntegratedResult = r.map_err(|e| cli_error(e, args))?;
     let mut report = integrated_report(&r, closed, args.span_fairness, args.seed);
     let mut files = Vec::new();
+    if !opts.end_conditions.is_none() {
+        report["end_conditions"] = end_conditions_report(points, &opts, &r);
+    }
     if let Some(path) = &args.pareto {
         let front = pareto_front_of_result(points, &opts, &r).map_err(|e| cli_error(e, args))?;
         files = pareto_files(path, args, &front)?;
@@ -115,6 +126,43 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         curve: r.curve,
         report,
         files,
+    })
+}
+
+/// The report of a fit under end conditions: per constrained end the order asked for and the
+/// continuity achieved (tangent angle in radians, relative curvature difference, distance from a
+/// given point), and the cost: F of the same fit without the conditions at the same degree and
+/// control-point count (`null` when that fit fails).
+fn end_conditions_report(
+    points: &[Vec3],
+    opts: &IntegratedOptions,
+    r: &IntegratedResult,
+) -> serde_json::Value {
+    use fairfit::fit::end_constraints::achieved;
+    let end = |at_end: bool, c: &fairfit::fit::end_constraints::EndConstraint| {
+        if c.is_none() {
+            return serde_json::Value::Null;
+        }
+        let a = achieved(&r.curve, at_end, c);
+        json!({
+            "order": format!("g{}", c.order()),
+            "tangent_angle": c.tangent.map(|_| a.tangent_angle),
+            "curvature_relative": c.curvature.map(|_| a.curvature_relative),
+            "point_distance": c.point.map(|_| a.point_distance),
+        })
+    };
+    let mut free = opts.at_degree(r.curve.degree());
+    free.end_conditions = Default::default();
+    let free = free.control_points(Some(distinct_control_points(&r.curve)));
+    let f_free = fairfit::optim::fit_integrated(points, &free)
+        .ok()
+        .map(|f| f.quality.fairness);
+    json!({
+        "start": end(false, &opts.end_conditions.start),
+        "end": end(true, &opts.end_conditions.end),
+        "fairness": r.quality.fairness,
+        "fairness_without_conditions": f_free,
+        "fairness_cost_ratio": f_free.map(|f| r.quality.fairness / f),
     })
 }
 

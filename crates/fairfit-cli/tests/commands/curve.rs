@@ -266,6 +266,78 @@ fn knot_rules_meet_the_tolerance_and_adaptive_needs_fewer_points_than_averaging(
     assert!(counts.iter().all(|&c| (8..=30).contains(&c)), "{counts:?}");
 }
 
+/// `fairfit curve` with the default (integrated) method and `extra` arguments: curve and report.
+fn integrated_run(file: &str, extra: &[&str]) -> (fairfit::NurbsCurve, Value) {
+    let dir = TempDir::new().unwrap();
+    let (c, r) = (dir.path().join("c.json"), dir.path().join("r.json"));
+    Command::cargo_bin("fairfit")
+        .unwrap()
+        .args(["curve", file])
+        .args(extra)
+        .arg("-o")
+        .arg(&c)
+        .arg("--report")
+        .arg(&r)
+        .assert()
+        .success();
+    let Geometry::Curve(curve) = read_geometry(&c).unwrap() else {
+        panic!("not a curve")
+    };
+    let rep: Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
+    (curve, rep)
+}
+
+#[test]
+fn integrated_end_conditions_hold_the_ellipse_tangent_and_curvature() {
+    // x = cos t, y = 0.5 sin t: at t = 0 tangent (0, 1) and κ = ab / b³ = 4; at t = π/2 tangent
+    // (−1, 0) and κ = ab / a³ = 0.5 (anticlockwise: positive)
+    let file = data("quarter_ellipse_200.csv");
+    let pts = read_points(&file).unwrap().points;
+    let (curve, rep) = integrated_run(
+        &file,
+        &[
+            "--start",
+            "curvature:0,1:4",
+            "--end-tangent",
+            "-1,0",
+            "--rel-tol",
+            "1e-4",
+        ],
+    );
+    let (a, b) = curve.domain();
+    let d0 = curve.derivatives(a, 2);
+    let kappa0 = d0[1].cross(d0[2]).z() / d0[1].norm().powi(3);
+    assert!(
+        d0[1].x().abs() <= 1e-9 * d0[1].norm() && d0[1].y() > 0.0,
+        "{:?}",
+        d0[1]
+    );
+    assert!((kappa0 - 4.0).abs() <= 4e-9, "κ(0) = {kappa0}");
+    let d1 = curve.derivatives(b, 1)[1];
+    assert!(d1.y().abs() <= 1e-9 * d1.norm() && d1.x() < 0.0, "{d1:?}");
+    let worst = polyline_deviation(&curve, &pts);
+    let tol = rep["tolerance"].as_f64().unwrap();
+    assert!(worst <= tol * (1.0 + 1e-6), "{worst} > {tol}");
+    let ec = &rep["end_conditions"];
+    assert_eq!(ec["start"]["order"], "g2");
+    assert_eq!(ec["end"]["order"], "g1");
+    assert!(ec["start"]["curvature_relative"].as_f64().unwrap() <= 1e-9);
+    assert!(ec["end"]["tangent_angle"].as_f64().unwrap() <= 1e-9);
+    // the conditions are the ellipse's own: they cost little F at the same count
+    let ratio = ec["fairness_cost_ratio"].as_f64().unwrap();
+    assert!(ratio.is_finite() && ratio > 0.0, "{ratio}");
+}
+
+#[test]
+fn a_backward_end_tangent_is_a_usage_error_naming_its_flag() {
+    let file = data("quarter_ellipse_200.csv");
+    usage_fails(&["curve", &file, "--end", "tangent:1,0"], "--end");
+    usage_fails(
+        &["curve", &file, "--start-tangent", "0,-1"],
+        "--start-tangent",
+    );
+}
+
 #[test]
 fn end_tangents_set_the_end_directions() {
     // the quarter ellipse runs from (1, 0) to (0, 0.5): true tangents (0, 1) and (-1, 0)

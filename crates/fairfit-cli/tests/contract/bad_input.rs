@@ -155,9 +155,23 @@ fn curve_options_with_hostile_values() {
     );
     rejects_all(&lsq, "--chord-tol", &["nan", "inf", "-1", "0"]);
     rejects_all(&integrated, "--span-fairness", &["nan", "inf", "-1", "0"]);
-    // the integrated method has no end-tangent constraints: refused, not silently ignored
-    rejects_all(&integrated, "--start-tangent", &["1,0", "nan,0"]);
-    rejects_all(&integrated, "--end-tangent", &["0,1"]);
+    // end conditions: malformed, non-finite or degenerate values are refused
+    rejects_all(&integrated, "--start-tangent", &["nan,0", "0,0"]);
+    rejects_all(&integrated, "--end-tangent", &["inf,1"]);
+    rejects_all(
+        &integrated,
+        "--start",
+        &[
+            "tangent:0,0",
+            "tangent:nan,1",
+            "curvature:1,0",
+            "curvature:1,0:nan",
+            "curvature:1,0:x",
+            "bend:1,0",
+            "tangent",
+        ],
+    );
+    rejects_all(&lsq, "--end", &["curvature:1,0:2", "point:1,0"]);
     rejects_all(&integrated, "--control-points", COUNTS);
     rejects_all(&integrated, "--control-points", &["2", "15", "1000000"]);
     rejects_all(

@@ -18,6 +18,7 @@
 
 use super::banded::EnvelopeCholesky;
 use super::data_basis::DataBasis;
+use super::end_constraints::{end_gaps, fixed_end, fixed_start, EndConstraints};
 use crate::diffgeo::quadrature::GaussLegendre;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::ders_basis_funs_into;
@@ -103,14 +104,22 @@ struct SmoothingDers {
     ders: Vec<f64>,
 }
 
+/// The fixed control points of an open solve: `start` = `P_0, P_1, …`, `end` = `P_n, P_{n−1}, …`
+/// (each at least one point).
+#[derive(Clone, Copy)]
+struct FixedEnds<'a> {
+    start: &'a [Vec3],
+    end: &'a [Vec3],
+}
+
 /// How control-point columns map to unknowns.
 #[derive(Clone, Copy)]
 struct Layout {
     n_ctrl: usize,
     closed: bool,
-    /// open: first free column (1, or 2 with a start tangent); closed: number of unique points
+    /// open: first free column (the fixed points at the start); closed: number of unique points
     lo: usize,
-    /// open: fixed columns at the end (1, or 2 with an end tangent)
+    /// open: fixed columns at the end
     hi: usize,
     n_unknown: usize,
 }
@@ -189,6 +198,114 @@ impl LsqSolver {
         ends: (Option<Vec3>, Option<Vec3>),
         ctrl_out: &mut Vec<Vec3>,
     ) -> Result<()> {
+        if ends.0.iter().chain(ends.1.iter()).any(|d| !d.is_finite()) {
+            return Err(Error::InvalidOption("end tangents must be finite".into()));
+        }
+        let p = self.degree;
+        let (lo, hi) = (
+            1 + usize::from(ends.0.is_some()),
+            1 + usize::from(ends.1.is_some()),
+        );
+        let (mut start, mut end) = ([Vec3::ZERO; 3], [Vec3::ZERO; 3]);
+        if let (Some(&q0), Some(&qm)) = (points.first(), points.last()) {
+            start[0] = q0;
+            end[0] = qm;
+            if knots.len() >= 2 * (p + 1) {
+                let n = knots.len() - p - 2;
+                if let Some(d0) = ends.0 {
+                    start[1] = q0 + d0 * ((knots[p + 1] - knots[1]) / p as f64);
+                }
+                if let Some(d1) = ends.1 {
+                    end[1] = qm - d1 * ((knots[n + p] - knots[n]) / p as f64);
+                }
+            }
+        }
+        let fixed = FixedEnds {
+            start: &start[..lo],
+            end: &end[..hi],
+        };
+        self.solve_fixed(points, params, knots, weights, opts, fixed, ctrl_out)
+    }
+
+    /// [`LsqSolver::solve`] under the end conditions `ends`
+    /// ([`crate::fit::end_constraints`]): the unconstrained solve on the same knots gives the legs,
+    /// a second solve has the conditions' control points fixed. `planar`: the data lie in the xy
+    /// plane (signed curvature). Without conditions, exactly [`LsqSolver::solve`] without end
+    /// tangents.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_constrained(
+        &mut self,
+        points: &[Vec3],
+        params: &[f64],
+        knots: &[f64],
+        weights: Option<&[f64]>,
+        opts: &LsqOptions,
+        ends: &EndConstraints,
+        planar: bool,
+        ctrl_out: &mut Vec<Vec3>,
+    ) -> Result<()> {
+        if ends.is_none() {
+            return self.solve_with_ends(
+                points,
+                params,
+                knots,
+                weights,
+                opts,
+                (None, None),
+                ctrl_out,
+            );
+        }
+        let p = self.degree;
+        let (Some(&q0), Some(&qm)) = (points.first(), points.last()) else {
+            return Err(Error::InvalidData(
+                "least squares needs at least 2 points, got 0".into(),
+            ));
+        };
+        let n_ctrl = knots.len().saturating_sub(p + 1);
+        ends.check_room(p, n_ctrl)?;
+        let (Some(g0), Some(g1)) = (end_gaps(p, knots, false), end_gaps(p, knots, true)) else {
+            return Err(Error::InvalidKnots(format!(
+                "degree {p} needs at least {} knots",
+                2 * (p + 1)
+            )));
+        };
+        // the legs from the solve with the end points only (given or the data's)
+        let start0 = [ends.start.point.unwrap_or(q0)];
+        let end0 = [ends.end.point.unwrap_or(qm)];
+        let plain = FixedEnds {
+            start: &start0,
+            end: &end0,
+        };
+        self.solve_fixed(points, params, knots, weights, opts, plain, ctrl_out)?;
+        let (mut start, mut end) = ([Vec3::ZERO; 3], [Vec3::ZERO; 3]);
+        let backwards = |option| Error::InvalidSetting {
+            option,
+            reason: "the tangent points backwards from the data's direction at that end".into(),
+        };
+        let lo = fixed_start(&ends.start, p, g0, q0, ctrl_out, planar, &mut start)
+            .ok_or_else(|| backwards("start"))?;
+        let hi = fixed_end(&ends.end, p, g1, qm, ctrl_out, planar, &mut end)
+            .ok_or_else(|| backwards("end"))?;
+        let fixed = FixedEnds {
+            start: &start[..lo],
+            end: &end[..hi],
+        };
+        self.solve_fixed(points, params, knots, weights, opts, fixed, ctrl_out)
+    }
+
+    /// The solve with the open curve's first control points `fixed.start` (`P_0, P_1, …`) and last
+    /// ones `fixed.end` (`P_n, P_{n−1}, …`) given (closed curves: none).
+    #[allow(clippy::too_many_arguments)]
+    fn solve_fixed(
+        &mut self,
+        points: &[Vec3],
+        params: &[f64],
+        knots: &[f64],
+        weights: Option<&[f64]>,
+        opts: &LsqOptions,
+        ends: FixedEnds<'_>,
+        ctrl_out: &mut Vec<Vec3>,
+    ) -> Result<()> {
         let p = self.degree;
         let layout = self.check(points, params, knots, weights, opts, ends)?;
         let n_ctrl = layout.n_ctrl;
@@ -196,14 +313,10 @@ impl LsqSolver {
         let nu = layout.n_unknown;
         // fixed columns (open curves)
         let fixed = |col: usize| -> Vec3 {
-            let m = points.len() - 1;
-            match (col, ends) {
-                (0, _) => points[0],
-                (1, (Some(d0), _)) => points[0] + d0 * ((knots[p + 1] - knots[1]) / p as f64),
-                (c, (_, Some(d1))) if c + 2 == n_ctrl => {
-                    points[m] - d1 * ((knots[n + p] - knots[n]) / p as f64)
-                }
-                _ => points[m],
+            if col < ends.start.len() {
+                ends.start[col]
+            } else {
+                ends.end[(n - col).min(ends.end.len() - 1)]
             }
         };
         ctrl_out.clear();
@@ -472,7 +585,7 @@ impl LsqSolver {
         knots: &[f64],
         weights: Option<&[f64]>,
         opts: &LsqOptions,
-        ends: (Option<Vec3>, Option<Vec3>),
+        ends: FixedEnds<'_>,
     ) -> Result<Layout> {
         let p = self.degree;
         if points.len() != params.len() {
@@ -527,11 +640,10 @@ impl LsqSolver {
                 n_unknown: n_u,
             });
         }
-        if ends.0.iter().chain(ends.1.iter()).any(|d| !d.is_finite()) {
-            return Err(Error::InvalidOption("end tangents must be finite".into()));
+        if ends.start.iter().chain(ends.end).any(|d| !d.is_finite()) {
+            return Err(Error::InvalidOption("end conditions must be finite".into()));
         }
-        let lo = 1 + usize::from(ends.0.is_some());
-        let hi = 1 + usize::from(ends.1.is_some());
+        let (lo, hi) = (ends.start.len(), ends.end.len());
         if n_ctrl < lo + hi {
             return Err(Error::InvalidOption(format!(
                 "end tangents need at least {} control points, got {n_ctrl}",

@@ -9,6 +9,7 @@ pub mod corners;
 pub mod correction;
 pub mod data_basis;
 pub mod deviation;
+pub mod end_constraints;
 pub mod foot;
 pub mod hooks;
 pub mod knot_placement;

@@ -50,6 +50,16 @@ pub(crate) fn fit(
     progress: &Progress<'_>,
     start: Instant,
 ) -> Result<IntegratedResult> {
+    if !opts.end_conditions.is_none() {
+        return Err(Error::InvalidSetting {
+            option: if opts.end_conditions.start.is_none() {
+                "end"
+            } else {
+                "start"
+            },
+            reason: "closed data have no ends to hold a condition (fit them as open data)".into(),
+        });
+    }
     let mut pts = points.to_vec();
     if looks_closed(&pts) {
         pts.pop();

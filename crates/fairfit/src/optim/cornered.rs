@@ -43,7 +43,14 @@ pub(crate) fn fit(
     progress: &Progress<'_>,
     start: Instant,
 ) -> Result<IntegratedResult> {
-    let prep = prepare(points, opts.degree)?;
+    let mut prep = prepare(points, opts.degree)?;
+    let conditions = &opts.end_conditions;
+    prep.data.ends = conditions.normalized(prep.origin, prep.scale);
+    crate::fit::end_constraints::check_against_data(
+        &prep.data.ends,
+        &prep.data.points,
+        tolerance_of(opts, prep.scale),
+    )?;
     if let Some(angle) = opts.corner_angle_deg {
         let corners = crate::fit::corners::corners_at_tolerance(
             &prep.data.points,
@@ -53,10 +60,80 @@ pub(crate) fn fit(
         );
         let ranges = pieces(prep.data.points.len(), &corners);
         if ranges.len() > 1 {
+            if !conditions.is_none() {
+                return Err(Error::InvalidSetting {
+                    option: "corner_angle",
+                    reason: format!(
+                        "the data have {} corners; start and end conditions need data without corners (no corner detection)",
+                        ranges.len() - 1
+                    ),
+                });
+            }
             return fit_with_corners(&prep, &ranges, opts, progress, start);
         }
     }
-    open::fit(&prep, opts, progress, start)
+    let r = open::fit(&prep, opts, progress, start).map_err(|e| match conditions.is_none() {
+        true => e,
+        false => condition_error(&prep, opts.degree).unwrap_or(e),
+    })?;
+    if !r.met && !conditions.is_none() {
+        return Err(unmet_condition(points, &r, conditions));
+    }
+    Ok(r)
+}
+
+/// Why no constrained fit could be made, when the conditions are the cause: a least-squares solve
+/// with averaging knots and the fewest control points the conditions leave room for (one free)
+/// refuses them ([`Error::InvalidSetting`] naming the end); `None` when it does not.
+fn condition_error(prep: &Prepared, p: usize) -> Option<Error> {
+    let (lo, hi) = prep.data.ends.fixed_points();
+    let n = (lo + hi + 1).max(p + 1).min(prep.data.points.len());
+    let interior = super::search::prepare::averaging_interior_knots(&prep.data.params, p, n);
+    let mut knots = vec![0.0; p + 1];
+    knots.extend_from_slice(&interior);
+    knots.resize(knots.len() + p + 1, 1.0);
+    let mut solver = crate::fit::lsq::LsqSolver::new(p);
+    let mut ctrl = Vec::new();
+    let d = &prep.data;
+    match solver.solve_constrained(
+        &d.points,
+        &d.params,
+        &knots,
+        None,
+        &Default::default(),
+        &d.ends,
+        d.planar,
+        &mut ctrl,
+    ) {
+        Err(e @ Error::InvalidSetting { .. }) => Some(e),
+        _ => None,
+    }
+}
+
+/// The error of a constrained fit that misses the tolerance: names the constrained end nearer the
+/// worst deviation (the condition leaves the tolerance band there).
+fn unmet_condition(
+    points: &[Vec3],
+    r: &IntegratedResult,
+    conditions: &crate::fit::end_constraints::EndConstraints,
+) -> Error {
+    let d = crate::fit::max_orthogonal_deviation(&r.curve, points, &[]).per_point;
+    let half = d.len() / 2;
+    let worst = |x: &[f64]| x.iter().copied().fold(0.0, f64::max);
+    let (d0, d1) = (worst(&d[..half]), worst(&d[half..]));
+    let which = match (conditions.start.is_none(), conditions.end.is_none()) {
+        (false, true) => "start",
+        (true, false) => "end",
+        _ if d0 >= d1 => "start",
+        _ => "end",
+    };
+    Error::InvalidSetting {
+        option: which,
+        reason: format!(
+            "the {which} condition cannot be met within the tolerance {:.3e} (the best constrained fit deviates {:.3e}); check its direction and curvature against the data",
+            r.tolerance, r.quality.max_deviation
+        ),
+    }
 }
 
 /// One fitted piece (normalised coordinates).

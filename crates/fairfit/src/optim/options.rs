@@ -15,6 +15,7 @@
 
 use super::fairing::{BandOptions, EndCondition, PolishOptions};
 use crate::errors::{Error, Result};
+use crate::fit::end_constraints::{EndConstraint, EndConstraints};
 use crate::fit::tolerance::ClosedMode;
 use crate::tolerance::Tolerance;
 
@@ -144,6 +145,10 @@ pub struct IntegratedOptions {
     /// closed curves (no end points); the pieces between corners keep theirs pinned (they are
     /// joined there). Set by [`Self::ends`].
     pub ends: EndCondition,
+    /// G0/G1/G2 conditions at the ends of an open curve ([`crate::fit::end_constraints`]): every
+    /// least-squares solve of the knot search and the final fairing honour them. Set by
+    /// [`Self::start`] and [`Self::end`].
+    pub end_conditions: EndConstraints,
 }
 
 impl Default for IntegratedOptions {
@@ -168,6 +173,7 @@ impl Default for IntegratedOptions {
             outliers: crate::fit::screening::OutlierMode::Off,
             closed: crate::fit::tolerance::ClosedMode::Auto,
             ends: EndCondition::Pinned,
+            end_conditions: EndConstraints::default(),
         }
     }
 }
@@ -273,6 +279,36 @@ impl IntegratedOptions {
     /// The end condition of an open curve without corners ([`EndCondition::Pinned`] by default).
     pub fn ends(mut self, ends: EndCondition) -> Self {
         self.ends = ends;
+        self
+    }
+
+    /// The condition at the first point of an open curve: a point, a tangent direction (G1) or a
+    /// tangent and curvature (G2), [`EndConstraint`].
+    ///
+    /// ```
+    /// use fairfit::prelude::*;
+    /// use fairfit::fit::end_constraints::{achieved, EndConstraint};
+    /// let pts: Vec<Vec3> = (0..50)
+    ///     .map(|i| {
+    ///         let t = i as f64 / 49.0;
+    ///         Vec3::new(t.cos(), t.sin(), 0.0)
+    ///     })
+    ///     .collect();
+    /// // the unit circle at angle 0: tangent +y, curvature 1
+    /// let g2 = EndConstraint::curvature(Vec3::new(0.0, 1.0, 0.0), 1.0);
+    /// let r = fit_integrated(&pts, &IntegratedOptions::new(Tolerance::Relative(1e-3)).start(g2)).unwrap();
+    /// let a = achieved(&r.curve, false, &g2);
+    /// assert!(r.met && a.tangent_angle < 1e-9 && a.curvature_relative < 1e-9);
+    /// ```
+    pub fn start(mut self, condition: EndConstraint) -> Self {
+        self.end_conditions.start = condition;
+        self
+    }
+
+    /// The condition at the last point of an open curve ([`Self::start`]; the tangent is the
+    /// direction the curve arrives in).
+    pub fn end(mut self, condition: EndConstraint) -> Self {
+        self.end_conditions.end = condition;
         self
     }
 
@@ -401,6 +437,13 @@ pub(crate) fn validate(opts: &IntegratedOptions) -> Result<()> {
         return Err(invalid(
             "budget",
             "at least one particle is needed (particles = 0)".into(),
+        ));
+    }
+    opts.end_conditions.validate()?;
+    if !opts.end_conditions.is_none() && opts.ends == EndCondition::Free {
+        return Err(invalid(
+            "ends",
+            "free ends cannot carry start or end conditions (they fix the end points)".into(),
         ));
     }
     if let Some(a) = opts.corner_angle_deg {

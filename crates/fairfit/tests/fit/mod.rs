@@ -4,6 +4,7 @@
 
 mod cad_fit;
 mod corners;
+mod end_constraints;
 mod hooks;
 mod noise;
 mod outliers;

@@ -86,12 +86,30 @@ impl ControlMap {
                 ends: Some(m_points),
             };
         }
-        let inner = 1..n_ctrl.saturating_sub(1).max(1);
+        ControlMap::open_fixed(n_ctrl, m_points, 1, 1)
+    }
+
+    /// The control points an open curve fitted to `data` may move (`n_ctrl` of them, ends as
+    /// `ends`): [`ControlMap::open_ends`], or with the data's end conditions
+    /// ([`FitData::ends`]) the points between those the conditions fix (their ends pinned).
+    pub fn open_for(n_ctrl: usize, data: &FitData, ends: EndCondition) -> ControlMap {
+        let m = data.points.len();
+        if data.ends.is_none() {
+            return ControlMap::open_ends(n_ctrl, m, ends);
+        }
+        let (lo, hi) = data.ends.fixed_points();
+        ControlMap::open_fixed(n_ctrl, m, lo, hi)
+    }
+
+    /// An open curve with its first `lo` and last `hi` control points fixed (at least one each),
+    /// the data's end points interpolated.
+    fn open_fixed(n_ctrl: usize, m_points: usize, lo: usize, hi: usize) -> ControlMap {
+        let inner = lo.min(n_ctrl)..n_ctrl.saturating_sub(hi).max(lo.min(n_ctrl));
         let cols: Vec<Vec<(usize, f64)>> = inner.clone().map(|j| vec![(j, 1.0)]).collect();
         let rows = (0..n_ctrl)
             .map(|j| {
                 if inner.contains(&j) {
-                    vec![(j - 1, 1.0)]
+                    vec![(j - inner.start, 1.0)]
                 } else {
                     Vec::new()
                 }
@@ -388,6 +406,7 @@ mod tests {
             degree: 3,
             planar: true,
             corrections: 0,
+            ends: Default::default(),
         };
         let mut ws = EvalWorkspace::default();
         set_knots(3, &[0.5], &mut ws);

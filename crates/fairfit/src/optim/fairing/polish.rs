@@ -120,7 +120,7 @@ pub fn polish(
     allowed: f64,
     opts: &PolishOptions,
 ) -> Polished {
-    let map = ControlMap::open_ends(ws.ctrl.len(), data.points.len(), opts.ends);
+    let map = ControlMap::open_for(ws.ctrl.len(), data, opts.ends);
     polish_mapped(data, ws, start, allowed, opts, &map)
 }
 
@@ -407,6 +407,7 @@ mod tests {
             degree: 3,
             planar: true,
             corrections: 1,
+            ends: Default::default(),
         };
         let mut ws = EvalWorkspace::default();
         set_knots(3, &[0.2, 0.35, 0.5, 0.65, 0.8], &mut ws);

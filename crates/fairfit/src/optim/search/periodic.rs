@@ -89,6 +89,7 @@ impl ClosedData {
                 degree: p,
                 planar: d.planar,
                 corrections: 0,
+                ends: Default::default(),
             },
             corrections: d.corrections,
         })

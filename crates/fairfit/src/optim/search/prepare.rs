@@ -122,6 +122,7 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
             degree,
             planar,
             corrections: 1,
+            ends: Default::default(),
         },
         origin: lo,
         scale,

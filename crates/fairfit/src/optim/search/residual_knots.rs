@@ -76,6 +76,7 @@ mod tests {
             degree: 3,
             planar: true,
             corrections: 0,
+            ends: Default::default(),
         }
     }
 

@@ -67,7 +67,7 @@ pub fn refair(
     let extrema = counter.count(&ws.ctrl);
     let saved = ws.clone();
     let start = ws.foot_params.clone();
-    let map = ControlMap::open_ends(ws.ctrl.len(), data.points.len(), opts.ends);
+    let map = ControlMap::open_for(ws.ctrl.len(), data, opts.ends);
     let r = band_fair_counted(data, ws, &start, tol, opts, &map, Some(&mut counter));
     if r.steps > 0
         && r.eval.solved

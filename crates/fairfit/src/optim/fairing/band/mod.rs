@@ -78,7 +78,7 @@ pub fn band_fair(
     tol: f64,
     opts: &BandOptions,
 ) -> BandFaired {
-    let map = ControlMap::open_ends(ws.ctrl.len(), data.points.len(), opts.ends);
+    let map = ControlMap::open_for(ws.ctrl.len(), data, opts.ends);
     band_fair_mapped(data, ws, start, tol, opts, &map)
 }
 
@@ -261,6 +261,7 @@ mod tests {
             degree: 3,
             planar: true,
             corrections: 1,
+            ends: Default::default(),
         };
         let mut ws = EvalWorkspace::default();
         let interior: Vec<f64> = (1..9).map(|i| i as f64 / 9.0).collect();

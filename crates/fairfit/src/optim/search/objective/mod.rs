@@ -11,6 +11,7 @@
 //! The least-squares solve is the least-squares module's `LsqSolver` (one per particle, reused), with
 //! the scale-free smoothing term `λ ∫|C'''|² du` (third order: it penalises curvature variation).
 
+use crate::fit::end_constraints::EndConstraints;
 use crate::fit::lsq::{LsqOptions, LsqSolver, SmoothingOrder};
 use crate::nurbs::Vec3;
 
@@ -44,6 +45,10 @@ pub struct FitData {
     pub planar: bool,
     /// Parameter-correction passes per candidate (refit at the foot points of the last fit).
     pub corrections: usize,
+    /// End conditions of an open curve, in these (normalised) coordinates: every least-squares
+    /// solve honours them ([`LsqSolver::solve_constrained`]) and the final fairing keeps their
+    /// control points fixed.
+    pub ends: EndConstraints,
 }
 
 /// Runs `$body` with `$proj` bound to the projection of one data point onto the curve in `$ws`,
@@ -424,7 +429,16 @@ fn solve_control_points(
         closed: false,
     };
     solver
-        .solve(&data.points, params, &ws.knots, None, &opts, &mut ws.ctrl)
+        .solve_constrained(
+            &data.points,
+            params,
+            &ws.knots,
+            None,
+            &opts,
+            &data.ends,
+            data.planar,
+            &mut ws.ctrl,
+        )
         .is_ok()
         && ws.ctrl.iter().all(|c| c.is_finite())
 }

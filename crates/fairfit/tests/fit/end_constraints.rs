@@ -1,0 +1,238 @@
+//! End conditions (G0/G1/G2) of `fairfit::fit::end_constraints`, held by the least-squares solve
+//! and by the integrated method, measured against an analytic circular arc (its tangent and its
+//! curvature `1/R` in closed form) and a helix (curvature vector `R/(R² + c²)` towards the axis).
+
+use fairfit::fit::end_constraints::{achieved, EndConstraint, EndConstraints};
+use fairfit::fit::lsq::{LsqOptions, LsqSolver};
+use fairfit::prelude::*;
+
+const R: f64 = 2.0;
+const SWEEP: f64 = 1.2;
+
+/// `n` points on the arc of radius `R` from angle 0 to `SWEEP`, anticlockwise, with a slight
+/// wobble of relative size `wobble` (so the data do not already carry the conditions exactly).
+fn arc(n: usize, wobble: f64) -> Vec<Vec3> {
+    (0..n)
+        .map(|i| {
+            let a = SWEEP * i as f64 / (n - 1) as f64;
+            let r = R * (1.0 + wobble * (7.0 * a).sin());
+            Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+        })
+        .collect()
+}
+
+/// The arc's exact conditions: tangent and signed curvature `1/R` at both ends.
+fn arc_g2() -> (EndConstraint, EndConstraint) {
+    let start = EndConstraint::curvature(Vec3::new(0.0, 1.0, 0.0), 1.0 / R);
+    let end = EndConstraint::curvature(Vec3::new(-SWEEP.sin(), SWEEP.cos(), 0.0), 1.0 / R);
+    (start, end)
+}
+
+fn arc_g1() -> (EndConstraint, EndConstraint) {
+    let (s, e) = arc_g2();
+    (
+        EndConstraint::tangent(s.tangent.unwrap()),
+        EndConstraint::tangent(e.tangent.unwrap()),
+    )
+}
+
+fn clamped(n_ctrl: usize, p: usize) -> Vec<f64> {
+    let spans = n_ctrl - p;
+    let mut k = vec![0.0; p + 1];
+    k.extend((1..spans).map(|i| i as f64 / spans as f64));
+    k.extend(vec![1.0; p + 1]);
+    k
+}
+
+#[test]
+fn least_squares_holds_g2_at_both_ends_of_an_arc() {
+    let pts = arc(40, 1e-3);
+    let u: Vec<f64> = (0..40).map(|i| i as f64 / 39.0).collect();
+    let (s, e) = arc_g2();
+    for p in [3, 4, 5] {
+        let knots = clamped(9, p);
+        let mut solver = LsqSolver::new(p);
+        let mut ctrl = Vec::new();
+        let ends = EndConstraints { start: s, end: e };
+        solver
+            .solve_constrained(
+                &pts,
+                &u,
+                &knots,
+                None,
+                &LsqOptions::default(),
+                &ends,
+                true,
+                &mut ctrl,
+            )
+            .unwrap();
+        let c = NurbsCurve::bspline(p, knots, ctrl).unwrap();
+        for (at_end, cond) in [(false, &s), (true, &e)] {
+            let a = achieved(&c, at_end, cond);
+            assert!(
+                a.tangent_angle <= 1e-9,
+                "degree {p}: angle {}",
+                a.tangent_angle
+            );
+            assert!(
+                a.curvature_relative <= 1e-9,
+                "degree {p}: curvature {}",
+                a.curvature_relative
+            );
+        }
+        // the exact values, independently of `achieved`: κ = |C' × C''| / |C'|³ = 1/R at u = 0
+        let d = c.derivatives(0.0, 2);
+        let kappa = d[1].cross(d[2])[2] / d[1].norm().powi(3);
+        assert!(
+            (kappa - 1.0 / R).abs() <= 1e-9 / R,
+            "degree {p}: κ(0) = {kappa}"
+        );
+        assert!(
+            d[1][0].abs() <= 1e-9 * d[1].norm(),
+            "degree {p}: C'(0) = {:?}",
+            d[1]
+        );
+    }
+}
+
+#[test]
+fn least_squares_without_conditions_is_the_plain_solve() {
+    let pts = arc(30, 1e-2);
+    let u: Vec<f64> = (0..30).map(|i| i as f64 / 29.0).collect();
+    let knots = clamped(8, 3);
+    let mut solver = LsqSolver::new(3);
+    let (mut a, mut b) = (Vec::new(), Vec::new());
+    let opts = LsqOptions::default();
+    solver.solve(&pts, &u, &knots, None, &opts, &mut a).unwrap();
+    solver
+        .solve_constrained(
+            &pts,
+            &u,
+            &knots,
+            None,
+            &opts,
+            &EndConstraints::default(),
+            true,
+            &mut b,
+        )
+        .unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn integrated_holds_g1_ends_of_an_arc_within_the_tolerance() {
+    let pts = arc(80, 2e-4);
+    let (s, e) = arc_g1();
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3))
+        .start(s)
+        .end(e);
+    let r = fit_integrated(&pts, &opts).unwrap();
+    assert!(r.met && r.quality.max_deviation <= r.tolerance);
+    for (at_end, cond) in [(false, &s), (true, &e)] {
+        let a = achieved(&r.curve, at_end, cond);
+        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
+    }
+    // the curve still starts and ends on the data's end points
+    assert!((r.curve.point(0.0) - pts[0]).norm() <= 1e-9 * R);
+    assert!((r.curve.point(1.0) - pts[79]).norm() <= 1e-9 * R);
+}
+
+#[test]
+fn integrated_holds_g2_ends_of_an_arc_within_the_tolerance() {
+    let pts = arc(80, 2e-4);
+    let (s, e) = arc_g2();
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3))
+        .start(s)
+        .end(e);
+    let r = fit_integrated(&pts, &opts).unwrap();
+    assert!(r.met && r.quality.max_deviation <= r.tolerance);
+    for (at_end, cond) in [(false, &s), (true, &e)] {
+        let a = achieved(&r.curve, at_end, cond);
+        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
+        assert!(
+            a.curvature_relative <= 1e-9,
+            "curvature {}",
+            a.curvature_relative
+        );
+    }
+    let (_, b) = r.curve.domain();
+    let d = r.curve.derivatives(b, 2);
+    let kappa = d[1].cross(d[2])[2] / d[1].norm().powi(3);
+    assert!((kappa - 1.0 / R).abs() <= 1e-9 / R, "κ(end) = {kappa}");
+}
+
+#[test]
+fn integrated_holds_a_curvature_vector_on_a_helix() {
+    // helix (R cos t, R sin t, c t): curvature R / (R² + c²) towards the axis
+    let (rad, c) = (1.5, 0.4);
+    let pts: Vec<Vec3> = (0..70)
+        .map(|i| {
+            let t = 2.0 * i as f64 / 69.0;
+            Vec3::new(rad * t.cos(), rad * t.sin(), c * t)
+        })
+        .collect();
+    let kappa = rad / (rad * rad + c * c);
+    let g2 = EndConstraint::curvature_vector(Vec3::new(0.0, rad, c), Vec3::new(-kappa, 0.0, 0.0));
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).start(g2);
+    let r = fit_integrated(&pts, &opts).unwrap();
+    assert!(r.met);
+    let a = achieved(&r.curve, false, &g2);
+    assert!(
+        a.tangent_angle <= 1e-9 && a.curvature_relative <= 1e-9,
+        "{a:?}"
+    );
+}
+
+#[test]
+fn a_tangent_that_leaves_the_band_is_refused_naming_its_end() {
+    let pts = arc(60, 0.0);
+    // at the start the arc heads +y: a tangent 120° from it would make the curve reverse
+    let bad = EndConstraint::tangent(Vec3::new(3f64.sqrt() / 2.0, -0.5, 0.0));
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-4))
+        .end(arc_g1().1)
+        .start(bad);
+    match fit_integrated(&pts, &opts) {
+        Err(Error::InvalidSetting { option, reason }) => {
+            assert_eq!(option, "start", "{reason}");
+            assert!(!reason.contains('\n'));
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|r| r.met)),
+    }
+}
+
+#[test]
+fn conditions_that_cannot_hold_are_refused() {
+    let pts = arc(30, 0.0);
+    let zero = EndConstraint::tangent(Vec3::ZERO);
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).start(zero);
+    assert!(matches!(
+        fit_integrated(&pts, &opts),
+        Err(Error::InvalidSetting {
+            option: "start",
+            ..
+        })
+    ));
+    let nan = EndConstraint::curvature(Vec3::new(0.0, 1.0, 0.0), f64::NAN);
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).end(nan);
+    assert!(matches!(
+        fit_integrated(&pts, &opts),
+        Err(Error::InvalidSetting { option: "end", .. })
+    ));
+    // closed data have no ends
+    let mut ring: Vec<Vec3> = (0..40)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 40.0;
+            Vec3::new(a.cos(), a.sin(), 0.0)
+        })
+        .collect();
+    ring.push(ring[0]);
+    let g1 = EndConstraint::tangent(Vec3::new(0.0, 1.0, 0.0));
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3)).start(g1);
+    assert!(matches!(
+        fit_integrated(&ring, &opts),
+        Err(Error::InvalidSetting {
+            option: "start",
+            ..
+        })
+    ));
+}
