@@ -21,6 +21,14 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Most points (or mesh vertices, or control points) an input may hold; larger inputs are refused
+    /// with one line.
+    #[arg(long, global = true, value_name = "N", default_value_t = fairfit::io::limits::DEFAULT_MAX_POINTS)]
+    max_points: usize,
+    /// Largest JSON, STEP, IGES or mesh file read, in MiB (point files are streamed and bounded by
+    /// --max-points instead).
+    #[arg(long, global = true, value_name = "MIB", default_value_t = fairfit::io::limits::DEFAULT_MAX_FILE_BYTES >> 20)]
+    max_file_mb: u64,
 }
 
 #[derive(Subcommand, Debug)]
@@ -126,6 +134,15 @@ fn main() -> ExitCode {
             };
         }
     };
+    fairfit::io::limits::ReadLimits {
+        max_points: cli.max_points,
+        max_file_bytes: cli.max_file_mb.saturating_mul(1 << 20),
+    }
+    .install();
+    if let Err(e) = commands::threads::build_global_pool() {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Eval(a) => commands::eval::run(a),
         Command::Info(a) => commands::info::run(a),

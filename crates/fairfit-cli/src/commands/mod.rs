@@ -10,6 +10,7 @@ pub mod info;
 pub mod outputs;
 pub mod plot;
 pub mod surface;
+pub mod threads;
 
 /// What a subcommand returns: the library's typed error, or a CLI-level message.
 pub type CmdResult = Result<(), CliError>;
