@@ -29,6 +29,10 @@ struct Cli {
     /// --max-points instead).
     #[arg(long, global = true, value_name = "MIB", default_value_t = fairfit::io::limits::DEFAULT_MAX_FILE_BYTES >> 20)]
     max_file_mb: u64,
+    /// Most knot spans (u × v for a surface) `info`, `plot` and `export` analyse or sample; their work
+    /// grows with the spans.
+    #[arg(long, global = true, value_name = "N", default_value_t = commands::work::DEFAULT_MAX_SPANS)]
+    max_spans: usize,
 }
 
 #[derive(Subcommand, Debug)]
@@ -139,6 +143,7 @@ fn main() -> ExitCode {
         max_file_bytes: cli.max_file_mb.saturating_mul(1 << 20),
     }
     .install();
+    commands::work::set_max_spans(cli.max_spans);
     if let Err(e) = commands::threads::build_global_pool() {
         eprintln!("error: {e}");
         return ExitCode::FAILURE;

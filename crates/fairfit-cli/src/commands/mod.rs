@@ -11,6 +11,7 @@ pub mod outputs;
 pub mod plot;
 pub mod surface;
 pub mod threads;
+pub mod work;
 
 /// What a subcommand returns: the library's typed error, or a CLI-level message.
 pub type CmdResult = Result<(), CliError>;

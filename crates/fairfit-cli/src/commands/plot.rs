@@ -64,6 +64,7 @@ pub fn run(args: PlotArgs) -> CmdResult {
     check_output_paths(&[("-o", &args.output)], &inputs)?;
     check_plot_format("-o", &args.output)?;
     let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
+    super::work::check_spans(&geometry, &args.input)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),
         None => None,
