@@ -27,7 +27,7 @@ fn devices_are_refused_at_once_within_100_mb() {
         ),
         (
             "info /dev/zero",
-            "/dev/zero: not a text file (contains NUL bytes)",
+            "/dev/zero: not a UTF-8 text file (expected fairfit JSON)",
         ),
         (
             "surface /dev/zero /dev/zero -o /tmp/fairfit_limits_test_never_written.json",

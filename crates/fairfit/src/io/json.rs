@@ -264,11 +264,12 @@ pub fn read_geometry(path: impl AsRef<Path>) -> Result<Geometry> {
         let kind = super::cad_read::CadKind::Any;
         return super::cad_read::read_cad(path, kind, 0).map(|g| g.geometry);
     }
-    let bytes = super::limits::read_bounded_text(path)?;
-    let text = std::str::from_utf8(&bytes).map_err(|_| Error::Io {
+    let not_text = || Error::Io {
         path: path.display().to_string(),
         message: "not a UTF-8 text file (expected fairfit JSON)".into(),
-    })?;
+    };
+    let bytes = super::limits::read_bounded_text_or(path, not_text)?;
+    let text = std::str::from_utf8(&bytes).map_err(|_| not_text())?;
     let start = super::points::without_bom(text).trim_start();
     if !start.is_empty() && !start.starts_with('{') {
         return Err(Error::Json(format!(

@@ -121,6 +121,20 @@ pub fn read_bounded_text(path: &Path) -> Result<Vec<u8>> {
     read_limited(path, ReadLimits::current().max_file_bytes, true)
 }
 
+/// [`read_bounded_text`], with `not_text` as the error at a NUL byte (a reader's own wording).
+pub(crate) fn read_bounded_text_or(
+    path: &Path,
+    not_text: impl FnOnce() -> Error,
+) -> Result<Vec<u8>> {
+    match read_limited(path, ReadLimits::current().max_file_bytes, true) {
+        Err(Error::InvalidData(m)) if m.ends_with(NOT_TEXT) => Err(not_text()),
+        other => other,
+    }
+}
+
+/// The end of the error at a NUL byte.
+const NOT_TEXT: &str = "not a text file (contains NUL bytes)";
+
 /// [`read_bounded`] with an explicit limit in bytes.
 fn read_with_limit(path: &Path, limit: u64) -> Result<Vec<u8>> {
     read_limited(path, limit, false)
@@ -148,9 +162,7 @@ fn read_limited(path: &Path, limit: u64, text: bool) -> Result<Vec<u8>> {
             Err(e) => return Err(Error::io(path, &e)),
         };
         if text && chunk[..n].contains(&0) {
-            return Err(Error::InvalidData(format!(
-                "{source}: not a text file (contains NUL bytes)"
-            )));
+            return Err(Error::InvalidData(format!("{source}: {NOT_TEXT}")));
         }
         bytes
             .try_reserve(n)
