@@ -24,6 +24,18 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Most points (or mesh vertices, or control points) an input may hold; larger inputs are refused
+    /// with one line.
+    #[arg(long, global = true, value_name = "N", default_value_t = fairfit::io::limits::DEFAULT_MAX_POINTS)]
+    max_points: usize,
+    /// Largest JSON, STEP, IGES or mesh file read, in MiB (point files are streamed and bounded by
+    /// --max-points instead).
+    #[arg(long, global = true, value_name = "MIB", default_value_t = fairfit::io::limits::DEFAULT_MAX_FILE_BYTES >> 20)]
+    max_file_mb: u64,
+    /// Most knot spans (u × v for a surface) `info`, `plot` and `export` analyse or sample; their work
+    /// grows with the spans.
+    #[arg(long, global = true, value_name = "N", default_value_t = commands::work::DEFAULT_MAX_SPANS)]
+    max_spans: usize,
 }
 
 #[derive(Subcommand, Debug)]
@@ -162,6 +174,16 @@ fn main() -> ExitCode {
             };
         }
     };
+    fairfit::io::limits::ReadLimits {
+        max_points: cli.max_points,
+        max_file_bytes: cli.max_file_mb.saturating_mul(1 << 20),
+    }
+    .install();
+    commands::work::set_max_spans(cli.max_spans);
+    if let Err(e) = commands::threads::build_global_pool() {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Eval(a) => commands::eval::run(a),
         Command::Info(a) => commands::info::run(a),

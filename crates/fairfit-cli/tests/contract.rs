@@ -325,3 +325,5 @@ fn coordinates_near_the_ends_of_the_f64_range_give_numbers_or_clear_messages() {
 mod bad_input;
 /// Input errors that name the problem, pinned by the inputs that showed them.
 mod input_errors;
+/// Bounded reading and bounded work: refusals that name their limit.
+mod limits;

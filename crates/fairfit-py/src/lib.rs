@@ -60,14 +60,25 @@ pub(crate) fn guarded<T: Send>(
     }
 }
 
-/// Runs `f` inside a rayon pool of `threads` workers (`None` or 0: rayon's default, one per core),
-/// capped at four per core like the CLI's `--threads` (more only cost memory and scheduling).
+/// Runs `f` inside a rayon pool of `threads` workers (`None` or 0: `RAYON_NUM_THREADS` when set, else
+/// one per core), capped at four per core like the CLI's `--threads` (more only cost memory and
+/// scheduling; an environment asking for 100000 must not start them).
 pub(crate) fn with_pool<T: Send>(
     threads: Option<usize>,
     f: impl FnOnce() -> Result<T, String> + Send,
 ) -> Result<T, String> {
-    let cap = 4 * std::thread::available_parallelism().map_or(1, |n| n.get());
-    let threads = threads.unwrap_or(0).min(cap);
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let from_env = || {
+        std::env::var("RAYON_NUM_THREADS")
+            .ok()
+            .and_then(|v| v.trim().parse::<usize>().ok())
+            .filter(|&n| n > 0)
+    };
+    let threads = match threads.unwrap_or(0) {
+        0 => from_env().unwrap_or(cores),
+        n => n,
+    }
+    .min(4 * cores);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

@@ -31,25 +31,18 @@ pub struct MethodOutput {
     pub files: Vec<Output>,
 }
 
-/// Runs `f` inside a rayon pool of `threads` workers (0 = rayon's default).
-///
-/// More workers than four per available core only cost memory and scheduling (results do not
-/// depend on the count), so the pool is capped there.
+/// Runs `f` inside a rayon pool of `threads` workers (0 = one per core, or `RAYON_NUM_THREADS`),
+/// capped as [`super::threads::pool_threads`] says.
 pub fn with_pool<T: Send>(
     threads: usize,
     f: impl FnOnce() -> Result<T, CliError> + Send,
 ) -> Result<T, CliError> {
-    let threads = threads.min(max_threads());
+    let threads = super::threads::pool_threads(threads);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| CliError::new(format!("cannot start {threads} worker threads: {e}")))?;
     pool.install(f)
-}
-
-/// The largest useful pool: four workers per core the system reports (at least four).
-fn max_threads() -> usize {
-    4 * std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// The library's options for the integrated method as `args` ask for them.
@@ -216,7 +209,7 @@ mod tests {
 
     #[test]
     fn pool_is_capped_at_four_workers_per_core() {
-        let cap = max_threads();
+        let cap = super::super::threads::max_threads();
         let workers = with_pool(1_000_000, || Ok(rayon::current_num_threads())).unwrap();
         assert_eq!(workers, cap);
         let two = with_pool(2, || Ok(rayon::current_num_threads())).unwrap();

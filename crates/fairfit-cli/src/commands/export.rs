@@ -45,6 +45,11 @@ pub fn run(args: ExportArgs) -> CmdResult {
     check_outputs(&outputs, &[], &Inputs::files(inputs))?;
     check_output_formats(&outputs)?;
     let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
+    // STEP and IGES copy the geometry as it is; meshes, plots, reports and samples sample it per span
+    let o = &args.outputs;
+    if o.mesh.is_some() || o.plot.is_some() || o.html.is_some() || args.samples.is_some() {
+        super::work::check_spans(&geometry, &args.input)?;
+    }
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),
         None => None,

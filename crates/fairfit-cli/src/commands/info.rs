@@ -44,6 +44,7 @@ pub fn run(args: InfoArgs) -> CmdResult {
     let mut out = Vec::with_capacity(args.input.len());
     for path in &args.input {
         let (geometry, source) = super::cad_input::read_input_with_source(path, &args.cad)?;
+        super::work::check_spans(&geometry, path)?;
         let mut v = match geometry {
             Geometry::Curve(c) => curve_info(&c)?,
             Geometry::Surface(s) => surface_info(&s, args.iso as usize)?,

@@ -22,6 +22,8 @@ pub mod messages;
 pub mod outputs;
 pub mod plot;
 pub mod surface;
+pub mod threads;
+pub mod work;
 
 /// What a subcommand returns: the library's typed error, or a CLI-level message.
 pub type CmdResult = Result<(), CliError>;

@@ -63,6 +63,7 @@ pub fn run(args: PlotArgs) -> CmdResult {
     check_outputs(&[("-o", &args.output)], &[], &Inputs::files(inputs))?;
     check_plot_format("-o", &args.output)?;
     let geometry = super::cad_input::read_input(&args.input, &args.cad)?;
+    super::work::check_spans(&geometry, &args.input)?;
     let points = match &args.points {
         Some(p) => Some(read_points(p)?.points),
         None => None,

@@ -357,9 +357,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
     let pb = crate::progress::bar(3, "surface");
     pb.set_message("fitting sections");
-    let threads = args
-        .threads
-        .min(4 * std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let threads = super::threads::pool_threads(args.threads);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

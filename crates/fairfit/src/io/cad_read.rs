@@ -424,7 +424,7 @@ pub fn read_contents(path: impl AsRef<Path>) -> Result<CadContents> {
             "{file}: not a CAD file name (expected .step, .stp, .igs or .iges)"
         ))
     })?;
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
+    let bytes = super::limits::read_bounded_text(path)?;
     // CAD files are ASCII; stray Latin-1 bytes in names or comments must not stop the read
     let text = String::from_utf8_lossy(&bytes);
     parse_cad(&text, format).map_err(|e| match e {

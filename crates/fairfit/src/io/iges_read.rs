@@ -384,7 +384,9 @@ fn apply(m: &Option<Affine>, p: Vec3) -> Vec3 {
 
 /// Weights that are all equal describe a polynomial spline: they become 1 (exactly the same curve).
 fn normalised(w: Vec<f64>) -> Option<Vec<f64>> {
-    let all_equal = w.iter().all(|&x| x == w[0]);
+    // equal positive weights are a polynomial B-spline; equal zero or negative weights are kept, so
+    // that the curve's or surface's validation refuses them (weights must be finite and > 0)
+    let all_equal = w.iter().all(|&x| x == w[0]) && w.first().is_some_and(|&x| x > 0.0);
     (!all_equal).then_some(w)
 }
 
@@ -914,6 +916,22 @@ mod tests {
         assert_eq!(real("-.5E1"), Some(-5.0));
         assert_eq!(real("3"), Some(3.0));
         assert!(fields("5Hab;", ',', ';').is_err());
+    }
+
+    #[test]
+    fn equal_weights_become_polynomial_only_when_positive() {
+        assert_eq!(normalised(vec![2.0, 2.0, 2.0]), None);
+        assert_eq!(normalised(vec![0.0, 0.0, 0.0]), Some(vec![0.0; 3]));
+        assert_eq!(normalised(vec![-1.0, -1.0]), Some(vec![-1.0; 2]));
+        // so the curve's validation refuses zero weights instead of reading a polynomial curve
+        let pts = vec![Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0)];
+        let e = NurbsCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], pts, normalised(vec![0.0; 2]))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "invalid weights: weight 0 is 0; weights must be finite and > 0"
+        );
     }
 
     #[test]

@@ -6,6 +6,7 @@
 //!
 //! `weights` may be omitted (all 1). Reading validates the geometry; errors name the offending field.
 
+use super::limits::ReadLimits;
 use super::numbers::{unsigned_zero, unsigned_zeros};
 use crate::errors::{Error, Result};
 use crate::nurbs::{NurbsCurve, NurbsSurface, Vec3};
@@ -145,6 +146,7 @@ pub fn geometry_from_str(text: &str) -> Result<Geometry> {
                 .into(),
         ));
     }
+    check_element_count(text)?;
     let value: serde_json::Value =
         serde_json::from_str(text).map_err(|e| Error::Json(e.to_string()))?;
     let kind = value
@@ -168,6 +170,43 @@ pub fn geometry_from_str(text: &str) -> Result<Geometry> {
             "field `kind`: unknown kind \"{other}\", expected \"curve\" or \"surface\""
         ))),
     }
+}
+
+/// Array elements per control point a fairfit JSON holds at most: three coordinates, the point's own
+/// array, its weight and about one knot.
+const ELEMENTS_PER_POINT: usize = 6;
+
+/// Refuses a JSON text whose arrays hold more elements than [`ELEMENTS_PER_POINT`] per allowed control
+/// point ([`ReadLimits::max_points`]), before it is parsed: parsed, every element costs about 32 bytes,
+/// so a text of `[0,0,0,...]` would otherwise cost 16 times its size. Elements are counted as the
+/// commas outside strings, plus one per array.
+fn check_element_count(text: &str) -> Result<()> {
+    let limits = ReadLimits::current();
+    let allowed = limits.max_points.saturating_mul(ELEMENTS_PER_POINT);
+    let (mut elements, mut in_string, mut escaped) = (0usize, false, false);
+    for &b in text.as_bytes() {
+        if in_string {
+            match b {
+                _ if escaped => escaped = false,
+                b'\\' => escaped = true,
+                b'"' => in_string = false,
+                _ => {}
+            }
+            continue;
+        }
+        match b {
+            b'"' => in_string = true,
+            b',' | b'[' => elements += 1,
+            _ => {}
+        }
+    }
+    if elements > allowed {
+        return Err(Error::Json(format!(
+            "{elements} array elements, over the limit of {allowed} ({ELEMENTS_PER_POINT} per allowed \
+             control point; raise it with --max-points N, or ReadLimits::max_points in the library)"
+        )));
+    }
+    Ok(())
 }
 
 /// The kind (`"curve"` or `"surface"`) of a fairfit geometry JSON text, `Some("JSON")` for other JSON
@@ -225,11 +264,12 @@ pub fn read_geometry(path: impl AsRef<Path>) -> Result<Geometry> {
         let kind = super::cad_read::CadKind::Any;
         return super::cad_read::read_cad(path, kind, 0).map(|g| g.geometry);
     }
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
-    let text = std::str::from_utf8(&bytes).map_err(|_| Error::Io {
+    let not_text = || Error::Io {
         path: path.display().to_string(),
         message: "not a UTF-8 text file (expected fairfit JSON)".into(),
-    })?;
+    };
+    let bytes = super::limits::read_bounded_text_or(path, not_text)?;
+    let text = std::str::from_utf8(&bytes).map_err(|_| not_text())?;
     let start = super::points::without_bom(text).trim_start();
     if !start.is_empty() && !start.starts_with('{') {
         return Err(Error::Json(format!(

@@ -6,7 +6,8 @@
 //! Written here: the readers are small, the formats are stable, and fairfit needs typed one-line errors
 //! naming the file and the place, which the general mesh crates do not give.
 
-use super::sections::parse_section_text;
+use super::limits::ReadLimits;
+use super::sections::read_section_file;
 use crate::errors::{Error, Result};
 use crate::nurbs::Vec3;
 use crate::surface::mesh::Mesh;
@@ -21,22 +22,27 @@ fn bad(name: &str, msg: impl std::fmt::Display) -> Error {
 /// (`ply`, `stl`, `obj`; anything else is read as an XYZ/CSV point list).
 pub fn read_mesh(path: impl AsRef<Path>) -> Result<Mesh> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
     let name = path.display().to_string();
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase())
         .unwrap_or_default();
+    let whole = || super::limits::read_bounded(path);
     let mesh = match ext.as_str() {
-        "ply" => parse_ply(&bytes, &name)?,
-        "stl" => parse_stl(&bytes, &name)?,
-        "obj" => parse_obj(&String::from_utf8_lossy(&bytes), &name)?,
+        "ply" => parse_ply(&whole()?, &name)?,
+        "stl" => parse_stl(&whole()?, &name)?,
+        "obj" => parse_obj(
+            &String::from_utf8_lossy(&super::limits::read_bounded_text(path)?),
+            &name,
+        )?,
+        // a point cloud is streamed like a section file
         _ => Mesh {
-            vertices: parse_section_text(&String::from_utf8_lossy(&bytes), &name)?,
+            vertices: read_section_file(path)?,
             triangles: Vec::new(),
         },
     };
+    ReadLimits::current().check_points(&name, mesh.vertices.len(), "vertices")?;
     if mesh.vertices.is_empty() {
         return Err(bad(&name, "no vertices"));
     }
@@ -132,6 +138,9 @@ fn parse_ply(bytes: &[u8], name: &str) -> Result<Mesh> {
                 let count = w.get(2).and_then(|c| c.parse().ok()).ok_or_else(|| {
                     bad(name, format!("header line {}: bad element count", ln + 1))
                 })?;
+                if w.get(1) == Some(&"vertex") {
+                    ReadLimits::current().check_points(name, count, "vertices")?;
+                }
                 elements.push(Element {
                     name: w.get(1).unwrap_or(&"").to_string(),
                     count,

@@ -15,6 +15,8 @@ pub mod cad_sections;
 pub mod iges;
 pub mod iges_read;
 pub mod json;
+pub mod limits;
+pub mod lines;
 pub mod mesh_read;
 pub mod mesh_write;
 pub mod numbers;

@@ -7,6 +7,8 @@
 //! counted in [`PointSet::dropped_duplicates`] (the library never prints: the caller decides whether to
 //! warn).
 
+use super::limits::{self, ReadLimits};
+use super::lines::Lines;
 use crate::errors::{Error, Result};
 use crate::fit::points::drop_consecutive_duplicates;
 use crate::nurbs::Vec3;
@@ -43,12 +45,16 @@ pub const MIN_POINTS: usize = 2;
 /// ```
 pub fn read_points(path: impl AsRef<Path>) -> Result<PointSet> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, &e))?;
-    let text = String::from_utf8(bytes).map_err(|_| Error::Io {
-        path: path.display().to_string(),
-        message: "not a text file (invalid UTF-8)".into(),
-    })?;
-    parse_points(&text, &path.display().to_string())
+    let source = path.display().to_string();
+    let mut lines = Lines::open(path)?;
+    if lines.starts_like_json()? {
+        return parse_points(&super::lines::json_text(path)?, &source);
+    }
+    let mut parser = PointParser::new(&source);
+    while let Some((line_no, line)) = lines.next_line()? {
+        parser.line(line_no, line)?;
+    }
+    parser.finish()
 }
 
 /// `text` without a leading UTF-8 byte-order mark (spreadsheet exports write one; unstripped, it would
@@ -66,115 +72,200 @@ pub fn parse_points(text: &str, source: &str) -> Result<PointSet> {
     if let Some(kind) = super::json::json_kind_of(text) {
         return Err(super::json::not_points_error(source, kind));
     }
-    // (line number, numbers) for every numeric line; blank lines kept as section separators
-    let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
-    let mut name: Option<String> = None;
-    let mut seen_numbers = false;
+    let mut parser = PointParser::new(source);
     for (i, raw) in text.lines().enumerate() {
-        let line_no = i + 1;
-        let line = raw.split('#').next().unwrap_or("").trim();
-        if line.is_empty() {
-            continue;
-        }
-        let fields: Vec<&str> = line
-            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
-            .filter(|s| !s.is_empty())
-            .collect();
-        let parsed: std::result::Result<Vec<f64>, _> =
-            fields.iter().map(|f| f.parse::<f64>()).collect();
-        match parsed {
-            Ok(vals) => {
-                if let Some(j) = vals.iter().position(|v| !v.is_finite()) {
-                    return Err(bad(
-                        source,
-                        line_no,
-                        &format!("value '{}' is not a finite number", fields[j]),
-                    ));
-                }
-                seen_numbers = true;
-                rows.push((line_no, vals));
-            }
-            Err(_) => {
-                if !seen_numbers && name.is_none() {
-                    name = Some(line.to_string());
-                } else {
-                    let shown: String = line.chars().take(40).collect();
-                    return Err(bad(
-                        source,
-                        line_no,
-                        &format!("expected 2 or 3 numbers, found '{shown}'"),
-                    ));
-                }
-            }
-        }
+        parser.line(i + 1, raw)?;
     }
-    if rows.is_empty() {
-        return Err(bad(source, 0, "no points found (empty file?)"));
-    }
-    let lednicer = is_lednicer_counts(&rows);
-    let data: &[(usize, Vec<f64>)] = if lednicer { &rows[1..] } else { &rows };
-    let columns = data.first().map(|r| r.1.len()).unwrap_or(0);
-    let mut raw_pts = Vec::with_capacity(data.len());
-    for (line_no, vals) in data {
-        if vals.len() != 2 && vals.len() != 3 {
-            return Err(bad(
-                source,
-                *line_no,
-                &format!("expected 2 or 3 numbers, found {}", vals.len()),
+    parser.finish()
+}
+
+/// One numeric line: its number, how many numbers it holds (saturating at 255) and the first three.
+#[derive(Clone, Copy)]
+struct Row {
+    line_no: usize,
+    len: usize,
+    vals: [f64; 3],
+}
+
+/// The first column-count error of one reading of the file: every row a point (`Plain`), or the
+/// first row a Lednicer counts line (`Lednicer`).
+#[derive(Default)]
+struct Columns {
+    reference: Option<usize>,
+    error: Option<(usize, String)>,
+}
+
+impl Columns {
+    fn check(&mut self, row: &Row) {
+        if self.error.is_some() {
+            return;
+        }
+        if row.len != 2 && row.len != 3 {
+            self.error = Some((
+                row.line_no,
+                format!("expected 2 or 3 numbers, found {}", row.len),
             ));
+            return;
         }
-        if vals.len() != columns {
-            return Err(bad(
-                source,
-                *line_no,
-                &format!(
+        let columns = *self.reference.get_or_insert(row.len);
+        if row.len != columns {
+            self.error = Some((
+                row.line_no,
+                format!(
                     "expected {columns} numbers like the first point line, found {}",
-                    vals.len()
+                    row.len
                 ),
             ));
         }
-        raw_pts.push(Vec3::new(
-            vals[0],
-            vals[1],
-            vals.get(2).copied().unwrap_or(0.0),
-        ));
     }
-    if lednicer {
-        let n_upper = rows[0].1[0] as usize;
-        let (upper, lower) = raw_pts.split_at(n_upper.min(raw_pts.len()));
-        let mut joined: Vec<Vec3> = upper.iter().rev().copied().collect();
-        joined.extend_from_slice(lower);
-        raw_pts = joined;
-    }
-    let (points, dropped) = drop_consecutive_duplicates(&raw_pts);
-    if points.len() < MIN_POINTS {
-        return Err(bad(
+}
+
+/// The streaming state of [`read_points`] and [`parse_points`]: one line at a time, no allocation
+/// per line. Whether the first numeric row is a Lednicer counts line is known only at the end, so the
+/// column checks of both readings run side by side and the right one is reported.
+struct PointParser<'a> {
+    source: &'a str,
+    name: Option<String>,
+    first: Option<Row>,
+    /// Points of the rows after the first.
+    rest: Vec<Vec3>,
+    plain: Columns,
+    lednicer: Columns,
+    max_points: usize,
+}
+
+impl<'a> PointParser<'a> {
+    fn new(source: &'a str) -> Self {
+        PointParser {
             source,
-            0,
-            &format!(
-                "at least {MIN_POINTS} distinct points are needed, found {}",
-                points.len()
-            ),
-        ));
+            name: None,
+            first: None,
+            rest: Vec::new(),
+            plain: Columns::default(),
+            lednicer: Columns::default(),
+            max_points: ReadLimits::current().max_points,
+        }
     }
-    Ok(PointSet {
-        points,
-        dropped_duplicates: dropped,
-        columns,
-        name,
-        lednicer,
-    })
+
+    fn line(&mut self, line_no: usize, raw: &str) -> Result<()> {
+        let line = raw.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            return Ok(());
+        }
+        let mut row = Row {
+            line_no,
+            len: 0,
+            vals: [0.0; 3],
+        };
+        let fields = line
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+            .filter(|s| !s.is_empty());
+        for field in fields {
+            let Ok(v) = field.parse::<f64>() else {
+                return self.text_line(line_no, line);
+            };
+            if !v.is_finite() {
+                return Err(bad(
+                    self.source,
+                    line_no,
+                    &format!("value '{field}' is not a finite number"),
+                ));
+            }
+            if row.len < 3 {
+                row.vals[row.len] = v;
+            }
+            row.len = (row.len + 1).min(255);
+        }
+        self.row(row)
+    }
+
+    /// A line that is not all numbers: the name line before the first number, an error after it.
+    fn text_line(&mut self, line_no: usize, line: &str) -> Result<()> {
+        if self.first.is_none() && self.name.is_none() {
+            self.name = Some(line.to_string());
+            return Ok(());
+        }
+        let shown: String = line.chars().take(40).collect();
+        Err(bad(
+            self.source,
+            line_no,
+            &format!("expected 2 or 3 numbers, found '{shown}'"),
+        ))
+    }
+
+    fn row(&mut self, row: Row) -> Result<()> {
+        self.plain.check(&row);
+        if self.first.is_none() {
+            self.first = Some(row);
+            return Ok(());
+        }
+        self.lednicer.check(&row);
+        if self.rest.len() >= self.max_points {
+            return Err(limits::too_many_points(
+                self.source,
+                None,
+                "points",
+                self.max_points,
+            ));
+        }
+        if self.rest.len() == self.rest.capacity() {
+            self.rest
+                .try_reserve(self.rest.len().max(1024))
+                .map_err(|_| limits::out_of_memory(self.source, 48 * self.rest.len() as u64))?;
+        }
+        self.rest
+            .push(Vec3::new(row.vals[0], row.vals[1], row.vals[2]));
+        Ok(())
+    }
+
+    fn finish(self) -> Result<PointSet> {
+        let Some(first) = self.first else {
+            return Err(bad(self.source, 0, "no points found (empty file?)"));
+        };
+        let lednicer = is_lednicer_counts(&first, self.rest.len());
+        let checks = if lednicer { self.lednicer } else { self.plain };
+        if let Some((line_no, msg)) = checks.error {
+            return Err(bad(self.source, line_no, &msg));
+        }
+        let columns = if lednicer {
+            checks.reference.unwrap_or(0)
+        } else {
+            first.len
+        };
+        let mut raw_pts = self.rest;
+        if lednicer {
+            let n_upper = (first.vals[0] as usize).min(raw_pts.len());
+            raw_pts[..n_upper].reverse();
+        } else {
+            raw_pts.insert(0, Vec3::new(first.vals[0], first.vals[1], first.vals[2]));
+        }
+        let (points, dropped) = drop_consecutive_duplicates(&raw_pts);
+        if points.len() < MIN_POINTS {
+            return Err(bad(
+                self.source,
+                0,
+                &format!(
+                    "at least {MIN_POINTS} distinct points are needed, found {}",
+                    points.len()
+                ),
+            ));
+        }
+        Ok(PointSet {
+            points,
+            dropped_duplicates: dropped,
+            columns,
+            name: self.name,
+            lednicer,
+        })
+    }
 }
 
 /// A Lednicer counts line: two integral values > 1 whose sum is the number of remaining rows.
-fn is_lednicer_counts(rows: &[(usize, Vec<f64>)]) -> bool {
-    let Some((_, first)) = rows.first() else {
-        return false;
-    };
-    if first.len() != 2 || first.iter().any(|v| *v < 2.0 || v.fract() != 0.0) {
+fn is_lednicer_counts(first: &Row, remaining: usize) -> bool {
+    if first.len != 2 || first.vals[..2].iter().any(|v| *v < 2.0 || v.fract() != 0.0) {
         return false;
     }
-    (first[0] + first[1]) as usize == rows.len() - 1
+    (first.vals[0] + first.vals[1]) as usize == remaining
 }
 
 fn bad(source: &str, line: usize, msg: &str) -> Error {

@@ -4,6 +4,8 @@
 //! has as many numbers as the first (a file mixing 2 and 3 columns is refused). A folder means all its `.csv`, `.txt`, `.dat` and `.xyz`
 //! files, sorted by name.
 
+use super::limits::{self, ReadLimits};
+use super::lines::Lines;
 use crate::errors::{Error, Result};
 use crate::nurbs::Vec3;
 use std::path::{Path, PathBuf};
@@ -17,61 +19,117 @@ pub fn parse_section_text(text: &str, name: &str) -> Result<Vec<Vec3>> {
     if let Some(kind) = super::json::json_kind_of(text) {
         return Err(super::json::not_points_error(name, kind));
     }
-    let mut pts = Vec::new();
-    let mut header_seen = false;
-    let mut columns = None;
+    let mut parser = SectionParser::new(name);
     for (ln, line) in text.lines().enumerate() {
+        parser.line(ln + 1, line)?;
+    }
+    Ok(parser.pts)
+}
+
+/// Reads one section file (or an XYZ/CSV point cloud), streaming: one reused line buffer, nothing
+/// allocated per line, at most [`ReadLimits::max_points`] points.
+pub fn read_section_file(path: impl AsRef<Path>) -> Result<Vec<Vec3>> {
+    let path = path.as_ref();
+    let name = path.display().to_string();
+    let mut lines = Lines::open(path)?;
+    if lines.starts_like_json()? {
+        return parse_section_text(&super::lines::json_text(path)?, &name);
+    }
+    let mut parser = SectionParser::new(&name);
+    while let Some((ln, line)) = lines.next_line()? {
+        parser.line(ln, line)?;
+    }
+    Ok(parser.pts)
+}
+
+/// The state of a section read, one line at a time.
+struct SectionParser<'a> {
+    name: &'a str,
+    pts: Vec<Vec3>,
+    header_seen: bool,
+    columns: Option<usize>,
+    max_points: usize,
+}
+
+impl<'a> SectionParser<'a> {
+    fn new(name: &'a str) -> Self {
+        SectionParser {
+            name,
+            pts: Vec::new(),
+            header_seen: false,
+            columns: None,
+            max_points: ReadLimits::current().max_points,
+        }
+    }
+
+    fn line(&mut self, ln: usize, line: &str) -> Result<()> {
+        let name = self.name;
         let t = line.trim();
         if t.is_empty() || t.starts_with('#') || t.starts_with("//") {
-            continue;
+            return Ok(());
         }
-        let fields: Vec<&str> = t
+        let fields = t
             .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
-            .filter(|s| !s.is_empty())
-            .collect();
-        let nums: Vec<Option<f64>> = fields.iter().map(|f| f.parse::<f64>().ok()).collect();
-        if nums.iter().all(|n| n.is_none()) && pts.is_empty() && !header_seen {
-            header_seen = true;
-            continue;
+            .filter(|s| !s.is_empty());
+        // the first three numbers (None where a field is not a number), and how many fields
+        let mut nums = [None; 3];
+        let mut count = 0usize;
+        let mut any_number = false;
+        for f in fields {
+            let v = f.parse::<f64>().ok();
+            any_number |= v.is_some();
+            if count < 3 {
+                nums[count] = v;
+            }
+            count += 1;
         }
-        if fields.len() < 2 || nums.iter().take(3).any(|n| n.is_none()) {
+        if !any_number && self.pts.is_empty() && !self.header_seen {
+            self.header_seen = true;
+            return Ok(());
+        }
+        if count < 2 || nums[..count.min(3)].iter().any(|n| n.is_none()) {
             return Err(Error::InvalidData(format!(
-                "{name}:{}: expected 2 or 3 numbers, got `{t}`",
-                ln + 1
+                "{name}:{ln}: expected 2 or 3 numbers, got `{t}`"
             )));
         }
-        let n = fields.len().min(3);
-        if *columns.get_or_insert(n) != n {
+        let n = count.min(3);
+        if *self.columns.get_or_insert(n) != n {
             return Err(Error::InvalidData(format!(
-                "{name}:{}: expected {} numbers like the first point line, got `{t}`",
-                ln + 1,
-                columns.unwrap_or(n)
+                "{name}:{ln}: expected {} numbers like the first point line, got `{t}`",
+                self.columns.unwrap_or(n)
             )));
         }
-        let x = nums[0].unwrap_or(0.0);
-        let y = nums[1].unwrap_or(0.0);
-        let z = if fields.len() >= 3 {
+        let z = if count >= 3 {
             nums[2].unwrap_or(0.0)
         } else {
             0.0
         };
-        let p = Vec3::new(x, y, z);
+        let p = Vec3::new(nums[0].unwrap_or(0.0), nums[1].unwrap_or(0.0), z);
         if !p.is_finite() {
             return Err(Error::InvalidData(format!(
-                "{name}:{}: non-finite coordinate",
-                ln + 1
+                "{name}:{ln}: non-finite coordinate"
             )));
         }
-        pts.push(p);
+        self.push(p)
     }
-    Ok(pts)
-}
 
-/// Reads one section file.
-pub fn read_section_file(path: impl AsRef<Path>) -> Result<Vec<Vec3>> {
-    let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, &e))?;
-    parse_section_text(&text, &path.display().to_string())
+    fn push(&mut self, p: Vec3) -> Result<()> {
+        if self.pts.len() >= self.max_points {
+            return Err(limits::too_many_points(
+                self.name,
+                None,
+                "points",
+                self.max_points,
+            ));
+        }
+        if self.pts.len() == self.pts.capacity() {
+            self.pts
+                .try_reserve(self.pts.len().max(1024))
+                .map_err(|_| limits::out_of_memory(self.name, 48 * self.pts.len() as u64))?;
+        }
+        self.pts.push(p);
+        Ok(())
+    }
 }
 
 /// Expands folders into their section files (sorted by name); files are kept in the given order.
