@@ -123,8 +123,7 @@ pub fn detect_corners_at(
             j += 1;
         }
         jr = jr.max(ki + 1);
-        while w.in_range(jr) && w.pos(jr) - tk < scale.window && !(!closed && jr as usize == n - 1)
-        {
+        while w.in_range(jr) && w.pos(jr) - tk < scale.window && (closed || jr as usize != n - 1) {
             jr += 1;
         }
         if !w.in_range(jr) {

@@ -103,7 +103,7 @@ fn blocks_sigma(points: &[Vec3], r: usize, planar: bool, res: &mut Vec<f64>) -> 
 fn stencil_residual(w: &[Vec3], planar: bool, r: usize, out: &mut Vec<f64>) {
     let d = w[6] - w[0];
     let len = d.norm();
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return;
     }
     let u = d / len;
@@ -126,7 +126,7 @@ fn stencil_residual(w: &[Vec3], planar: bool, r: usize, out: &mut Vec<f64>) {
     let var = (1.0 + weights.iter().map(|l| l * l).sum::<f64>()) / r as f64;
     let normals: Vec<Vec3> = if planar {
         let h = u[0].hypot(u[1]);
-        if !(h > 0.0) {
+        if h.is_nan() || h <= 0.0 {
             return;
         }
         vec![Vec3::new(-u[1] / h, u[0] / h, 0.0)]

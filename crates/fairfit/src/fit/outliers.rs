@@ -170,7 +170,7 @@ fn side_distance(q: &[Vec3], p: Vec3, reach: Vec3) -> f64 {
     let near = q[q.len() - 1];
     let d = near - q[0];
     let len = d.norm();
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return f64::INFINITY;
     }
     let u = d / len;
@@ -180,7 +180,7 @@ fn side_distance(q: &[Vec3], p: Vec3, reach: Vec3) -> f64 {
         sxx += x * x;
         sxv += (v - c) * x;
     }
-    if !(sxx > 0.0) {
+    if sxx.is_nan() || sxx <= 0.0 {
         return f64::INFINITY;
     }
     let slope = sxv / sxx;

@@ -11,7 +11,7 @@ use super::{CandidateEval, EvalWorkspace, FitData};
 /// everything the move cannot change: only the `p + 1` spans holding `P_r` get new power-form
 /// coefficients and fairness parts, and only the data points whose foot parameter (in `start`, the
 /// feet on the curve before the move) lies in those spans are projected again (Newton from `start`).
-/// `ws` must hold the full measurement ([`measure_current`]) of the curve before the move (restore it
+/// `ws` must hold the full measurement ([`measure_current`](super::measure_current)) of the curve before the move (restore it
 /// with [`EvalWorkspace::load_state`] after a rejected move). With `with_deviation = false` only the
 /// fairness is updated (the deviations are reported as infinite).
 pub fn measure_move(
