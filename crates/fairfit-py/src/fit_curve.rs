@@ -9,15 +9,16 @@ use crate::options::{
 };
 use fairfit::fair::{fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
-use fairfit::fit::points::drop_consecutive_duplicates;
-use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
+use fairfit::fit::points::{bounding_box_extent, drop_consecutive_duplicates};
+use fairfit::fit::screening::{screen, OutlierMode};
+use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
 use fairfit::io::points::MIN_POINTS;
 use fairfit::optim::{
     distinct_control_points, fit_integrated, is_closed, pareto_front_of_result, ParetoCurve,
 };
 use fairfit::report::curve::{
-    fit_then_fair_report, integrated_report, integrated_warning, lsq_report, shape_report,
-    with_method,
+    add_screening, fit_then_fair_report, integrated_report, integrated_warning, lsq_report,
+    shape_report, with_method,
 };
 use fairfit::{NurbsCurve, Vec3};
 use numpy::PyReadonlyArray2;
@@ -108,7 +109,27 @@ pub fn fit_curve(
             .to_string());
         }
         settings.check_points(points.len())?;
+        // the screening stage of `fairfit curve` (its default `--outliers auto`): noise measured,
+        // spikes excluded, the same report keys
+        let tol = match settings.tolerance() {
+            Tolerance::Absolute(t) => t,
+            Tolerance::Relative(r) => r * bounding_box_extent(&points),
+        };
+        let screened =
+            (tol.is_finite() && tol > 0.0).then(|| screen(&points, tol, OutlierMode::Auto));
+        let (screening, points) = match screened {
+            Some((s, kept)) => (Some(s), kept.unwrap_or(points)),
+            None => (None, points),
+        };
         let mut fitted = fit_points(&settings, &input, &points, wall, threads, pareto)?;
+        if let Some(s) = &screening {
+            if let Some(w) = s.noise_warning(tol) {
+                fitted
+                    .warnings
+                    .push(w.trim_start_matches("warning: ").to_string());
+            }
+            add_screening(&mut fitted.report, OutlierMode::Auto, s);
+        }
         if dropped > 0 {
             fitted.warnings.insert(
                 0,

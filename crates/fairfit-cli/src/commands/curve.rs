@@ -20,7 +20,7 @@ use fairfit::fit::screening::{screen, spikes_beyond, OutlierMode, Screening};
 use fairfit::fit::SmoothingOrder;
 use fairfit::io::curve_to_json;
 use fairfit::prelude::{fit_to_tolerance, FitOptions, FitResult, NurbsCurve, Tolerance, Vec3};
-use fairfit::report::curve::{lsq_report, shape_report, with_method};
+use fairfit::report::curve::{add_screening, lsq_report, shape_report, with_method};
 use serde_json::json;
 use std::time::Instant;
 
@@ -158,8 +158,8 @@ pub fn fit_input(
                 }
             }
             let (mut report, pareto) = fit.extra;
-            if let Some(obj) = report.as_mut().and_then(|v| v.as_object_mut()) {
-                add_screening(obj, args, screening.as_ref());
+            if let (Some(r), Some(sc)) = (report.as_mut(), screening.as_ref()) {
+                add_screening(r, outlier_mode(args), sc);
             }
             Ok((fit.curve, report, points, pareto))
         }
@@ -391,37 +391,19 @@ fn screen_points(args: &CurveArgs, points: &[Vec3]) -> (Option<Screening>, Optio
     let Some(tol) = absolute_tolerance(args, points) else {
         return (None, None);
     };
-    let mode = match args.outliers {
-        OutliersArg::Off => OutlierMode::Off,
-        OutliersArg::Auto => OutlierMode::Auto,
-    };
-    let (s, kept) = screen(points, tol, mode);
+    let (s, kept) = screen(points, tol, outlier_mode(args));
     if let Some(w) = s.noise_warning(tol) {
         diag!("{w}");
     }
     (Some(s), kept)
 }
 
-/// The report's screening keys: `noise_sigma`, `noise_limited`, `meaningful_tolerance`,
-/// `outliers_mode` and `outliers` (`index` into the input's distinct points, `distance`).
-fn add_screening(
-    obj: &mut serde_json::Map<String, serde_json::Value>,
-    args: &CurveArgs,
-    s: Option<&Screening>,
-) {
-    let Some(s) = s else { return };
-    obj.insert("noise_sigma".into(), json!(s.noise_sigma));
-    obj.insert("noise_limited".into(), json!(s.noise_limited.is_some()));
-    obj.insert("meaningful_tolerance".into(), json!(s.noise_limited));
-    obj.insert(
-        "outliers_mode".into(),
-        json!(if args.outliers == OutliersArg::Off {
-            "off"
-        } else {
-            "auto"
-        }),
-    );
-    obj.insert("outliers".into(), json!(s.outliers));
+/// The library's outlier mode of `--outliers`.
+fn outlier_mode(args: &CurveArgs) -> OutlierMode {
+    match args.outliers {
+        OutliersArg::Off => OutlierMode::Off,
+        OutliersArg::Auto => OutlierMode::Auto,
+    }
 }
 
 /// The spikes that keep tolerance `tol` out of reach, as a sentence (`None` when there are none).

@@ -74,6 +74,12 @@ pub fn corners_at_tolerance(points: &[Vec3], closed: bool, angle_deg: f64, tol: 
     if points.len() < 3 {
         return Vec::new();
     }
+    if !tol.is_finite() || points.windows(2).any(|w| !w[0].distance(w[1]).is_finite()) {
+        // coordinates near the floating-point limit: no arc-length window can be measured; the
+        // chord rule's answer goes to the parameterisation, which refuses such data with its own
+        // message
+        return super::shape::detect_corners(points, closed, angle_deg);
+    }
     detect_corners_at(
         points,
         closed,

@@ -5,6 +5,7 @@
 //! Key names are a public contract (scripts read them); a new key may be added, none renamed.
 
 use crate::fair::{count_shape_exact, curve_fairness};
+use crate::fit::screening::{OutlierMode, Screening};
 use crate::fit::tolerance::FitResult;
 use crate::fit::Deviation;
 use crate::nurbs::NurbsCurve;
@@ -177,4 +178,23 @@ pub fn fit_then_fair_report(
         "fairing_moves": moves,
         "seed": seed,
     })
+}
+
+/// The report's screening keys (`fit::screening`), added to `report` (an object): `noise_sigma`,
+/// `noise_limited`, `meaningful_tolerance` (the tolerance the noise allows, `null` when the
+/// tolerance is above the noise), `outliers_mode` (`"auto"` or `"off"`) and `outliers` (`index` into
+/// the distinct points, `distance`). The CLI and the Python package write the same keys.
+pub fn add_screening(report: &mut Value, mode: OutlierMode, s: &Screening) {
+    let Some(obj) = report.as_object_mut() else {
+        return;
+    };
+    obj.insert("noise_sigma".into(), json!(s.noise_sigma));
+    obj.insert("noise_limited".into(), json!(s.noise_limited.is_some()));
+    obj.insert("meaningful_tolerance".into(), json!(s.noise_limited));
+    let mode = match mode {
+        OutlierMode::Off => "off",
+        OutlierMode::Auto => "auto",
+    };
+    obj.insert("outliers_mode".into(), json!(mode));
+    obj.insert("outliers".into(), json!(s.outliers));
 }
