@@ -402,7 +402,7 @@ fn screen_points(args: &CurveArgs, points: &[Vec3]) -> (Option<Screening>, Optio
     (Some(s), kept)
 }
 
-/// The report's screening keys: `noise_sigma`, `noise_limited`, `meaningful_tolerance`,
+/// The report's screening keys: `noise_sigma`, `noise_resolved`, `noise_limited`, `meaningful_tolerance`,
 /// `outliers_mode` and `outliers` (`index` into the input's distinct points, `distance`).
 fn add_screening(
     obj: &mut serde_json::Map<String, serde_json::Value>,
@@ -411,6 +411,7 @@ fn add_screening(
 ) {
     let Some(s) = s else { return };
     obj.insert("noise_sigma".into(), json!(s.noise_sigma));
+    obj.insert("noise_resolved".into(), json!(s.noise_resolved));
     obj.insert("noise_limited".into(), json!(s.noise_limited.is_some()));
     obj.insert("meaningful_tolerance".into(), json!(s.noise_limited));
     obj.insert(
