@@ -21,6 +21,15 @@
 //!   and its frame would be noise too. Each try is one O(n) pass, so the estimate is O(n log n) at
 //!   worst.
 //!
+//! - the same measure is taken again at twice the spacing (each stencil over every second bin mean,
+//!   at the final bin size) as a consistency check: for white noise the standardised residual does
+//!   not depend on the spacing, so both give the same `σ`. A residual of shape (a clean but sparse
+//!   table, where the sixth-order term is what is left) grows like `h⁶`, 64 times per doubling; a
+//!   point-to-point alternation (tables whose odd and even points were made apart) vanishes at twice
+//!   the spacing. When the two differ by more than [`RESOLVED_RATIO`] either way, the residual is not
+//!   white noise and the 5 σ rule of [`super::screening`] (the largest of `n` Gaussian deviations)
+//!   does not apply: the estimate is flagged unresolved ([`NoiseEstimate::resolved`]).
+//!
 //! The estimate is scale-free (a scaled input gives a scaled `σ`) and deterministic.
 
 use crate::nurbs::Vec3;
@@ -30,6 +39,12 @@ pub const MIN_POINTS: usize = 16;
 
 /// A stencil's chord must be at least this many `σ` for its frame to follow the curve, not the noise.
 pub const FRAME_SIGMAS: f64 = 30.0;
+
+/// The estimate is resolved (white noise) while `σ` at twice the spacing stays within this factor of
+/// `σ`, either way: white noise gives a ratio near 1 (a few per cent of sampling scatter on dense
+/// data, up to about ±30 % on the fewest bins), a residual of shape about 64 (`h⁶`), an alternation
+/// about 0; 2 sits between with a wide margin on both sides.
+pub const RESOLVED_RATIO: f64 = 2.0;
 
 /// `Φ⁻¹(3/4)`: the median absolute value of a standard normal variable.
 const MAD_NORMAL: f64 = 0.674_489_750_196_081_7;
@@ -43,6 +58,10 @@ pub struct NoiseEstimate {
     /// points whose chord reaches [`FRAME_SIGMAS`] `σ` (the scale below which the data's direction is
     /// noise).
     pub block: usize,
+    /// Whether `σ` is white noise: `false` when the residual changes with the spacing (it grows for
+    /// shape, vanishes for an odd/even alternation; module doc), so that `σ` is not the deviation of
+    /// independent noise. `true` for too few points.
+    pub resolved: bool,
 }
 
 /// Measures the noise of `points` (module doc). Fewer than [`MIN_POINTS`] points give `σ = 0`.
@@ -65,34 +84,51 @@ pub fn estimate_noise(points: &[Vec3]) -> NoiseEstimate {
         return NoiseEstimate {
             sigma: 0.0,
             block: 1,
+            resolved: true,
         };
     }
     let planar = points.iter().all(|p| p[2] == points[0][2]);
     let mut scratch = Vec::with_capacity(if planar { n } else { 2 * n });
     let mut r = 1;
     loop {
-        let (sigma, chord) = blocks_sigma(points, r, planar, &mut scratch);
+        let q = bin_means(points, r);
+        let (sigma, chord) = stencil_sigma(&q, 1, r, planar, &mut scratch);
         if chord >= FRAME_SIGMAS * sigma || 2 * r * MIN_POINTS > n {
+            let (wide, _) = stencil_sigma(&q, 2, r, planar, &mut scratch);
             return NoiseEstimate {
                 sigma,
                 block: 6 * r,
+                resolved: wide <= RESOLVED_RATIO * sigma && sigma <= RESOLVED_RATIO * wide,
             };
         }
         r *= 2;
     }
 }
 
-/// `σ` and the median stencil chord at bin size `r` (module doc).
-fn blocks_sigma(points: &[Vec3], r: usize, planar: bool, res: &mut Vec<f64>) -> (f64, f64) {
-    res.clear();
-    let q: Vec<Vec3> = points
+/// The means of consecutive bins of `r` points (a last, partial bin is dropped).
+fn bin_means(points: &[Vec3], r: usize) -> Vec<Vec3> {
+    points
         .chunks_exact(r)
         .map(|c| c.iter().fold(Vec3::new(0.0, 0.0, 0.0), |a, &p| a + p) / r as f64)
-        .collect();
-    let mut chords = Vec::with_capacity(q.len());
-    for w in q.windows(7) {
+        .collect()
+}
+
+/// `σ` and the median stencil chord over the bin means `q` of `r` points each, every stencil made of
+/// every `stride`-th mean (module doc).
+fn stencil_sigma(
+    q: &[Vec3],
+    stride: usize,
+    r: usize,
+    planar: bool,
+    res: &mut Vec<f64>,
+) -> (f64, f64) {
+    res.clear();
+    let span = 6 * stride;
+    let mut chords = Vec::with_capacity(q.len().saturating_sub(span));
+    for i in 0..q.len().saturating_sub(span) {
+        let w: [Vec3; 7] = std::array::from_fn(|k| q[i + k * stride]);
         chords.push((w[6] - w[0]).norm());
-        stencil_residual(w, planar, r, res);
+        stencil_residual(&w, planar, r, res);
     }
     (median(res) / MAD_NORMAL, median(&mut chords))
 }

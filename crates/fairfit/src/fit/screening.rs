@@ -30,8 +30,12 @@ pub enum OutlierMode {
 pub struct Screening {
     /// Noise standard deviation across the curve (the points' units; 0 for too few points).
     pub noise_sigma: f64,
-    /// `Some(t)` when the tolerance is below [`NOISE_TOLERANCE_SIGMAS`] `σ`: `t` is that bound, the
-    /// smallest tolerance the noise leaves meaningful.
+    /// Whether `noise_sigma` is white noise rather than a residual of the data's shape or of a
+    /// point-to-point pattern ([`super::noise::NoiseEstimate::resolved`]).
+    pub noise_resolved: bool,
+    /// `Some(t)` when the tolerance is below [`NOISE_TOLERANCE_SIGMAS`] `σ` and `σ` is resolved: `t`
+    /// is that bound, the smallest tolerance the noise leaves meaningful. An unresolved `σ` is not
+    /// independent noise, so the bound does not apply and it never limits the tolerance.
     pub noise_limited: Option<f64>,
     /// Excluded points (indices into the input), in index order; empty with [`OutlierMode::Off`].
     pub outliers: Vec<Outlier>,
@@ -102,7 +106,8 @@ pub fn screen(points: &[Vec3], tol: f64, mode: OutlierMode) -> (Screening, Optio
     let limit = NOISE_TOLERANCE_SIGMAS * noise.sigma;
     let screening = Screening {
         noise_sigma: noise.sigma,
-        noise_limited: (tol < limit).then_some(limit),
+        noise_resolved: noise.resolved,
+        noise_limited: (noise.resolved && tol < limit).then_some(limit),
         outliers,
     };
     (screening, kept)

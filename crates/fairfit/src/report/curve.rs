@@ -181,6 +181,7 @@ pub fn fit_then_fair_report(
 }
 
 /// The report's screening keys (`fit::screening`), added to `report` (an object): `noise_sigma`,
+/// `noise_resolved` (whether the noise is white at two spacings, so that σ is credible),
 /// `noise_limited`, `meaningful_tolerance` (the tolerance the noise allows, `null` when the
 /// tolerance is above the noise), `outliers_mode` (`"auto"` or `"off"`) and `outliers` (`index` into
 /// the distinct points, `distance`). The CLI and the Python package write the same keys.
@@ -189,6 +190,7 @@ pub fn add_screening(report: &mut Value, mode: OutlierMode, s: &Screening) {
         return;
     };
     obj.insert("noise_sigma".into(), json!(s.noise_sigma));
+    obj.insert("noise_resolved".into(), json!(s.noise_resolved));
     obj.insert("noise_limited".into(), json!(s.noise_limited.is_some()));
     obj.insert("meaningful_tolerance".into(), json!(s.noise_limited));
     let mode = match mode {
