@@ -9,9 +9,9 @@ use crate::options::{
 };
 use fairfit::fair::{fair_curve, FairingOptions};
 use fairfit::fit::max_orthogonal_deviation;
-use fairfit::fit::points::{bounding_box_extent, drop_consecutive_duplicates};
+use fairfit::fit::points::{absolute_tolerance, drop_consecutive_duplicates};
 use fairfit::fit::screening::{screen, OutlierMode};
-use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions, Tolerance};
+use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::points::MIN_POINTS;
 use fairfit::optim::{
     distinct_control_points, fit_integrated, is_closed, pareto_front_of_result, ParetoCurve,
@@ -111,10 +111,7 @@ pub fn fit_curve(
         settings.check_points(points.len())?;
         // the screening stage of `fairfit curve` (its default `--outliers auto`): noise measured,
         // spikes excluded, the same report keys
-        let tol = match settings.tolerance() {
-            Tolerance::Absolute(t) => t,
-            Tolerance::Relative(r) => r * bounding_box_extent(&points),
-        };
+        let tol = absolute_tolerance(settings.tolerance(), &points);
         let screened =
             (tol.is_finite() && tol > 0.0).then(|| screen(&points, tol, OutlierMode::Auto));
         let (screening, points) = match screened {

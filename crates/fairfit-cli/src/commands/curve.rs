@@ -15,7 +15,7 @@ use super::files::{check_outputs, commit, Inputs, Output, OutputFolder};
 use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
-use fairfit::fit::points::bounding_box_extent;
+use fairfit::fit::points::absolute_tolerance;
 use fairfit::fit::screening::{screen, spikes_beyond, OutlierMode, Screening};
 use fairfit::fit::SmoothingOrder;
 use fairfit::io::curve_to_json;
@@ -376,11 +376,8 @@ type MethodExtra = (Option<serde_json::Value>, Vec<Output>);
 
 /// The tolerance of `args` in the units of `points` (`None` when it is not a usable number: the fit
 /// refuses it with its own message).
-fn absolute_tolerance(args: &CurveArgs, points: &[Vec3]) -> Option<f64> {
-    let t = match args.tolerance() {
-        Tolerance::Absolute(t) => t,
-        Tolerance::Relative(r) => r * bounding_box_extent(points),
-    };
+fn usable_tolerance(args: &CurveArgs, points: &[Vec3]) -> Option<f64> {
+    let t = absolute_tolerance(args.tolerance(), points);
     (t.is_finite() && t > 0.0).then_some(t)
 }
 
@@ -388,7 +385,7 @@ fn absolute_tolerance(args: &CurveArgs, points: &[Vec3]) -> Option<f64> {
 /// `--outliers auto`, and the one-line warning when the tolerance is below the noise. Returns the
 /// findings and the kept points when any were excluded.
 fn screen_points(args: &CurveArgs, points: &[Vec3]) -> (Option<Screening>, Option<Vec<Vec3>>) {
-    let Some(tol) = absolute_tolerance(args, points) else {
+    let Some(tol) = usable_tolerance(args, points) else {
         return (None, None);
     };
     let (s, kept) = screen(points, tol, outlier_mode(args));
@@ -427,7 +424,7 @@ fn name_spikes(args: &CurveArgs, points: &[Vec3], e: CliError) -> CliError {
     if args.outliers != OutliersArg::Off || e.usage {
         return e;
     }
-    match absolute_tolerance(args, points).and_then(|t| spikes_note(points, t)) {
+    match usable_tolerance(args, points).and_then(|t| spikes_note(points, t)) {
         Some(note) => CliError::new(format!("{}; {note}", e.message)),
         None => e,
     }

@@ -3,6 +3,16 @@
 //! (a repeated point has no chord-length parameter of its own).
 
 use crate::nurbs::Vec3;
+use crate::tolerance::Tolerance;
+
+/// `tol` in the units of `points`: an absolute tolerance as it is, a relative one times the points'
+/// [`bounding_box_extent`].
+pub fn absolute_tolerance(tol: Tolerance, points: &[Vec3]) -> f64 {
+    match tol {
+        Tolerance::Absolute(t) => t,
+        Tolerance::Relative(r) => r * bounding_box_extent(points),
+    }
+}
 
 /// Drops points equal to their predecessor (within 1e-12 of the data extent); returns the count.
 pub fn drop_consecutive_duplicates(pts: &[Vec3]) -> (Vec<Vec3>, usize) {

@@ -17,7 +17,6 @@ use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::screening::screen;
 use crate::nurbs::Vec3;
-use crate::tolerance::Tolerance;
 use std::time::Instant;
 
 /// Fits a fair cubic B-spline to ordered `points` by the integrated method.
@@ -74,10 +73,7 @@ pub fn fit_integrated_with_stages(
     validate(opts)?;
     let tuning = Tuning::default();
     // screening: noise measured, spikes excluded (`opts.outliers`) before any other stage
-    let tol = match opts.tolerance {
-        Tolerance::Relative(r) => r * crate::fit::points::bounding_box_extent(points),
-        Tolerance::Absolute(t) => t,
-    };
+    let tol = crate::fit::points::absolute_tolerance(opts.tolerance, points);
     let (screening, kept) = screen(points, tol, opts.outliers);
     let points = kept.as_deref().unwrap_or(points);
     let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
