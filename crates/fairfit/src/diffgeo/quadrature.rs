@@ -121,7 +121,7 @@ pub const GK15_NODES: [f64; 8] = [
 
 /// Kronrod weights matching [`GK15_NODES`].
 #[allow(clippy::excessive_precision)] // the published QUADPACK digits
-pub const GK15_WEIGHTS: [f64; 8] = [
+pub(crate) const GK15_WEIGHTS: [f64; 8] = [
     0.022_935_322_010_529_224_963_732_008_058_970,
     0.063_092_092_629_978_553_290_700_663_189_204,
     0.104_790_010_322_250_183_839_876_322_541_518,
@@ -134,7 +134,7 @@ pub const GK15_WEIGHTS: [f64; 8] = [
 
 /// 7-point Gauss weights for the Gauss nodes `GK15_NODES[1], [3], [5], [7]`.
 #[allow(clippy::excessive_precision)] // the published QUADPACK digits
-pub const G7_WEIGHTS: [f64; 4] = [
+pub(crate) const G7_WEIGHTS: [f64; 4] = [
     0.129_484_966_168_869_693_270_611_432_679_082,
     0.279_705_391_489_276_667_901_467_771_423_780,
     0.381_830_050_505_118_944_950_369_775_488_975,
@@ -143,7 +143,7 @@ pub const G7_WEIGHTS: [f64; 4] = [
 
 /// The 15 Kronrod nodes on `[-1, 1]` in ascending order with their Kronrod weights and Gauss weights
 /// (0 for the pure Kronrod nodes).
-pub fn gauss_kronrod_15() -> [(f64, f64, f64); 15] {
+pub(crate) fn gauss_kronrod_15() -> [(f64, f64, f64); 15] {
     let mut out = [(0.0, 0.0, 0.0); 15];
     for i in 0..8 {
         let g = if i % 2 == 1 { G7_WEIGHTS[i / 2] } else { 0.0 };

@@ -23,7 +23,7 @@
 pub const MIN_WIDTH: f64 = 1e-13;
 
 /// Binomial coefficient `C(n, k)` as a float (exact for the degrees used here).
-pub fn binomial(n: usize, k: usize) -> f64 {
+pub(crate) fn binomial(n: usize, k: usize) -> f64 {
     if k > n {
         return 0.0;
     }
@@ -73,7 +73,7 @@ pub fn mul(a: &[f64], b: &[f64]) -> Vec<f64> {
 }
 
 /// `f` written with degree `n ≥` its own (repeated degree elevation).
-pub fn elevate_to(c: &[f64], n: usize) -> Vec<f64> {
+pub(crate) fn elevate_to(c: &[f64], n: usize) -> Vec<f64> {
     let mut w = c.to_vec();
     while w.len() - 1 < n {
         let m = w.len(); // new degree
@@ -90,7 +90,7 @@ pub fn elevate_to(c: &[f64], n: usize) -> Vec<f64> {
 }
 
 /// `α f + β g` (degree the larger of the two).
-pub fn combine(alpha: f64, a: &[f64], beta: f64, b: &[f64]) -> Vec<f64> {
+pub(crate) fn combine(alpha: f64, a: &[f64], beta: f64, b: &[f64]) -> Vec<f64> {
     let n = (a.len().max(b.len())) - 1;
     let (a, b) = (elevate_to(a, n), elevate_to(b, n));
     a.iter()

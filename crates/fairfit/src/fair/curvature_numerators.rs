@@ -31,7 +31,7 @@ use super::span_hodograph::SpanHodograph;
 
 /// A numerator polynomial and the scale of its rounding noise.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Numerator {
+pub(crate) struct Numerator {
     /// Bernstein coefficients on the span parameter `[0, 1]`.
     pub coeffs: Vec<f64>,
     /// Largest coefficient magnitude of the products summed into it.
@@ -40,7 +40,7 @@ pub struct Numerator {
 
 /// The curvature numerators of one span, ready for evaluation.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SpanCurvature {
+pub(crate) struct SpanCurvature {
     /// `G` (planar, one entry) or its components (spatial, three).
     pub g: Vec<Vec<f64>>,
     /// `|D|²`.
@@ -94,7 +94,7 @@ fn weighted(h: &SpanHodograph, x: Vec<f64>, x_scale: f64, y: &[f64]) -> Numerato
 }
 
 /// The numerators of span `h` (planar when its hodograph has two coordinates).
-pub fn span_curvature(h: &SpanHodograph) -> SpanCurvature {
+pub(crate) fn span_curvature(h: &SpanHodograph) -> SpanCurvature {
     let dd = dot(&h.d, &h.d);
     let de = dot(&h.d, &h.e);
     let g = cross(&h.d, &h.e);

@@ -20,7 +20,7 @@ const PARALLEL_EPS: f64 = 1e-12;
 
 /// The MVC integrand pieces at one parameter.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct MvcPoint {
+pub(crate) struct MvcPoint {
     /// Speed `|C'|`.
     pub speed: f64,
     /// Curvature: signed for planar curves, unsigned otherwise.
@@ -106,7 +106,7 @@ pub fn plane_normal(curve: &NurbsCurve) -> Option<Vec3> {
 /// formula) or `None` (guarded unsigned spatial formula).
 /// A point of (numerically) zero speed gives all zeros.
 #[inline]
-pub fn mvc_point(d: &[Vec3; 4], normal: Option<Vec3>) -> MvcPoint {
+pub(crate) fn mvc_point(d: &[Vec3; 4], normal: Option<Vec3>) -> MvcPoint {
     let (r, a, b) = (d[1], d[2], d[3]);
     let v2 = r.norm_squared();
     let v = v2.sqrt();

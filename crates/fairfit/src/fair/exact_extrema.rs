@@ -168,7 +168,7 @@ pub fn sign_intervals(
 /// Curvature extrema of the sign intervals `iv` of a curve of arc length `length`: sign
 /// alternations between consecutive intervals whose peak `|dκ/ds| L²` reaches the measurer's
 /// floor.
-pub fn count_intervals(iv: &[SignInterval], length: f64) -> usize {
+pub(crate) fn count_intervals(iv: &[SignInterval], length: f64) -> usize {
     extremum_boundaries(iv, length).len()
 }
 

@@ -59,7 +59,7 @@ pub fn sign_intervals_nurbs(
 /// [`sign_intervals_nurbs`] of [`Signal::DkappaDs`] and of [`Signal::Kappa`] (those `want`ed, in
 /// this order) from one construction of the span hodographs and curvature numerators: each entry
 /// is what [`sign_intervals_nurbs`] gives for its signal, `None` for a signal not wanted.
-pub fn sign_intervals_nurbs_both(
+pub(crate) fn sign_intervals_nurbs_both(
     curve: &NurbsCurve,
     normal: Option<Vec3>,
     want: [bool; 2],

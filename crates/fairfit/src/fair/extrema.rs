@@ -113,7 +113,7 @@ pub fn count_extrema_sampled(
 }
 
 /// The noise floor `η max|x| + ε` of a dimensionless signal (non-finite entries ignored).
-pub fn hysteresis_floor(xs: &[f64]) -> f64 {
+pub(crate) fn hysteresis_floor(xs: &[f64]) -> f64 {
     let peak = xs
         .iter()
         .filter(|x| x.is_finite())

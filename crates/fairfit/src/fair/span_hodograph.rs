@@ -42,7 +42,7 @@ pub struct SpanHodograph {
 
 /// The local frame of a curve and the hodographs of its spans.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CurveHodographs {
+pub(crate) struct CurveHodographs {
     /// The control polygon's extent (local coordinates are divided by it).
     pub extent: f64,
     /// One entry per non-empty knot span, in parameter order.
@@ -52,7 +52,10 @@ pub struct CurveHodographs {
 /// The span hodographs of `curve` in the plane with unit normal `normal` (two local coordinates)
 /// or, for `None`, in space (three). `None` for a degenerate curve (all control points equal,
 /// non-finite coordinates, degree 0).
-pub fn curve_hodographs(curve: &NurbsCurve, normal: Option<Vec3>) -> Option<CurveHodographs> {
+pub(crate) fn curve_hodographs(
+    curve: &NurbsCurve,
+    normal: Option<Vec3>,
+) -> Option<CurveHodographs> {
     let p = curve.degree();
     let ctrl = curve.control_points();
     let knots = curve.knots();

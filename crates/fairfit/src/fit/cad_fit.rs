@@ -29,7 +29,7 @@ pub const MAX_REFITS: usize = 4;
 
 /// Each tightened fitting tolerance is this much below the one the measured excess asks for (the
 /// refit's own excess between the new samples is not known in advance).
-pub const TIGHTENING_MARGIN: f64 = 1e-3;
+pub(crate) const TIGHTENING_MARGIN: f64 = 1e-3;
 
 /// Samples per knot span of the fit's projector.
 const PROJECTOR_PER_SPAN: usize = 16;

@@ -274,7 +274,7 @@ pub fn end_gaps(p: usize, knots: &[f64], at_end: bool) -> Option<[f64; 3]> {
 /// control points `free` (for the legs `α`, `β`); `planar`: the data lie in the xy plane. Writes
 /// `c.fixed_points()` points to `out` and returns that count; `None` when the data's direction
 /// points backwards from the tangent (module doc).
-pub fn fixed_start(
+pub(crate) fn fixed_start(
     c: &EndConstraint,
     p: usize,
     gaps: [f64; 3],
@@ -324,7 +324,7 @@ pub fn fixed_start(
 /// The fixed control points `P_n, P_{n−1}, …` (in that order) of the end condition `c`: the start
 /// rule on the reversed curve (mirrored gaps [`end_gaps`], reversed control points,
 /// `EndConstraint::reversed`).
-pub fn fixed_end(
+pub(crate) fn fixed_end(
     c: &EndConstraint,
     p: usize,
     gaps: [f64; 3],
@@ -408,7 +408,7 @@ pub fn achieved(curve: &NurbsCurve, at_end: bool, c: &EndConstraint) -> Achieved
 /// reverse inside the tolerance band, a hook at any scale. The data's direction is the chord from
 /// the end point to the first data point outside twice the tolerance `tol` of it (noise within
 /// the tolerance does not define a direction); data that never leave that ball are not checked.
-pub fn check_against_data(ends: &EndConstraints, points: &[Vec3], tol: f64) -> Result<()> {
+pub(crate) fn check_against_data(ends: &EndConstraints, points: &[Vec3], tol: f64) -> Result<()> {
     let (Some(&first), Some(&last)) = (points.first(), points.last()) else {
         return Ok(());
     };

@@ -19,7 +19,7 @@ pub const HOOK_SPEED_RATIO: f64 = 0.5;
 /// The index of the first point (from the start, or from the end when `from_end`) at least twice the
 /// tolerance away from the end point, so that the chord to it gives the data's end direction above
 /// the noise (the far end when no point is that far).
-pub fn end_chord_index(pts: &[Vec3], from_end: bool, tol: f64) -> usize {
+pub(crate) fn end_chord_index(pts: &[Vec3], from_end: bool, tol: f64) -> usize {
     let m = pts.len() - 1;
     let far_enough = |k: usize, end: usize| (pts[k] - pts[end]).norm() >= 2.0 * tol;
     if from_end {
@@ -45,7 +45,12 @@ fn is_hook(d: Vec3, c: Vec3, du: f64) -> bool {
 
 /// Whether the curve leaves its start / enters its end with a hook (see the module docs); `params`
 /// are the points' parameters on the curve.
-pub fn end_hooks(curve: &NurbsCurve, pts: &[Vec3], params: &[f64], tol: f64) -> (bool, bool) {
+pub(crate) fn end_hooks(
+    curve: &NurbsCurve,
+    pts: &[Vec3],
+    params: &[f64],
+    tol: f64,
+) -> (bool, bool) {
     let (a, b) = curve.domain();
     let m = pts.len() - 1;
     let mut d = [Vec3::ZERO; 2];

@@ -106,7 +106,7 @@ pub fn curvature_adaptive_knots(
 }
 
 /// The turning angle (radians, in `[0, π]`) between chords `a→b` and `b→c`; 0 for degenerate chords.
-pub fn turning_angle(a: Vec3, b: Vec3, c: Vec3) -> f64 {
+pub(crate) fn turning_angle(a: Vec3, b: Vec3, c: Vec3) -> f64 {
     let (d1, d2) = (b - a, c - b);
     let (n1, n2) = (d1.norm(), d2.norm());
     if n1 == 0.0 || n2 == 0.0 {

@@ -51,7 +51,7 @@ pub fn parameterize(points: &[Vec3], method: Parameterization) -> Result<Vec<f64
 
 /// Parameters written into `out`. With `closed`, the closing chord `Q_m → Q_0` counts too and the
 /// parameters lie in `[0, 1)` (the point after the last is `Q_0` again at 1).
-pub fn parameterize_into(
+pub(crate) fn parameterize_into(
     points: &[Vec3],
     method: Parameterization,
     closed: bool,

@@ -72,7 +72,7 @@ impl Reduced {
 }
 
 /// The bins of `points` (at least 3) for bin length `h` (module doc), the ends alone.
-pub fn bin_points(points: &[Vec3], h: f64, tuning: &ReduceTuning) -> Reduced {
+pub(crate) fn bin_points(points: &[Vec3], h: f64, tuning: &ReduceTuning) -> Reduced {
     let n = points.len();
     let mut bins = Vec::with_capacity(n.min(1024));
     bins.push(bin_of(points, 0, 0));

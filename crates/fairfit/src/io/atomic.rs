@@ -160,7 +160,7 @@ fn may_be_alive(pid: u32) -> bool {
 /// Removes the temporary files of fairfit runs that were killed before they could remove them (named
 /// `.NAME.fairfit-PID.tmp`, a regular file, no process PID alive) from `folder`. Errors are ignored:
 /// this is housekeeping, never a reason to fail a write.
-pub fn remove_stale_temporaries(folder: &Path) {
+pub(crate) fn remove_stale_temporaries(folder: &Path) {
     let Ok(entries) = std::fs::read_dir(folder) else {
         return;
     };

@@ -30,7 +30,7 @@ impl std::str::FromStr for LengthUnit {
 
 /// A real number in the shortest form that reads back to the same `f64`, in the syntax STEP and IGES
 /// both accept: always a decimal point, exponent letter `E` (`1.`, `0.25`, `1.5E-7`, `-3.E20`).
-pub fn format_real(x: f64) -> String {
+pub(crate) fn format_real(x: f64) -> String {
     let s = format!("{:?}", super::numbers::unsigned_zero(x));
     let (mantissa, exponent) = match s.split_once('e') {
         Some((m, e)) => (m.to_string(), Some(e.to_string())),
@@ -48,7 +48,7 @@ pub fn format_real(x: f64) -> String {
 }
 
 /// Distinct knot values and their multiplicities (exact equality: fairfit knots are stored exactly).
-pub fn compress_knots(knots: &[f64]) -> (Vec<f64>, Vec<usize>) {
+pub(crate) fn compress_knots(knots: &[f64]) -> (Vec<f64>, Vec<usize>) {
     let mut values: Vec<f64> = Vec::new();
     let mut mults: Vec<usize> = Vec::new();
     for &k in knots {
@@ -118,7 +118,7 @@ pub fn validate_surface(s: &NurbsSurface) -> Result<()> {
 }
 
 /// The largest absolute coordinate of a set of points (IGES global field 20).
-pub fn max_coordinate(points: &[Vec3]) -> f64 {
+pub(crate) fn max_coordinate(points: &[Vec3]) -> f64 {
     points
         .iter()
         .flat_map(|p| p.0)
@@ -126,7 +126,7 @@ pub fn max_coordinate(points: &[Vec3]) -> f64 {
 }
 
 /// The current UTC date and time as `(year, month, day, hour, minute, second)`.
-pub fn utc_now() -> (i64, u32, u32, u32, u32, u32) {
+pub(crate) fn utc_now() -> (i64, u32, u32, u32, u32, u32) {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map(|d| d.as_secs() as i64)

@@ -16,7 +16,7 @@ use std::f64::consts::TAU;
 
 /// A circle or an ellipse in space.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Conic {
+pub(crate) struct Conic {
     /// The centre.
     pub centre: Vec3,
     /// Unit vector towards angle 0 (the first semi-axis).
@@ -121,7 +121,12 @@ impl Conic {
 /// `forward`, else clockwise from `t0` to `t1` (the counter-clockwise arc from `t1` to `t0`, reversed);
 /// `t1` is moved by whole turns to lie within one turn of `t0` in that direction, and equal angles
 /// (to 1e-12 of a turn) give the full conic. Returns the curve and whether it is the full conic.
-pub fn arc_between(c: &Conic, t0: f64, t1: f64, forward: bool) -> Result<(NurbsCurve, bool)> {
+pub(crate) fn arc_between(
+    c: &Conic,
+    t0: f64,
+    t1: f64,
+    forward: bool,
+) -> Result<(NurbsCurve, bool)> {
     if !(t0.is_finite() && t1.is_finite()) || t0.abs() > 1e6 || t1.abs() > 1e6 {
         return Err(Error::Cad(format!(
             "the trim angles {t0:e}, {t1:e} (radians) are not usable angles"
@@ -139,7 +144,7 @@ pub fn arc_between(c: &Conic, t0: f64, t1: f64, forward: bool) -> Result<(NurbsC
 }
 
 /// The conic `A x² + B xy + C y² + D x + E y + F = 0` of a plane (coefficients in that order).
-pub type Implicit = [f64; 6];
+pub(crate) type Implicit = [f64; 6];
 
 fn implicit_value(q: &Implicit, x: f64, y: f64) -> f64 {
     q[0] * x * x + q[1] * x * y + q[2] * y * y + q[3] * x + q[4] * y + q[5]

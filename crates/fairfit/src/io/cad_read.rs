@@ -229,7 +229,7 @@ pub(crate) fn segments_in_mm(
 
 /// The curve entities of a file in file order: single B-splines as chains of one segment, composites
 /// as their segments (coordinates as written).
-pub fn curve_chains(
+pub(crate) fn curve_chains(
     curves: Vec<(String, NurbsCurve)>,
     composites: Vec<CadComposite>,
 ) -> Vec<(String, Vec<NurbsCurve>)> {

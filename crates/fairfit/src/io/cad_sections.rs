@@ -80,7 +80,7 @@ pub fn surface_sections(s: &NurbsSurface, source: &str) -> Result<Vec<(String, V
 }
 
 /// [`surface_sections`] with every iso-curve, the exact section.
-pub fn exact_surface_sections(
+pub(crate) fn exact_surface_sections(
     s: &NurbsSurface,
     source: &str,
 ) -> Result<Vec<(String, ExactSection)>> {

@@ -25,7 +25,7 @@ pub enum Geometry {
 /// The on-disk form of a curve.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct CurveJson {
+pub(crate) struct CurveJson {
     /// Degree p.
     pub degree: usize,
     /// Full knot vector.
@@ -40,7 +40,7 @@ pub struct CurveJson {
 /// The on-disk form of a surface.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SurfaceJson {
+pub(crate) struct SurfaceJson {
     /// Degree in u.
     pub degree_u: usize,
     /// Degree in v.

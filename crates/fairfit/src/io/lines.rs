@@ -121,7 +121,7 @@ impl Lines {
 
 /// The whole of a file that [`Lines::starts_like_json`] found to be JSON, bounded like every file read
 /// whole ([`super::limits::read_bounded`]), as text (lossy: it is only inspected for its kind).
-pub fn json_text(path: &Path) -> Result<String> {
+pub(crate) fn json_text(path: &Path) -> Result<String> {
     let bytes = super::limits::read_bounded_text(path)?;
     Ok(String::from_utf8_lossy(&bytes).into_owned())
 }

@@ -14,7 +14,7 @@ pub fn unsigned_zero(x: f64) -> f64 {
 }
 
 /// The coordinates of a point, each through [`unsigned_zero`].
-pub fn unsigned_zeros<const N: usize>(p: [f64; N]) -> [f64; N] {
+pub(crate) fn unsigned_zeros<const N: usize>(p: [f64; N]) -> [f64; N] {
     p.map(unsigned_zero)
 }
 

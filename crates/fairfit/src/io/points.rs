@@ -59,7 +59,7 @@ pub fn read_points(path: impl AsRef<Path>) -> Result<PointSet> {
 
 /// `text` without a leading UTF-8 byte-order mark (spreadsheet exports write one; unstripped, it would
 /// make the first number unreadable).
-pub fn without_bom(text: &str) -> &str {
+pub(crate) fn without_bom(text: &str) -> &str {
     text.strip_prefix('\u{feff}').unwrap_or(text)
 }
 

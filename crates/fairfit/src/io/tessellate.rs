@@ -74,7 +74,7 @@ fn segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
 }
 
 /// Most intervals per direction a tessellation may ask for (a surface mesh has its square in vertices).
-pub const MAX_INTERVALS: usize = 1 << 16;
+pub(crate) const MAX_INTERVALS: usize = 1 << 16;
 
 fn check_tol(opts: &TessellationOptions) -> Result<()> {
     if !(1..=MAX_INTERVALS).contains(&opts.max_intervals) || opts.min_per_span > opts.max_intervals

@@ -46,7 +46,7 @@ pub fn normalising_factor(points: &[Vec3]) -> f64 {
 /// already within `[2^-64, 2^64]`, is zero or not finite. Multiplying knots (and parameters) by it is
 /// exact and changes no point of the curve, only the parametric derivatives (by powers of the factor);
 /// geometric quantities (curvature, torsion, dκ/ds) do not change at all.
-pub fn parameter_factor(knots: &[f64]) -> f64 {
+pub(crate) fn parameter_factor(knots: &[f64]) -> f64 {
     let range = match (knots.first(), knots.last()) {
         (Some(a), Some(b)) => b - a,
         _ => return 1.0,
@@ -68,7 +68,7 @@ pub fn parameter_factor(knots: &[f64]) -> f64 {
 
 /// `curve` with control points multiplied by `f` and knots by `g` (weights kept): the same shape
 /// scaled by `f`, at parameter `g u` for the original's `u`. Errors like [`scaled_curve`].
-pub fn scaled_curve_and_parameter(curve: &NurbsCurve, f: f64, g: f64) -> Result<NurbsCurve> {
+pub(crate) fn scaled_curve_and_parameter(curve: &NurbsCurve, f: f64, g: f64) -> Result<NurbsCurve> {
     let pts = curve.control_points().iter().map(|&p| p * f).collect();
     NurbsCurve::new(
         curve.degree(),

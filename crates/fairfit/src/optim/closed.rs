@@ -23,9 +23,10 @@ use super::progress::Stage;
 use super::result::IntegratedResult;
 use super::search::periodic::ClosedData;
 use super::search::prepare::{prepare, Prepared};
-use super::stages::count_search::{self, CountStart};
+use super::stages::baseline::{self, BaselineInput};
+use super::stages::count_search::{self, CountSearchInput};
+use super::stages::degree_candidates::{self, PeriodicDegreeInput};
 use super::stages::descent::{self, DescentInput};
-use super::stages::{baseline, degree_candidates};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::corners::corners_at_tolerance;
@@ -120,34 +121,20 @@ fn fit_periodic(
     };
 
     (ctx.progress)(Stage::Baseline, 0, 1);
-    let base = baseline::run(&ctx, &kind);
-    let down = descent::run(
+    let base = baseline::run(
         &ctx,
         &kind,
-        DescentInput {
-            n: base.n,
-            knots: base.knots,
-            lowest: fixed.unwrap_or(p + 1).max(p + 1),
-            force: fixed.is_some(),
-            second: false,
-            trim_to: None,
+        BaselineInput {
+            control_points: fixed,
         },
     );
-    let start_at = CountStart {
-        n: down.n,
-        knots: &down.knots,
-        descent: &down.met,
-        limit: max_n.min(base.baseline),
-        alt: &[],
-    };
-    let (mut result, _) = count_search::run(&ctx, &kind, start_at)?;
+    let down = descent::run(&ctx, &kind, DescentInput::periodic(&base, opts));
+    let counts = CountSearchInput::after(&down, max_n.min(base.baseline));
+    let mut chosen = count_search::run(&ctx, &kind, counts)?.result;
     if opts.searches_degree() {
         (ctx.progress)(Stage::DegreeSearch, 0, 1);
-        result = degree_candidates::raise_periodic(prep, result, ctx.tol, opts, ctx.tuning)?;
+        let input = PeriodicDegreeInput { reference: chosen };
+        chosen = degree_candidates::raise_periodic(&ctx, input)?.result;
     }
-    let mut stats = ctx.into_stats();
-    stats.absorb(&mut result.stats, start);
-    result.baseline_control_points = base.baseline;
-    result.stats = stats;
-    Ok(result)
+    Ok(ctx.conclude(chosen, base.baseline, start))
 }

@@ -4,11 +4,12 @@
 
 use super::options::IntegratedOptions;
 use super::progress::Stage;
-use super::result::OptimStats;
+use super::result::{IntegratedResult, OptimStats};
 use super::search::prepare::Prepared;
 use super::tuning::Tuning;
 use crate::tolerance::Tolerance;
 use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::time::Instant;
 
 /// The progress callback `(stage, done, total)` ([`Stage`]).
 pub(crate) type Progress<'a> = dyn Fn(Stage, usize, usize) + Sync + 'a;
@@ -58,6 +59,23 @@ impl<'a> FitContext<'a> {
         self.stats
             .into_inner()
             .unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The pipeline's result: its last stage's `result` with the statistics of every stage (the
+    /// fit started at `start`) and the least-squares baseline's count `baseline`.
+    pub fn conclude(
+        self,
+        mut result: IntegratedResult,
+        baseline: usize,
+        start: Instant,
+    ) -> IntegratedResult {
+        let mut stats = self.into_stats();
+        stats.absorb(&mut result.stats, start);
+        IntegratedResult {
+            baseline_control_points: baseline,
+            stats,
+            ..result
+        }
     }
 }
 

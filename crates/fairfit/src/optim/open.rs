@@ -1,18 +1,19 @@
 //! The open-curve pipeline: the integrated method on open data without corners, as named stages
 //! ([`super::stages`]) on the open curve kind (`OpenKind`).
 
-use super::context::FitContext;
+use super::context::{FitContext, Progress};
 use super::fairing::EndCondition;
 use super::kind::open::OpenKind;
 use super::options::IntegratedOptions;
 use super::progress::Stage;
 use super::result::IntegratedResult;
 use super::search::prepare::Prepared;
-use super::stages::count_search::CountStart;
+use super::stages::baseline::{self, BaselineInput};
+use super::stages::count_search::{self, CountSearchInput};
 use super::stages::degree_candidates;
-use super::stages::descent::DescentInput;
-use super::stages::own_count_search::{self, CountsSeen};
-use super::stages::{baseline, count_search, descent, release_ends};
+use super::stages::descent::{self, DescentInput};
+use super::stages::own_count_search::{self, CountsSeen, DegreeSearchInput};
+use super::stages::release_ends::{self, ReleaseInput};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use std::time::Instant;
@@ -23,7 +24,7 @@ use std::time::Instant;
 pub(crate) fn fit(
     prep: &Prepared,
     opts: &IntegratedOptions,
-    progress: &super::context::Progress<'_>,
+    progress: &Progress<'_>,
     start: Instant,
 ) -> Result<IntegratedResult> {
     check_fixed_count(prep, opts)?;
@@ -35,55 +36,38 @@ pub(crate) fn fit(
         opts,
         tuning: &tuning,
     };
-    let (p, fixed) = (opts.degree, opts.control_points);
 
     (ctx.progress)(Stage::Baseline, 0, 1);
-    let base = baseline::run(&ctx, &kind);
-    let down = descent::run(
+    let base = baseline::run(
         &ctx,
         &kind,
-        DescentInput {
-            n: base.n,
-            knots: base.knots,
-            lowest: fixed
-                .unwrap_or(p + 1)
-                .max(p + 1)
-                .max(ctx.tuning.descent.min_control_points),
-            force: false,
-            second: true,
-            trim_to: fixed,
+        BaselineInput {
+            control_points: opts.control_points,
         },
     );
-    let start_at = CountStart {
-        n: down.n,
-        knots: &down.knots,
-        descent: &down.met,
-        limit: prep.data.points.len().min(base.baseline),
-        alt: &down.alt,
-    };
+    let lowest = tuning.descent.min_control_points;
+    let down = descent::run(&ctx, &kind, DescentInput::open(&base, opts, lowest));
+    let counts = CountSearchInput::after(&down, prep.data.points.len().min(base.baseline));
     let (counted, first) = rayon::join(
-        || count_search::run(&ctx, &kind, start_at),
+        || count_search::run(&ctx, &kind, counts),
         || degree_candidates::first_beside(&ctx, &down.knots),
     );
-    let (mut result, choice) = counted?;
+    let counted = counted?;
+    let mut chosen = counted.result;
     if opts.searches_degree() {
-        // a fixed count, or no extra points, leaves the next degree no counts of its own
-        let seen = (fixed.is_none() && opts.max_extra_control_points > 0)
-            .then(|| CountsSeen::of(&start_at, &choice));
         (ctx.progress)(Stage::DegreeSearch, 0, 1);
-        result = own_count_search::raise_open(&ctx, result, first, seen)?;
+        let seen = CountsSeen::when_counts_free(opts, &counts, &counted.choice);
+        let input = DegreeSearchInput {
+            reference: chosen,
+            first,
+            seen,
+        };
+        chosen = own_count_search::raise_open(&ctx, input)?.result;
     }
     (ctx.progress)(Stage::ReleaseEnds, 0, 1);
-    let mut result = release_ends::run(&ctx, result)?;
-    let mut stats = ctx.into_stats();
-    stats.free_ends = opts.ends == EndCondition::Free;
-    stats.absorb(&mut result.stats, start);
-    Ok(IntegratedResult {
-        screening: Default::default(),
-        baseline_control_points: base.baseline,
-        stats,
-        ..result
-    })
+    let released = release_ends::run(&ctx, ReleaseInput { chosen })?;
+    ctx.stats().free_ends = opts.ends == EndCondition::Free;
+    Ok(ctx.conclude(released.result, base.baseline, start))
 }
 
 /// A fixed count needs a data parameter strictly inside every knot span (Schoenberg–Whitney).

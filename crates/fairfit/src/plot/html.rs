@@ -21,7 +21,7 @@ pub struct Report {
 
 /// Label/value rows from a JSON value: object members flattened with dotted keys, arrays of numbers
 /// shown inline (long ones shortened).
-pub fn rows_from_json(v: &serde_json::Value) -> Vec<(String, String)> {
+pub(crate) fn rows_from_json(v: &serde_json::Value) -> Vec<(String, String)> {
     fn walk(prefix: &str, v: &serde_json::Value, out: &mut Vec<(String, String)>) {
         match v {
             serde_json::Value::Object(m) => {

@@ -259,7 +259,7 @@ impl Frame {
 pub const MAX_MARKERS: usize = 20_000;
 
 /// The stride that keeps `n` markers at or below [`MAX_MARKERS`].
-pub fn marker_stride(n: usize) -> usize {
+pub(crate) fn marker_stride(n: usize) -> usize {
     n.div_ceil(MAX_MARKERS).max(1)
 }
 

@@ -164,7 +164,7 @@ pub fn validate(shape: Shape<'_>) -> Result<()> {
 }
 
 /// The entity name of STEP and IGES files: the file's name without its folder.
-pub fn entity_name(path: &Path) -> String {
+pub(crate) fn entity_name(path: &Path) -> String {
     path.file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "fairfit".into())

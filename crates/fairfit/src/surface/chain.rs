@@ -25,7 +25,7 @@ pub struct Gap {
 }
 
 /// Median of the distances between consecutive points (cyclic when `closed`).
-pub fn median_spacing(points: &[Vec3], closed: bool) -> f64 {
+pub(crate) fn median_spacing(points: &[Vec3], closed: bool) -> f64 {
     let n = points.len();
     if n < 2 {
         return 0.0;
@@ -127,7 +127,11 @@ pub fn order_points(points: &[Vec3], dir: Vec3) -> Vec<Vec3> {
 
 /// Splits a closed tour at gaps longer than `factor` times its median spacing. Returns the open chain
 /// starting right after the largest gap (or the tour unchanged, closed, when there is no gap) and the gaps.
-pub fn break_at_gaps(tour: Vec<Vec3>, factor: f64, section: usize) -> (Vec<Vec3>, bool, Vec<Gap>) {
+pub(crate) fn break_at_gaps(
+    tour: Vec<Vec3>,
+    factor: f64,
+    section: usize,
+) -> (Vec<Vec3>, bool, Vec<Gap>) {
     let n = tour.len();
     if n < 3 {
         return (tour, false, Vec::new());

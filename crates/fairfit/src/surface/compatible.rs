@@ -386,7 +386,7 @@ pub fn make_compatible(
 }
 
 /// [`make_compatible`] reporting the number of candidates evaluated so far to `progress`.
-pub fn make_compatible_with_progress(
+pub(crate) fn make_compatible_with_progress(
     sections: &[Section],
     opts: &CompatibleOptions,
     progress: &mut dyn FnMut(usize),

@@ -113,10 +113,10 @@ pub fn validate_sections(sections: &[Section], degree: usize) -> Result<()> {
 }
 
 /// The smallest section size (largest bounding-box extent) [`validate_sections`] accepts.
-pub const MIN_SECTION_SIZE: f64 = 1e-150;
+pub(crate) const MIN_SECTION_SIZE: f64 = 1e-150;
 
 /// The largest coordinate magnitude [`validate_sections`] accepts.
-pub const MAX_COORDINATE: f64 = 1e150;
+pub(crate) const MAX_COORDINATE: f64 = 1e150;
 
 /// Sections to a fair skinned surface (see the module documentation).
 pub fn reconstruct_surface(

@@ -14,7 +14,7 @@ use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
 use serde::Serialize;
 
 /// True when `section` is closed and has no corner at its first point or at either neighbour.
-pub fn smooth_at_seam(section: &Section, corner_angle_deg: f64) -> bool {
+pub(crate) fn smooth_at_seam(section: &Section, corner_angle_deg: f64) -> bool {
     let m = section.points.len();
     if !section.closed || m < 5 {
         return false;

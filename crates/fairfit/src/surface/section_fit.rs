@@ -17,7 +17,7 @@ use crate::nurbs::knots::{find_span, is_clamped, is_periodic};
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Chord-length parameters of ordered points, normalised to `[0, 1]`.
-pub fn chord_length_params(points: &[Vec3]) -> Result<Vec<f64>> {
+pub(crate) fn chord_length_params(points: &[Vec3]) -> Result<Vec<f64>> {
     if points.len() < 2 {
         return Err(Error::InvalidData(format!(
             "a section needs at least 2 points, got {}",

@@ -120,7 +120,7 @@ pub fn averaging_knots(params: &[f64], degree: usize) -> Vec<f64> {
 }
 
 /// Knot vector for least-squares approximation with `n_ctrl` control points (NURBS Book eq. 9.69).
-pub fn approximation_knots(params: &[f64], degree: usize, n_ctrl: usize) -> Vec<f64> {
+pub(crate) fn approximation_knots(params: &[f64], degree: usize, n_ctrl: usize) -> Vec<f64> {
     let m = params.len() - 1;
     let n = n_ctrl - 1;
     let d = (m + 1) as f64 / (n - degree + 1) as f64;

@@ -71,7 +71,7 @@ fn unit(n: Vec3) -> Result<Vec3> {
 }
 
 /// Most slicing planes [`slice_mesh`] accepts (every plane cuts every triangle).
-pub const MAX_SLICES: usize = 10_000;
+pub(crate) const MAX_SLICES: usize = 10_000;
 
 fn plane_offsets(points: &[Vec3], n: Vec3, count: usize) -> Result<Vec<f64>> {
     if !(2..=MAX_SLICES).contains(&count) {

@@ -14,7 +14,7 @@
 
 /// Hysteresis floor of the extrema count on `signal` (the benchmark measurer's: `1e-6` of the
 /// largest magnitude plus `1e-9`, on `dκ/ds L²`).
-pub fn hysteresis_floor(signal: &[f64]) -> f64 {
+pub(crate) fn hysteresis_floor(signal: &[f64]) -> f64 {
     1e-6 * signal.iter().fold(0.0f64, |a, v| a.max(v.abs())) + 1e-9
 }
 

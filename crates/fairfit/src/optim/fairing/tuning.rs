@@ -8,7 +8,7 @@
 
 /// The relative fall of the objective (band fairing's merit, the polish's F) a trial step must
 /// beat to be accepted: a gain of round-off size is no progress, and accepting it could cycle.
-pub const MIN_ACCEPTED_GAIN: f64 = 1e-9;
+pub(crate) const MIN_ACCEPTED_GAIN: f64 = 1e-9;
 
 /// The policy of the fairing stages.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -192,7 +192,7 @@ pub(crate) fn finish_periodic(
 }
 
 /// `n` spans at equal steps of the data index (interior breakpoints, seam at 0).
-pub fn equal_breaks(params: &[f64], n: usize) -> Vec<f64> {
+pub(crate) fn equal_breaks(params: &[f64], n: usize) -> Vec<f64> {
     let m = params.len();
     if m == 0 {
         // no data: equal steps of the parameter itself

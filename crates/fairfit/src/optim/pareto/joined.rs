@@ -197,7 +197,7 @@ struct Member {
 
 /// The interior knots of every C0 piece of a clamped curve (cut at interior knots of multiplicity
 /// `p`), each mapped onto `[0, 1]`.
-pub fn knot_segments(curve: &NurbsCurve) -> Vec<Vec<f64>> {
+pub(crate) fn knot_segments(curve: &NurbsCurve) -> Vec<Vec<f64>> {
     let p = curve.degree();
     let k = curve.knots();
     let (lo, hi) = (k[p], k[k.len() - p - 1]);

@@ -25,9 +25,9 @@ pub struct KnotEncoding {
 }
 
 /// Bounds of the log-gap coordinates: wide enough for gaps from ~1e-5 to ~1 of the domain.
-pub const GAP_COORD_BOUND: f64 = 6.0;
+pub(crate) const GAP_COORD_BOUND: f64 = 6.0;
 /// Bounds of the `log10 λ` coordinate; values below [`LOG_LAMBDA_OFF`] mean no smoothing at all.
-pub const LOG_LAMBDA_RANGE: (f64, f64) = (-20.0, -4.0);
+pub(crate) const LOG_LAMBDA_RANGE: (f64, f64) = (-20.0, -4.0);
 /// `log10 λ` at or below which the smoothing term is switched off (λ = 0).
 pub const LOG_LAMBDA_OFF: f64 = -19.0;
 

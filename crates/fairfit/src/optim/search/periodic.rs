@@ -117,7 +117,7 @@ pub struct ClosedWorkspace {
 }
 
 /// The periodic knot vector for the interior breakpoints `interior` (seam at 0 ≡ 1).
-pub fn closed_knots(degree: usize, interior: &[f64], breaks: &mut Vec<f64>) -> Vec<f64> {
+pub(crate) fn closed_knots(degree: usize, interior: &[f64], breaks: &mut Vec<f64>) -> Vec<f64> {
     breaks.clear();
     breaks.push(0.0);
     breaks.extend_from_slice(interior);

@@ -130,7 +130,7 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
 }
 
 /// The `n_ctrl − degree − 1` interior averaging knots (NURBS Book eq. 9.68) for `params`.
-pub fn averaging_interior_knots(params: &[f64], degree: usize, n_ctrl: usize) -> Vec<f64> {
+pub(crate) fn averaging_interior_knots(params: &[f64], degree: usize, n_ctrl: usize) -> Vec<f64> {
     let m = params.len() - 1;
     let k = n_ctrl.saturating_sub(degree + 1);
     if k == 0 {

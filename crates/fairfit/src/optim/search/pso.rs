@@ -19,9 +19,9 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 /// Constriction factor χ.
-pub const CHI: f64 = 0.7298;
+pub(crate) const CHI: f64 = 0.7298;
 /// Cognitive and social acceleration c1 = c2.
-pub const C_ACC: f64 = 1.49618;
+pub(crate) const C_ACC: f64 = 1.49618;
 
 /// Feasibility-first fitness: smaller `violation` wins; among equal violations smaller `objective`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -6,6 +6,14 @@
 use crate::optim::context::FitContext;
 use crate::optim::kind::CurveKind;
 
+/// What the baseline starts from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct BaselineInput {
+    /// A fixed count (`--control-points`): the descent starts there, knots inserted above the
+    /// baseline's count where they help most; `None` starts at the baseline's count.
+    pub control_points: Option<usize>,
+}
+
 /// Where the count descent starts.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct BaselineOutput {
@@ -17,11 +25,14 @@ pub(crate) struct BaselineOutput {
     pub knots: Vec<f64>,
 }
 
-/// The baseline of `kind` and the descent's start (module doc), with the fixed count of the
-/// options.
-pub(crate) fn run<K: CurveKind>(ctx: &FitContext, kind: &K) -> BaselineOutput {
+/// The baseline of `kind` and the descent's start (module doc).
+pub(crate) fn run<K: CurveKind>(
+    ctx: &FitContext,
+    kind: &K,
+    input: BaselineInput,
+) -> BaselineOutput {
     let b = kind.baseline(&mut ctx.stats());
-    let (n, knots) = kind.start(&b, ctx.opts.control_points);
+    let (n, knots) = kind.start(&b, input.control_points);
     BaselineOutput {
         baseline: b.count,
         n,

@@ -37,13 +37,14 @@
 //! `--seed`. When the chosen curve has at least [`CountTuning::restart_min_extrema`] curvature
 //! extrema, one more full search runs at the chosen count (another random stream) and is
 //! finished as a candidate of the same rule: seeded with the second descent's knots at that count
-//! (`CountStart::alt`, [`super::descent`]) when they differ from the first descent's, else with
+//! (`CountSearchInput::alt`, [`super::descent`]) when they differ from the first descent's, else with
 //! the first descent's knots on the other stream.
 //!
 //! The choice is reported to the degree search as a `CountChoice` (extrema cost, count gain,
 //! extrema), from which the next degree's own count search is triggered
 //! ([`super::degree_candidates`]).
 
+use super::descent::DescentOutput;
 use crate::errors::{Error, Result};
 use crate::fair::metrics::curve_fairness;
 use crate::optim::context::FitContext;
@@ -68,9 +69,9 @@ const MAIN_SALT: u64 = 1_000_003;
 /// The salt of the restart's full swarm (added to the count): another stream of the same seed.
 const COUNT_RESTART_SALT: u64 = 2_000_029;
 
-/// Where [`run`] starts.
+/// Where [`run`] starts: the count descent's result.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct CountStart<'a> {
+pub(crate) struct CountSearchInput<'a> {
     /// The smallest feasible count (or the fixed one).
     pub n: usize,
     /// Its interior knots.
@@ -82,6 +83,29 @@ pub(crate) struct CountStart<'a> {
     /// A second descent's feasible knots by count, on other random streams (empty: none): the
     /// seeds of the restart at the chosen count.
     pub alt: &'a [(usize, Vec<f64>)],
+}
+
+impl<'a> CountSearchInput<'a> {
+    /// The count search after the descent `down`, extra counts up to `limit`; the restart seeded
+    /// from the second descent when `down` ran one.
+    pub fn after(down: &'a DescentOutput, limit: usize) -> Self {
+        CountSearchInput {
+            n: down.n,
+            knots: &down.knots,
+            descent: &down.met,
+            limit,
+            alt: &down.alt,
+        }
+    }
+}
+
+/// The count search's result: the chosen finished fit and how it was chosen.
+#[derive(Clone, Debug)]
+pub(crate) struct CountSearchOutput {
+    /// The finished fit at the chosen count.
+    pub result: IntegratedResult,
+    /// The choice, for the degree search's triggers.
+    pub choice: CountChoice,
 }
 
 /// One full search at one count: its knots, smoothing, swarm F (infinite when infeasible).
@@ -103,10 +127,10 @@ struct Draw {
 pub(crate) fn run<K: CurveKind>(
     ctx: &FitContext,
     family: &K,
-    start: CountStart<'_>,
-) -> Result<(IntegratedResult, CountChoice)> {
+    start: CountSearchInput<'_>,
+) -> Result<CountSearchOutput> {
     let opts = ctx.opts;
-    let CountStart {
+    let CountSearchInput {
         n,
         knots,
         descent,
@@ -188,7 +212,10 @@ pub(crate) fn run<K: CurveKind>(
             "no valid knot vector for the data (too few points?)".into(),
         ))
     })?;
-    Ok((chosen, choice))
+    Ok(CountSearchOutput {
+        result: chosen,
+        choice,
+    })
 }
 
 /// Finishes the draws in parallel (an error for a draw without knots), reporting

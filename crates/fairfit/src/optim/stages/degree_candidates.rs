@@ -46,7 +46,7 @@
 //! fixed count or `max_extra_control_points = 0`, nor on periodic curves or pieces between
 //! corners.
 
-use super::degree_search::{keep_degree, Attempt};
+use super::degree_search::{keep_degree, Attempt, DegreeSearchOutput};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
 use crate::optim::context::{tolerance_of, FitContext};
@@ -231,14 +231,20 @@ pub(crate) fn raise_open_piece(
     )
 }
 
-/// The degree search of a periodic closed curve from its finished `reference` fit.
+/// The periodic degree search's input.
+#[derive(Clone, Debug)]
+pub(crate) struct PeriodicDegreeInput {
+    /// The reference degree's finished fit, chosen by the count search.
+    pub reference: IntegratedResult,
+}
+
+/// The degree search of a periodic closed curve from its finished reference fit.
 pub(crate) fn raise_periodic(
-    prep: &Prepared,
-    reference: IntegratedResult,
-    tol: f64,
-    opts: &IntegratedOptions,
-    tuning: &Tuning,
-) -> Result<IntegratedResult> {
+    ctx: &FitContext,
+    input: PeriodicDegreeInput,
+) -> Result<DegreeSearchOutput> {
+    let (prep, tol, opts, tuning) = (ctx.prep, ctx.tol, ctx.opts, ctx.tuning);
+    let reference = input.reference;
     let p = opts.degree;
     let highest = opts.max_degree.unwrap_or(p).max(p);
     let preps = at_degrees(prep, p, highest);
@@ -276,7 +282,8 @@ pub(crate) fn raise_periodic(
             None => Attempt::default(),
         }
     };
-    keep_degree(reference, p + 1..=highest, tuning, &attempt)
+    let result = keep_degree(reference, p + 1..=highest, tuning, &attempt)?;
+    Ok(DegreeSearchOutput { result })
 }
 
 /// The prepared data at every degree from `p` to `highest` (only the degree differs).
@@ -352,7 +359,7 @@ fn short_search<P: CountProblem>(
 
 /// `knots` averaged over windows of `extra + 1` neighbours: `extra` fewer knots with the same
 /// density (the interior knots of a degree `extra` higher at the same count).
-pub fn averaged_knots(knots: &[f64], extra: usize) -> Vec<f64> {
+pub(crate) fn averaged_knots(knots: &[f64], extra: usize) -> Vec<f64> {
     if knots.len() <= extra {
         return Vec::new();
     }

@@ -49,6 +49,13 @@ use crate::optim::kind::periodic::distinct_control_points;
 use crate::optim::result::{DegreeTrial, IntegratedResult};
 use crate::optim::tuning::{CountTuning, Tuning};
 
+/// The degree search's result: the fit of the kept degree.
+#[derive(Clone, Debug)]
+pub(crate) struct DegreeSearchOutput {
+    /// The kept fit (the reference's when no higher degree won).
+    pub result: IntegratedResult,
+}
+
 /// One higher degree's attempt in the staged search: its fit (`None` when it could not be fitted
 /// within the tolerance at the reference's count) and the work spent on it.
 #[derive(Clone, Debug, Default)]

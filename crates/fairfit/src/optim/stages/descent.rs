@@ -11,8 +11,10 @@
 //! tolerance cannot reach, the least harmful removals (or the spread knots) are taken instead of
 //! probes.
 
+use super::baseline::BaselineOutput;
 use crate::optim::context::FitContext;
 use crate::optim::kind::CurveKind;
+use crate::optim::options::IntegratedOptions;
 use crate::optim::progress::Stage;
 use crate::optim::result::OptimStats;
 use crate::optim::search::problem::CountProblem;
@@ -36,6 +38,43 @@ pub(crate) struct DescentInput {
     pub second: bool,
     /// A fixed count the descent did not reach: the knots that hurt least are removed anyway.
     pub trim_to: Option<usize>,
+}
+
+impl DescentInput {
+    /// The open pipeline's descent from `base`: down to the degree's fewest control points (or
+    /// the fixed count, never below `min_control_points`), a second descent on other streams, the
+    /// fixed count trimmed to when the descent stops above it.
+    pub fn open(
+        base: &BaselineOutput,
+        opts: &IntegratedOptions,
+        min_control_points: usize,
+    ) -> Self {
+        let p = opts.degree;
+        let fixed = opts.control_points;
+        DescentInput {
+            n: base.n,
+            knots: base.knots.clone(),
+            lowest: fixed.unwrap_or(p + 1).max(p + 1).max(min_control_points),
+            force: false,
+            second: true,
+            trim_to: fixed,
+        }
+    }
+
+    /// The periodic pipeline's descent from `base`: down to the degree's fewest control points
+    /// (or the fixed count, reached by force), no second descent.
+    pub fn periodic(base: &BaselineOutput, opts: &IntegratedOptions) -> Self {
+        let p = opts.degree;
+        let fixed = opts.control_points;
+        DescentInput {
+            n: base.n,
+            knots: base.knots.clone(),
+            lowest: fixed.unwrap_or(p + 1).max(p + 1),
+            force: fixed.is_some(),
+            second: false,
+            trim_to: None,
+        }
+    }
 }
 
 /// What the descent found.

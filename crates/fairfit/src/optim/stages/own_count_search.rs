@@ -3,11 +3,11 @@
 //! fires on the reference's count choice (`CountsSeen`), the counts it searches, and the
 //! search itself; the degree is then kept by [`super::degree_search`]'s rule.
 
-use super::count_search::{choose_count, rank_fit, CountChoice, CountStart, Ranked};
+use super::count_search::{choose_count, rank_fit, CountChoice, CountSearchInput, Ranked};
 use super::degree_candidates::{
     at_degrees, candidate_options, open_attempt, open_candidate_with, Candidate,
 };
-use super::degree_search::{keep_degree_priced, Attempt};
+use super::degree_search::{keep_degree_priced, Attempt, DegreeSearchOutput};
 use crate::errors::Result;
 use crate::optim::context::FitContext;
 use crate::optim::kind::open::{best_insertion, finish};
@@ -38,7 +38,7 @@ pub(crate) struct CountsSeen<'a> {
 
 impl<'a> CountsSeen<'a> {
     /// What the count search started from (`start`) and how its choice went (`choice`).
-    pub fn of(start: &CountStart<'a>, choice: &CountChoice) -> Self {
+    pub fn of(start: &CountSearchInput<'a>, choice: &CountChoice) -> Self {
         CountsSeen {
             n: start.n,
             descent: start.descent,
@@ -47,6 +47,17 @@ impl<'a> CountsSeen<'a> {
             count_gain: choice.count_gain,
             extrema: choice.extrema,
         }
+    }
+
+    /// [`CountsSeen::of`] where the next degree may search counts of its own: `None` with a
+    /// fixed count or no extra control points (`opts`).
+    pub fn when_counts_free(
+        opts: &IntegratedOptions,
+        start: &CountSearchInput<'a>,
+        choice: &CountChoice,
+    ) -> Option<Self> {
+        (opts.control_points.is_none() && opts.max_extra_control_points > 0)
+            .then(|| CountsSeen::of(start, choice))
     }
 
     /// Whether the next degree gets a count search of its own, and why (module doc, "Own count
@@ -64,6 +75,18 @@ impl<'a> CountsSeen<'a> {
     }
 }
 
+/// The open degree search's input.
+#[derive(Clone, Debug)]
+pub(crate) struct DegreeSearchInput<'a> {
+    /// The reference degree's finished fit, chosen by the count search.
+    pub reference: IntegratedResult,
+    /// The next degree's attempt made beside the count search
+    /// ([`super::degree_candidates::first_beside`]).
+    pub first: Option<Attempt>,
+    /// What the count search knew (`None`: the next degree searches no counts of its own).
+    pub seen: Option<CountsSeen<'a>>,
+}
+
 /// Why the next degree gets a count search of its own.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum OwnTrigger {
@@ -78,15 +101,17 @@ enum OwnTrigger {
     Wiggly,
 }
 
-/// The degree search after the reference's count search on open data: `reference` is the
-/// finished fit at `opts.degree` of the prepared data `prep`; `first` the next degree's attempt
-/// made beside the count search; `seen` what the count search knew.
+/// The degree search after the reference's count search on open data ([`DegreeSearchInput`]):
+/// the reference is the finished fit at `opts.degree` of the context's prepared data.
 pub(crate) fn raise_open(
     ctx: &FitContext,
-    reference: IntegratedResult,
-    first: Option<Attempt>,
-    seen: Option<CountsSeen<'_>>,
-) -> Result<IntegratedResult> {
+    input: DegreeSearchInput<'_>,
+) -> Result<DegreeSearchOutput> {
+    let DegreeSearchInput {
+        reference,
+        first,
+        seen,
+    } = input;
     let (prep, tol, opts, tuning) = (ctx.prep, ctx.tol, ctx.opts, ctx.tuning);
     let t = &tuning.degree;
     let p = opts.degree;
@@ -141,13 +166,14 @@ pub(crate) fn raise_open(
             _ => a,
         }
     };
-    keep_degree_priced(
+    let result = keep_degree_priced(
         reference,
         p + 1..=highest,
         tuning.degree.fairness_gain,
         point_gain,
         &attempt,
-    )
+    )?;
+    Ok(DegreeSearchOutput { result })
 }
 
 /// The wiggly trigger's counts (module doc): above the least-squares baseline `limit`, at most

@@ -34,10 +34,25 @@ use crate::optim::search::objective::{measure_current, CandidateEval, EvalWorksp
 use crate::optim::search::prepare::Prepared;
 use rayon::prelude::*;
 
-/// The release-ends stage of the open pipeline: [`release_result`] on the chosen result `r`
-/// with the context's data, tolerance and options.
-pub(crate) fn run(ctx: &FitContext, r: IntegratedResult) -> Result<IntegratedResult> {
-    release_result(ctx.prep, r, ctx.tol, ctx.opts)
+/// The release-ends stage's input.
+#[derive(Clone, Debug)]
+pub(crate) struct ReleaseInput {
+    /// The open fit the count and degree search kept.
+    pub chosen: IntegratedResult,
+}
+
+/// The release-ends stage's result.
+#[derive(Clone, Debug)]
+pub(crate) struct ReleaseOutput {
+    /// The chosen fit after the last pass, or as it was when the pass was not kept.
+    pub result: IntegratedResult,
+}
+
+/// The release-ends stage of the open pipeline: [`release_result`] on the chosen result with the
+/// context's data, tolerance and options.
+pub(crate) fn run(ctx: &FitContext, input: ReleaseInput) -> Result<ReleaseOutput> {
+    let result = release_result(ctx.prep, input.chosen, ctx.tol, ctx.opts)?;
+    Ok(ReleaseOutput { result })
 }
 
 /// [`release_ends`] on the chosen open result `r` of the integrated method on `prep`'s data

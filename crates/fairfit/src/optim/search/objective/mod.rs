@@ -299,7 +299,7 @@ pub fn evaluate_candidate_within(
 /// lower bound of `d` with that property (RMS and fairness infinite). A swarm passes the violation
 /// of the particle's best so far: such a candidate cannot replace it, so the search takes exactly
 /// the same path as with full evaluations.
-pub fn evaluate_candidate_bounded(
+pub(crate) fn evaluate_candidate_bounded(
     data: &FitData,
     log_lambda: f64,
     fairness_cutoff: f64,
@@ -395,7 +395,7 @@ pub fn measure_current(data: &FitData, start: &[f64], ws: &mut EvalWorkspace) ->
 }
 
 /// Sets `ws.knots` to the clamped knot vector on `[0, 1]` with the given interior knots.
-pub fn set_knots(degree: usize, interior: &[f64], ws: &mut EvalWorkspace) {
+pub(crate) fn set_knots(degree: usize, interior: &[f64], ws: &mut EvalWorkspace) {
     ws.knots.clear();
     ws.knots.extend(std::iter::repeat_n(0.0, degree + 1));
     ws.knots.extend_from_slice(interior);
