@@ -184,7 +184,9 @@ pub fn screen(points: &[Vec3], tol: f64, mode: OutlierMode) -> (Screening, Optio
         }
     };
     let fitted = kept.as_deref().unwrap_or(points);
-    let planar = fitted.iter().all(|p| fitted.first().is_none_or(|f| p[2] == f[2]));
+    let planar = fitted
+        .iter()
+        .all(|p| fitted.first().is_none_or(|f| p[2] == f[2]));
     let limit = meaningful_tolerance(noise.sigma, fitted.len(), planar);
     let screening = Screening {
         noise_sigma: noise.sigma,
