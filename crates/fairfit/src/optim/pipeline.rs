@@ -62,7 +62,7 @@ pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<Integ
 /// .unwrap();
 /// let seen = seen.into_inner().unwrap();
 /// assert!(r.met);
-/// assert_eq!(seen[0], Stage::Baseline);
+/// assert_eq!(seen[..2], [Stage::Screening, Stage::Baseline]);
 /// assert!(seen.iter().any(|s| matches!(s, Stage::CountSearch { control_points } if *control_points >= 4)));
 /// assert!(seen.contains(&Stage::BandFairing));
 /// ```
@@ -76,6 +76,7 @@ pub fn fit_integrated_with_stages(
     let tuning = Tuning::default();
     // screening: noise measured, spikes excluded (`opts.outliers`) before any other stage
     let tol = crate::fit::points::absolute_tolerance(opts.tolerance, points);
+    progress(Stage::Screening, 0, 1);
     let (screening, kept) = screen(points, tol, opts.outliers);
     let points = kept.as_deref().unwrap_or(points);
     // a tolerance below the noise: fitted to the meaningful one (`fit::screening` module doc)
@@ -93,7 +94,10 @@ pub fn fit_integrated_with_stages(
     let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
     let mut r = match reduce::Dense::of(points, opts, &tuning.reduce) {
         None => dispatch(points, opts, progress, start),
-        Some(dense) => dense.fit(points, opts, &tuning.reduce, &fit),
+        Some(dense) => {
+            progress(Stage::Reduce, 0, 1);
+            dense.fit(points, opts, &tuning.reduce, &fit)
+        }
     }?;
     r.screening = screening;
     Ok(r)
