@@ -96,7 +96,7 @@ pub fn fit_integrated_with_stages(
         None => dispatch(points, opts, progress, start),
         Some(dense) => {
             progress(Stage::Reduce, 0, 1);
-            dense.fit(points, opts, &tuning.reduce, &fit)
+            dense.fit(opts, &tuning.reduce, &fit)
         }
     }?;
     r.screening = screening;

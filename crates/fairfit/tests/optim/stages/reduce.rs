@@ -1,9 +1,9 @@
 //! The reduction stage (`fairfit::optim::stages::reduce`) through `fit_integrated`, without corner
 //! detection, on a noisy spiral (size about 2.2, noise tol/20): the dense fit meets the tolerance on
 //! every input point (an independent whole-curve projection) and stays within 1.1 tol of the
-//! noise-free spiral; a burst of 100:1 density gives the count of even sampling. Two known defects
-//! are kept as ignored tests until fixed: 10 times fewer points giving the count within one, and
-//! the data scaled by 1000 giving the same knots.
+//! noise-free spiral; a burst of 100:1 density gives the count of even sampling; the data scaled by
+//! 1000 give the same knots. A known defect is kept as an ignored test until fixed: 10 times fewer
+//! points giving the count within one.
 
 use fairfit::diffgeo::projection::CurveProjector;
 use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
@@ -100,8 +100,6 @@ fn ten_times_fewer_points_give_the_count_within_one() {
 }
 
 #[test]
-#[ignore = "known defect: same count, knots differ by about 1e-3: the pipeline re-normalises the \
-            representatives by their own bounding box; fix: hand it the normalised representatives"]
 fn scaled_dense_data_give_the_same_knots() {
     let dense = noisy(&even(12_000), SIGMA, 3);
     let scaled: Vec<Vec3> = dense.iter().map(|&p| p * 1000.0).collect();
