@@ -56,9 +56,10 @@ use rayon::prelude::*;
 /// Dense data in their reduced form: the points and bins in the normalised units of
 /// `search::prepare` (bounding-box minimum `lo`, largest side `scale`, snapped to its grid). The
 /// pipeline fits the representatives in these units, at the tolerance in these units, and the
-/// curve is mapped back to the input's units afterwards: scaled or translated inputs give
-/// bit-identical pipeline inputs, hence the same knots and count (a swarm search turns a last-bit
-/// difference of its data or tolerance into another optimum).
+/// curve is mapped back to the input's units afterwards, so that no rounding of the input's units
+/// reaches the pipeline's data or tolerance (a swarm search turns a last-bit difference into
+/// another optimum). Not yet enough for the same knots under scaling: an input point whose
+/// normalised coordinate lies within rounding of a snap boundary still snaps differently.
 pub(crate) struct Dense {
     normalised: Vec<Vec3>,
     red: Reduced,
