@@ -150,6 +150,15 @@ pub fn fit_input(
         None => {
             let (screening, kept) = screen_points(args, &set.points);
             let points = kept.unwrap_or(set.points);
+            // a tolerance below the noise: every method fits to the meaningful one (the integrated
+            // method's own screening does the same)
+            let opts = match screening.as_ref().and_then(|s| s.noise_limited) {
+                Some(t) => FitOptions {
+                    tolerance: Tolerance::Absolute(t),
+                    ..opts
+                },
+                None => opts,
+            };
             let fit = fit_points(args, &opts, &points, want_report, wall);
             let fit = fit.map_err(|e| name_spikes(args, &points, e))?;
             if args.outliers == OutliersArg::Off && fit.max_deviation > fit.tolerance {

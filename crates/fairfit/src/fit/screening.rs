@@ -5,14 +5,85 @@
 //!
 //! The noise is measured again without the spikes when any were found (a spike spoils the block it
 //! falls in).
+//!
+//! # A tolerance below the noise
+//!
+//! Points with noise `σ` across the curve lie up to the largest of `n` Gaussian deviations from the
+//! curve they sample: no curve within a smaller tolerance of every point can be fair, it must follow
+//! the noise. The *meaningful tolerance* ([`meaningful_tolerance`]) is the level the noise alone
+//! stays below on every point with probability `1 −` [`NOISE_EXCESS_PROBABILITY`] (and at least
+//! [`NOISE_TOLERANCE_SIGMAS`] `σ`). A tolerance below it is *noise limited*
+//! ([`Screening::noise_limited`]).
+//!
+//! The fitting methods then fit to the meaningful tolerance instead of the one asked for, and say so
+//! (one warning line, [`Screening::noise_warning`]; the report's `noise_limited`, `tolerance_used`).
+//! Why rather than refusing: the data hold no more than that: every curve within the requested
+//! tolerance of the points is further from the measured shape than the meaningful fit is (it adds
+//! the noise to it), so the fit a CAD user can use is the one that averages the noise, held to the
+//! smallest tolerance the points can verify. It is never silent (the warning and the report state
+//! both tolerances), and the cost is that of any fit at that tolerance (seconds), not of a search
+//! through hundreds of control points that chase the noise. A user who needs the requested
+//! tolerance learns from the same line that it takes better data (less noise), not another run.
 
 use super::noise::estimate_noise;
 use super::outliers::{find_outliers, Outlier};
 use crate::nurbs::Vec3;
 
-/// A tolerance below this many noise `σ` can only be met by following the noise: the largest of `n`
-/// Gaussian deviations is about `σ √(2 ln n)`, 4.3 σ to 5.3 σ for `n` = 10^4 to 10^6.
+/// A tolerance below this many noise `σ` can only be met by following the noise (the floor of
+/// [`meaningful_tolerance`]): the largest of `n` Gaussian deviations is about `σ √(2 ln n)`, 4.3 σ to
+/// 5.3 σ for `n` = 10^4 to 10^6.
 pub const NOISE_TOLERANCE_SIGMAS: f64 = 5.0;
+
+/// The chance that the noise alone puts some point beyond the [`meaningful_tolerance`]: 1 %.
+pub const NOISE_EXCESS_PROBABILITY: f64 = 0.01;
+
+/// The smallest tolerance that `n` points with noise `σ` (per normal direction) can be held to
+/// without following the noise (module doc): `z σ` with `z` the level the largest of the `n` noise
+/// distances exceeds with probability [`NOISE_EXCESS_PROBABILITY`], at least
+/// [`NOISE_TOLERANCE_SIGMAS`]. Planar data have one normal direction (the distance is `|N(0, σ²)|`,
+/// `P(> zσ) = erfc(z/√2)`), space curves two (a Rayleigh distance, `P(> zσ) = e^(−z²/2)`).
+///
+/// ```
+/// use fairfit::fit::screening::meaningful_tolerance;
+/// // up to about 17,000 planar points the floor of 5 σ holds; 10^6 points need 5.73 σ
+/// assert_eq!(meaningful_tolerance(1.0, 10_000, true), 5.0);
+/// assert!((meaningful_tolerance(1.0, 1_000_000, true) - 5.73).abs() < 0.01);
+/// assert!((meaningful_tolerance(2.0, 100_000, false) / 2.0 - (2.0f64 * 1e7f64.ln()).sqrt()).abs() < 1e-9);
+/// ```
+pub fn meaningful_tolerance(sigma: f64, n: usize, planar: bool) -> f64 {
+    // P(one point beyond z σ)
+    let tail = |z: f64| {
+        if planar {
+            normal_two_sided_tail(z)
+        } else {
+            (-0.5 * z * z).exp()
+        }
+    };
+    let p = NOISE_EXCESS_PROBABILITY / n.max(1) as f64;
+    let mut z = NOISE_TOLERANCE_SIGMAS;
+    if tail(z) > p {
+        // the tail falls monotonically: bisection on [5, 40]
+        let (mut lo, mut hi) = (z, 40.0);
+        for _ in 0..100 {
+            let mid = 0.5 * (lo + hi);
+            if tail(mid) > p {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        z = hi;
+    }
+    z * sigma
+}
+
+/// `P(|N(0, 1)| > z)` for `z ≥ 5`, by the asymptotic series of the Gaussian tail (relative error
+/// below 3e-4 there): `2 φ(z)/z · (1 − 1/z² + 3/z⁴ − 15/z⁶)`.
+fn normal_two_sided_tail(z: f64) -> f64 {
+    let phi = (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt();
+    let w = 1.0 / (z * z);
+    2.0 * phi / z * (1.0 - w * (1.0 - 3.0 * w * (1.0 - 5.0 * w)))
+}
 
 /// What to do with spikes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -33,23 +104,32 @@ pub struct Screening {
     /// Whether `noise_sigma` is white noise rather than a residual of the data's shape or of a
     /// point-to-point pattern ([`super::noise::NoiseEstimate::resolved`]).
     pub noise_resolved: bool,
-    /// `Some(t)` when the tolerance is below [`NOISE_TOLERANCE_SIGMAS`] `σ` and `σ` is resolved: `t`
-    /// is that bound, the smallest tolerance the noise leaves meaningful. An unresolved `σ` is not
-    /// independent noise, so the bound does not apply and it never limits the tolerance.
+    /// `Some(t)` when the tolerance is below the [`meaningful_tolerance`] `t` and `σ` is resolved:
+    /// the fitting methods then fit to `t` (module doc). An unresolved `σ` is not independent noise,
+    /// so the bound does not apply and it never limits the tolerance.
     pub noise_limited: Option<f64>,
+    /// The tolerance screened against (the one asked for, in the points' units).
+    pub tolerance: f64,
     /// Excluded points (indices into the input), in index order; empty with [`OutlierMode::Off`].
     pub outliers: Vec<Outlier>,
 }
 
 impl Screening {
-    /// The one-line warning for a tolerance below the noise, if there is one.
+    /// The one-line warning for a tolerance below the noise, if there is one: the requested
+    /// tolerance `tol`, `σ`, and the meaningful tolerance the fit holds instead (module doc).
     pub fn noise_warning(&self, tol: f64) -> Option<String> {
         self.noise_limited.map(|t| {
             format!(
-                "warning: the tolerance {tol:.3e} is below the noise (σ ≈ {:.3e}): the fit follows the noise; a tolerance of at least {t:.2e} is meaningful",
+                "warning: the tolerance {tol:.3e} is below the noise (σ ≈ {:.3e}): fitted to {t:.3e} instead, the smallest tolerance that does not follow the noise",
                 self.noise_sigma
             )
         })
+    }
+
+    /// The tolerance a fit holds: the meaningful tolerance when the requested `tol` is noise
+    /// limited, else `tol`.
+    pub fn tolerance_used(&self, tol: f64) -> f64 {
+        self.noise_limited.unwrap_or(tol)
     }
 }
 
@@ -103,11 +183,16 @@ pub fn screen(points: &[Vec3], tol: f64, mode: OutlierMode) -> (Screening, Optio
             (found, kept)
         }
     };
-    let limit = NOISE_TOLERANCE_SIGMAS * noise.sigma;
+    let fitted = kept.as_deref().unwrap_or(points);
+    let planar = fitted
+        .iter()
+        .all(|p| fitted.first().is_none_or(|f| p[2] == f[2]));
+    let limit = meaningful_tolerance(noise.sigma, fitted.len(), planar);
     let screening = Screening {
         noise_sigma: noise.sigma,
         noise_resolved: noise.resolved,
         noise_limited: (noise.resolved && tol < limit).then_some(limit),
+        tolerance: tol,
         outliers,
     };
     (screening, kept)

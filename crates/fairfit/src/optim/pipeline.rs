@@ -1,4 +1,6 @@
-//! The entry points of the integrated method: [`fit_integrated`] first reduces dense data
+//! The entry points of the integrated method: [`fit_integrated`] first screens the data
+//! ([`crate::fit::screening`]: noise, spikes, and a tolerance below the noise raised to the
+//! meaningful one), then reduces dense data
 //! ([`super::stages::reduce`]: representative points of tolerance-sized arcs, verified and
 //! repaired against every input point), then sends the (reduced) data to the pipeline for its
 //! shape, closed data to [`super::closed`], open data to [`super::cornered`] (which fits data
@@ -60,7 +62,7 @@ pub fn fit_integrated(points: &[Vec3], opts: &IntegratedOptions) -> Result<Integ
 /// .unwrap();
 /// let seen = seen.into_inner().unwrap();
 /// assert!(r.met);
-/// assert_eq!(seen[0], Stage::Baseline);
+/// assert_eq!(seen[..2], [Stage::Screening, Stage::Baseline]);
 /// assert!(seen.iter().any(|s| matches!(s, Stage::CountSearch { control_points } if *control_points >= 4)));
 /// assert!(seen.contains(&Stage::BandFairing));
 /// ```
@@ -74,12 +76,28 @@ pub fn fit_integrated_with_stages(
     let tuning = Tuning::default();
     // screening: noise measured, spikes excluded (`opts.outliers`) before any other stage
     let tol = crate::fit::points::absolute_tolerance(opts.tolerance, points);
+    progress(Stage::Screening, 0, 1);
     let (screening, kept) = screen(points, tol, opts.outliers);
     let points = kept.as_deref().unwrap_or(points);
+    // a tolerance below the noise: fitted to the meaningful one (`fit::screening` module doc)
+    let raised;
+    let opts = match screening.noise_limited {
+        Some(t) => {
+            raised = IntegratedOptions {
+                tolerance: crate::tolerance::Tolerance::Absolute(t),
+                ..opts.clone()
+            };
+            &raised
+        }
+        None => opts,
+    };
     let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
     let mut r = match reduce::Dense::of(points, opts, &tuning.reduce) {
         None => dispatch(points, opts, progress, start),
-        Some(dense) => dense.fit(points, opts, &tuning.reduce, &fit),
+        Some(dense) => {
+            progress(Stage::Reduce, 0, 1);
+            dense.fit(opts, &tuning.reduce, &fit)
+        }
     }?;
     r.screening = screening;
     Ok(r)

@@ -1,7 +1,8 @@
 //! Typed progress of the integrated method: the [`Stage`] a fit is in, reported with how far it is
 //! (`done` of `total` steps), as [`crate::surface::Stage`] does for surfaces.
 //!
-//! Every pipeline reports its stages in the order of the map in [`super`]: the least-squares
+//! Every pipeline reports its stages in the order of the map in [`super`]: the screening, the
+//! reduction of dense data (when it applies), the least-squares
 //! baseline, the count descent's probes, the count search's swarms, the band fairing of its
 //! candidates, the degree search, the release of the ends. Progress only observes: the result
 //! does not depend on the callback.
@@ -22,6 +23,12 @@
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Stage {
+    /// The screening of the data before any fit: noise, spikes, a tolerance below the noise
+    /// ([`crate::fit::screening`]; `done` 0 of 1 when it starts).
+    Screening,
+    /// The reduction of dense data to representatives of tolerance-sized arcs
+    /// ([`super::stages::reduce`]; `done` 0 of 1 when it starts; reported only when it applies).
+    Reduce,
     /// The least-squares baseline (`done` 0 of 1 when it starts).
     Baseline,
     /// A feasibility probe of the count descent at `control_points` (`done`: swarm iterations of
@@ -50,6 +57,8 @@ impl std::fmt::Display for Stage {
     /// A short label for a progress bar (e.g. `count search, 12 points`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            Stage::Screening => f.write_str("screening"),
+            Stage::Reduce => f.write_str("reduction"),
             Stage::Baseline => f.write_str("least-squares baseline"),
             Stage::Descent { control_points } => write!(f, "descent, {control_points} points"),
             Stage::CountSearch { control_points } => {

@@ -62,7 +62,9 @@ pub struct IntegratedResult {
     pub curve: NurbsCurve,
     /// Its quality.
     pub quality: FitQuality,
-    /// The tolerance in the input's units.
+    /// The tolerance in the input's units: the one the fit holds, the meaningful tolerance of the
+    /// screening when the one asked for is below the noise (`screening.noise_limited`; the one
+    /// asked for is `screening.tolerance`).
     pub tolerance: f64,
     /// Whether the tolerance (and `F*`) was met.
     pub met: bool,

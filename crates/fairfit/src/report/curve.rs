@@ -183,7 +183,9 @@ pub fn fit_then_fair_report(
 /// The report's screening keys (`fit::screening`), added to `report` (an object): `noise_sigma`,
 /// `noise_resolved` (whether the noise is white at two spacings, so that σ is credible),
 /// `noise_limited`, `meaningful_tolerance` (the tolerance the noise allows, `null` when the
-/// tolerance is above the noise), `outliers_mode` (`"auto"` or `"off"`) and `outliers` (`index` into
+/// tolerance is above the noise), `tolerance` (the one asked for) and `tolerance_used` (the one
+/// the fit holds, that `max_deviation` and `tolerance_met` refer to: the meaningful tolerance when
+/// the asked one is noise limited, `fit::screening`), `outliers_mode` (`"auto"` or `"off"`) and `outliers` (`index` into
 /// the distinct points, `distance`). The CLI and the Python package write the same keys.
 pub fn add_screening(report: &mut Value, mode: OutlierMode, s: &Screening) {
     let Some(obj) = report.as_object_mut() else {
@@ -193,6 +195,13 @@ pub fn add_screening(report: &mut Value, mode: OutlierMode, s: &Screening) {
     obj.insert("noise_resolved".into(), json!(s.noise_resolved));
     obj.insert("noise_limited".into(), json!(s.noise_limited.is_some()));
     obj.insert("meaningful_tolerance".into(), json!(s.noise_limited));
+    // the method's `tolerance` is the one it held: the meaningful one when the asked one is below
+    // the noise
+    let held = obj.get("tolerance").cloned().unwrap_or(Value::Null);
+    if s.noise_limited.is_some() {
+        obj.insert("tolerance".into(), json!(s.tolerance));
+    }
+    obj.insert("tolerance_used".into(), held);
     let mode = match mode {
         OutlierMode::Off => "off",
         OutlierMode::Auto => "auto",

@@ -98,6 +98,17 @@ fn noise_warning_in_one_line_when_the_tolerance_is_below_the_noise() {
     assert!((sigma / 6e-4 - 1.0).abs() < 0.25, "σ {sigma}");
     assert_eq!(r["noise_limited"], Value::Bool(true));
     assert!((r["meaningful_tolerance"].as_f64().unwrap() / (5.0 * sigma) - 1.0).abs() < 1e-12);
+    // fitted to the meaningful tolerance, the asked one kept in the report
+    let used = r["tolerance_used"].as_f64().unwrap();
+    assert_eq!(Some(used), r["meaningful_tolerance"].as_f64());
+    assert!(r["tolerance"].as_f64().unwrap() < used);
+    assert_eq!(r["tolerance_met"], Value::Bool(true));
+    assert!(r["max_deviation"].as_f64().unwrap() <= used);
+    assert!(
+        r["control_points"].as_u64().unwrap() < 30,
+        "{}",
+        r["control_points"]
+    );
     let lines: Vec<&str> = err
         .lines()
         .filter(|l| l.contains("below the noise"))
@@ -106,5 +117,6 @@ fn noise_warning_in_one_line_when_the_tolerance_is_below_the_noise() {
     // at a tenth of the tolerance: no warning
     let (r, err) = run(&arc_csv(4000, &[], 2e-4), &[]);
     assert_eq!(r["noise_limited"], Value::Bool(false));
+    assert_eq!(r["tolerance_used"], r["tolerance"]);
     assert!(!err.contains("below the noise"), "{err}");
 }

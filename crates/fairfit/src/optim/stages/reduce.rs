@@ -28,7 +28,8 @@
 //! Every bin records its *spread*: how far its points lie from the line through its centroid along
 //! the bin's direction (noise plus sagitta). The reduced data are fitted within `tol − spread`
 //! (largest spread), so a curve within that of every representative is within `tol` of the bin's
-//! points. The fit is then measured on **every input point** by exact foot-point projection
+//! points. The fit is then measured on **every input point** (in the normalised units, like the
+//! fit itself, so that a scaled input gives the same result) by exact foot-point projection
 //! ([`crate::diffgeo::projection::CurveProjector`]); where a point is still outside `tol`, its bin
 //! is cut in two (`h/2` there) and the reduced data fitted again ([`ReduceTuning::repair_rounds`]
 //! times at most; then once more with the tolerance tightened by the largest excess).
@@ -46,15 +47,19 @@ use super::super::result::{FitQuality, IntegratedResult};
 use super::super::search::prepare::{normalise, snap};
 use crate::diffgeo::projection::CurveProjector;
 use crate::errors::Result;
+use crate::fit::end_constraints::EndCurvature;
 use crate::fit::reduce::{reduce, refine, ReduceTuning, Reduced};
 use crate::nurbs::{NurbsCurve, Vec3};
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 
 /// Dense data in their reduced form: the points and bins in the normalised units of
-/// `search::prepare` (bounding-box minimum `lo`, largest side `scale`), so scaled or translated
-/// inputs give bit-identical bins and representatives (snapped to its grid; the pipeline then
-/// re-normalises them by their own bounding box, which is not yet bit-identical).
+/// `search::prepare` (bounding-box minimum `lo`, largest side `scale`, snapped to its grid). The
+/// pipeline fits the representatives in these units, at the tolerance in these units, and the
+/// curve is mapped back to the input's units afterwards, so that no rounding of the input's units
+/// reaches the pipeline's data or tolerance (a swarm search turns a last-bit difference into
+/// another optimum). Not yet enough for the same knots under scaling: an input point whose
+/// normalised coordinate lies within rounding of a snap boundary still snaps differently.
 pub(crate) struct Dense {
     normalised: Vec<Vec3>,
     red: Reduced,
@@ -95,37 +100,66 @@ impl Dense {
         })
     }
 
-    /// The representatives in input units.
+    /// The representatives in normalised units (snapped to the normalisation grid).
     fn points(&self) -> Vec<Vec3> {
+        self.red.bins.iter().map(|b| snap(b.point)).collect()
+    }
+
+    /// `opts` in normalised units: end points moved into the unit box, end curvatures scaled
+    /// (tangent directions and everything else are scale-free).
+    fn normalised_options(&self, opts: &IntegratedOptions) -> IntegratedOptions {
+        let mut o = opts.clone();
         let (lo, s) = (self.lo, self.scale);
-        self.red
-            .bins
-            .iter()
-            .map(|b| lo + snap(b.point) * s)
-            .collect()
+        for c in [&mut o.end_conditions.start, &mut o.end_conditions.end] {
+            c.point = c.point.map(|p| (p - lo) / s);
+            c.curvature = c.curvature.map(|k| match k {
+                EndCurvature::Signed(k) => EndCurvature::Signed(k * s),
+                EndCurvature::Vector(v) => EndCurvature::Vector(v * s),
+            });
+        }
+        o
+    }
+
+    /// `r`, fitted in normalised units, in the input's units: control points mapped back,
+    /// deviations and tolerance scaled (the fairness `F` is scale-free).
+    fn to_input(&self, mut r: IntegratedResult) -> Result<IntegratedResult> {
+        let c = &r.curve;
+        let (lo, s) = (self.lo, self.scale);
+        let pts: Vec<Vec3> = c.control_points().iter().map(|&p| lo + p * s).collect();
+        r.curve = NurbsCurve::new(
+            c.degree(),
+            c.knots().to_vec(),
+            pts,
+            Some(c.weights().to_vec()),
+        )?;
+        r.quality.max_deviation *= s;
+        r.quality.rms_deviation *= s;
+        r.tolerance *= s;
+        Ok(r)
     }
 
     /// The reduced data fitted by `fit` within the tolerance less the bins' spread, measured on
-    /// every input point (`points`), and repaired while a point misses the tolerance (module doc).
+    /// every input point, and repaired while a point misses the tolerance (module doc). Everything
+    /// runs in normalised units; the result is in the input's.
     pub fn fit(
         mut self,
-        points: &[Vec3],
         opts: &IntegratedOptions,
         tuning: &ReduceTuning,
         fit: &dyn Fn(&[Vec3], &IntegratedOptions) -> Result<IntegratedResult>,
     ) -> Result<IntegratedResult> {
         let h = tuning.bin_tolerances * self.tol;
-        let tol = self.tol * self.scale;
+        let tol = self.tol;
+        let base = self.normalised_options(opts);
         // a spread beyond the tolerance is noise no fit within it can average (the fit says so)
-        let mut inner = (self.tol - self.red.spread()).max(0.25 * self.tol) * self.scale;
+        let mut inner = (tol - self.red.spread()).max(0.25 * tol);
         let (mut round, mut tightened) = (0, false);
         loop {
             let o = IntegratedOptions {
                 tolerance: Tolerance::Absolute(inner),
-                ..opts.clone()
+                ..base.clone()
             };
             let r = fit(&self.points(), &o)?;
-            let (max, rms, per_bin) = verify(&r.curve, points, &self.red, tol);
+            let (max, rms, per_bin) = verify(&r.curve, &self.normalised, &self.red, tol);
             let done = max <= tol || tightened || !r.met;
             let cut: Vec<bool> = per_bin.iter().map(|&d| d > tol).collect();
             if !done
@@ -136,7 +170,7 @@ impl Dense {
                 continue;
             }
             if done || inner - (max - tol) <= 0.0 {
-                return Ok(measured(r, max, rms, tol, opts.span_fairness));
+                return self.to_input(measured(r, max, rms, tol, opts.span_fairness));
             }
             inner -= max - tol;
             tightened = true;

@@ -1,9 +1,9 @@
 //! The reduction stage (`fairfit::optim::stages::reduce`) through `fit_integrated`, without corner
 //! detection, on a noisy spiral (size about 2.2, noise tol/20): the dense fit meets the tolerance on
 //! every input point (an independent whole-curve projection) and stays within 1.1 tol of the
-//! noise-free spiral; a burst of 100:1 density gives the count of even sampling. Two known defects
-//! are kept as ignored tests until fixed: 10 times fewer points giving the count within one, and
-//! the data scaled by 1000 giving the same knots.
+//! noise-free spiral; a burst of 100:1 density gives the count of even sampling; Two known
+//! defects are kept as ignored tests until fixed: 10 times fewer points giving the count within
+//! one, and the data scaled by 1000 giving the same knots.
 
 use fairfit::diffgeo::projection::CurveProjector;
 use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
@@ -100,8 +100,10 @@ fn ten_times_fewer_points_give_the_count_within_one() {
 }
 
 #[test]
-#[ignore = "known defect: same count, knots differ by about 1e-3: the pipeline re-normalises the \
-            representatives by their own bounding box; fix: hand it the normalised representatives"]
+#[ignore = "known defect: same count, knots differ by about 5e-3, also with the pipeline fed the \
+            normalised representatives at the normalised tolerance (the same knots as before that \
+            change): the cause is upstream, likely the 2^-36 snap of the 12,000 input points \
+            flipping on a few of them, which the swarm amplifies"]
 fn scaled_dense_data_give_the_same_knots() {
     let dense = noisy(&even(12_000), SIGMA, 3);
     let scaled: Vec<Vec3> = dense.iter().map(|&p| p * 1000.0).collect();
@@ -129,4 +131,53 @@ fn a_burst_of_density_gives_the_count_of_even_sampling() {
     assert!(a.met && b.met);
     let (na, nb) = (a.curve.n_control_points(), b.curve.n_control_points());
     assert!(na.abs_diff(nb) <= 1, "{na} evenly vs {nb} with bursts");
+}
+
+#[test]
+fn a_tolerance_below_the_noise_is_fitted_to_the_meaningful_tolerance_and_stays_on_the_shape() {
+    // σ = tol/3 at 10^4 points: the noise alone puts points 4.3 σ ≈ 1.4 tol off the spiral
+    let n = 10_000;
+    let tol = tolerance(&noisy(&even(n), 0.0, 1));
+    let sigma = tol / 3.0;
+    let pts = noisy(&even(n), sigma, 13);
+    let asked = tolerance(&pts);
+    let r = fit(&pts);
+    let s = &r.screening;
+    assert!(
+        (s.noise_sigma / sigma - 1.0).abs() < 0.25,
+        "σ {}",
+        s.noise_sigma / sigma
+    );
+    // 10^4 planar points: the floor of 5 σ (the 1 % level of the largest deviation is 4.9 σ)
+    let t = s.noise_limited.expect("noise limited");
+    assert!(
+        (t / s.noise_sigma - 5.0).abs() < 1e-12,
+        "{}",
+        t / s.noise_sigma
+    );
+    assert!((s.tolerance / asked - 1.0).abs() < 1e-12);
+    assert!(r.met && r.tolerance == t, "{} vs {t}", r.tolerance);
+    let proj = CurveProjector::new(&r.curve, 16);
+    let worst = pts
+        .iter()
+        .map(|&q| proj.project(q).distance)
+        .fold(0.0, f64::max);
+    assert!(
+        worst <= t * (1.0 + 1e-9) && worst > asked,
+        "{worst}: {t}, {asked}"
+    );
+    // it averages the noise: closer to the noise-free spiral than the asked tolerance, with no
+    // more than twice the count of a fit at a tenth of the noise (measured: 17 and 11; the bins'
+    // spread of about 4 σ leaves the representatives 0.4 tol)
+    let truth = (0..=4000)
+        .map(|i| proj.project(spiral(i as f64 / 4000.0)).distance)
+        .fold(0.0, f64::max);
+    assert!(
+        truth <= asked,
+        "{} tol from the noise-free spiral",
+        truth / asked
+    );
+    let calm = fit(&noisy(&even(n), sigma / 10.0, 13));
+    let (a, b) = (r.curve.n_control_points(), calm.curve.n_control_points());
+    assert!(a <= 2 * b, "{a} control points at σ = tol/3, {b} at tol/30");
 }
