@@ -27,13 +27,25 @@ use super::result::{FitQuality, IntegratedResult, OptimStats};
 use super::search::prepare::{prepare, Prepared};
 use super::stages::degree_candidates::raise_open_piece;
 use super::stages::degree_search::{keep_degree, Attempt};
+use super::stages::reduce::{measured, verify, Dense};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
+use crate::fit::reduce::reduce;
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 use std::time::Instant;
+
+/// Whether open data `points` have corners under `opts`: the detection [`fit`] makes, on the same
+/// normalised points (so the pipeline can send data with corners here before any reduction).
+pub(crate) fn has_corners(points: &[Vec3], opts: &IntegratedOptions) -> bool {
+    let (Some(angle), Ok(prep)) = (opts.corner_angle_deg, prepare(points, opts.degree)) else {
+        return false;
+    };
+    let tol = tolerance_of(opts, prep.scale);
+    !crate::fit::corners::corners_at_tolerance(&prep.data.points, false, angle, tol).is_empty()
+}
 
 /// The integrated fit of open data `points` (under `opts`, open): split at corners and fitted by
 /// the pieces ([`fit_with_corners`]) when there are any, else by the open pipeline.
@@ -324,6 +336,15 @@ fn fit_piece(
     let sub = piece_options(prep, i, opts, count);
     // the piece is open data without corners: the open pipeline on its own points
     validate(&sub)?;
+    let reduce_tuning = Tuning::default().reduce;
+    if let Some(dense) = Dense::of(piece, &sub, &reduce_tuning) {
+        // dense: its reduced form fitted, verified and repaired on every point of the piece
+        let fit = |pts: &[Vec3], o: &IntegratedOptions| -> Result<IntegratedResult> {
+            open::fit(&prepare(pts, o.degree)?, o, progress, Instant::now())
+        };
+        let r = dense.fit(piece, &sub, &reduce_tuning, &fit)?;
+        return Ok(piece_of(r, piece.len()));
+    }
     let piece_prep = prepare(piece, sub.degree)?;
     let r = open::fit(&piece_prep, &sub, progress, Instant::now())?;
     Ok(piece_of(r, piece.len()))
@@ -383,6 +404,22 @@ fn raise_piece(
     }
     let count = Some(distinct_control_points(&q.curve));
     let sub = piece_options(prep, i, opts, count);
+    let tol = tolerance_of(opts, prep.scale);
+    if let Some(red) = reduce(piece, tol, &tuning.reduce) {
+        // dense: raised on its representatives within the tolerance less their spread, kept only
+        // when every point of the piece is within the tolerance
+        let span = sub.span_fairness;
+        let inner = IntegratedOptions {
+            tolerance: Tolerance::Absolute((tol - red.spread()).max(0.25 * tol)),
+            ..sub
+        };
+        let at = raise_open_piece(&red.points(), &q.curve, &inner, d, tuning);
+        let r = at.fit.and_then(|r| {
+            let (max, rms, _) = verify(&r.curve, piece, &red, tol);
+            (max <= tol).then(|| piece_of(measured(r, max, rms, tol, span), piece.len()))
+        });
+        return (r, at.evaluations, at.iterations);
+    }
     let at = raise_open_piece(piece, &q.curve, &sub, d, tuning);
     let r = at.fit.map(|r| piece_of(r, piece.len()));
     (r, at.evaluations, at.iterations)

@@ -1,4 +1,6 @@
-//! The entry points of the integrated method: [`fit_integrated`] first reduces dense data
+//! The entry points of the integrated method: open data with corners go to [`super::cornered`]
+//! on every point (corners are judged before any reduction; each piece between corners is reduced
+//! on its own there); [`fit_integrated`] otherwise first reduces dense data
 //! ([`super::stages::reduce`]: representative points of tolerance-sized arcs, verified and
 //! repaired against every input point), then sends the (reduced) data to the pipeline for its
 //! shape, closed data to [`super::closed`], open data to [`super::cornered`] (which fits data
@@ -77,9 +79,15 @@ pub fn fit_integrated_with_stages(
     let (screening, kept) = screen(points, tol, opts.outliers);
     let points = kept.as_deref().unwrap_or(points);
     let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
-    let mut r = match reduce::Dense::of(points, opts, &tuning.reduce) {
-        None => dispatch(points, opts, progress, start),
-        Some(dense) => dense.fit(points, opts, &tuning.reduce, &fit),
+    let mut r = if !closed::is_closed(points, opts.closed) && cornered::has_corners(points, opts) {
+        // corners are judged on every point (a representative of the reduced form averages a
+        // corner away); the pieces between them are reduced each on its own
+        cornered::fit(points, opts, progress, start)
+    } else {
+        match reduce::Dense::of(points, opts, &tuning.reduce) {
+            None => dispatch(points, opts, progress, start),
+            Some(dense) => dense.fit(points, opts, &tuning.reduce, &fit),
+        }
     }?;
     r.screening = screening;
     Ok(r)
