@@ -337,7 +337,10 @@ fn fit_piece(
     // the piece is open data without corners: the open pipeline on its own points
     validate(&sub)?;
     let reduce_tuning = Tuning::default().reduce;
-    if let Some(dense) = Dense::of(piece, &sub, &reduce_tuning) {
+    let tol = tolerance_of(opts, prep.scale);
+    let dense = reduced_piece(piece, tol, p, &reduce_tuning)
+        .and_then(|_| Dense::of(piece, &sub, &reduce_tuning));
+    if let Some(dense) = dense {
         // dense: its reduced form fitted, verified and repaired on every point of the piece
         let fit = |pts: &[Vec3], o: &IntegratedOptions| -> Result<IntegratedResult> {
             open::fit(&prepare(pts, o.degree)?, o, progress, Instant::now())
@@ -384,6 +387,19 @@ fn piece_of(r: IntegratedResult, len: usize) -> Piece {
     }
 }
 
+/// The reduced form of a piece's points (`tol` in their units), when the piece is dense and its
+/// representatives are enough for a curve of degree `p` of its own (at least `2 (p + 1)`: a short
+/// piece of dense data, such as a spike cut out by corners with `--outliers off`, is fitted on its
+/// points).
+fn reduced_piece(
+    piece: &[Vec3],
+    tol: f64,
+    p: usize,
+    tuning: &crate::fit::reduce::ReduceTuning,
+) -> Option<crate::fit::reduce::Reduced> {
+    reduce(piece, tol, tuning).filter(|r| r.bins.len() >= 2 * (p + 1))
+}
+
 /// Piece `i` (fitted at `opts.degree` as `q`) at degree `d`, at its count from its knots
 /// ([`raise_open_piece`]); a straight piece is the same segment at degree `d`. `None` when the piece
 /// cannot be fitted within the tolerance at its count; with the evaluations and iterations spent.
@@ -405,7 +421,7 @@ fn raise_piece(
     let count = Some(distinct_control_points(&q.curve));
     let sub = piece_options(prep, i, opts, count);
     let tol = tolerance_of(opts, prep.scale);
-    if let Some(red) = reduce(piece, tol, &tuning.reduce) {
+    if let Some(red) = reduced_piece(piece, tol, d, &tuning.reduce) {
         // dense: raised on its representatives within the tolerance less their spread, kept only
         // when every point of the piece is within the tolerance
         let span = sub.span_fairness;
