@@ -1,6 +1,13 @@
 //! The integrated method on data with corners: the pieces between corners ([`super::corners`]) are
 //! fitted on their own (each with the whole curve's tolerance and its own seed stream) and joined C0.
 //!
+//! The pipeline sends open data here on every input point when they have corners: a corner is
+//! judged on the points themselves, never on the reduced form's representatives (a centroid of a
+//! tolerance-sized arc across a corner lies off it). A dense piece is then reduced on its own
+//! ([`super::stages::reduce`]): its ends, the corner points, stay representatives and are
+//! interpolated, and the fit is verified on every point of the piece. Its degree raise runs on the
+//! representatives and is kept only when every point of the piece is within the tolerance.
+//!
 //! **A fixed control-point count** `N` ([`IntegratedOptions::control_points`]) is the joined curve's
 //! count; neighbouring pieces share their corner control point, so the pieces get `N + k − 1`
 //! between them (`k` pieces). The split:
