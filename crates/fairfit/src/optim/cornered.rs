@@ -1,6 +1,13 @@
 //! The integrated method on data with corners: the pieces between corners ([`super::corners`]) are
 //! fitted on their own (each with the whole curve's tolerance and its own seed stream) and joined C0.
 //!
+//! The pipeline sends open data here on every input point when they have corners: a corner is
+//! judged on the points themselves, never on the reduced form's representatives (a centroid of a
+//! tolerance-sized arc across a corner lies off it). A dense piece is then reduced on its own
+//! ([`super::stages::reduce`]): its ends, the corner points, stay representatives and are
+//! interpolated, and the fit is verified on every point of the piece. Its degree raise runs on the
+//! representatives and is kept only when every point of the piece is within the tolerance.
+//!
 //! **A fixed control-point count** `N` ([`IntegratedOptions::control_points`]) is the joined curve's
 //! count; neighbouring pieces share their corner control point, so the pieces get `N + k − 1`
 //! between them (`k` pieces). The split:
@@ -27,13 +34,25 @@ use super::result::{FitQuality, IntegratedResult, OptimStats};
 use super::search::prepare::{prepare, Prepared};
 use super::stages::degree_candidates::raise_open_piece;
 use super::stages::degree_search::{keep_degree, Attempt};
+use super::stages::reduce::{measured, verify, Dense};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
+use crate::fit::reduce::reduce;
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 use std::time::Instant;
+
+/// Whether open data `points` have corners under `opts`: the detection [`fit`] makes, on the same
+/// normalised points (so the pipeline can send data with corners here before any reduction).
+pub(crate) fn has_corners(points: &[Vec3], opts: &IntegratedOptions) -> bool {
+    let (Some(angle), Ok(prep)) = (opts.corner_angle_deg, prepare(points, opts.degree)) else {
+        return false;
+    };
+    let tol = tolerance_of(opts, prep.scale);
+    !crate::fit::corners::corners_at_tolerance(&prep.data.points, false, angle, tol).is_empty()
+}
 
 /// The integrated fit of open data `points` (under `opts`, open): split at corners and fitted by
 /// the pieces ([`fit_with_corners`]) when there are any, else by the open pipeline.
@@ -324,6 +343,18 @@ fn fit_piece(
     let sub = piece_options(prep, i, opts, count);
     // the piece is open data without corners: the open pipeline on its own points
     validate(&sub)?;
+    let reduce_tuning = Tuning::default().reduce;
+    let tol = tolerance_of(opts, prep.scale);
+    let dense = reduced_piece(piece, tol, p, &reduce_tuning)
+        .and_then(|_| Dense::of(piece, &sub, &reduce_tuning));
+    if let Some(dense) = dense {
+        // dense: its reduced form fitted, verified and repaired on every point of the piece
+        let fit = |pts: &[Vec3], o: &IntegratedOptions| -> Result<IntegratedResult> {
+            open::fit(&prepare(pts, o.degree)?, o, progress, Instant::now())
+        };
+        let r = dense.fit(&sub, &reduce_tuning, &fit)?;
+        return Ok(piece_of(r, piece.len()));
+    }
     let piece_prep = prepare(piece, sub.degree)?;
     let r = open::fit(&piece_prep, &sub, progress, Instant::now())?;
     Ok(piece_of(r, piece.len()))
@@ -363,6 +394,19 @@ fn piece_of(r: IntegratedResult, len: usize) -> Piece {
     }
 }
 
+/// The reduced form of a piece's points (`tol` in their units), when the piece is dense and its
+/// representatives are enough for a curve of degree `p` of its own (at least `2 (p + 1)`: a short
+/// piece of dense data, such as a spike cut out by corners with `--outliers off`, is fitted on its
+/// points).
+fn reduced_piece(
+    piece: &[Vec3],
+    tol: f64,
+    p: usize,
+    tuning: &crate::fit::reduce::ReduceTuning,
+) -> Option<crate::fit::reduce::Reduced> {
+    reduce(piece, tol, tuning).filter(|r| r.bins.len() >= 2 * (p + 1))
+}
+
 /// Piece `i` (fitted at `opts.degree` as `q`) at degree `d`, at its count from its knots
 /// ([`raise_open_piece`]); a straight piece is the same segment at degree `d`. `None` when the piece
 /// cannot be fitted within the tolerance at its count; with the evaluations and iterations spent.
@@ -383,6 +427,22 @@ fn raise_piece(
     }
     let count = Some(distinct_control_points(&q.curve));
     let sub = piece_options(prep, i, opts, count);
+    let tol = tolerance_of(opts, prep.scale);
+    if let Some(red) = reduced_piece(piece, tol, d, &tuning.reduce) {
+        // dense: raised on its representatives within the tolerance less their spread, kept only
+        // when every point of the piece is within the tolerance
+        let span = sub.span_fairness;
+        let inner = IntegratedOptions {
+            tolerance: Tolerance::Absolute((tol - red.spread()).max(0.25 * tol)),
+            ..sub
+        };
+        let at = raise_open_piece(&red.points(), &q.curve, &inner, d, tuning);
+        let r = at.fit.and_then(|r| {
+            let (max, rms, _) = verify(&r.curve, piece, &red, tol);
+            (max <= tol).then(|| piece_of(measured(r, max, rms, tol, span), piece.len()))
+        });
+        return (r, at.evaluations, at.iterations);
+    }
     let at = raise_open_piece(piece, &q.curve, &sub, d, tuning);
     let r = at.fit.map(|r| piece_of(r, piece.len()));
     (r, at.evaluations, at.iterations)

@@ -1,6 +1,6 @@
-//! Corners in the integrated method. Data with corner points (turning angle above a threshold,
-//! detected by [`crate::fit::shape::detect_corners`] exactly as the least-squares method does) are
-//! split there; every piece is fitted by the integrated method on its own (same absolute tolerance),
+//! Corners in the integrated method. Data with corner points (a turn above the corner angle
+//! between tangents at the tolerance's and the noise's scale, [`crate::fit::corners`], judged on
+//! every input point before any reduction) are split there; every piece is fitted by the integrated method on its own (same absolute tolerance),
 //! and the pieces are joined with knots of multiplicity `p`: the curve is C0 at the corners and as
 //! smooth as the method makes it elsewhere. The join is exact because every piece interpolates its
 //! end points (both neighbours end at the corner point itself).

@@ -1,6 +1,8 @@
 //! The entry points of the integrated method: [`fit_integrated`] first screens the data
 //! ([`crate::fit::screening`]: noise, spikes, and a tolerance below the noise raised to the
-//! meaningful one), then reduces dense data
+//! meaningful one); open data with corners then go to [`super::cornered`] on every point (corners
+//! are judged before any reduction; each piece between corners is reduced on its own there), and
+//! other data are first reduced when dense
 //! ([`super::stages::reduce`]: representative points of tolerance-sized arcs, verified and
 //! repaired against every input point), then sends the (reduced) data to the pipeline for its
 //! shape, closed data to [`super::closed`], open data to [`super::cornered`] (which fits data
@@ -92,11 +94,17 @@ pub fn fit_integrated_with_stages(
         None => opts,
     };
     let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
-    let mut r = match reduce::Dense::of(points, opts, &tuning.reduce) {
-        None => dispatch(points, opts, progress, start),
-        Some(dense) => {
-            progress(Stage::Reduce, 0, 1);
-            dense.fit(opts, &tuning.reduce, &fit)
+    let mut r = if !closed::is_closed(points, opts.closed) && cornered::has_corners(points, opts) {
+        // corners are judged on every point (a representative of the reduced form averages a
+        // corner away); the pieces between them are reduced each on its own
+        cornered::fit(points, opts, progress, start)
+    } else {
+        match reduce::Dense::of(points, opts, &tuning.reduce) {
+            None => dispatch(points, opts, progress, start),
+            Some(dense) => {
+                progress(Stage::Reduce, 0, 1);
+                dense.fit(opts, &tuning.reduce, &fit)
+            }
         }
     }?;
     r.screening = screening;
