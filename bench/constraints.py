@@ -64,14 +64,14 @@ def end_frame(curve: measure.Curve, at_end: bool):
 
 
 def condition(t, kappa) -> str:
-    return f"curvature:{t[0]!r},{t[1]!r}:{kappa!r}"
+    return f"curvature:{float(t[0])!r},{float(t[1])!r}:{float(kappa)!r}"
 
 
 def fit(binary: str, path: str, out: str, extra: list[str]) -> None:
     cmd = [binary, "curve", path, "--rel-tol", str(REL_TOL), "--seed", "0", "-o", out, *extra]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)}: {p.stderr.strip()}")
+        raise RuntimeError(p.stderr.strip() or f"exit {p.returncode}")
 
 
 def metrics(curve_path: str, points):
