@@ -295,8 +295,13 @@ fn fit_points(
             };
             let conditions = args.end_conditions();
             if let Some(r) = report.as_mut().filter(|_| !conditions.is_none()) {
-                r["end_conditions"] =
-                    super::curve_ends::lsq_end_conditions_report(points, opts, &conditions, &fit.curve, None);
+                r["end_conditions"] = super::curve_ends::lsq_end_conditions_report(
+                    points,
+                    opts,
+                    &conditions,
+                    &fit.curve,
+                    None,
+                );
             }
             Ok(Fitted {
                 tolerance: fit.tolerance,

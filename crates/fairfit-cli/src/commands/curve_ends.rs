@@ -129,9 +129,14 @@ pub fn lsq_end_conditions_report(
         let c = match fairing {
             None => fit.curve,
             Some(_) => {
-                fair_curve(&fit.curve, points, fit.tolerance, &FairingOptions::default())
-                    .ok()?
-                    .curve
+                fair_curve(
+                    &fit.curve,
+                    points,
+                    fit.tolerance,
+                    &FairingOptions::default(),
+                )
+                .ok()?
+                .curve
             }
         };
         Some(c)

@@ -247,8 +247,16 @@ impl EndConstraints {
     /// do: the others dropped (a piece between corners has no data end).
     pub fn at_ends(&self, at_ends: (bool, bool)) -> Self {
         EndConstraints {
-            start: if at_ends.0 { self.start } else { EndConstraint::default() },
-            end: if at_ends.1 { self.end } else { EndConstraint::default() },
+            start: if at_ends.0 {
+                self.start
+            } else {
+                EndConstraint::default()
+            },
+            end: if at_ends.1 {
+                self.end
+            } else {
+                EndConstraint::default()
+            },
         }
     }
 

@@ -10,8 +10,8 @@
 //! periodically (C^(p−1) at the seam).
 
 use super::correction::{fit_corrected, CorrectedFit};
-use super::end_constraints::{check_against_data, EndConstraints};
 use super::deviation::{max_orthogonal_deviation, Deviation, Screen};
+use super::end_constraints::{check_against_data, EndConstraints};
 use super::hooks::{end_chord_index, end_hooks};
 use super::knot_placement::{averaging_knots, curvature_adaptive_knots};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
@@ -710,8 +710,9 @@ impl Ctx<'_> {
             0 => pts.len(),
             m => m.min(pts.len()),
         };
-        let min_n = (p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some()))
-            .max(self.conditioned_min());
+        let min_n =
+            (p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some()))
+                .max(self.conditioned_min());
         let rule = self.opts.knot_rule;
         let try_n = |ctx: &mut Self, n: usize| ctx.rule_fit(pts, params, lsq, n, closed, rule);
         let (mut fail, mut n) = (min_n.saturating_sub(1), min_n.min(max_n));
@@ -751,8 +752,9 @@ impl Ctx<'_> {
         upper: usize,
     ) -> Option<CorrectedFit> {
         let p = self.opts.degree;
-        let min_n = (p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some()))
-            .max(self.conditioned_min());
+        let min_n =
+            (p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some()))
+                .max(self.conditioned_min());
         let try_n =
             |ctx: &mut Self, n: usize| ctx.rule_fit(pts, params, lsq, n, false, KnotRule::Adaptive);
         if upper <= min_n {

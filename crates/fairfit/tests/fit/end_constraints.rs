@@ -304,7 +304,10 @@ fn a_condition_from_a_curve_end_is_its_position_tangent_and_curvature() {
     let end = Vec3::new(R * SWEEP.cos(), R * SWEEP.sin(), 0.0);
     assert!((c.point.unwrap() - end).norm() <= 1e-12);
     let t = c.tangent.unwrap();
-    assert!((t - Vec3::new(-SWEEP.sin(), SWEEP.cos(), 0.0)).norm() <= 1e-5, "{t:?}");
+    assert!(
+        (t - Vec3::new(-SWEEP.sin(), SWEEP.cos(), 0.0)).norm() <= 1e-5,
+        "{t:?}"
+    );
     let Some(fairfit::fit::end_constraints::EndCurvature::Vector(k)) = c.curvature else {
         panic!("no curvature vector")
     };

@@ -66,11 +66,23 @@ fn every_method_holds_curvature_ends_of_the_ellipse_within_the_tolerance() {
         );
         let (_, t0, k0) = frame(&curve, false);
         let (_, t1, k1) = frame(&curve, true);
-        assert!(angle(t0, Vec3::new(0.0, 1.0, 0.0)) <= 1e-9, "{method}: {t0:?}");
-        assert!(angle(t1, Vec3::new(-1.0, 0.0, 0.0)) <= 1e-9, "{method}: {t1:?}");
+        assert!(
+            angle(t0, Vec3::new(0.0, 1.0, 0.0)) <= 1e-9,
+            "{method}: {t0:?}"
+        );
+        assert!(
+            angle(t1, Vec3::new(-1.0, 0.0, 0.0)) <= 1e-9,
+            "{method}: {t1:?}"
+        );
         // towards the centre: −x at the start, −y at the end
-        assert!((k0 - Vec3::new(-4.0, 0.0, 0.0)).norm() <= 4e-9, "{method}: {k0:?}");
-        assert!((k1 - Vec3::new(0.0, -0.5, 0.0)).norm() <= 0.5e-9, "{method}: {k1:?}");
+        assert!(
+            (k0 - Vec3::new(-4.0, 0.0, 0.0)).norm() <= 4e-9,
+            "{method}: {k0:?}"
+        );
+        assert!(
+            (k1 - Vec3::new(0.0, -0.5, 0.0)).norm() <= 0.5e-9,
+            "{method}: {k1:?}"
+        );
         let tol = rep["tolerance"].as_f64().unwrap();
         let worst = polyline::polyline_deviation(&curve, &pts, 50_000);
         assert!(worst <= tol * (1.0 + 1e-6), "{method}: {worst} > {tol}");
@@ -91,11 +103,26 @@ fn a_given_end_point_is_where_the_lsq_curve_starts() {
             &dir,
             method,
             &file,
-            &["--method", method, "--start", "point:1.00002,0.00001", "--tol", "1e-4"],
+            &[
+                "--method",
+                method,
+                "--start",
+                "point:1.00002,0.00001",
+                "--tol",
+                "1e-4",
+            ],
         );
         let (p0, _, _) = frame(&curve, false);
-        assert!((p0 - Vec3::new(1.00002, 0.00001, 0.0)).norm() <= 1e-12, "{p0:?}");
-        assert!(rep["end_conditions"]["start"]["point_distance"].as_f64().unwrap() <= 1e-12);
+        assert!(
+            (p0 - Vec3::new(1.00002, 0.00001, 0.0)).norm() <= 1e-12,
+            "{p0:?}"
+        );
+        assert!(
+            rep["end_conditions"]["start"]["point_distance"]
+                .as_f64()
+                .unwrap()
+                <= 1e-12
+        );
     }
 }
 
@@ -138,8 +165,16 @@ fn start_from_a_fairfit_curve_gives_the_continuity_asked_for() {
             ],
         );
         let (pb, tb, kb) = frame(&b, false);
-        assert!((pb - pa).norm() <= 1e-12, "{method} {continuity}: gap {}", (pb - pa).norm());
-        assert!(angle(ta, tb) <= 1e-9, "{method} {continuity}: angle {}", angle(ta, tb));
+        assert!(
+            (pb - pa).norm() <= 1e-12,
+            "{method} {continuity}: gap {}",
+            (pb - pa).norm()
+        );
+        assert!(
+            angle(ta, tb) <= 1e-9,
+            "{method} {continuity}: angle {}",
+            angle(ta, tb)
+        );
         let dk = (kb - ka).norm() / ka.norm();
         if continuity == "g2" {
             assert!(dk <= 1e-9, "{method}: curvature differs by {dk:e}");
@@ -154,7 +189,14 @@ fn start_from_a_fairfit_curve_gives_the_continuity_asked_for() {
         &dir,
         "a2",
         a_csv.to_str().unwrap(),
-        &["--end-from", b_json.to_str().unwrap(), "--continuity", "g1", "--method", "lsq"],
+        &[
+            "--end-from",
+            b_json.to_str().unwrap(),
+            "--continuity",
+            "g1",
+            "--method",
+            "lsq",
+        ],
     );
     let Geometry::Curve(b) = read_geometry(&b_json).unwrap() else {
         panic!()
