@@ -390,7 +390,7 @@ struct Ctx<'a> {
 fn conditioned_breaks(breaks: &mut Vec<f64>, params: &[f64], c: &EndConstraints, p: usize) {
     let (lo, hi) = c.fixed_points();
     let need = lo + hi + 1;
-    if need <= p + 1 || params.len() < 2 {
+    if need <= p + 1 || params.len() < 3 {
         return;
     }
     let k = need - p - 1;
