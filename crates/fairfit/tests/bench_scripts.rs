@@ -56,3 +56,8 @@ fn band_lower_bound_tests_pass() {
 fn dense_benchmark_bookkeeping_tests_pass() {
     run_bench_test("test_dense.py");
 }
+
+#[test]
+fn constraints_benchmark_bookkeeping_tests_pass() {
+    run_bench_test("test_constraints.py");
+}

@@ -89,14 +89,6 @@ pub fn check_options(args: &CurveArgs) -> CmdResult {
             "--control-points needs --method integrated",
         ));
     }
-    let conditions = args.end_conditions();
-    for (c, flag) in [(&conditions.start, "--start"), (&conditions.end, "--end")] {
-        if args.method != Method::Integrated && (c.point.is_some() || c.curvature.is_some()) {
-            return Err(CliError::usage(format!(
-                "{flag} with a point or a curvature needs --method integrated (lsq and fit-then-fair take tangent:X,Y[,Z])"
-            )));
-        }
-    }
     if args.ends == EndsArg::Free && args.method != Method::Integrated {
         return Err(CliError::usage("--ends free needs --method integrated"));
     }
@@ -111,6 +103,14 @@ pub fn fit_input(
     want_report: bool,
     wall: Instant,
 ) -> Result<FitOutput, CliError> {
+    let resolved;
+    let args = match super::curve_ends::with_ends_from_files(args)? {
+        Some(a) => {
+            resolved = a;
+            &resolved
+        }
+        None => args,
+    };
     let (set, cad) = super::cad_input::read_curve_points(&args.input, &args.cad)?;
     if set.dropped_duplicates > 0 {
         diag!(
@@ -128,6 +128,11 @@ pub fn fit_input(
         )));
     }
     let conditions = args.end_conditions();
+    // lsq and fit-then-fair: a tangent alone keeps the least-squares pipeline's end derivative (its
+    // length from the data's speed); a point or a curvature makes every condition exact
+    let exact = [&conditions.start, &conditions.end]
+        .iter()
+        .any(|c| c.point.is_some() || c.curvature.is_some());
     let opts = FitOptions {
         degree: args.degree().lowest(),
         parameterization: args.param.into(),
@@ -142,8 +147,13 @@ pub fn fit_input(
             SmoothingOrder::Second
         },
         knot_rule: args.knots.into(),
-        start_tangent: conditions.start.tangent,
-        end_tangent: conditions.end.tangent,
+        start_tangent: conditions.start.tangent.filter(|_| !exact),
+        end_tangent: conditions.end.tangent.filter(|_| !exact),
+        end_conditions: if exact {
+            conditions
+        } else {
+            Default::default()
+        },
         ..FitOptions::default()
     };
     match cad {
@@ -186,6 +196,10 @@ fn check_curve_outputs(args: &CurveArgs) -> CmdResult {
     outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
     outputs.extend(args.pareto.as_deref().map(|p| ("--pareto", p)));
     outputs.extend(args.outputs.named());
+    let from: Vec<std::path::PathBuf> = [(&args.start_from, true), (&args.end_from, false)]
+        .into_iter()
+        .filter_map(|(f, d)| f.as_deref().map(|f| super::curve_args::split_from(f, d).0))
+        .collect();
     let folders: Vec<OutputFolder<'_>> = args
         .pareto_curves
         .as_deref()
@@ -199,7 +213,11 @@ fn check_curve_outputs(args: &CurveArgs) -> CmdResult {
     check_outputs(
         &outputs,
         &folders,
-        &Inputs::files(vec![args.input.as_path()]),
+        &Inputs::files(
+            std::iter::once(args.input.as_path())
+                .chain(from.iter().map(|p| p.as_path()))
+                .collect(),
+        ),
     )?;
     check_output_formats(&outputs)
 }
@@ -271,7 +289,8 @@ fn fit_points(
     match args.method {
         Method::Lsq => {
             let fit =
-                crate::progress::with_spinner("least squares", || fit_to_tolerance(points, opts))?;
+                crate::progress::with_spinner("least squares", || fit_to_tolerance(points, opts))
+                    .map_err(|e| super::curve_optim::cli_error(e, args))?;
             if fit.smoothing_used != opts.smoothing {
                 diag!(
                     "warning: the smoothing {:e} kept the tolerance out of reach; used {:e}",
@@ -279,10 +298,20 @@ fn fit_points(
                     fit.smoothing_used
                 );
             }
-            let report = match want_report {
+            let mut report = match want_report {
                 true => Some(report_json(args, &fit, wall.elapsed().as_secs_f64())?),
                 false => None,
             };
+            let conditions = args.end_conditions();
+            if let Some(r) = report.as_mut().filter(|_| !conditions.is_none()) {
+                r["end_conditions"] = super::curve_ends::lsq_end_conditions_report(
+                    points,
+                    opts,
+                    &conditions,
+                    &fit.curve,
+                    None,
+                );
+            }
             Ok(Fitted {
                 tolerance: fit.tolerance,
                 max_deviation: fit.deviation.max,

@@ -89,6 +89,38 @@ impl From<EndsArg> for EndCondition {
     }
 }
 
+/// `--continuity`: the order of continuity with a `--start-from` / `--end-from` curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ContinuityArg {
+    /// Position only.
+    G0,
+    /// Position and tangent direction.
+    G1,
+    /// Position, tangent direction and curvature vector.
+    G2,
+}
+
+impl ContinuityArg {
+    /// The order 0, 1 or 2.
+    pub fn order(self) -> usize {
+        match self {
+            ContinuityArg::G0 => 0,
+            ContinuityArg::G1 => 1,
+            ContinuityArg::G2 => 2,
+        }
+    }
+}
+
+/// A `--start-from` / `--end-from` value `FILE[:start|:end]`: the file and which of its ends
+/// (`default_end`: the one taken without a suffix).
+pub fn split_from(s: &str, default_end: bool) -> (PathBuf, bool) {
+    match s.rsplit_once(':') {
+        Some((f, "end")) if !f.is_empty() => (PathBuf::from(f), true),
+        Some((f, "start")) if !f.is_empty() => (PathBuf::from(f), false),
+        _ => (PathBuf::from(s), default_end),
+    }
+}
+
 /// `--degree`: a fixed degree, or `auto` (the integrated method's degree search).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DegreeArg {
@@ -248,12 +280,27 @@ pub struct CurveArgs {
     pub end_tangent: Option<Vec3>,
     /// Condition at the first point (open curves): point[:X,Y[,Z]] (G0), tangent:X,Y[,Z] (G1,
     /// direction only) or curvature:X,Y[,Z]:KAPPA (G2, signed curvature; in 3-D also
-    /// curvature:X,Y,Z:KX,KY,KZ). Curvature and a given point need --method integrated.
+    /// curvature:X,Y,Z:KX,KY,KZ). Every method holds it.
     #[arg(long, value_parser = check_end_condition, allow_hyphen_values = true)]
     pub start: Option<String>,
     /// Condition at the last point (as --start; the tangent is the direction the curve arrives in).
     #[arg(long, value_parser = check_end_condition, allow_hyphen_values = true)]
     pub end: Option<String>,
+    /// Continue an existing curve (fairfit JSON, STEP or IGES): the curve starts where FILE's curve
+    /// ends (`FILE:start`: where it starts), with the continuity of --continuity.
+    #[arg(long, value_name = "FILE[:end]", conflicts_with_all = ["start", "start_tangent"])]
+    pub start_from: Option<String>,
+    /// Lead into an existing curve: the curve ends where FILE's curve starts (`FILE:end`: where it
+    /// ends), with the continuity of --continuity.
+    #[arg(long, value_name = "FILE[:start]", conflicts_with_all = ["end", "end_tangent"])]
+    pub end_from: Option<String>,
+    /// Continuity with the curves of --start-from / --end-from: g0 (position), g1 (and tangent),
+    /// g2 (and curvature).
+    #[arg(long, value_enum, default_value_t = ContinuityArg::G1)]
+    pub continuity: ContinuityArg,
+    /// The end conditions with --start-from/--end-from read (set by the command, not a flag).
+    #[arg(skip)]
+    pub resolved_ends: Option<EndConstraints>,
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
     #[arg(long, allow_hyphen_values = true)]
     pub span_fairness: Option<f64>,
@@ -286,6 +333,9 @@ pub struct CurveArgs {
 impl CurveArgs {
     /// `--start`/`--end`, with `--start-tangent`/`--end-tangent` as `tangent:` conditions.
     pub fn end_conditions(&self) -> EndConstraints {
+        if let Some(r) = self.resolved_ends {
+            return r;
+        }
         // the texts were checked by clap (`check_end_condition`)
         let parsed = |s: &Option<String>| s.as_deref().and_then(|s| parse_end_condition(s).ok());
         EndConstraints {

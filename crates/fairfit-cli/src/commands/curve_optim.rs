@@ -73,8 +73,10 @@ fn flag_of(option: &str, args: &CurveArgs) -> Option<&'static str> {
         "corner_angle" => "--corner-angle",
         "ends" => "--ends",
         "start" if args.start_tangent.is_some() => "--start-tangent",
+        "start" if args.start_from.is_some() => "--start-from",
         "start" => "--start",
         "end" if args.end_tangent.is_some() => "--end-tangent",
+        "end" if args.end_from.is_some() => "--end-from",
         "end" => "--end",
         "seed" => "--seed",
         _ => return None,
@@ -82,7 +84,7 @@ fn flag_of(option: &str, args: &CurveArgs) -> Option<&'static str> {
 }
 
 /// A library error as the CLI prints it: a refused setting names its flag (a usage error).
-fn cli_error(e: fairfit::Error, args: &CurveArgs) -> CliError {
+pub fn cli_error(e: fairfit::Error, args: &CurveArgs) -> CliError {
     match e {
         fairfit::Error::InvalidSetting { option, reason } => match flag_of(option, args) {
             Some(flag) => CliError::usage(format!("invalid option {flag}: {reason}")),
@@ -131,32 +133,20 @@ fn end_conditions_report(
     opts: &IntegratedOptions,
     r: &IntegratedResult,
 ) -> serde_json::Value {
-    use fairfit::fit::end_constraints::achieved;
-    let end = |at_end: bool, c: &fairfit::fit::end_constraints::EndConstraint| {
-        if c.is_none() {
-            return serde_json::Value::Null;
-        }
-        let a = achieved(&r.curve, at_end, c);
-        json!({
-            "order": format!("g{}", c.order()),
-            "tangent_angle": c.tangent.map(|_| a.tangent_angle),
-            "curvature_relative": c.curvature.map(|_| a.curvature_relative),
-            "point_distance": c.point.map(|_| a.point_distance),
-        })
-    };
     let mut free = opts.at_degree(r.curve.degree());
     free.end_conditions = Default::default();
-    let free = free.control_points(Some(distinct_control_points(&r.curve)));
+    let n = distinct_control_points(&r.curve);
+    let free = free.control_points(Some(n));
     let f_free = fairfit::optim::fit_integrated(points, &free)
         .ok()
         .map(|f| f.quality.fairness);
-    json!({
-        "start": end(false, &opts.end_conditions.start),
-        "end": end(true, &opts.end_conditions.end),
-        "fairness": r.quality.fairness,
-        "fairness_without_conditions": f_free,
-        "fairness_cost_ratio": f_free.map(|f| r.quality.fairness / f),
-    })
+    super::curve_ends::end_conditions_json(
+        &r.curve,
+        &opts.end_conditions,
+        r.quality.fairness,
+        f_free,
+        f_free.map(|_| n),
+    )
 }
 
 /// The front as CSV at `path`, and every member as a curve JSON in `--pareto-curves` (the folder is
@@ -184,18 +174,35 @@ pub fn run_fit_then_fair(
     points: &[Vec3],
     fit_opts: &FitOptions,
 ) -> Result<MethodOutput, CliError> {
-    let fit = fit_to_tolerance(points, fit_opts)?;
-    let faired = fair_curve(
-        &fit.curve,
-        points,
-        fit.tolerance,
-        &FairingOptions::default(),
-    )?;
+    let fit = fit_to_tolerance(points, fit_opts).map_err(|e| cli_error(e, args))?;
+    // the control points that carry end conditions never move (a tangent holds two, a curvature three)
+    let conditions = args.end_conditions();
+    let held = |c: &fairfit::fit::end_constraints::EndConstraint| {
+        if c.is_none() {
+            0
+        } else {
+            c.fixed_points()
+        }
+    };
+    let fairing = FairingOptions {
+        held: (held(&conditions.start), held(&conditions.end)),
+        ..FairingOptions::default()
+    };
+    let faired = fair_curve(&fit.curve, points, fit.tolerance, &fairing)?;
     // measured afresh by projection on the faired curve, started at the least-squares parameters
     // (the fairing's own distances came from an unhinted projection that can stop at a far local
     // minimum on long spans)
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
-    let report = fit_then_fair_report(&fit, &faired.curve, faired.iterations, &dev, args.seed);
+    let mut report = fit_then_fair_report(&fit, &faired.curve, faired.iterations, &dev, args.seed);
+    if !conditions.is_none() {
+        report["end_conditions"] = super::curve_ends::lsq_end_conditions_report(
+            points,
+            fit_opts,
+            &conditions,
+            &faired.curve,
+            Some(&fairing),
+        );
+    }
     Ok(MethodOutput {
         curve: faired.curve,
         report,

@@ -474,5 +474,6 @@ fn noisy_sharp_leading_edge_fits_with_correction_rounds() {
 }
 
 /// The report's curvature extrema against the benchmark's measurer.
+mod end_conditions;
 mod report_extrema;
 mod screening;

@@ -40,6 +40,10 @@ pub struct FairingOptions {
     pub max_candidates: usize,
     /// Curve samples per knot span for the closest-point search.
     pub projection_samples: usize,
+    /// Control points of an open curve that never move, counted from the start and from the end
+    /// (`(3, 2)`: `P_0 … P_2` and `P_{n−1}, P_n`); they hold end conditions (a tangent fixes two,
+    /// a curvature three: `fit::end_constraints`). Default `(0, 0)`: only `fix_ends`.
+    pub held: (usize, usize),
 }
 
 impl Default for FairingOptions {
@@ -51,6 +55,7 @@ impl Default for FairingOptions {
             step_halvings: 6,
             max_candidates: 8,
             projection_samples: 16,
+            held: (0, 0),
         }
     }
 }
@@ -241,6 +246,7 @@ impl Moves {
         let n_distinct = wrap.unwrap_or(n);
         let movable: Vec<usize> = (0..n_distinct)
             .filter(|&r| wrap.is_some() || !(opts.fix_ends && (r == 0 || r + 1 == n)))
+            .filter(|&r| wrap.is_some() || (r >= opts.held.0 && r + opts.held.1 < n))
             .collect();
         Moves {
             p,

@@ -4,6 +4,7 @@
 //! the feet in order (out-of-order feet are points projected onto the wrong part of the curve).
 
 use super::deviation::{max_orthogonal_deviation, screened_from, Deviation, Screen};
+use super::end_constraints::EndConstraints;
 use super::lsq::{LsqOptions, LsqSolver};
 use crate::errors::Result;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -59,6 +60,7 @@ pub fn fit_with_correction(
         knots,
         opts,
         ends,
+        None,
         rounds,
         stop_below,
         Screen::All,
@@ -68,7 +70,8 @@ pub fn fit_with_correction(
 /// [`fit_with_correction`]; without rounds, `screen` says how much of the screened deviation is
 /// needed ([`Screen::FirstMiss`] for trials that only ask whether the tolerance holds,
 /// [`Screen::SpanMiss`] for the refinement's span splitting). `ends`: optional start and end
-/// derivatives ([`LsqSolver::solve_with_ends`]).
+/// derivatives ([`LsqSolver::solve_with_ends`]); `conditions`: end conditions and whether the data
+/// are planar ([`LsqSolver::solve_constrained`], in place of `ends`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_corrected(
     solver: &mut LsqSolver,
@@ -77,13 +80,20 @@ pub(crate) fn fit_corrected(
     knots: &[f64],
     opts: &LsqOptions,
     ends: (Option<Vec3>, Option<Vec3>),
+    conditions: Option<(&EndConstraints, bool)>,
     rounds: usize,
     stop_below: f64,
     screen: Screen,
 ) -> Result<CorrectedFit> {
     let p = solver.degree();
     let mut ctrl = Vec::with_capacity(knots.len());
-    solver.solve_with_ends(points, params, knots, None, opts, ends, &mut ctrl)?;
+    let solve = |solver: &mut LsqSolver, params: &[f64], ctrl: &mut Vec<Vec3>| match conditions {
+        Some((c, planar)) => {
+            solver.solve_constrained(points, params, knots, None, opts, c, planar, ctrl)
+        }
+        None => solver.solve_with_ends(points, params, knots, None, opts, ends, ctrl),
+    };
+    solve(solver, params, &mut ctrl)?;
     let curve = if rounds == 0 {
         bspline_from_solve(p, knots, std::mem::take(&mut ctrl))?
     } else {
@@ -121,10 +131,7 @@ pub(crate) fn fit_corrected(
         if trial.windows(2).any(|w| w[1] <= w[0]) {
             break;
         }
-        if solver
-            .solve_with_ends(points, &trial, knots, None, opts, ends, &mut ctrl)
-            .is_err()
-        {
+        if solve(solver, &trial, &mut ctrl).is_err() {
             break;
         }
         let curve = bspline_from_solve(p, knots, ctrl.clone())?;

@@ -184,6 +184,50 @@ impl EndConstraint {
     }
 }
 
+impl EndConstraint {
+    /// The condition that continues `curve` from its end (`at_end`) or its start: G0 (`order` 0)
+    /// its end point, G1 also its tangent there, G2 also its curvature vector (order above 2 is
+    /// taken as 2). The tangent is `curve`'s own direction of travel there (`C'`): right for a
+    /// piece that continues it, so `from_curve_end(c, true, 2)` is the `start` condition of a piece
+    /// after `c` and `from_curve_end(c, false, 2)` the `end` condition of a piece before it; a
+    /// piece that leaves from `c`'s start (or arrives at its end) takes the tangent negated (the
+    /// curvature vector is the same either way). `None` when the curve's derivative vanishes at that
+    /// end (no tangent).
+    ///
+    /// ```
+    /// use fairfit::fit::end_constraints::{achieved, EndConstraint};
+    /// use fairfit::{NurbsCurve, Vec3};
+    /// let c = NurbsCurve::bspline(2, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+    ///     vec![Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0)]).unwrap();
+    /// let g2 = EndConstraint::from_curve_end(&c, true, 2).unwrap();
+    /// assert_eq!(g2.point, Some(Vec3::new(1.0, 1.0, 0.0)));
+    /// // the curve itself meets the condition at its end
+    /// let a = achieved(&c, true, &g2);
+    /// assert!(a.tangent_angle < 1e-12 && a.curvature_relative < 1e-12);
+    /// ```
+    pub fn from_curve_end(curve: &NurbsCurve, at_end: bool, order: usize) -> Option<Self> {
+        let (a, b) = curve.domain();
+        let d = curve.derivatives(if at_end { b } else { a }, 2);
+        let mut c = EndConstraint::point(d[0]);
+        if order == 0 {
+            return Some(c);
+        }
+        let speed = d[1].norm();
+        if !(speed > 0.0 && speed.is_finite()) {
+            return None;
+        }
+        c.tangent = Some(d[1] / speed);
+        if order >= 2 {
+            let k = d[1].cross(d[2]).cross(d[1]) / speed.powi(4);
+            if !k.is_finite() {
+                return None;
+            }
+            c.curvature = Some(EndCurvature::Vector(k));
+        }
+        Some(c)
+    }
+}
+
 /// The conditions at both ends of an open curve.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EndConstraints {
@@ -197,6 +241,23 @@ impl EndConstraints {
     /// Whether neither end has a condition.
     pub fn is_none(&self) -> bool {
         self.start.is_none() && self.end.is_none()
+    }
+
+    /// The conditions of a piece that starts (`at_ends.0`) or ends (`at_ends.1`) where the data
+    /// do: the others dropped (a piece between corners has no data end).
+    pub fn at_ends(&self, at_ends: (bool, bool)) -> Self {
+        EndConstraints {
+            start: if at_ends.0 {
+                self.start
+            } else {
+                EndConstraint::default()
+            },
+            end: if at_ends.1 {
+                self.end
+            } else {
+                EndConstraint::default()
+            },
+        }
     }
 
     /// Both ends checked ([`EndConstraint::validate`], named `start` and `end`).

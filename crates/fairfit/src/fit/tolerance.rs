@@ -11,6 +11,7 @@
 
 use super::correction::{fit_corrected, CorrectedFit};
 use super::deviation::{max_orthogonal_deviation, Deviation, Screen};
+use super::end_constraints::{check_against_data, EndConstraints};
 use super::hooks::{end_chord_index, end_hooks};
 use super::knot_placement::{averaging_knots, curvature_adaptive_knots};
 use super::lsq::{periodic_knots, LsqOptions, LsqSolver, SmoothingOrder};
@@ -76,6 +77,11 @@ pub struct FitOptions {
     pub start_tangent: Option<Vec3>,
     /// Direction of the curve at the last point (open curves).
     pub end_tangent: Option<Vec3>,
+    /// G0/G1/G2 conditions at the data's ends (open curves; [`super::end_constraints`]): every
+    /// least-squares solve holds them exactly (the fixed control points of
+    /// [`LsqSolver::solve_constrained`]). Not together with `start_tangent`/`end_tangent`
+    /// (a `tangent` condition says the same). Default: none.
+    pub end_conditions: EndConstraints,
 }
 
 /// Knot placement of the tolerance search.
@@ -110,6 +116,7 @@ impl Default for FitOptions {
             try_adaptive: true,
             start_tangent: None,
             end_tangent: None,
+            end_conditions: EndConstraints::default(),
         }
     }
 }
@@ -199,6 +206,7 @@ fn fit_smoothed_as_given(points: &[Vec3], opts: &FitOptions) -> Result<FitResult
     if let Tolerance::Absolute(t) = o.tolerance {
         o.tolerance = Tolerance::Absolute(t * f);
     }
+    o.end_conditions = o.end_conditions.normalized(Vec3::ZERO, 1.0 / f);
     let mut r = fit_at_scale(&scaled, &o)?;
     let back = 1.0 / f;
     r.curve = scaled_curve(&r.curve, back)?;
@@ -257,6 +265,21 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
             "end tangents apply to open curves only (these points form a closed curve)".into(),
         ));
     }
+    if !opts.end_conditions.is_none() {
+        opts.end_conditions.validate()?;
+        if closed {
+            return Err(Error::InvalidOption(
+                "end conditions apply to open curves only (these points form a closed curve)"
+                    .into(),
+            ));
+        }
+        if opts.start_tangent.is_some() || opts.end_tangent.is_some() {
+            return Err(Error::InvalidOption(
+                "end conditions and end tangents together: give the tangent as a condition".into(),
+            ));
+        }
+        check_against_data(&opts.end_conditions, &pts, tol)?;
+    }
     if let Some(t) = opts
         .start_tangent
         .iter()
@@ -284,6 +307,8 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
         opts,
         tol,
         ends: (None, None),
+        conditions: None,
+        planar: pts.iter().all(|q| q[2] == 0.0),
         pinned: (false, false),
         solves: 0,
     };
@@ -350,9 +375,35 @@ struct Ctx<'a> {
     tol: f64,
     /// end derivatives of the piece being fitted
     ends: (Option<Vec3>, Option<Vec3>),
+    /// end conditions of the piece being fitted (`FitOptions::end_conditions` at its data ends)
+    conditions: Option<EndConstraints>,
+    /// the data lie in the xy plane (signed curvature conditions)
+    planar: bool,
     /// ends of the piece whose derivative is pinned to the data's direction (after a hook there)
     pinned: (bool, bool),
     solves: usize,
+}
+
+/// The first breakpoints of an open piece under end conditions `c`: one Bézier segment has
+/// `p + 1` control points, fewer than conditions at both ends may fix (G2 + G2 fix 6), so interior
+/// breaks at data-parameter quantiles are added until one control point is left free.
+fn conditioned_breaks(breaks: &mut Vec<f64>, params: &[f64], c: &EndConstraints, p: usize) {
+    let (lo, hi) = c.fixed_points();
+    let need = lo + hi + 1;
+    if need <= p + 1 || params.len() < 3 {
+        return;
+    }
+    let k = need - p - 1;
+    let m = params.len() - 1;
+    let mut b = vec![0.0];
+    for j in 1..=k {
+        let u = params[(m * j / (k + 1)).clamp(1, m - 1)];
+        if u > b[b.len() - 1] && u < 1.0 {
+            b.push(u);
+        }
+    }
+    b.push(1.0);
+    *breaks = b;
 }
 
 /// Knot vector from distinct breakpoints `0 = b_0 < … < b_k = 1`.
@@ -368,6 +419,14 @@ fn knots_from_breaks(breaks: &[f64], p: usize, closed: bool) -> Vec<f64> {
 }
 
 impl Ctx<'_> {
+    /// The fewest control points the piece's end conditions leave room for (one free).
+    fn conditioned_min(&self) -> usize {
+        self.conditions.map_or(0, |c| {
+            let (lo, hi) = c.fixed_points();
+            lo + hi + 1
+        })
+    }
+
     fn fit(
         &mut self,
         pts: &[Vec3],
@@ -396,6 +455,7 @@ impl Ctx<'_> {
             &knots,
             lsq,
             self.ends,
+            self.conditions.as_ref().map(|c| (c, self.planar)),
             rounds,
             self.tol,
             screen,
@@ -417,7 +477,8 @@ impl Ctx<'_> {
         self.pinned = (false, false);
         let (first, method) = self.fit_piece_any(pts, closed, at_ends);
         let f = first?;
-        if closed || pts.len() < self.opts.degree + 1 {
+        // end conditions are held as asked (a tangent against the data was refused up front)
+        if closed || pts.len() < self.opts.degree + 1 || self.conditions.is_some() {
             return Ok(f);
         }
         // an end derivative pointing against the data is a hook (a near-cusp folded inside the
@@ -488,6 +549,7 @@ impl Ctx<'_> {
         let p = self.opts.degree;
         let mut params = Vec::with_capacity(pts.len());
         parameterize_into(pts, method, closed, &mut params)?;
+        self.conditions = Some(self.opts.end_conditions.at_ends(at_ends)).filter(|c| !c.is_none());
         // a direction scaled to the data's speed dQ/dū at that end
         let m = pts.len() - 1;
         let speed = |a: usize, b: usize| (pts[b] - pts[a]).norm() / (params[b] - params[a]).abs();
@@ -535,6 +597,9 @@ impl Ctx<'_> {
         } else {
             vec![0.0, 1.0]
         };
+        if let Some(c) = &self.conditions {
+            conditioned_breaks(&mut breaks, &params, c, p);
+        }
         let max_ctrl = match self.opts.max_control_points {
             0 => pts.len(),
             m => m.min(pts.len()),
@@ -645,7 +710,9 @@ impl Ctx<'_> {
             0 => pts.len(),
             m => m.min(pts.len()),
         };
-        let min_n = p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some());
+        let min_n =
+            (p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some()))
+                .max(self.conditioned_min());
         let rule = self.opts.knot_rule;
         let try_n = |ctx: &mut Self, n: usize| ctx.rule_fit(pts, params, lsq, n, closed, rule);
         let (mut fail, mut n) = (min_n.saturating_sub(1), min_n.min(max_n));
@@ -685,7 +752,9 @@ impl Ctx<'_> {
         upper: usize,
     ) -> Option<CorrectedFit> {
         let p = self.opts.degree;
-        let min_n = p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some());
+        let min_n =
+            (p + 1 + usize::from(self.ends.0.is_some()) + usize::from(self.ends.1.is_some()))
+                .max(self.conditioned_min());
         let try_n =
             |ctx: &mut Self, n: usize| ctx.rule_fit(pts, params, lsq, n, false, KnotRule::Adaptive);
         if upper <= min_n {

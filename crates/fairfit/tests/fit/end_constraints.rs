@@ -236,3 +236,81 @@ fn conditions_that_cannot_hold_are_refused() {
         })
     ));
 }
+
+/// The tolerance-driven least squares (`--method lsq`) and its fairing (`fit-then-fair`, the
+/// conditions' control points held) hold G2 at both ends of the wobbly arc, within the tolerance.
+#[test]
+fn least_squares_pipeline_and_its_fairing_hold_g2_ends_of_an_arc() {
+    use fairfit::fair::{fair_curve, FairingOptions};
+    use fairfit::fit::{max_orthogonal_deviation, FitOptions};
+    let pts = arc(120, 2e-4);
+    let (s, e) = arc_g2();
+    let opts = FitOptions {
+        tolerance: Tolerance::Absolute(1e-3),
+        end_conditions: EndConstraints { start: s, end: e },
+        ..FitOptions::default()
+    };
+    let fit = fit_to_tolerance(&pts, &opts).unwrap();
+    assert!(fit.deviation.max <= 1e-3, "{}", fit.deviation.max);
+    let fairing = FairingOptions {
+        held: (3, 3),
+        ..FairingOptions::default()
+    };
+    let faired = fair_curve(&fit.curve, &fit.points, fit.tolerance, &fairing).unwrap();
+    let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
+    assert!(dev.max <= 1e-3 * (1.0 + 1e-9), "{}", dev.max);
+    for c in [&fit.curve, &faired.curve] {
+        for (at_end, cond) in [(false, &s), (true, &e)] {
+            let a = achieved(c, at_end, cond);
+            assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
+            // the arc's curvature 1/R, measured from the curve's own derivatives
+            let (u0, u1) = c.domain();
+            let d = c.derivatives(if at_end { u1 } else { u0 }, 2);
+            let kappa = d[1].cross(d[2]).z() / d[1].norm().powi(3);
+            assert!((kappa * R - 1.0).abs() <= 1e-9, "κ R = {}", kappa * R);
+        }
+    }
+}
+
+/// A given end point (G0 away from the data's end, within the tolerance) is where the lsq curve
+/// ends, to rounding.
+#[test]
+fn least_squares_pipeline_ends_on_a_given_point() {
+    use fairfit::fit::FitOptions;
+    let pts = arc(80, 0.0);
+    let at = pts[0] + Vec3::new(2e-4, -1e-4, 0.0);
+    let opts = FitOptions {
+        tolerance: Tolerance::Absolute(1e-3),
+        end_conditions: EndConstraints {
+            start: EndConstraint::point(at),
+            end: EndConstraint::default(),
+        },
+        ..FitOptions::default()
+    };
+    let fit = fit_to_tolerance(&pts, &opts).unwrap();
+    let p0 = fit.curve.point(fit.curve.domain().0);
+    assert!((p0 - at).norm() <= 1e-12, "{:?}", p0 - at);
+    assert!(fit.deviation.max <= 1e-3);
+}
+
+/// A condition read from a curve's end (`EndConstraint::from_curve_end`) is that curve's own
+/// position, tangent and curvature: the arc's at its end point (angle `SWEEP`).
+#[test]
+fn a_condition_from_a_curve_end_is_its_position_tangent_and_curvature() {
+    let pts = arc(60, 0.0);
+    let opts = IntegratedOptions::new(Tolerance::Absolute(1e-6)).degree(3);
+    let r = fit_integrated(&pts, &opts).unwrap();
+    let c = EndConstraint::from_curve_end(&r.curve, true, 2).unwrap();
+    let end = Vec3::new(R * SWEEP.cos(), R * SWEEP.sin(), 0.0);
+    assert!((c.point.unwrap() - end).norm() <= 1e-12);
+    let t = c.tangent.unwrap();
+    assert!(
+        (t - Vec3::new(-SWEEP.sin(), SWEEP.cos(), 0.0)).norm() <= 1e-5,
+        "{t:?}"
+    );
+    let Some(fairfit::fit::end_constraints::EndCurvature::Vector(k)) = c.curvature else {
+        panic!("no curvature vector")
+    };
+    // towards the centre, magnitude 1/R (the fit is within 1e-6 of the arc)
+    assert!((k + end / (R * R)).norm() <= 1e-3 / R, "{k:?}");
+}
