@@ -12,22 +12,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// `$FAIRFIT_PYTHON`, or `None` with a note when it is unset outside CI.
-fn python_or_skip(what: &str) -> Option<String> {
-    match std::env::var("FAIRFIT_PYTHON") {
-        Ok(p) => {
-            assert!(!p.trim().is_empty(), "FAIRFIT_PYTHON is set but empty");
-            Some(p)
-        }
-        Err(_) => {
-            if std::env::var("CI").as_deref() == Ok("true") {
-                panic!("FAIRFIT_PYTHON is not set under CI=true: {what} must run in CI");
-            }
-            println!("note: FAIRFIT_PYTHON unset, skipping {what}");
-            None
-        }
-    }
-}
+use fairfit_testkit::python_or_skip;
 
 /// The folder of this test binary and the libraries built with it (`target/<profile>/deps`).
 fn deps_dir() -> PathBuf {

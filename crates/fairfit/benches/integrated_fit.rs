@@ -12,7 +12,6 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion, SamplingM
 use fairfit::optim::{fit_integrated, IntegratedOptions};
 use std::time::Duration;
 
-#[path = "common/curves.rs"]
 mod curves;
 
 fn bench(c: &mut Criterion) {

@@ -7,7 +7,6 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use fairfit::fit::{fit_to_tolerance, FitOptions};
 use std::time::Duration;
 
-#[path = "common/curves.rs"]
 mod curves;
 
 fn bench(c: &mut Criterion) {

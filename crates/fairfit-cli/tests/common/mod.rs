@@ -4,9 +4,8 @@
 #![allow(dead_code)]
 
 pub mod polyline;
-/// The Python peers (`$FAIRFIT_PYTHON`): one file, shared with the library's tests.
-#[path = "../../../fairfit/tests/common/python.rs"]
-pub mod python;
+/// The Python peers (`$FAIRFIT_PYTHON`), shared with the other crates' tests.
+pub use fairfit_testkit as python;
 
 use assert_cmd::Command;
 use std::io::Write;

@@ -1,6 +1,6 @@
 //! The benchmark data shared by the fitting benchmarks: every 200-point curve of the shared data,
-//! copied into `examples/data` (see its PROVENANCE.md). Included by path
-//! (`#[path = "common/curves.rs"] mod curves;`).
+//! copied into `examples/data` (see its PROVENANCE.md). Each fitting benchmark declares it as its
+//! module `curves` (`mod curves;`).
 
 use fairfit::Vec3;
 
