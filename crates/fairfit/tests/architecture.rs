@@ -64,8 +64,6 @@ const MAX_FUNCTION_LINES: usize = 150;
 const ALLOWED_LONG_FUNCTIONS: &[(&str, &str)] = &[
     // the PLY reader (being split by the readers' robustness work)
     ("fairfit/src/io/mesh_read.rs", "parse_ply"),
-    // `fairfit surface` (being split by the dense-surface work)
-    ("fairfit-cli/src/commands/surface.rs", "run"),
 ];
 
 // ---------------------------------------------------------------------------------------------------

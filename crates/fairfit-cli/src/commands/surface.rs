@@ -14,7 +14,8 @@ use fairfit::surface::chain::Gap;
 use fairfit::surface::orient::extent;
 use fairfit::surface::slicing::{slice_mesh, SliceOptions};
 use fairfit::surface::{
-    reconstruct_surface_with_progress, Section, Stage, SurfaceOptions, VParams,
+    reconstruct_surface_with_progress, Section, Stage, SurfaceOptions, SurfaceReconstruction,
+    VParams,
 };
 use fairfit::Vec3;
 use std::path::PathBuf;
@@ -299,8 +300,44 @@ fn read_section_files(input: &[PathBuf]) -> Result<(Vec<Section>, Vec<String>), 
     ))
 }
 
-/// Runs `fairfit surface`.
+/// Runs `fairfit surface`: the arguments and outputs checked before any file is read, the input read
+/// into sections, the tolerance and options set, the surface reconstructed, its files written all or
+/// none, and the one-line summary.
 pub fn run(args: SurfaceArgs) -> CmdResult {
+    let outputs = checked_outputs(&args)?;
+    check_arguments(&args)?;
+    let Input {
+        sections,
+        names,
+        gaps,
+        empty_planes,
+        dropped_chains,
+        exact,
+    } = read_input(&args)?;
+    let tol = tolerance(&args, &sections)?;
+    let opts = surface_options(&args, tol);
+    let (r, exact) = reconstruct(&args, sections, exact, &opts)?;
+    check_measures(&r)?;
+    if let Some(e) = &exact {
+        note_exact(&args.input[0], e);
+    }
+    let notes = SectionNotes {
+        names,
+        gaps,
+        empty_planes,
+        dropped_chains,
+    };
+    let gap_count = notes.gaps.len();
+    let files = output_files(&args, &r, tol, notes, exact.as_ref())?;
+    let summary_on_stdout = !outputs.iter().any(|(_, p)| super::files::is_stdout(p));
+    commit(files)?;
+    let within = r.deviation.max <= tol && exact.as_ref().is_none_or(|e| e.met);
+    summarise(&r, tol, within, gap_count, summary_on_stdout)
+}
+
+/// Every output named (`-o`, `--report`, CAD/mesh/plot/HTML), refused when it names an input or
+/// another output, or has a format it cannot be written in.
+fn checked_outputs(args: &SurfaceArgs) -> Result<Vec<(&'static str, &std::path::Path)>, CliError> {
     let mut outputs = vec![("-o", args.output.as_path())];
     outputs.extend(args.report.as_deref().map(|p| ("--report", p)));
     outputs.extend(args.outputs.named());
@@ -310,6 +347,12 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     };
     check_outputs(&outputs, &[], &inputs)?;
     check_output_formats(&outputs)?;
+    Ok(outputs)
+}
+
+/// The usage errors found before any file is read: `--slices` on a CAD file, a zero `--normal`, and
+/// counts no surface can have ([`check_counts`]).
+fn check_arguments(args: &SurfaceArgs) -> Result<(), CliError> {
     if args.slices.is_some() {
         if let Some(p) = args
             .input
@@ -323,13 +366,15 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             )));
         }
     }
-    if stacking_normal(&args)?.norm() <= 0.0 {
+    if stacking_normal(args)?.norm() <= 0.0 {
         return Err(CliError::usage("--normal must be a non-zero vector"));
     }
-    check_counts(&args)?;
-    let input = read_input(&args)?;
-    let largest = input
-        .sections
+    check_counts(args)
+}
+
+/// The absolute tolerance: `--tol`, or `--rel-tol` (default 1e-3) times the largest section's extent.
+fn tolerance(args: &SurfaceArgs, sections: &[Section]) -> Result<f64, CliError> {
+    let largest = sections
         .iter()
         .map(|s| extent(&s.points))
         .fold(0.0, f64::max);
@@ -342,6 +387,11 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
             "the tolerance must be positive, got {tol}"
         )));
     }
+    Ok(tol)
+}
+
+/// The library's surface options from the arguments and the tolerance.
+fn surface_options(args: &SurfaceArgs, tol: f64) -> SurfaceOptions {
     let mut opts = SurfaceOptions::default();
     opts.sections.degree = args.degree;
     opts.sections.tolerance = tol;
@@ -355,6 +405,17 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     opts.skin.approximate_with = args.approximate_v;
     opts.skin.smoothing = args.smooth_v;
     opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
+    opts
+}
+
+/// The surface through the sections (held to the exact curves of a CAD input), on `--threads`
+/// workers, with a progress bar.
+fn reconstruct(
+    args: &SurfaceArgs,
+    sections: Vec<Section>,
+    exact: Option<Vec<ExactSection>>,
+    opts: &SurfaceOptions,
+) -> Result<(SurfaceReconstruction, Option<ExactSkin>), CliError> {
     let pb = crate::progress::bar(3, "surface");
     pb.set_message("fitting sections");
     let threads = super::threads::pool_threads(args.threads);
@@ -370,15 +431,18 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         }
         Stage::Measured => pb.inc(1),
     };
-    let result = pool.install(|| match input.exact {
+    let result = pool.install(|| match exact {
         Some(exact) => {
-            skin_to_exact(exact, &opts, &mut progress).map(|e| (e.reconstruction.clone(), Some(e)))
+            skin_to_exact(exact, opts, &mut progress).map(|e| (e.reconstruction.clone(), Some(e)))
         }
-        None => reconstruct_surface_with_progress(input.sections, &opts, &mut progress)
-            .map(|r| (r, None)),
+        None => reconstruct_surface_with_progress(sections, opts, &mut progress).map(|r| (r, None)),
     });
     pb.finish_and_clear();
-    let (r, exact) = result?;
+    Ok(result?)
+}
+
+/// Refuses a surface whose measures are not finite (the message names the measure).
+fn check_measures(r: &SurfaceReconstruction) -> CmdResult {
     for (what, x) in [
         ("surface's largest deviation", r.deviation.max),
         ("surface's rms deviation", r.deviation.rms),
@@ -393,52 +457,57 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     ] {
         super::finite(what, x)?;
     }
-    if let Some(e) = &exact {
-        note_exact(&args.input[0], e);
-    }
+    Ok(())
+}
+
+/// The files to write: the surface JSON, the report and the CAD/mesh/plot/HTML outputs.
+fn output_files(
+    args: &SurfaceArgs,
+    r: &SurfaceReconstruction,
+    tol: f64,
+    notes: SectionNotes,
+    exact: Option<&ExactSkin>,
+) -> Result<Vec<Output>, CliError> {
     let mut files = vec![Output::geometry(
         &args.output,
         surface_to_json(&r.surface).into_bytes(),
     )];
-    let (nu, nv) = r.surface.net_size();
-    let within = r.deviation.max <= tol && exact.as_ref().is_none_or(|e| e.met);
     let all_points: Vec<Vec3> = r
         .sections
         .iter()
         .flat_map(|s| s.points.iter().copied())
         .collect();
-    if args.report.is_some() || args.outputs.html.is_some() {
-        let notes = SectionNotes {
-            names: input.names,
-            gaps: input.gaps.clone(),
-            empty_planes: input.empty_planes,
-            dropped_chains: input.dropped_chains,
-        };
-        let rep = surface_report(&r, tol, &notes, exact.as_ref());
-        if let Some(path) = &args.report {
-            let text = super::json_pretty(&rep)?;
-            files.push(Output::new(path, text.into_bytes()));
-        }
-        if args.outputs.any() {
-            let made = prepare_outputs(
-                OutputGeometry::Surface(&r.surface),
-                Some(&all_points),
-                Some(&rep),
-                &args.outputs,
-            )?;
-            files.extend(made.into_iter().map(|(p, b)| Output::new(p, b)));
-        }
-    } else if args.outputs.any() {
+    let rep = if args.report.is_some() || args.outputs.html.is_some() {
+        Some(surface_report(r, tol, &notes, exact))
+    } else {
+        None
+    };
+    if let (Some(path), Some(rep)) = (&args.report, &rep) {
+        let text = super::json_pretty(rep)?;
+        files.push(Output::new(path, text.into_bytes()));
+    }
+    if args.outputs.any() {
         let made = prepare_outputs(
             OutputGeometry::Surface(&r.surface),
             Some(&all_points),
-            None,
+            rep.as_ref(),
             &args.outputs,
         )?;
         files.extend(made.into_iter().map(|(p, b)| Output::new(p, b)));
     }
-    let summary_on_stdout = !outputs.iter().any(|(_, p)| super::files::is_stdout(p));
-    commit(files)?;
+    Ok(files)
+}
+
+/// The one-line summary (on stdout, or as a note when an output goes to stdout), and the warning when
+/// the tolerance is not met.
+fn summarise(
+    r: &SurfaceReconstruction,
+    tol: f64,
+    within: bool,
+    gaps: usize,
+    on_stdout: bool,
+) -> CmdResult {
+    let (nu, nv) = r.surface.net_size();
     let summary = format!(
         "surface: net {nu} x {nv}, max deviation {:.3e} (rms {:.3e}) over {} points, tolerance {:.3e}{}; iso-curve F max: along u (the sections) {:.3e}, along v (across them) {:.3e}; {} gap(s) reported",
         r.deviation.max,
@@ -448,9 +517,9 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         if within { "" } else { " NOT MET" },
         r.fairness.max_fairness_v,
         r.fairness.max_fairness_u,
-        input.gaps.len()
+        gaps
     );
-    if summary_on_stdout {
+    if on_stdout {
         super::print_stdout(&summary)?;
     } else {
         diag!("note: {summary}");
