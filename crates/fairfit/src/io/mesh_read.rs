@@ -115,7 +115,35 @@ struct Element {
     props: Vec<Property>,
 }
 
+/// A PLY file: its header parsed, then its elements read in order (vertices and faces kept).
 fn parse_ply(bytes: &[u8], name: &str) -> Result<Mesh> {
+    let (header, body) = ply_header(bytes, name)?;
+    let mut reader: Box<dyn ValueReader> = if header.ascii {
+        Box::new(AsciiValues::new(&bytes[body..]))
+    } else {
+        Box::new(BinaryValues {
+            b: &bytes[body..],
+            pos: 0,
+        })
+    };
+    let mut mesh = Mesh::default();
+    for el in &header.elements {
+        read_element(el, reader.as_mut(), &mut mesh, name)?;
+    }
+    check_indices(&mesh, name)?;
+    Ok(mesh)
+}
+
+/// What a PLY header declares: the encoding and the elements with their properties.
+struct PlyHeader {
+    /// `format ascii` (else `binary_little_endian`).
+    ascii: bool,
+    elements: Vec<Element>,
+}
+
+/// The header of a PLY file and the offset of its data (after the line end that follows `end_header`).
+/// A vertex count is checked against the point limit here, before any data is read.
+fn ply_header(bytes: &[u8], name: &str) -> Result<(PlyHeader, usize)> {
     let end = find_subslice(bytes, b"end_header")
         .ok_or_else(|| bad(name, "PLY header has no end_header"))?;
     let header = String::from_utf8_lossy(&bytes[..end]);
@@ -154,35 +182,7 @@ fn parse_ply(bytes: &[u8], name: &str) -> Result<Mesh> {
                         format!("header line {}: property before element", ln + 1),
                     )
                 })?;
-                let prop = if w.get(1) == Some(&"list") {
-                    let ct = w.get(2).and_then(|s| Scalar::parse(s));
-                    let ty = w.get(3).and_then(|s| Scalar::parse(s));
-                    match (ct, ty, w.get(4)) {
-                        (Some(ct), Some(ty), Some(n)) => Property {
-                            name: n.to_string(),
-                            list: Some(ct),
-                            ty,
-                        },
-                        _ => {
-                            return Err(bad(
-                                name,
-                                format!("header line {}: bad list property", ln + 1),
-                            ))
-                        }
-                    }
-                } else {
-                    match (w.get(1).and_then(|s| Scalar::parse(s)), w.get(2)) {
-                        (Some(ty), Some(n)) => Property {
-                            name: n.to_string(),
-                            list: None,
-                            ty,
-                        },
-                        _ => {
-                            return Err(bad(name, format!("header line {}: bad property", ln + 1)))
-                        }
-                    }
-                };
-                el.props.push(prop);
+                el.props.push(ply_property(&w, ln, name)?);
             }
             Some(_) => {}
         }
@@ -198,80 +198,102 @@ fn parse_ply(bytes: &[u8], name: &str) -> Result<Mesh> {
             ))
         }
     };
-    let mut mesh = Mesh::default();
-    let mut reader: Box<dyn ValueReader> = if ascii {
-        Box::new(AsciiValues::new(&bytes[body..]))
-    } else {
-        Box::new(BinaryValues {
-            b: &bytes[body..],
-            pos: 0,
-        })
-    };
-    let mut poly = Vec::new();
-    for el in &elements {
-        // every row must consume data, so a huge count in a short file ends with "data ends early"
-        // instead of looping (and allocating) once per claimed row
-        if el.props.is_empty() && el.count > 0 {
-            return Err(bad(
+    Ok((PlyHeader { ascii, elements }, body))
+}
+
+/// A header's `property TYPE NAME` or `property list COUNT_TYPE TYPE NAME` line, split into words `w`
+/// (`ln` is its 0-based line number).
+fn ply_property(w: &[&str], ln: usize, name: &str) -> Result<Property> {
+    if w.get(1) == Some(&"list") {
+        let ct = w.get(2).and_then(|s| Scalar::parse(s));
+        let ty = w.get(3).and_then(|s| Scalar::parse(s));
+        match (ct, ty, w.get(4)) {
+            (Some(ct), Some(ty), Some(n)) => Ok(Property {
+                name: n.to_string(),
+                list: Some(ct),
+                ty,
+            }),
+            _ => Err(bad(
                 name,
-                format!(
-                    "element {} has {} rows but no properties",
-                    el.name, el.count
-                ),
-            ));
+                format!("header line {}: bad list property", ln + 1),
+            )),
         }
-        let xi = el.props.iter().position(|p| p.name == "x");
-        let yi = el.props.iter().position(|p| p.name == "y");
-        let zi = el.props.iter().position(|p| p.name == "z");
-        let fi = el
-            .props
-            .iter()
-            .position(|p| p.name == "vertex_indices" || p.name == "vertex_index");
-        for r in 0..el.count {
-            let mut xyz = [0.0; 3];
-            for (pi, p) in el.props.iter().enumerate() {
-                match p.list {
-                    None => {
-                        let v = reader.next(p.ty).ok_or_else(|| {
-                            bad(name, format!("{} {r}: data ends early", el.name))
-                        })?;
-                        if el.name == "vertex" {
-                            if Some(pi) == xi {
-                                xyz[0] = v;
-                            } else if Some(pi) == yi {
-                                xyz[1] = v;
-                            } else if Some(pi) == zi {
-                                xyz[2] = v;
-                            }
-                        }
-                    }
-                    Some(ct) => {
-                        let n = reader.next(ct).ok_or_else(|| {
-                            bad(name, format!("{} {r}: data ends early", el.name))
-                        })?;
-                        if !(0.0..=1.0e6).contains(&n) {
-                            return Err(bad(name, format!("{} {r}: bad list length {n}", el.name)));
-                        }
-                        poly.clear();
-                        for _ in 0..n as usize {
-                            let v = reader.next(p.ty).ok_or_else(|| {
-                                bad(name, format!("{} {r}: data ends early", el.name))
-                            })?;
-                            poly.push(v);
-                        }
-                        if el.name == "face" && Some(pi) == fi {
-                            push_polygon(&mut mesh, &poly, name, r)?;
+    } else {
+        match (w.get(1).and_then(|s| Scalar::parse(s)), w.get(2)) {
+            (Some(ty), Some(n)) => Ok(Property {
+                name: n.to_string(),
+                list: None,
+                ty,
+            }),
+            _ => Err(bad(name, format!("header line {}: bad property", ln + 1))),
+        }
+    }
+}
+
+/// Reads every row of `el` from `reader`: a `vertex` row's x, y, z become a vertex, a `face` row's
+/// vertex indices a fan of triangles; other elements and properties are read and dropped.
+fn read_element(
+    el: &Element,
+    reader: &mut dyn ValueReader,
+    mesh: &mut Mesh,
+    name: &str,
+) -> Result<()> {
+    // every row must consume data, so a huge count in a short file ends with "data ends early"
+    // instead of looping (and allocating) once per claimed row
+    if el.props.is_empty() && el.count > 0 {
+        return Err(bad(
+            name,
+            format!(
+                "element {} has {} rows but no properties",
+                el.name, el.count
+            ),
+        ));
+    }
+    let xi = el.props.iter().position(|p| p.name == "x");
+    let yi = el.props.iter().position(|p| p.name == "y");
+    let zi = el.props.iter().position(|p| p.name == "z");
+    let fi = el
+        .props
+        .iter()
+        .position(|p| p.name == "vertex_indices" || p.name == "vertex_index");
+    let mut poly = Vec::new();
+    for r in 0..el.count {
+        let ends = || bad(name, format!("{} {r}: data ends early", el.name));
+        let mut xyz = [0.0; 3];
+        for (pi, p) in el.props.iter().enumerate() {
+            match p.list {
+                None => {
+                    let v = reader.next(p.ty).ok_or_else(ends)?;
+                    if el.name == "vertex" {
+                        if Some(pi) == xi {
+                            xyz[0] = v;
+                        } else if Some(pi) == yi {
+                            xyz[1] = v;
+                        } else if Some(pi) == zi {
+                            xyz[2] = v;
                         }
                     }
                 }
-            }
-            if el.name == "vertex" {
-                mesh.vertices.push(Vec3::new(xyz[0], xyz[1], xyz[2]));
+                Some(ct) => {
+                    let n = reader.next(ct).ok_or_else(ends)?;
+                    if !(0.0..=1.0e6).contains(&n) {
+                        return Err(bad(name, format!("{} {r}: bad list length {n}", el.name)));
+                    }
+                    poly.clear();
+                    for _ in 0..n as usize {
+                        poly.push(reader.next(p.ty).ok_or_else(ends)?);
+                    }
+                    if el.name == "face" && Some(pi) == fi {
+                        push_polygon(mesh, &poly, name, r)?;
+                    }
+                }
             }
         }
+        if el.name == "vertex" {
+            mesh.vertices.push(Vec3::new(xyz[0], xyz[1], xyz[2]));
+        }
     }
-    check_indices(&mesh, name)?;
-    Ok(mesh)
+    Ok(())
 }
 
 fn push_polygon(mesh: &mut Mesh, poly: &[f64], name: &str, face: usize) -> Result<()> {
