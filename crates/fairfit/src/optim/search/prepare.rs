@@ -35,23 +35,6 @@ impl Prepared {
     }
 }
 
-/// `p` in the normalised units of a bounding box with minimum `lo` and largest side `scale`,
-/// snapped to the grid [`prepare`] uses (so the result is bit-identical for scaled or translated
-/// inputs).
-pub(crate) fn normalise(p: Vec3, lo: Vec3, scale: f64) -> Vec3 {
-    let q = (p - lo) / scale;
-    snap(q)
-}
-
-/// `q` snapped to the normalisation grid.
-pub(crate) fn snap(q: Vec3) -> Vec3 {
-    Vec3([
-        (q[0] / SNAP).round() * SNAP,
-        (q[1] / SNAP).round() * SNAP,
-        (q[2] / SNAP).round() * SNAP,
-    ])
-}
-
 /// Normalises `points` and computes centripetal parameters.
 pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
     if points.len() < degree + 1 || points.len() < 3 {

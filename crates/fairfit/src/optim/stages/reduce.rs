@@ -34,6 +34,19 @@
 //! is cut in two (`h/2` there) and the reduced data fitted again ([`ReduceTuning::repair_rounds`]
 //! times at most; then once more with the tolerance tightened by the largest excess).
 //!
+//! # Scale
+//!
+//! The result does not depend on the input's units: the points are divided by their bounding box's
+//! largest side (the tolerance too), and everything the search sees, the representatives and the
+//! inner tolerance, is rounded to a grid of [`ReduceTuning::grid`] (`2^-30`) of that side. A
+//! rescaled input's normalised points differ by a few units in the last place (the scale factor's
+//! rounding); the centroids average that to about `1e-16`, which crosses a `2^-30` grid line with
+//! probability about `1e-7` per coordinate, so the reduced data are bit-identical and the knots the
+//! same. (Rounding every input point to a grid instead, as the pipeline's own normalisation does,
+//! flips about one point in `10^4` at `2^-36`, and the swarm turns that one representative's shift
+//! into other knots.) The grid is `10^-6` of a relative tolerance of `10^-3`, far below any
+//! tolerance; the spread is rounded up and the inner tolerance down, so the certificate holds.
+//!
 //! # When it applies
 //!
 //! Only when the bins at least halve the points ([`ReduceTuning::min_points_per_bin`]): data whose
@@ -44,7 +57,6 @@
 use super::super::context::tolerance_of;
 use super::super::options::IntegratedOptions;
 use super::super::result::{FitQuality, IntegratedResult};
-use super::super::search::prepare::{normalise, snap};
 use crate::diffgeo::projection::CurveProjector;
 use crate::errors::Result;
 use crate::fit::end_constraints::EndCurvature;
@@ -53,13 +65,12 @@ use crate::nurbs::{NurbsCurve, Vec3};
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 
-/// Dense data in their reduced form: the points and bins in the normalised units of
-/// `search::prepare` (bounding-box minimum `lo`, largest side `scale`, snapped to its grid). The
-/// pipeline fits the representatives in these units, at the tolerance in these units, and the
-/// curve is mapped back to the input's units afterwards, so that no rounding of the input's units
-/// reaches the pipeline's data or tolerance (a swarm search turns a last-bit difference into
-/// another optimum). Not yet enough for the same knots under scaling: an input point whose
-/// normalised coordinate lies within rounding of a snap boundary still snaps differently.
+/// Dense data in their reduced form: the points and bins in normalised units (bounding-box minimum
+/// `lo`, largest side `scale`). The pipeline fits the representatives in these units, at the
+/// tolerance in these units, and the curve is mapped back to the input's units afterwards; what the
+/// pipeline sees is rounded to [`ReduceTuning::grid`] (module doc, "Scale"), so that no rounding of
+/// the input's units reaches its data or tolerance (a swarm search turns a last-bit difference into
+/// another optimum).
 pub(crate) struct Dense {
     normalised: Vec<Vec3>,
     red: Reduced,
@@ -89,7 +100,10 @@ impl Dense {
             return None;
         }
         let tol = tolerance_of(opts, scale);
-        let normalised: Vec<Vec3> = points.iter().map(|&p| normalise(p, lo, scale)).collect();
+        // not snapped: a rescaled input differs here by a few units in the last place, which the
+        // centroids average and `grid` rounds away (a snap of every input point to a grid would
+        // flip on about one in 10^4 of them, and move its representative)
+        let normalised: Vec<Vec3> = points.iter().map(|&p| (p - lo) / scale).collect();
         let red = reduce(&normalised, tol, tuning)?;
         Some(Dense {
             normalised,
@@ -100,9 +114,14 @@ impl Dense {
         })
     }
 
-    /// The representatives in normalised units (snapped to the normalisation grid).
-    fn points(&self) -> Vec<Vec3> {
-        self.red.bins.iter().map(|b| snap(b.point)).collect()
+    /// The representatives in normalised units, rounded to `grid`.
+    fn points(&self, grid: f64) -> Vec<Vec3> {
+        let round = |x: f64| (x / grid).round() * grid;
+        self.red
+            .bins
+            .iter()
+            .map(|b| Vec3([round(b.point[0]), round(b.point[1]), round(b.point[2])]))
+            .collect()
     }
 
     /// `opts` in normalised units: end points moved into the unit box, end curvatures scaled
@@ -150,15 +169,20 @@ impl Dense {
         let h = tuning.bin_tolerances * self.tol;
         let tol = self.tol;
         let base = self.normalised_options(opts);
+        let grid = tuning.grid;
+        // the inner tolerance on the grid, rounded down (so the certificate holds) from the spread
+        // rounded up
+        let on_grid = |t: f64| (t / grid).floor() * grid;
         // a spread beyond the tolerance is noise no fit within it can average (the fit says so)
-        let mut inner = (tol - self.red.spread()).max(0.25 * tol);
+        let spread = (self.red.spread() / grid).ceil() * grid;
+        let mut inner = on_grid((tol - spread).max(0.25 * tol));
         let (mut round, mut tightened) = (0, false);
         loop {
             let o = IntegratedOptions {
                 tolerance: Tolerance::Absolute(inner),
                 ..base.clone()
             };
-            let r = fit(&self.points(), &o)?;
+            let r = fit(&self.points(grid), &o)?;
             let (max, rms, per_bin) = verify(&r.curve, &self.normalised, &self.red, tol);
             let done = max <= tol || tightened || !r.met;
             let cut: Vec<bool> = per_bin.iter().map(|&d| d > tol).collect();
@@ -169,10 +193,10 @@ impl Dense {
                 round += 1;
                 continue;
             }
-            if done || inner - (max - tol) <= 0.0 {
+            if done || on_grid(inner - (max - tol)) <= 0.0 {
                 return self.to_input(measured(r, max, rms, tol, opts.span_fairness));
             }
-            inner -= max - tol;
+            inner = on_grid(inner - (max - tol));
             tightened = true;
         }
     }
