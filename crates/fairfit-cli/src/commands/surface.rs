@@ -331,6 +331,10 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     let files = output_files(&args, &r, tol, notes, exact.as_ref())?;
     let summary_on_stdout = !outputs.iter().any(|(_, p)| super::files::is_stdout(p));
     commit(files)?;
+    if let Some(w) = r.dense.as_ref().and_then(|d| d.noise_warning(tol)) {
+        diag!("{w}");
+    }
+    let tol = r.tolerance_used(tol);
     let within = r.deviation.max <= tol && exact.as_ref().is_none_or(|e| e.met);
     summarise(&r, tol, within, gap_count, summary_on_stdout)
 }

@@ -25,7 +25,8 @@ pub struct SectionNotes {
 /// sections and, for CAD sections, `exact` (how far the exact section curves are from the surface).
 ///
 /// `within_tolerance` holds when every section point and, with `exact`, every exact section is
-/// within `tol`.
+/// within `tol` (the meaningful tolerance of noisy dense sections when `tol` is below their noise;
+/// `dense` then says so, [`crate::surface::DenseSummary`]).
 pub fn surface_report(
     r: &SurfaceReconstruction,
     tol: f64,
@@ -33,7 +34,7 @@ pub fn surface_report(
     exact: Option<&ExactSkin>,
 ) -> Value {
     let (nu, nv) = r.surface.net_size();
-    let within = r.deviation.max <= tol && exact.is_none_or(|e| e.met);
+    let within = r.deviation.max <= r.tolerance_used(tol) && exact.is_none_or(|e| e.met);
     let sections: Vec<Value> = r
         .sections
         .iter()
@@ -52,7 +53,7 @@ pub fn surface_report(
             })
         })
         .collect();
-    json!({
+    let mut report = json!({
         "tolerance": tol,
         "within_tolerance": within,
         "net": [nu, nv],
@@ -70,7 +71,12 @@ pub fn surface_report(
         "gaps": notes.gaps,
         "empty_planes": notes.empty_planes,
         "exact_sections": exact.map(exact_json),
-    })
+    });
+    // only when the sections were dense: the plain pipeline's report keeps its bytes
+    if let (Some(d), Some(obj)) = (&r.dense, report.as_object_mut()) {
+        obj.insert("dense".into(), json!(d));
+    }
+    report
 }
 
 /// The report's `exact_sections`: how far the exact CAD sections are from the surface.

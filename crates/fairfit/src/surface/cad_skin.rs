@@ -121,6 +121,8 @@ pub fn skin_to_exact(
      -> Result<SurfaceReconstruction> {
         let mut o = opts.clone();
         o.sections.tolerance = fit_tol;
+        // the samples of exact curves are refined point by point: never reduced
+        o.dense.enabled = false;
         let input = sections
             .iter()
             .map(|s| Section::from_points(s.points()))

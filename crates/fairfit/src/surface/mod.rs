@@ -5,7 +5,8 @@
 //! Files, one concept each: [`orient`] (sections, orientation, seams), [`seam`] (smooth or C0 seams of closed sections),
 //! a private periodic least-squares fit of closed sections, a private seam tie (smooth closed
 //! sections on a clamped knot vector), [`section_fit`] (least squares on
-//! fixed knots), [`compatible`] (the shared knot vector), [`skinning`], [`measure`],
+//! fixed knots), [`compatible`] (the shared knot vector), [`dense`] (dense sections screened and
+//! reduced, the tolerance verified on every point), [`skinning`], [`measure`],
 //! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections), [`cad_skin`] (surfaces held to
 //! the exact CAD section curves), plus a private dense solver. Fairness
 //! comes from [`crate::fair`], iso-curves from [`crate::nurbs::NurbsSurface`].
@@ -13,6 +14,7 @@
 pub mod cad_skin;
 pub mod chain;
 pub mod compatible;
+pub mod dense;
 mod linalg;
 pub mod measure;
 pub mod mesh;
@@ -26,7 +28,8 @@ pub mod skinning;
 pub mod slicing;
 
 pub use compatible::{make_compatible, CompatibleOptions, CompatibleSections};
-pub use measure::{surface_deviation, Deviation, SurfaceProjector};
+pub use dense::{DenseOptions, DenseSection, DenseSummary};
+pub use measure::{surface_deviation, surface_deviation_near, Deviation, SurfaceProjector};
 pub use mesh::Mesh;
 pub use orient::{align_sections, Section};
 pub use pipeline::{

@@ -1,8 +1,10 @@
 //! The whole section-to-surface pipeline: orientation and seam alignment, compatible fair section curves
-//! on one shared knot vector, skinning, and the surface measures of the result.
+//! on one shared knot vector, skinning, and the surface measures of the result. Dense sections are
+//! screened and reduced first, and the tolerance verified on every point ([`super::dense`]).
 
 use super::compatible::{make_compatible_with_progress, CompatibleOptions, CompatibleSections};
-use super::measure::{surface_deviation, Deviation};
+use super::dense::{DenseOptions, DenseSummary};
+use super::measure::{surface_deviation, surface_deviation_near, Deviation};
 use super::orient::{align_sections, extent, Section};
 use super::seam::{seam_continuity, seam_continuity_at, SeamContinuity};
 use super::skinning::{skin, SkinOptions};
@@ -22,6 +24,8 @@ pub struct SurfaceOptions {
     pub skin: SkinOptions,
     /// Number of iso-curves per direction for the fairness report.
     pub iso_curves: usize,
+    /// Dense sections: screening and reduction ([`super::dense`]).
+    pub dense: DenseOptions,
 }
 
 /// Progress stages reported by [`reconstruct_surface_with_progress`].
@@ -59,6 +63,20 @@ pub struct SurfaceReconstruction {
     /// equally spaced iso-curves. When only some are closed: the same at those sections (~0 where their
     /// seams were tied, see the private `seam_tie` module). `None` when no section is closed.
     pub seam: Option<SeamContinuity>,
+    /// What the dense path found and did (`None`: no section was dense, the plain pipeline ran).
+    /// Then `sections` hold the kept points (spikes excluded), and the fits in `compatible` are of
+    /// the representatives while its `max_deviation` is that of every kept point.
+    pub dense: Option<DenseSummary>,
+}
+
+impl SurfaceReconstruction {
+    /// The tolerance the surface is held to when `tol` was asked: `tol`, or the meaningful
+    /// tolerance of noisy dense sections when `tol` is below their noise ([`DenseSummary`]).
+    pub fn tolerance_used(&self, tol: f64) -> f64 {
+        self.dense
+            .as_ref()
+            .map_or(tol, |d| d.tolerance_used.max(tol))
+    }
 }
 
 /// Checks that sections can make a surface; the message names the offending section.
@@ -134,21 +152,81 @@ pub fn reconstruct_surface_with_progress(
 ) -> Result<SurfaceReconstruction> {
     validate_sections(&sections, opts.sections.degree)?;
     let alignment = align_sections(&mut sections);
-    let compatible = make_compatible_with_progress(&sections, &opts.sections, &mut |n| {
-        progress(Stage::Compatible(n))
-    })?;
+    let dense = match opts.sections.section_params {
+        None => super::dense::prepare(&sections, opts.sections.tolerance, &opts.dense),
+        Some(_) => None,
+    };
+    let fitted = match dense {
+        Some(prepared) => {
+            let kept = prepared.sections.clone();
+            let f = super::dense::fit(prepared, &opts.sections, &opts.dense, &mut |n| {
+                progress(Stage::Compatible(n))
+            })?;
+            Fitted {
+                sections: kept,
+                compatible: f.compatible,
+                us: f.us,
+                section_deviation: f.section_deviation,
+                dense: Some(f.summary),
+            }
+        }
+        None => {
+            let compatible = make_compatible_with_progress(&sections, &opts.sections, &mut |n| {
+                progress(Stage::Compatible(n))
+            })?;
+            Fitted {
+                sections,
+                us: compatible.fits.iter().map(|f| f.params.clone()).collect(),
+                section_deviation: compatible.fits.iter().map(|f| f.max_deviation).collect(),
+                compatible,
+                dense: None,
+            }
+        }
+    };
+    skinned(fitted, alignment, opts, progress)
+}
+
+/// Sections fitted on one shared knot vector, with each point's parameter on its section curve.
+struct Fitted {
+    sections: Vec<Section>,
+    compatible: CompatibleSections,
+    us: Vec<Vec<f64>>,
+    section_deviation: Vec<f64>,
+    dense: Option<DenseSummary>,
+}
+
+/// The surface skinned through the fitted sections, and its measures: the deviation of every section
+/// point (projected near its section parameters when the sections were dense), the iso-curve
+/// fairness and the seam continuity.
+fn skinned(
+    f: Fitted,
+    alignment: Vec<(bool, usize)>,
+    opts: &SurfaceOptions,
+    progress: &mut dyn FnMut(Stage),
+) -> Result<SurfaceReconstruction> {
+    let Fitted {
+        sections,
+        compatible,
+        us,
+        section_deviation,
+        dense,
+    } = f;
     let curves = compatible.curves();
     let sk = skin(&curves, &opts.skin)?;
     progress(Stage::Skinned);
     let mut pts = Vec::new();
     let mut hints = Vec::new();
-    for ((s, f), &v) in sections.iter().zip(&compatible.fits).zip(&sk.v_params) {
-        for (p, &u) in s.points.iter().zip(&f.params) {
+    for ((s, us), &v) in sections.iter().zip(&us).zip(&sk.v_params) {
+        for (p, &u) in s.points.iter().zip(us) {
             pts.push(*p);
             hints.push((u, v));
         }
     }
-    let deviation = surface_deviation(&sk.surface, &pts, Some(&hints));
+    let deviation = if dense.is_some() {
+        surface_deviation_near(&sk.surface, &pts, &hints)
+    } else {
+        surface_deviation(&sk.surface, &pts, Some(&hints))
+    };
     let fairness = surface_fairness(&sk.surface, opts.iso_curves.max(1))?;
     let closed_vs: Vec<f64> = sections
         .iter()
@@ -166,7 +244,7 @@ pub fn reconstruct_surface_with_progress(
     progress(Stage::Measured);
     Ok(SurfaceReconstruction {
         surface: sk.surface,
-        section_deviation: compatible.fits.iter().map(|f| f.max_deviation).collect(),
+        section_deviation,
         compatible,
         sections,
         alignment,
@@ -174,6 +252,7 @@ pub fn reconstruct_surface_with_progress(
         deviation,
         fairness,
         seam,
+        dense,
     })
 }
 

@@ -186,7 +186,7 @@ const RELAXATION: f64 = 1.5;
 
 /// Newton on `f(u) = C'(u)·(C(u) − q)` from `u0`, clamped to the domain, accepting only improving steps;
 /// returns the best parameter and its distance (never worse than at `u0`).
-fn newton_from(curve: &NurbsCurve, q: Vec3, u0: f64, d: &mut [Vec3; 3]) -> (f64, f64) {
+pub(crate) fn newton_from(curve: &NurbsCurve, q: Vec3, u0: f64, d: &mut [Vec3; 3]) -> (f64, f64) {
     let (a, b) = curve.domain();
     let mut u = u0.clamp(a, b);
     curve.derivatives_into(u, 2, d);

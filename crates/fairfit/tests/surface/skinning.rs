@@ -61,6 +61,7 @@ fn sections_of_a_bicubic_surface_are_reproduced_to_1e_8() {
             ..Default::default()
         },
         iso_curves: 3,
+        ..Default::default()
     };
     let r = reconstruct_surface(sections, &opts).unwrap();
     assert!(
@@ -179,6 +180,7 @@ fn approximation_across_many_noisy_sections_stays_close() {
             ..Default::default()
         },
         iso_curves: 5,
+        ..Default::default()
     };
     let r = reconstruct_surface(sections, &opts).unwrap();
     assert_eq!(r.surface.net_size().1, 8);
