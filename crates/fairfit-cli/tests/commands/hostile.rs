@@ -187,6 +187,45 @@ fn an_output_over_an_input_is_refused_before_any_work() {
 }
 
 #[test]
+fn batch_refuses_an_outdir_at_or_inside_its_input_folder() {
+    let dir = workspace();
+    let d = dir.path();
+    let lsq = ["--method", "lsq", "--rel-tol", "1e-2"];
+    for (out, place) in [
+        ("sec", "is the input folder sec"),
+        ("./sec/", "is the input folder"),
+        ("sec/out", "lies inside the input folder sec"),
+        ("sec/new/deeper", "lies inside the input folder"),
+        ("out/../sec/x", "lies inside the input folder"),
+    ] {
+        let mut args = vec!["batch", "sec", "-o", out];
+        args.extend(lsq);
+        refused(d, &args, 2, &[place, "--help"]);
+    }
+    #[cfg(unix)]
+    {
+        // through a link to the input folder, made beside it
+        std::os::unix::fs::symlink("sec", d.join("alias")).unwrap();
+        let mut args = vec!["batch", "sec", "-o", "alias/out"];
+        args.extend(lsq);
+        refused(d, &args, 2, &["lies inside the input folder sec"]);
+    }
+    // a sibling whose name starts like the input folder's is outside it, and is written
+    let mut args = vec!["batch", "sec", "-o", "sec2"];
+    args.extend(lsq);
+    let out = fairfit().current_dir(d).args(&args).output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in ["a.json", "b.report.json", "c.json", "summary.jsonl"] {
+        assert!(d.join("sec2").join(f).is_file(), "{f}");
+    }
+}
+
+#[test]
 #[cfg(unix)]
 fn links_and_stdout_are_written_through_never_replaced() {
     let dir = workspace();
