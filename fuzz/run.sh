@@ -11,8 +11,7 @@ cd "$(dirname "$0")"
 secs=${1:-60}
 shift || true
 all=(points_csv sections_xyz json mesh_ply mesh_stl mesh_obj step iges)
-targets=("${@:-${all[@]}}")
-[ ${#targets[@]} -eq 0 ] && targets=("${all[@]}")
+if [ $# -gt 0 ]; then targets=("$@"); else targets=("${all[@]}"); fi
 
 seed() { # seed TARGET DIR EXT...: copy the repository's files with those extensions into the corpus
   local t=$1 d=$2
@@ -26,6 +25,7 @@ seed points_csv examples/data csv dat txt
 seed sections_xyz examples/data csv xyz
 seed json crates/fairfit/tests/data json
 seed json examples json
+cp -n seeds/*.json corpus/json/
 seed step crates/fairfit/tests/data step stp
 seed iges crates/fairfit/tests/data igs iges
 for m in ply stl obj; do
