@@ -181,7 +181,7 @@ fn tessellate_curve_as_is(c: &NurbsCurve, opts: &TessellationOptions) -> Result<
 /// Room for a grid of `nu × nv` items of type `T`, reserved fallibly (an error naming `what`, not an
 /// abort, when memory runs out; a count beyond `usize` fails alike).
 fn grid_vec<T>(nu: usize, nv: usize, what: &str) -> Result<Vec<T>> {
-    try_vec(nu.checked_mul(nv).unwrap_or(usize::MAX), what)
+    try_vec(nu.saturating_mul(nv), what)
 }
 
 /// Chord errors of the grid: (per u interval, per v interval) flags.
