@@ -3,5 +3,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    fairfit_fuzz::check(data, "g.json", fairfit::io::read_geometry);
+    fairfit_fuzz::check(data, "g.json", |p| fairfit::io::read_geometry(p));
 });

@@ -3,5 +3,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    fairfit_fuzz::check(data, "m.stl", fairfit::io::mesh_read::read_mesh);
+    fairfit_fuzz::check(data, "m.stl", |p| fairfit::io::mesh_read::read_mesh(p));
 });

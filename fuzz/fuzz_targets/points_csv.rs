@@ -3,5 +3,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    fairfit_fuzz::check(data, "p.csv", fairfit::io::points::read_points);
+    fairfit_fuzz::check(data, "p.csv", |p| fairfit::io::points::read_points(p));
 });

@@ -5,6 +5,6 @@ use fairfit::io::{mesh_read, sections};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    fairfit_fuzz::check(data, "c.xyz", sections::read_section_file);
-    fairfit_fuzz::check(data, "c.xyz", mesh_read::read_mesh);
+    fairfit_fuzz::check(data, "c.xyz", |p| sections::read_section_file(p));
+    fairfit_fuzz::check(data, "c.xyz", |p| mesh_read::read_mesh(p));
 });

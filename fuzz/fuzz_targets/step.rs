@@ -3,5 +3,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    fairfit_fuzz::check(data, "c.step", fairfit::io::cad_read::read_contents);
+    fairfit_fuzz::check(data, "c.step", |p| fairfit::io::cad_read::read_contents(p));
 });
