@@ -2,6 +2,10 @@
 //!
 //! Every fallible public function returns [`Result<T>`]. Messages are one line, name what is wrong and,
 //! where it helps, what would be right, so the command-line tool can print them as they are.
+//!
+//! A failed allocation is an error too where a buffer grows with the input (samples per knot span,
+//! mesh vertices): [`try_vec`] reserves such a buffer fallibly, so that a run short of memory ends
+//! with one line ([`Error::out_of_memory`]) instead of an abort. Every layer may use it.
 
 use thiserror::Error;
 
@@ -88,4 +92,23 @@ impl Error {
             message: err.to_string(),
         }
     }
+
+    /// The error of an allocation of `bytes` for `what` that failed (an [`Error::InvalidData`]:
+    /// the input asks for more memory than there is).
+    pub fn out_of_memory(what: &str, bytes: u64) -> Self {
+        Error::InvalidData(format!(
+            "{what}: not enough memory for {} MiB",
+            bytes.div_ceil(1024 * 1024)
+        ))
+    }
+}
+
+/// A vector with room for `n` items, or [`Error::out_of_memory`] for `what` when that much memory
+/// is not available (never an abort; a size beyond the address space fails the same way).
+pub fn try_vec<T>(n: usize, what: &str) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| {
+        Error::out_of_memory(what, (n as u64).saturating_mul(size_of::<T>() as u64))
+    })?;
+    Ok(v)
 }

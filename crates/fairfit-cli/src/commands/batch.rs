@@ -132,6 +132,7 @@ pub fn run(args: BatchArgs) -> CmdResult {
         .ok_or_else(|| CliError::usage("-o OUTDIR is required"))?;
     let inputs = shard_of(list_inputs(&c.input)?, args.shard);
     let names = output_names(&inputs)?;
+    refuse_outdir_in_input(&c.input, &outdir)?;
     std::fs::create_dir_all(&outdir)
         .map_err(|e| CliError::new(fairfit::Error::io(&outdir, &e).to_string()))?;
     crate::progress::hide_fit_bars();
@@ -189,6 +190,49 @@ fn refuse_single_file_options(c: &CurveArgs) -> CmdResult {
         ))),
         None => Ok(()),
     }
+}
+
+/// Usage error when OUTDIR is the input folder or lies inside it (by path, `..` or a symbolic link):
+/// the results would be written among, or below, the files the run reads.
+fn refuse_outdir_in_input(input: &Path, outdir: &Path) -> CmdResult {
+    if !input.is_dir() {
+        return Ok(());
+    }
+    let (folder, out) = (deep_canonical(input), deep_canonical(outdir));
+    if !out.starts_with(&folder) {
+        return Ok(());
+    }
+    let place = if out == folder { "is" } else { "lies inside" };
+    Err(CliError::usage(format!(
+        "-o {} {place} the input folder {}; write the results outside it",
+        outdir.display(),
+        input.display()
+    )))
+}
+
+/// `path` made absolute with every link resolved: its longest existing ancestor canonicalized and the
+/// missing rest (made by the run) appended with its `.` and `..` resolved, so that a folder not made
+/// yet compares too.
+fn deep_canonical(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    for head in abs.ancestors() {
+        let (Ok(mut out), Ok(rest)) = (head.canonicalize(), abs.strip_prefix(head)) else {
+            continue;
+        };
+        // the missing rest has no links: its `..` is resolved by name
+        for part in rest.components() {
+            match part {
+                Component::ParentDir => {
+                    out.pop();
+                }
+                Component::Normal(name) => out.push(name),
+                _ => {}
+            }
+        }
+        return out;
+    }
+    abs
 }
 
 /// The point files of a folder (sorted by name), or those a list file names.

@@ -16,7 +16,7 @@ use super::{print_json, CliError, CmdResult};
 use clap::Args;
 use fairfit::diffgeo::differentials;
 use fairfit::fair::span_hodograph::speed_critical_points;
-use fairfit::fair::{curve_fairness, surface_fairness, DEFAULT_ISO_CURVES};
+use fairfit::fair::{surface_fairness, try_curve_fairness, DEFAULT_ISO_CURVES};
 use fairfit::io::Geometry;
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use fairfit::report::curve::exact_shape_json;
@@ -116,7 +116,7 @@ fn unbounded_curvature_at(c: &NurbsCurve, u: f64) -> bool {
 }
 
 fn curve_info(c: &NurbsCurve) -> Result<Value, CliError> {
-    let f = curve_fairness(c);
+    let f = try_curve_fairness(c)?;
     let (a, b) = c.domain();
     // with zero speed somewhere the curvature is unbounded there and F, the energies are undefined
     // (the quadrature gives a huge, meaningless number); a curve of length 0 is left as it was

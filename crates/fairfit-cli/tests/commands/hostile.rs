@@ -187,6 +187,45 @@ fn an_output_over_an_input_is_refused_before_any_work() {
 }
 
 #[test]
+fn batch_refuses_an_outdir_at_or_inside_its_input_folder() {
+    let dir = workspace();
+    let d = dir.path();
+    let lsq = ["--method", "lsq", "--rel-tol", "1e-2"];
+    for (out, place) in [
+        ("sec", "is the input folder sec"),
+        ("./sec/", "is the input folder"),
+        ("sec/out", "lies inside the input folder sec"),
+        ("sec/new/deeper", "lies inside the input folder"),
+        ("out/../sec/x", "lies inside the input folder"),
+    ] {
+        let mut args = vec!["batch", "sec", "-o", out];
+        args.extend(lsq);
+        refused(d, &args, 2, &[place, "--help"]);
+    }
+    #[cfg(unix)]
+    {
+        // through a link to the input folder, made beside it
+        std::os::unix::fs::symlink("sec", d.join("alias")).unwrap();
+        let mut args = vec!["batch", "sec", "-o", "alias/out"];
+        args.extend(lsq);
+        refused(d, &args, 2, &["lies inside the input folder sec"]);
+    }
+    // a sibling whose name starts like the input folder's is outside it, and is written
+    let mut args = vec!["batch", "sec", "-o", "sec2"];
+    args.extend(lsq);
+    let out = fairfit().current_dir(d).args(&args).output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for f in ["a.json", "b.report.json", "c.json", "summary.jsonl"] {
+        assert!(d.join("sec2").join(f).is_file(), "{f}");
+    }
+}
+
+#[test]
 #[cfg(unix)]
 fn links_and_stdout_are_written_through_never_replaced() {
     let dir = workspace();
@@ -463,4 +502,91 @@ fn a_failed_run_prints_one_line_with_echoes_cut_and_controls_escaped() {
         2,
         &["--slices takes a mesh or point cloud"],
     );
+}
+
+/// A clamped uniform knot vector of degree 3 for `n` control points, as JSON.
+fn cubic_knots_json(n: usize) -> String {
+    let spans = n - 3;
+    let mut k = vec!["0".to_string(); 4];
+    k.extend((1..spans).map(|i| format!("{}", i as f64 / spans as f64)));
+    k.extend(std::iter::repeat_n("1".to_string(), 4));
+    format!("[{}]", k.join(","))
+}
+
+/// Runs `fairfit ARGS` in `dir` under an address-space limit of `kib` KiB (`ulimit -v` in `sh -c`)
+/// and asserts what [`refused`] asserts: exit 1, one line naming the memory, nothing written.
+fn refused_under_ulimit(dir: &Path, kib: u64, args: &[&str], needles: &[&str]) {
+    let before = snapshot(dir);
+    let out = std::process::Command::new("sh")
+        .current_dir(dir)
+        .arg("-c")
+        .arg(format!("ulimit -v {kib} && exec \"$0\" \"$@\""))
+        .arg(assert_cmd::cargo::cargo_bin("fairfit"))
+        .args(args)
+        .output()
+        .unwrap();
+    let line = one_line(&out, 1, args);
+    for n in needles {
+        assert!(line.contains(n), "{args:?}: expected `{n}` in {line}");
+    }
+    assert!(out.stdout.is_empty(), "{args:?}");
+    assert_eq!(
+        snapshot(dir),
+        before,
+        "{args:?}: files changed or left behind"
+    );
+}
+
+/// The buffers that grow with the span count (info's extrema samples, a plot's samples and SVG text,
+/// a mesh's vertices) are reserved fallibly: under `ulimit -v` 1 GiB a curve of 2·10^5 spans and a
+/// surface of 700 × 700 spans (limits raised by `--max-spans`) end with one line, exit 1 and no
+/// file, where they used to abort ("memory allocation of N bytes failed", a backtrace, exit 134).
+#[test]
+#[cfg(target_os = "linux")]
+fn a_run_short_of_memory_fails_with_one_line_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let n = 200_003;
+    let pts: Vec<String> = (0..n)
+        .map(|i| format!("[{},{},0]", i as f64 * 1e-3, (i as f64 * 0.01).sin()))
+        .collect();
+    let curve = format!(
+        r#"{{"kind":"curve","degree":3,"knots":{},"control_points":[{}]}}"#,
+        cubic_knots_json(n),
+        pts.join(",")
+    );
+    std::fs::write(d.join("c.json"), curve).unwrap();
+    let m = 703;
+    let rows: Vec<String> = (0..m)
+        .map(|i| {
+            let row: Vec<String> = (0..m)
+                .map(|j| {
+                    format!(
+                        "[{},{},{}]",
+                        i as f64,
+                        j as f64,
+                        ((i * 7 + j * 3) % 11) as f64
+                    )
+                })
+                .collect();
+            format!("[{}]", row.join(","))
+        })
+        .collect();
+    let knots = cubic_knots_json(m);
+    let surface = format!(
+        r#"{{"kind":"surface","degree_u":3,"degree_v":3,"knots_u":{knots},"knots_v":{knots},"control_points":[{}]}}"#,
+        rows.join(",")
+    );
+    std::fs::write(d.join("s.json"), surface).unwrap();
+    let gib = 1 << 20;
+    let spans = ["--max-spans", "1000000"];
+    let mut info = vec!["info", "c.json"];
+    info.extend(spans);
+    refused_under_ulimit(d, gib, &info, &["extrema's samples: not enough memory for"]);
+    let mut plot = vec!["plot", "c.json", "-o", "p.svg"];
+    plot.extend(spans);
+    refused_under_ulimit(d, gib, &plot, &["plot", "not enough memory for"]);
+    let mut mesh = vec!["export", "s.json", "--mesh", "m.obj"];
+    mesh.extend(spans);
+    refused_under_ulimit(d, gib, &mesh, &["the mesh", "not enough memory for"]);
 }

@@ -36,6 +36,7 @@
 //! 0.9 %).
 
 use super::energy::{mvc_point, plane_normal};
+use crate::errors::{try_vec, Result};
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsCurve, Vec3};
 
@@ -68,11 +69,32 @@ pub fn count_extrema_sampled(
     length: f64,
     samples_per_span: usize,
 ) -> ExtremaCounts {
+    match try_count_extrema_sampled(curve, length, samples_per_span) {
+        Ok(counts) => counts,
+        // as an infallible `Vec::with_capacity` would
+        Err(_) => std::alloc::handle_alloc_error(std::alloc::Layout::new::<[f64; 5]>()),
+    }
+}
+
+/// [`count_extrema`] with its sample buffers (40 bytes per sample, [`SAMPLES_PER_SPAN`] per span)
+/// reserved fallibly: [`crate::Error::out_of_memory`] instead of an abort when a curve of very many
+/// spans needs more memory than there is.
+pub fn try_count_extrema(curve: &NurbsCurve, length: f64) -> Result<ExtremaCounts> {
+    try_count_extrema_sampled(curve, length, SAMPLES_PER_SPAN)
+}
+
+fn try_count_extrema_sampled(
+    curve: &NurbsCurve,
+    length: f64,
+    samples_per_span: usize,
+) -> Result<ExtremaCounts> {
     let planar = plane_normal(curve);
     let breaks = distinct_breakpoints(curve.knots(), curve.degree());
-    let mut kappa = Vec::with_capacity(breaks.len() * samples_per_span);
-    let mut dkds = Vec::with_capacity(kappa.capacity());
-    let mut binormal = Vec::with_capacity(kappa.capacity());
+    let n = breaks.len().saturating_mul(samples_per_span);
+    let what = "the curvature extrema's samples";
+    let mut kappa: Vec<f64> = try_vec(n, what)?;
+    let mut dkds: Vec<f64> = try_vec(n, what)?;
+    let mut binormal: Vec<Vec3> = try_vec(n, what)?;
     let mut d = [Vec3::ZERO; 4];
     for w in breaks.windows(2) {
         for k in 0..samples_per_span {
@@ -89,7 +111,7 @@ pub fn count_extrema_sampled(
         .iter()
         .fold(0.0f64, |m, p| m.max(p.max_abs()));
     if length.is_nan() || length <= 1e-12 * coord || kappa.is_empty() {
-        return ExtremaCounts::default();
+        return Ok(ExtremaCounts::default());
     }
     // the dimensionless signals dκ/ds L² and κ L
     let l2 = length * length;
@@ -106,10 +128,10 @@ pub fn count_extrema_sampled(
     } else {
         binormal_reversals(&binormal, &kappa, floor_k)
     };
-    ExtremaCounts {
+    Ok(ExtremaCounts {
         curvature_extrema,
         inflections,
-    }
+    })
 }
 
 /// The noise floor `η max|x| + ε` of a dimensionless signal (non-finite entries ignored).

@@ -3,7 +3,8 @@
 //! For the optimiser's inner loop use [`super::FairnessEvaluator`] directly.
 
 use super::evaluator::FairnessEvaluator;
-use super::extrema::count_extrema;
+use super::extrema::{count_extrema, try_count_extrema, ExtremaCounts};
+use crate::errors::Result;
 use crate::nurbs::NurbsCurve;
 use serde::Serialize;
 
@@ -44,17 +45,35 @@ pub struct CurveFairness {
 /// assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
 /// ```
 pub fn curve_fairness(curve: &NurbsCurve) -> CurveFairness {
+    match fairness_with(curve, &|c, l| Ok(count_extrema(c, l))) {
+        Ok(m) => m,
+        Err(_) => unreachable!("count_extrema does not fail"),
+    }
+}
+
+/// [`curve_fairness`] with the extrema's sample buffers (which grow with the span count) reserved
+/// fallibly: [`crate::Error::out_of_memory`] instead of an abort (`fairfit info` on a curve of very
+/// many spans). The measures are the same as [`curve_fairness`]'s.
+pub fn try_curve_fairness(curve: &NurbsCurve) -> Result<CurveFairness> {
+    fairness_with(curve, &try_count_extrema)
+}
+
+/// The fairness summary, the extrema counted by `count` (given the curve and its length).
+fn fairness_with(
+    curve: &NurbsCurve,
+    count: &dyn Fn(&NurbsCurve, f64) -> Result<ExtremaCounts>,
+) -> Result<CurveFairness> {
     // far outside unit size, measure an exactly rescaled copy (see `nurbs::scale`)
     let f = crate::nurbs::scale::normalising_factor(curve.control_points());
     if let Some(s) = (f != 1.0)
         .then(|| crate::nurbs::scale::scaled_curve(curve, f).ok())
         .flatten()
     {
-        let mut m = curve_fairness(&s);
+        let mut m = fairness_with(&s, count)?;
         m.length /= f; // lengths scale with the curve
         m.energy *= f * f * f; // ∫ (dκ/ds)² ds scales as 1/L³
         m.bending_energy *= f; // ∫ κ² ds scales as 1/L
-        return m; // F, F_j and the counts are scale-free
+        return Ok(m); // F, F_j and the counts are scale-free
     }
     let mut ev = FairnessEvaluator::new();
     let spans = ev.integrate(curve);
@@ -65,8 +84,8 @@ pub fn curve_fairness(curve: &NurbsCurve) -> CurveFairness {
     let span_fairness: Vec<f64> = spans.iter().map(|s| l3 * s.energy).collect();
     let fairness = span_fairness.iter().sum();
     let max_span_fairness = span_fairness.iter().fold(0.0f64, |m, &f| m.max(f));
-    let counts = count_extrema(curve, length);
-    CurveFairness {
+    let counts = count(curve, length)?;
+    Ok(CurveFairness {
         length,
         energy,
         fairness,
@@ -75,5 +94,5 @@ pub fn curve_fairness(curve: &NurbsCurve) -> CurveFairness {
         bending_energy,
         curvature_extrema: counts.curvature_extrema,
         inflections: counts.inflections,
-    }
+    })
 }

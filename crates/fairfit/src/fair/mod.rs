@@ -36,7 +36,7 @@ pub use exact_extrema::{count_extrema_exact, ExactExtrema};
 pub use exact_inflections::{
     count_inflections_exact, count_shape_exact, ExactInflections, ExactShape,
 };
-pub use extrema::{count_extrema, count_extrema_sampled, ExtremaCounts};
+pub use extrema::{count_extrema, count_extrema_sampled, try_count_extrema, ExtremaCounts};
 pub use fairing::{fair_curve, FairingOptions, FairingResult};
-pub use metrics::{curve_fairness, CurveFairness};
+pub use metrics::{curve_fairness, try_curve_fairness, CurveFairness};
 pub use surface::{surface_fairness, IsoCurveFairness, SurfaceFairness, DEFAULT_ISO_CURVES};

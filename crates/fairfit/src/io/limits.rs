@@ -177,19 +177,13 @@ fn read_limited(path: &Path, limit: u64, text: bool) -> Result<Vec<u8>> {
 
 /// The error of an allocation of `bytes` that failed.
 pub(crate) fn out_of_memory(source: &str, bytes: u64) -> Error {
-    Error::InvalidData(format!(
-        "{source}: not enough memory for {} MiB",
-        bytes.div_ceil(1024 * 1024)
-    ))
+    Error::out_of_memory(source, bytes)
 }
 
 /// A vector with room for `n` items, or a one-line error when that much memory is not available
-/// (never an abort).
+/// (never an abort): [`crate::errors::try_vec`].
 pub fn try_vec<T>(n: usize, source: &str) -> Result<Vec<T>> {
-    let mut v = Vec::new();
-    v.try_reserve_exact(n)
-        .map_err(|_| out_of_memory(source, (n as u64).saturating_mul(size_of::<T>() as u64)))?;
-    Ok(v)
+    crate::errors::try_vec(n, source)
 }
 
 #[cfg(test)]

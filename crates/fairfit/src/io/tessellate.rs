@@ -6,9 +6,11 @@
 //! at every cell centre, is at most the tolerance (or a size limit is hit, which is an error naming the
 //! tolerance). Normals are `S_u × S_v`, normalised; at a degenerate point (collapsed edge, pole) the
 //! normal is taken a little inside the domain. Geometry far outside unit size (near 1e±300) is
-//! tessellated on an exactly rescaled copy (see [`crate::nurbs::scale`]).
+//! tessellated on an exactly rescaled copy (see [`crate::nurbs::scale`]). The grid, the vertices,
+//! normals and triangles grow with the square of the intervals per direction and are reserved
+//! fallibly: a mesh beyond the memory is a one-line error, never an abort.
 
-use crate::errors::{Error, Result};
+use crate::errors::{try_vec, Error, Result};
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::scale::{normalising_factor, scaled_curve, scaled_surface};
 use crate::nurbs::{NurbsCurve, NurbsSurface, SurfaceWorkspace, Vec3};
@@ -104,12 +106,13 @@ fn rescaled(
         chord_tol: opts.chord_tol.map(|t| t * f),
         ..*opts
     };
-    let mut mesh = tessellate(&scaled_opts).map_err(|_| {
-        Error::InvalidOption(format!(
+    let mut mesh = tessellate(&scaled_opts).map_err(|e| match e {
+        Error::InvalidOption(_) => Error::InvalidOption(format!(
             "chord tolerance {:e} not reached with {} intervals per direction; use a larger tolerance",
             opts.chord_tol.unwrap_or(0.0),
             opts.max_intervals
-        ))
+        )),
+        other => other, // out of memory
     })?;
     let g = 1.0 / f;
     for v in &mut mesh.vertices {
@@ -175,13 +178,25 @@ fn tessellate_curve_as_is(c: &NurbsCurve, opts: &TessellationOptions) -> Result<
     })
 }
 
+/// Room for a grid of `nu × nv` items of type `T`, reserved fallibly (an error naming `what`, not an
+/// abort, when memory runs out; a count beyond `usize` fails alike).
+fn grid_vec<T>(nu: usize, nv: usize, what: &str) -> Result<Vec<T>> {
+    try_vec(nu.saturating_mul(nv), what)
+}
+
 /// Chord errors of the grid: (per u interval, per v interval) flags.
-fn surface_splits(s: &NurbsSurface, us: &[f64], vs: &[f64], tol: f64) -> (Vec<bool>, Vec<bool>) {
-    let grid: Vec<Vec3> = us
-        .iter()
-        .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
-        .map(|(u, v)| s.point(u, v))
-        .collect();
+fn surface_splits(
+    s: &NurbsSurface,
+    us: &[f64],
+    vs: &[f64],
+    tol: f64,
+) -> Result<(Vec<bool>, Vec<bool>)> {
+    let mut grid: Vec<Vec3> = grid_vec(us.len(), vs.len(), "the tessellation grid")?;
+    grid.extend(
+        us.iter()
+            .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+            .map(|(u, v)| s.point(u, v)),
+    );
     let nv = vs.len();
     let at = |i: usize, j: usize| grid[i * nv + j];
     let mut split_u = vec![false; us.len() - 1];
@@ -222,7 +237,7 @@ fn surface_splits(s: &NurbsSurface, us: &[f64], vs: &[f64], tol: f64) -> (Vec<bo
             }
         }
     }
-    (split_u, split_v)
+    Ok((split_u, split_v))
 }
 
 fn normal_at(s: &NurbsSurface, u: f64, v: f64, ws: &mut SurfaceWorkspace) -> Vec3 {
@@ -256,7 +271,7 @@ fn tessellate_surface_as_is(s: &NurbsSurface, opts: &TessellationOptions) -> Res
     let mut vs = initial_params(s.knots_v(), s.degree_v(), opts.min_per_span);
     if let Some(tol) = opts.chord_tol {
         loop {
-            let (su, sv) = surface_splits(s, &us, &vs, tol);
+            let (su, sv) = surface_splits(s, &us, &vs, tol)?;
             let a = refine(&mut us, &su, opts.max_intervals, tol)?;
             let b = refine(&mut vs, &sv, opts.max_intervals, tol)?;
             if !(a || b) {
@@ -265,7 +280,13 @@ fn tessellate_surface_as_is(s: &NurbsSurface, opts: &TessellationOptions) -> Res
         }
     }
     let nv = vs.len();
-    let mut mesh = Mesh::default();
+    let cells = (us.len() - 1).saturating_mul(2);
+    let mut mesh = Mesh {
+        vertices: grid_vec(us.len(), nv, "the mesh vertices")?,
+        normals: grid_vec(us.len(), nv, "the mesh normals")?,
+        triangles: grid_vec(cells, nv - 1, "the mesh triangles")?,
+        polylines: Vec::new(),
+    };
     let mut ws = SurfaceWorkspace::new(s, 1);
     for &u in &us {
         for &v in &vs {

@@ -6,12 +6,17 @@
 
 use super::svg::{bounds, marker_stride, Canvas, Frame, PlotSize};
 use crate::diffgeo::{is_xy_planar, CurveProjector};
-use crate::errors::{Error, Result};
+use crate::errors::{try_vec, Error, Result};
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Samples per knot span for curvature plots.
 const PER_SPAN: usize = 32;
+/// SVG text reserved per sample of a polyline (`"123.45,678.90 "`, with room to spare).
+const POLYLINE_BYTES_PER_POINT: usize = 16;
+/// SVG text reserved per sample of the comb plot: its tooth (a `<line .../>`, ~90 bytes) and its
+/// points on two polylines.
+const COMB_BYTES_PER_SAMPLE: usize = 128;
 
 /// One curvature sample.
 #[derive(Clone, Copy, Debug)]
@@ -31,14 +36,15 @@ pub struct CurvatureSample {
 /// Curvature samples (nodes strictly inside every span) and the arc length at each breakpoint.
 ///
 /// Far outside unit size (near 1e±300, where `|C'|⁴` over- or underflows) the samples come from an
-/// exactly rescaled copy (see [`crate::nurbs::scale`]) and are scaled back.
-pub fn curvature_samples(c: &NurbsCurve) -> (Vec<CurvatureSample>, Vec<f64>) {
+/// exactly rescaled copy (see [`crate::nurbs::scale`]) and are scaled back. The sample buffer grows
+/// with the span count and is reserved fallibly: an error, not an abort, when memory runs out.
+pub fn curvature_samples(c: &NurbsCurve) -> Result<(Vec<CurvatureSample>, Vec<f64>)> {
     let f = crate::nurbs::scale::normalising_factor(c.control_points());
     if let Some(t) = (f != 1.0)
         .then(|| crate::nurbs::scale::scaled_curve(c, f).ok())
         .flatten()
     {
-        let (mut samples, mut knot_s) = curvature_samples_as_is(&t);
+        let (mut samples, mut knot_s) = curvature_samples_as_is(&t)?;
         let g = 1.0 / f;
         for x in &mut samples {
             x.s *= g;
@@ -47,17 +53,21 @@ pub fn curvature_samples(c: &NurbsCurve) -> (Vec<CurvatureSample>, Vec<f64>) {
             x.kappa *= f;
         }
         knot_s.iter_mut().for_each(|s| *s *= g);
-        return (samples, knot_s);
+        return Ok((samples, knot_s));
     }
     curvature_samples_as_is(c)
 }
 
-fn curvature_samples_as_is(c: &NurbsCurve) -> (Vec<CurvatureSample>, Vec<f64>) {
+fn curvature_samples_as_is(c: &NurbsCurve) -> Result<(Vec<CurvatureSample>, Vec<f64>)> {
     let planar = is_xy_planar(c);
     let bp = distinct_breakpoints(c.knots(), c.degree());
     let mut d = [Vec3::ZERO; 3];
-    let mut out = Vec::with_capacity(bp.len() * PER_SPAN);
-    let mut knot_s = vec![0.0];
+    let mut out = try_vec(
+        bp.len().saturating_mul(PER_SPAN),
+        "the curvature plot's samples",
+    )?;
+    let mut knot_s = try_vec(bp.len(), "the curvature plot's knots")?;
+    knot_s.push(0.0);
     let (mut s, mut prev) = (0.0, c.point(bp[0]));
     for w in bp.windows(2) {
         for k in 0..=PER_SPAN {
@@ -97,7 +107,7 @@ fn curvature_samples_as_is(c: &NurbsCurve) -> (Vec<CurvatureSample>, Vec<f64>) {
             });
         }
     }
-    (out, knot_s)
+    Ok((out, knot_s))
 }
 
 /// The two coordinate axes in which the curve (and points) are widest, xy for planar curves.
@@ -125,7 +135,13 @@ const AXIS: [&str; 3] = ["x", "y", "z"];
 /// The curve, its data points, knot points and curvature comb (teeth point away from the centre of
 /// curvature; the longest tooth is 15% of the view).
 pub fn curve_comb_svg(c: &NurbsCurve, points: Option<&[Vec3]>, size: PlotSize) -> Result<String> {
-    let (samples, _) = curvature_samples(c);
+    let (samples, _) = curvature_samples(c)?;
+    // per sample: a comb tooth (~90 bytes) and a point of two polylines (~30 bytes)
+    let mut cv = Canvas::new(size);
+    cv.reserve(
+        samples.len().saturating_mul(COMB_BYTES_PER_SAMPLE),
+        "the curvature comb plot",
+    )?;
     let dense: Vec<Vec3> = samples.iter().map(|s| s.point).collect();
     let mut all = dense.clone();
     all.extend(points.unwrap_or(&[]));
@@ -144,7 +160,6 @@ pub fn curve_comb_svg(c: &NurbsCurve, points: Option<&[Vec3]>, size: PlotSize) -
         .collect();
     let bb = bounds(all.iter().chain(&tips).map(|&p| proj(p))).unwrap_or(b);
     let frame = Frame::new(size, bb, true);
-    let mut cv = Canvas::new(size);
     frame.axes(
         &mut cv,
         "Curve, data points and curvature comb",
@@ -182,12 +197,12 @@ pub fn curve_comb_svg(c: &NurbsCurve, points: Option<&[Vec3]>, size: PlotSize) -
         "start",
         false,
     );
-    Ok(cv.finish())
+    cv.finish()
 }
 
 /// Curvature against arc length, knot positions as dashed vertical lines.
 pub fn curvature_svg(c: &NurbsCurve, size: PlotSize) -> Result<String> {
-    let (samples, knot_s) = curvature_samples(c);
+    let (samples, knot_s) = curvature_samples(c)?;
     let pts: Vec<(f64, f64)> = samples.iter().map(|s| (s.s, s.kappa)).collect();
     let (x0, x1, mut y0, mut y1) =
         bounds(pts.iter().copied()).ok_or_else(|| Error::InvalidData("no samples".into()))?;
@@ -196,6 +211,10 @@ pub fn curvature_svg(c: &NurbsCurve, size: PlotSize) -> Result<String> {
     let last = knot_s.last().copied().unwrap_or(x1);
     let frame = Frame::new(size, (x0.min(0.0), x1.max(last), y0, y1), false);
     let mut cv = Canvas::new(size);
+    cv.reserve(
+        pts.len().saturating_mul(POLYLINE_BYTES_PER_POINT),
+        "the curvature plot",
+    )?;
     let signed = if is_xy_planar(c) { "signed " } else { "" };
     frame.axes(
         &mut cv,
@@ -211,7 +230,7 @@ pub fn curvature_svg(c: &NurbsCurve, size: PlotSize) -> Result<String> {
     cv.line(l, r, "#888888", 0.8, false);
     let px: Vec<(f64, f64)> = pts.iter().map(|&(s, k)| frame.map(s, k)).collect();
     cv.polyline(&px, "#2166ac", 1.6);
-    Ok(cv.finish())
+    cv.finish()
 }
 
 /// Distances of the data points to the curve (closest points), per point index, with RMS and max.
@@ -239,7 +258,7 @@ pub fn deviation_svg(c: &NurbsCurve, points: &[Vec3], size: PlotSize) -> Result<
         cv.line(a, b, "#92c5de", 1.0, false);
         cv.circle(b, 2.0, "#2166ac");
     }
-    Ok(cv.finish())
+    cv.finish()
 }
 
 #[cfg(test)]
@@ -261,7 +280,7 @@ mod tests {
             Some(vec![1.0, h, 1.0]),
         )
         .unwrap();
-        let (samples, knot_s) = curvature_samples(&c);
+        let (samples, knot_s) = curvature_samples(&c).unwrap();
         for s in &samples {
             assert!((s.kappa - 1.0 / r).abs() < 1e-12, "{}", s.kappa);
             // κN points to the centre (origin).

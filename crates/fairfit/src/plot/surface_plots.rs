@@ -118,7 +118,7 @@ pub fn deviation_map_svg(s: &NurbsSurface, points: &[Vec3], size: PlotSize) -> R
         false,
     );
     cv.text((x + 22.0, b), "0", 10.0, "start", false);
-    Ok(cv.finish())
+    cv.finish()
 }
 
 /// Curvature against arc length of `count` iso-curves with `dir` fixed at evenly spaced values.
@@ -140,7 +140,7 @@ pub fn iso_curvature_svg(
             IsoDirection::FixedU => s.iso_curve_u(t)?,
             IsoDirection::FixedV => s.iso_curve_v(t)?,
         };
-        let (samples, _) = curvature_samples(&c);
+        let (samples, _) = curvature_samples(&c)?;
         let pts: Vec<(f64, f64)> = samples.iter().map(|x| (x.s, x.kappa_vec.norm())).collect();
         series.push((t, pts));
     }
@@ -178,7 +178,7 @@ pub fn iso_curvature_svg(
             false,
         );
     }
-    Ok(cv.finish())
+    cv.finish()
 }
 
 #[cfg(test)]

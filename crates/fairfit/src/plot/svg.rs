@@ -140,13 +140,28 @@ impl Canvas {
             escape(s)
         );
     }
-    /// The finished SVG document.
-    pub fn finish(self) -> String {
+    /// Reserves room for `bytes` more of SVG text, fallibly: a plot of very many samples fails with
+    /// one line ([`Error::out_of_memory`] for `what`) instead of aborting while it is drawn.
+    pub fn reserve(&mut self, bytes: usize, what: &str) -> Result<()> {
+        self.body
+            .try_reserve(bytes)
+            .map_err(|_| Error::out_of_memory(what, bytes as u64))
+    }
+    /// The finished SVG document (the text reserved fallibly, see [`Canvas::reserve`]).
+    pub fn finish(self) -> Result<String> {
         let (w, h) = (self.size.width, self.size.height);
-        format!(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n{}</svg>\n",
-            self.body
-        )
+        let head = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\">\n"
+        );
+        let tail = "</svg>\n";
+        let mut out = String::new();
+        let n = head.len() + self.body.len() + tail.len();
+        out.try_reserve_exact(n)
+            .map_err(|_| Error::out_of_memory("the SVG plot", n as u64))?;
+        out.push_str(&head);
+        out.push_str(&self.body);
+        out.push_str(tail);
+        Ok(out)
     }
 }
 

@@ -464,3 +464,64 @@ fn coordinates_near_the_ends_of_the_f64_range_are_measured_exactly_rescaled() {
     let f = curve_fairness(&cs);
     assert!(rel(f.energy, f0.energy * 1e300) < 1e-12, "{}", f.energy);
 }
+
+mod properties {
+    //! F's invariance as a property: on random cubic and quartic curves (rational or not), F, every
+    //! F_j and the largest F_j are unchanged (1e-9 relative) under any scaling by 10^-3..10^3, any
+    //! rotation and any translation, while E scales as λ⁻³ and the bending energy as λ⁻¹.
+    use super::*;
+    use proptest::prelude::*;
+    use rand::{Rng, SeedableRng};
+
+    /// A regular random curve: control points advancing along x (so the speed never vanishes on a
+    /// polynomial curve) with random offsets in y and z; mild random weights when `rational`.
+    fn random_regular_curve(seed: u64, p: usize, n: usize, rational: bool) -> NurbsCurve {
+        let mut r = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let pts: Vec<Vec3> = (0..n)
+            .map(|i| {
+                Vec3::new(
+                    i as f64 + r.random_range(-0.3..0.3),
+                    r.random_range(-1.5..1.5),
+                    r.random_range(-0.5..0.5),
+                )
+            })
+            .collect();
+        let w = rational.then(|| (0..n).map(|_| r.random_range(0.8..1.25)).collect());
+        NurbsCurve::new(p, uniform_clamped(p, n), pts, w).unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 128, failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn fairness_is_invariant_under_scale_rotation_and_translation(
+            seed in any::<u64>(),
+            p in 3usize..=4,
+            extra in 1usize..8,
+            rational in any::<bool>(),
+            log_scale in -3.0f64..3.0,
+            axis in (-1.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+            angle in -PI..PI,
+            shift in (-100.0f64..100.0, -100.0f64..100.0, -100.0f64..100.0),
+        ) {
+            let c = random_regular_curve(seed, p, p + 1 + extra, rational);
+            let k = Vec3::new(axis.0, axis.1, axis.2);
+            prop_assume!(k.norm() > 0.1);
+            let k = k / k.norm();
+            let lambda = 10f64.powf(log_scale);
+            let t = Vec3::new(shift.0, shift.1, shift.2);
+            let m = map_points(&c, |q| rotate(q, k, angle) * lambda + t);
+            let (f0, f) = (curve_fairness(&c), curve_fairness(&m));
+            prop_assume!(f0.fairness > 1e-6);
+            prop_assert!(rel(f.fairness, f0.fairness) < 1e-9, "F {:e} vs {:e}", f.fairness, f0.fairness);
+            prop_assert!(rel(f.max_span_fairness, f0.max_span_fairness) < 1e-9);
+            prop_assert_eq!(f.span_fairness.len(), f0.span_fairness.len());
+            for (a, b) in f.span_fairness.iter().zip(&f0.span_fairness) {
+                prop_assert!((a - b).abs() <= 1e-9 * f0.fairness, "F_j {:e} vs {:e}", a, b);
+            }
+            prop_assert!(rel(f.length, lambda * f0.length) < 1e-12);
+            prop_assert!(rel(f.energy * lambda.powi(3), f0.energy) < 1e-9);
+            prop_assert!(rel(f.bending_energy * lambda, f0.bending_energy) < 1e-9);
+        }
+    }
+}

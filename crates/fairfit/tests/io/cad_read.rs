@@ -472,3 +472,73 @@ fn truncated_and_corrupted_files_never_panic() {
     println!("{seen} variants, {errors} errors");
     assert!(seen == 3500 && errors > 300, "{seen} {errors}");
 }
+
+mod round_trip_properties {
+    //! JSON → STEP (and IGES) → read → JSON as a property: any random clamped curve and surface,
+    //! rational or not, of any degree 1-5, read back from fairfit's own STEP and IGES text gives the
+    //! same fairfit JSON, byte for byte (degrees, knots, weights and control points exact).
+    use super::*;
+    use crate::common::{random_curve, random_surface, rng};
+    use fairfit::io::cad_read::{parse_cad, select, CadFormat};
+    use fairfit::io::json::geometry_from_str;
+    use fairfit::io::{curve_to_json, surface_to_json};
+    use proptest::prelude::*;
+
+    /// `json` (a curve or surface) written as `format` by fairfit, read back, as JSON again.
+    fn through(json: &str, format: CadFormat) -> String {
+        let g = geometry_from_str(json).unwrap();
+        let text = match (&g, format) {
+            (Geometry::Curve(c), CadFormat::Step) => curve_to_step(c, &StepOptions::default()),
+            (Geometry::Curve(c), CadFormat::Iges) => curve_to_iges(c, &IgesOptions::default()),
+            (Geometry::Surface(s), CadFormat::Step) => surface_to_step(s, &StepOptions::default()),
+            (Geometry::Surface(s), CadFormat::Iges) => surface_to_iges(s, &IgesOptions::default()),
+        }
+        .unwrap();
+        let contents = parse_cad(&text, format).unwrap();
+        match select(contents, CadKind::Any, 0, "round trip")
+            .unwrap()
+            .geometry
+        {
+            Geometry::Curve(c) => curve_to_json(&c),
+            Geometry::Surface(s) => surface_to_json(&s),
+        }
+    }
+
+    /// A random curve with unit weights dropped when not `rational` (a polynomial curve).
+    fn curve(seed: u64, p: usize, extra: usize, rational: bool) -> NurbsCurve {
+        let c = random_curve(&mut rng(seed), p, p + 1 + extra, true, p);
+        if rational {
+            return c;
+        }
+        NurbsCurve::new(p, c.knots().to_vec(), c.control_points().to_vec(), None).unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 128, failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn curves_round_trip_json_step_iges_json(
+            seed in any::<u64>(),
+            p in 1usize..=5,
+            extra in 0usize..10,
+            rational in any::<bool>(),
+        ) {
+            let json = curve_to_json(&curve(seed, p, extra, rational));
+            prop_assert_eq!(&through(&json, CadFormat::Step), &json);
+            prop_assert_eq!(&through(&json, CadFormat::Iges), &json);
+        }
+
+        #[test]
+        fn surfaces_round_trip_json_step_iges_json(
+            seed in any::<u64>(),
+            p in 1usize..=4,
+            q in 1usize..=4,
+            extra in (0usize..5, 0usize..5),
+        ) {
+            let s = random_surface(&mut rng(seed), p, q, p + 1 + extra.0, q + 1 + extra.1, true);
+            let json = surface_to_json(&s);
+            prop_assert_eq!(&through(&json, CadFormat::Step), &json);
+            prop_assert_eq!(&through(&json, CadFormat::Iges), &json);
+        }
+    }
+}

@@ -80,3 +80,24 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The rational basis sums to one too: a NURBS curve whose control points all equal `q` is the
+    /// point `q` everywhere, whatever its (positive) weights, degree and knots.
+    #[test]
+    fn rational_basis_is_a_partition_of_unity(
+        (p, knots, u) in knot_case(),
+        q in (-1e3f64..1e3, -1e3f64..1e3, -1e3f64..1e3),
+        weights in prop::collection::vec(0.05f64..20.0, 20),
+    ) {
+        let n = knots.len() - p - 1;
+        prop_assume!(validate_knots(&knots, p, n, "test").is_ok());
+        let q = fairfit::nurbs::Vec3::new(q.0, q.1, q.2);
+        let w: Vec<f64> = (0..n).map(|i| weights[i % weights.len()]).collect();
+        let c = fairfit::nurbs::NurbsCurve::new(p, knots, vec![q; n], Some(w)).unwrap();
+        let size = q.max_abs().max(1.0);
+        prop_assert!((c.point(u) - q).max_abs() <= 1e-13 * size, "{:?} vs {:?}", c.point(u), q);
+    }
+}

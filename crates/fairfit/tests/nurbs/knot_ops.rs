@@ -215,3 +215,47 @@ fn absurd_requests_are_errors_not_panics() {
     assert!(c.elevate_degree(39).is_err());
     assert_eq!(c.elevate_degree(38).unwrap().degree(), 40);
 }
+
+mod properties {
+    //! Knot insertion as a property: on any random rational curve (degree 1-5, clamped or not, with
+    //! multiple knots), inserting any parameter of the domain up to its free multiplicity adds exactly
+    //! that many knots and control points and moves no point of the curve (1e-12 of the net's size).
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 256, failure_persistence: None, ..ProptestConfig::default() })]
+
+        #[test]
+        fn knot_insertion_is_exact(
+            seed in any::<u64>(),
+            p in 1usize..=5,
+            extra in 0usize..8,
+            clamped in any::<bool>(),
+            at in 0.0f64..=1.0,
+            on_a_knot in any::<bool>(),
+            times in 1usize..=5,
+        ) {
+            let mut r = rng(seed);
+            let c = random_curve(&mut r, p, p + 1 + extra, clamped, p);
+            let (a, b) = c.domain();
+            let u = if on_a_knot {
+                // an existing knot of the domain (an interior one when there is one)
+                let inside: Vec<f64> = c.knots().iter().copied().filter(|&k| a <= k && k <= b).collect();
+                inside[((at * inside.len() as f64) as usize).min(inside.len() - 1)]
+            } else {
+                a + (b - a) * at
+            };
+            let s = c.knots().iter().filter(|&&k| k == u).count();
+            prop_assume!(s < p);
+            let times = times.min(p - s);
+            let d = c.insert_knot(u, times).unwrap();
+            prop_assert_eq!(d.n_control_points(), c.n_control_points() + times);
+            prop_assert_eq!(d.knots().len(), c.knots().len() + times);
+            prop_assert_eq!(d.knots().iter().filter(|&&k| k == u).count(), s + times);
+            prop_assert_eq!(d.domain(), c.domain());
+            let dev = max_deviation(&c, &d);
+            prop_assert!(dev < TOL * scale(&c), "p={} u={} times={} dev={:e}", p, u, times, dev);
+        }
+    }
+}
