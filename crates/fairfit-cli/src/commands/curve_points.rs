@@ -33,6 +33,11 @@ pub struct InputConstraints {
     pub weights_source: String,
     /// Whether the points to interpolate came from `--interpolate` (else from the `i` column).
     pub interpolate_flag: bool,
+    /// The index in the file of each point kept (points of weight 0 are dropped on reading, so
+    /// that everything after, the screening included, sees the data without them).
+    pub original: Vec<usize>,
+    /// The points of weight 0 (indices in the file).
+    pub ignored: Vec<usize>,
 }
 
 /// Usage checks of `--weights` / `--interpolate` before any input is read.
@@ -96,13 +101,29 @@ pub fn read_input(
     }
     ic.constraints.interpolate.sort_unstable();
     ic.constraints.interpolate.dedup();
+    let mut set = set;
+    ic.original = (0..set.points.len()).collect();
     if !ic.constraints.is_none() {
         let n = set.points.len();
         ic.constraints
             .validate(n)
             .map_err(|e| constraint_error(e, &ic))?;
+        drop_ignored(&mut set, &mut ic);
     }
     Ok((set, cad, ic))
+}
+
+/// Drops the points of weight 0 from `set` and `ic` (validated: not all, none to interpolate).
+fn drop_ignored(set: &mut PointSet, ic: &mut InputConstraints) {
+    let Some(w) = ic.constraints.weights.take() else {
+        return;
+    };
+    ic.original = (0..w.len()).filter(|&i| w[i] > 0.0).collect();
+    ic.ignored = (0..w.len()).filter(|&i| w[i] == 0.0).collect();
+    set.points = ic.original.iter().map(|&i| set.points[i]).collect();
+    ic.constraints.weights = Some(ic.original.iter().map(|&i| w[i]).collect());
+    let pos = |k: usize| ic.original.binary_search(&k).ok();
+    ic.constraints.interpolate = ic.constraints.interpolate.iter().filter_map(|&k| pos(k)).collect();
 }
 
 /// One weight per line (`#` comments and blank lines skipped), each finite and `>= 0`.
@@ -189,7 +210,8 @@ pub fn kept_after_screening(
 }
 
 /// Fits `points` with `fit` (the method; `Some(t)`: at the absolute tolerance `t`) under the
-/// constraints `ic`; `index` maps the points back to the input's for the report. The report, when
+/// constraints `ic`; `index` maps the points back to `ic`'s (and `ic.original` to the file's) for
+/// the report. The report, when
 /// the method made one, gets the constrained curve's shape and deviation, `point_constraints` and
 /// `point_constraint_fit`.
 pub fn fit_constrained<R>(
@@ -200,8 +222,11 @@ pub fn fit_constrained<R>(
     fit: impl FnMut(&[Vec3], Option<f64>) -> Result<Fitted<(Option<Value>, R)>, Failure>,
 ) -> Result<Fitted<(Option<Value>, R)>, CliError> {
     let conditions = args.end_conditions();
+    // free ends may move (within the tolerance, as the method left them); pinned ends and the
+    // control points of end conditions are held
+    let pinned = usize::from(args.ends != super::curve_args::EndsArg::Free);
     let held_at = |c: &fairfit::fit::end_constraints::EndConstraint| {
-        1 + usize::from(c.tangent.is_some()) + usize::from(c.curvature.is_some())
+        pinned + usize::from(c.tangent.is_some()) + usize::from(c.curvature.is_some())
     };
     let held = Held {
         start: held_at(&conditions.start),
@@ -216,8 +241,9 @@ pub fn fit_constrained<R>(
         Err(Failure::Constraint(e)) => return Err(constraint_error(e, ic)),
     };
     let (mut report, files) = r.extra;
+    let index: Vec<usize> = index.iter().map(|&i| ic.original[i]).collect();
     if let Some(rep) = report.as_mut() {
-        add_report(rep, args, &r.curve, &r.report, index, points.len());
+        add_report(rep, args, &r.curve, &r.report, &index, &ic.ignored);
     }
     Ok(Fitted {
         tolerance: r.report.tolerance,
@@ -234,10 +260,11 @@ fn add_report(
     curve: &NurbsCurve,
     pr: &PointConstraintReport,
     index: &[usize],
-    n_points: usize,
+    ignored: &[usize],
 ) {
     let input = args.input.display().to_string();
-    let shape = shape_report(curve, &input, n_points - pr.ignored.len(), 0.0);
+    let n_points = rep.get("points").and_then(|v| v.as_u64()).unwrap_or(0) as usize;
+    let shape = shape_report(curve, &input, n_points, 0.0);
     let Some(obj) = rep.as_object_mut() else {
         return;
     };
@@ -246,6 +273,8 @@ fn add_report(
             obj.insert(k.clone(), v.clone());
         }
     }
+    // the tolerance asked for (a refit's report has its tighter one)
+    obj.insert("tolerance".into(), json!(pr.tolerance));
     obj.insert("max_deviation".into(), json!(pr.max_deviation));
     obj.insert("rms_deviation".into(), json!(pr.rms_deviation));
     obj.insert(
@@ -264,7 +293,7 @@ fn add_report(
             "refits": pr.refits,
             "moves": pr.moves,
             "weighted_ratio": pr.weighted_ratio,
-            "ignored": pr.ignored.iter().map(|&i| index[i]).collect::<Vec<_>>(),
+            "ignored": ignored,
             "tightest": pr.tightest.map(|(i, d, allowed)| json!({
                 "index": index[i], "distance": d, "allowed": allowed
             })),

@@ -518,10 +518,18 @@ fn minimum_norm_move(curve: &NurbsCurve, rows: &[Row], held: Held) -> Option<Nur
             g[j * r + i] = s;
         }
     }
+    let mut y: Vec<f64> = rows.iter().map(|row| row.rhs).collect();
+    // a row on held control points only (a point to interpolate at a held end) cannot move:
+    // it takes no part (y_i = 0), and the measure says whether it holds
+    for i in 0..r {
+        if g[i * r + i] == 0.0 {
+            g[i * r + i] = 1.0;
+            y[i] = 0.0;
+        }
+    }
     if !cholesky(&mut g, r) {
         return None;
     }
-    let mut y: Vec<f64> = rows.iter().map(|row| row.rhs).collect();
     cholesky_solve(&g, r, &mut y);
     let mut delta = vec![0.0; nu];
     for i in 0..r {

@@ -10,3 +10,4 @@ mod noise;
 mod outliers;
 mod screening;
 mod tolerance;
+mod point_constraints;
