@@ -55,7 +55,14 @@ pub fn check_options(args: &CurveArgs) -> CmdResult {
 /// when the file names them (`fairfit::io::point_columns`), with `--weights` and `--interpolate`.
 pub fn read_input(
     args: &CurveArgs,
-) -> Result<(PointSet, Option<super::cad_input::CadCurve>, InputConstraints), CliError> {
+) -> Result<
+    (
+        PointSet,
+        Option<super::cad_input::CadCurve>,
+        InputConstraints,
+    ),
+    CliError,
+> {
     let is_cad = fairfit::io::cad_read::CadFormat::from_path(&args.input).is_some();
     let columns = match is_cad {
         true => None,
@@ -123,7 +130,12 @@ fn drop_ignored(set: &mut PointSet, ic: &mut InputConstraints) {
     set.points = ic.original.iter().map(|&i| set.points[i]).collect();
     ic.constraints.weights = Some(ic.original.iter().map(|&i| w[i]).collect());
     let pos = |k: usize| ic.original.binary_search(&k).ok();
-    ic.constraints.interpolate = ic.constraints.interpolate.iter().filter_map(|&k| pos(k)).collect();
+    ic.constraints.interpolate = ic
+        .constraints
+        .interpolate
+        .iter()
+        .filter_map(|&k| pos(k))
+        .collect();
 }
 
 /// One weight per line (`#` comments and blank lines skipped), each finite and `>= 0`.
@@ -161,7 +173,9 @@ fn constraint_error(e: fairfit::Error, ic: &InputConstraints) -> CliError {
         fairfit::Error::InvalidSetting {
             option: "interpolate",
             reason,
-        } if ic.interpolate_flag => CliError::usage(format!("invalid option --interpolate: {reason}")),
+        } if ic.interpolate_flag => {
+            CliError::usage(format!("invalid option --interpolate: {reason}"))
+        }
         fairfit::Error::InvalidSetting {
             option: "interpolate",
             reason,

@@ -24,7 +24,8 @@
 //!    seam (shared control points move together) and the end conditions (their control points,
 //!    [`Held`], are not moved) are kept exactly. The move is repeated while points are out of their
 //!    band ([`PointConstraintTuning::move_rounds`]), each time measured again by orthogonal
-//!    projection.
+//!    projection; a point once beyond its band keeps its row (at the margin) in later moves (an
+//!    active set, so that one move does not push back out what the last brought in).
 //! 3. when that cannot meet every band, or the constraints are dependent (more points to
 //!    interpolate in a span than it has free control points), the method fits again at a tighter
 //!    tolerance ([`PointConstraintTuning::tighten`], at most [`PointConstraintTuning::refits`]
@@ -40,8 +41,8 @@
 //! Indices (of weights and points to interpolate) are those of the points passed in.
 
 use super::cad_fit::Fitted;
-use super::deviation::{max_orthogonal_deviation, Deviation};
 use super::dense::{cholesky, cholesky_solve};
+use super::deviation::{max_orthogonal_deviation, Deviation};
 use super::points::bounding_box_extent;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::basis_funs_into;
@@ -88,7 +89,10 @@ impl PointConstraints {
             if k >= n_points {
                 return bad(
                     "interpolate",
-                    format!("point {k} is out of range (the data have {n_points} points, 0 to {})", n_points.saturating_sub(1)),
+                    format!(
+                        "point {k} is out of range (the data have {n_points} points, 0 to {})",
+                        n_points.saturating_sub(1)
+                    ),
                 );
             }
             if self.weight(k) == 0.0 {
@@ -233,11 +237,20 @@ pub fn fit_with_point_constraints<T, E: From<Error>>(
     let size = bounding_box_extent(points);
     let first = fit(&kept.points, None)?;
     let tol = first.tolerance;
-    if pc.interpolate.is_empty() && pc.weights.as_ref().is_none_or(|w| w.iter().all(|&x| x == 0.0 || x == 1.0)) {
+    if pc.interpolate.is_empty()
+        && pc
+            .weights
+            .as_ref()
+            .is_none_or(|w| w.iter().all(|&x| x == 0.0 || x == 1.0))
+    {
         // zero weights only: the fit of the remaining points is the answer
         let dev = max_orthogonal_deviation(&first.curve, &kept.points, &[]);
         let report = report_of(&kept, pc, &dev, tol, tol, 0, 0);
-        return Ok(ConstrainedFit { curve: first.curve, extra: first.extra, report });
+        return Ok(ConstrainedFit {
+            curve: first.curve,
+            extra: first.extra,
+            report,
+        });
     }
     let mut fitted = first;
     let mut fit_tol = tol;
@@ -258,7 +271,11 @@ pub fn fit_with_point_constraints<T, E: From<Error>>(
         match hold(curve, dev, &kept, tol, size, held, tuning) {
             Ok((curve, dev, moves)) => {
                 let report = report_of(&kept, pc, &dev, tol, fit_tol, refit, moves);
-                return Ok(ConstrainedFit { curve, extra: fitted.extra, report });
+                return Ok(ConstrainedFit {
+                    curve,
+                    extra: fitted.extra,
+                    report,
+                });
             }
             Err(m) => last_miss = m,
         }
@@ -364,6 +381,9 @@ fn hold(
     tuning: &PointConstraintTuning,
 ) -> std::result::Result<(NurbsCurve, Deviation, usize), Miss> {
     let limit = tuning.interpolation * size;
+    // the points once beyond their band stay constrained (held at the margin) in later moves: an
+    // active set, so that a move does not push back out the points the last one brought in
+    let mut active = vec![false; kept.points.len()];
     for round in 0..=tuning.move_rounds {
         let miss = measure(&dev, kept, tol, limit);
         if miss.interpolation.is_none() && miss.band.is_none() {
@@ -372,7 +392,10 @@ fn hold(
         if round == tuning.move_rounds {
             return Err(miss);
         }
-        let rows = move_rows(&curve, &dev, kept, tol, tuning.band_margin);
+        for (j, a) in active.iter_mut().enumerate() {
+            *a |= !kept.interpolate[j] && dev.per_point[j] * kept.weights[j] > tol;
+        }
+        let rows = move_rows(&curve, &dev, kept, &active, tol, tuning.band_margin);
         match minimum_norm_move(&curve, &rows, held) {
             Some(c) => curve = c,
             None => {
@@ -413,9 +436,16 @@ struct Row {
     rhs: f64,
 }
 
-/// The rows of one move: three per point to interpolate (onto it), one per point beyond its band
-/// (along its normal, to `margin` of the band).
-fn move_rows(curve: &NurbsCurve, dev: &Deviation, kept: &Kept, tol: f64, margin: f64) -> Vec<Row> {
+/// The rows of one move: three per point to interpolate (onto it), one per `active` point (along
+/// its normal, to `margin` of its band).
+fn move_rows(
+    curve: &NurbsCurve,
+    dev: &Deviation,
+    kept: &Kept,
+    active: &[bool],
+    tol: f64,
+    margin: f64,
+) -> Vec<Row> {
     let mut rows = Vec::new();
     for (j, (&d, &u)) in dev.per_point.iter().zip(&dev.params).enumerate() {
         let gap = kept.points[j] - curve.point(u);
@@ -429,7 +459,7 @@ fn move_rows(curve: &NurbsCurve, dev: &Deviation, kept: &Kept, tol: f64, margin:
                     rhs: gap.0[a],
                 });
             }
-        } else if d * kept.weights[j] > tol && d > 0.0 {
+        } else if active[j] && d > 0.0 {
             let n = gap * (1.0 / gap.norm());
             rows.push(Row {
                 u,
@@ -461,7 +491,11 @@ fn columns(curve: &NurbsCurve, held: Held) -> Columns {
             n_free: unique,
         };
     }
-    let (lo, hi) = if clamped { (held.start, held.end) } else { (0, 0) };
+    let (lo, hi) = if clamped {
+        (held.start, held.end)
+    } else {
+        (0, 0)
+    };
     let mut next = 0;
     let of = (0..n)
         .map(|i| {
@@ -557,7 +591,12 @@ fn rebuilt(curve: &NurbsCurve, ctrl: Vec<Vec3>) -> Option<NurbsCurve> {
 /// The control points solved again on `curve`'s knots by weighted least squares at the foot
 /// parameters `params`, under the equalities `C(u_k) = Q_k` of the points to interpolate; the held
 /// control points stay. `None` when a system is singular (then the curve is kept as it was).
-fn weighted_resolve(curve: &NurbsCurve, kept: &Kept, params: &[f64], held: Held) -> Option<NurbsCurve> {
+fn weighted_resolve(
+    curve: &NurbsCurve,
+    kept: &Kept,
+    params: &[f64],
+    held: Held,
+) -> Option<NurbsCurve> {
     let cols = columns(curve, held);
     let n = cols.n_free;
     let p = curve.degree();

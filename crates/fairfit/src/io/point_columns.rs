@@ -7,8 +7,8 @@
 //! are dropped as the plain reader drops them (the first of a run keeps its weight, the flag is
 //! kept when any of the run has it), so indices are those of the points as fitted.
 
-use super::lines::Lines;
 use super::limits::{self, ReadLimits};
+use super::lines::Lines;
 use crate::errors::{Error, Result};
 use crate::fit::points::bounding_box_extent;
 use crate::nurbs::Vec3;
@@ -62,11 +62,7 @@ fn header(line: &str) -> Option<Header> {
         }
         h.n = k + 1;
     }
-    (h.w.is_some() || h.i.is_some()).then_some(Header {
-        x: x?,
-        y: y?,
-        ..h
-    })
+    (h.w.is_some() || h.i.is_some()).then_some(Header { x: x?, y: y?, ..h })
 }
 
 /// Reads `path` when its first line that is neither blank nor a comment names a weight or flag
@@ -100,7 +96,11 @@ pub fn read_point_columns(path: impl AsRef<Path>) -> Result<Option<ColumnPoints>
         if vals.len() != h.n {
             return Err(bad(
                 line_no,
-                format!("expected {} numbers like the header, found {}", h.n, vals.len()),
+                format!(
+                    "expected {} numbers like the header, found {}",
+                    h.n,
+                    vals.len()
+                ),
             ));
         }
         let coord = [Some(h.x), Some(h.y), h.z].map(|c| c.map_or(0.0, |c| vals[c]));

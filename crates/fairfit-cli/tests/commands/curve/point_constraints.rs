@@ -40,7 +40,12 @@ fn distance(curve: &NurbsCurve, q: Vec3) -> f64 {
 }
 
 /// The points as an `x,y,w` file with weight `w(i)`.
-fn with_weights(dir: &TempDir, name: &str, pts: &[Vec3], w: impl Fn(usize) -> f64) -> std::path::PathBuf {
+fn with_weights(
+    dir: &TempDir,
+    name: &str,
+    pts: &[Vec3],
+    w: impl Fn(usize) -> f64,
+) -> std::path::PathBuf {
     let mut s = String::from("x,y,w\n");
     for (i, p) in pts.iter().enumerate() {
         s.push_str(&format!("{:?},{:?},{:?}\n", p[0], p[1], w(i)));
@@ -51,7 +56,10 @@ fn with_weights(dir: &TempDir, name: &str, pts: &[Vec3], w: impl Fn(usize) -> f6
 }
 
 fn plain_file(dir: &TempDir, name: &str, pts: &[Vec3]) -> std::path::PathBuf {
-    let s: String = pts.iter().map(|p| format!("{:?},{:?}\n", p[0], p[1])).collect();
+    let s: String = pts
+        .iter()
+        .map(|p| format!("{:?},{:?}\n", p[0], p[1]))
+        .collect();
     let f = dir.path().join(name);
     std::fs::write(&f, s).unwrap();
     f
@@ -71,7 +79,9 @@ fn a_weight_0_point_gives_the_json_of_the_data_without_it() {
     fewer.remove(k);
     let deleted = plain_file(&dir, "deleted.csv", &fewer);
     let weights = dir.path().join("weights.txt");
-    let lines: String = (0..pts.len()).map(|i| if i == k { "0\n" } else { "1\n" }).collect();
+    let lines: String = (0..pts.len())
+        .map(|i| if i == k { "0\n" } else { "1\n" })
+        .collect();
     std::fs::write(&weights, lines).unwrap();
     let all = plain_file(&dir, "all.csv", &pts);
     for method in ["lsq", "integrated", "fit-then-fair"] {
@@ -79,10 +89,18 @@ fn a_weight_0_point_gives_the_json_of_the_data_without_it() {
         let (a, _, rep) = run(&dir, &format!("{method}-w"), &weighted, &m);
         let (b, _, _) = run(&dir, &format!("{method}-d"), &deleted, &m);
         let w = weights.to_str().unwrap();
-        let (c, _, _) = run(&dir, &format!("{method}-f"), &all, &[m[0], m[1], "--weights", w]);
+        let (c, _, _) = run(
+            &dir,
+            &format!("{method}-f"),
+            &all,
+            &[m[0], m[1], "--weights", w],
+        );
         assert_eq!(a, b, "{method}: the w column");
         assert_eq!(c, b, "{method}: --weights");
-        assert_eq!(rep["point_constraint_fit"]["ignored"], serde_json::json!([k]));
+        assert_eq!(
+            rep["point_constraint_fit"]["ignored"],
+            serde_json::json!([k])
+        );
     }
 }
 
@@ -104,10 +122,19 @@ fn a_weight_2_point_is_held_to_half_the_tolerance_on_every_method() {
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap();
         assert!(d0 > 0.5 * tol, "{method}: {d0:e}");
-        let f = with_weights(&dir, &format!("{method}.csv"), &pts, |i| if i == k { 2.0 } else { 1.0 });
+        let f = with_weights(&dir, &format!("{method}.csv"), &pts, |i| {
+            if i == k {
+                2.0
+            } else {
+                1.0
+            }
+        });
         let (_, curve, rep) = run(&dir, method, &f, &m);
         let d = distance(&curve, pts[k]);
-        eprintln!("{method}: point {k} {d0:.3e} -> {d:.3e} (tol/2 {:.3e})", 0.5 * tol);
+        eprintln!(
+            "{method}: point {k} {d0:.3e} -> {d:.3e} (tol/2 {:.3e})",
+            0.5 * tol
+        );
         assert!(d <= 0.5 * tol * (1.0 + 1e-9), "{method}: {d:e}");
         let worst = pts.iter().map(|&q| distance(&curve, q)).fold(0.0, f64::max);
         assert!(worst <= tol * (1.0 + 1e-9), "{method}: {worst:e}");
@@ -129,7 +156,12 @@ fn interpolated_airfoil_points_lie_on_the_curve_within_1e_9_of_its_size() {
     let dir = TempDir::new().unwrap();
     let all = plain_file(&dir, "all.csv", &pts);
     for method in ["integrated", "lsq", "fit-then-fair"] {
-        let (_, curve, rep) = run(&dir, method, &all, &["--method", method, "--interpolate", &list]);
+        let (_, curve, rep) = run(
+            &dir,
+            method,
+            &all,
+            &["--method", method, "--interpolate", &list],
+        );
         for &k in &idx {
             let d = distance(&curve, pts[k]);
             assert!(d <= 1e-9 * size, "{method}: point {k} {d:e}");
@@ -148,7 +180,12 @@ fn interpolated_airfoil_points_lie_on_the_curve_within_1e_9_of_its_size() {
     // the same points as an `i` column
     let mut s = String::from("x y i\n");
     for (i, p) in pts.iter().enumerate() {
-        s.push_str(&format!("{:?} {:?} {}\n", p[0], p[1], u8::from(idx.contains(&i))));
+        s.push_str(&format!(
+            "{:?} {:?} {}\n",
+            p[0],
+            p[1],
+            u8::from(idx.contains(&i))
+        ));
     }
     let f = dir.path().join("flags.txt");
     std::fs::write(&f, s).unwrap();
@@ -159,12 +196,20 @@ fn interpolated_airfoil_points_lie_on_the_curve_within_1e_9_of_its_size() {
 
 /// Exit code `code` and one `error:` line containing `needle`.
 fn fails(code: i32, args: &[&std::ffi::OsStr], needle: &str) {
-    let out = Command::cargo_bin("fairfit").unwrap().arg("curve").args(args).output().unwrap();
+    let out = Command::cargo_bin("fairfit")
+        .unwrap()
+        .arg("curve")
+        .args(args)
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(code), "{args:?}");
     let err = String::from_utf8_lossy(&out.stderr);
     let lines: Vec<&str> = err.lines().filter(|l| !l.starts_with("warning:")).collect();
     assert_eq!(lines.len(), 1, "{err}");
-    assert!(lines[0].starts_with("error: ") && lines[0].contains(needle), "{err}");
+    assert!(
+        lines[0].starts_with("error: ") && lines[0].contains(needle),
+        "{err}"
+    );
     assert!(!err.contains("panicked"), "{err}");
 }
 
@@ -180,13 +225,25 @@ fn bad_weights_and_indices_are_one_line_errors() {
     let zero = with_weights(&dir, "zero.csv", &pts, |_| 0.0);
     fails(1, &[zero.as_os_str()], "every weight is 0");
     for (name, body, needle) in [
-        ("nan.txt", "1\n".repeat(n - 1) + "NaN\n", "expected a finite weight"),
+        (
+            "nan.txt",
+            "1\n".repeat(n - 1) + "NaN\n",
+            "expected a finite weight",
+        ),
         ("short.txt", "1\n".repeat(n - 1), "weights for"),
     ] {
         let f = dir.path().join(name);
         std::fs::write(&f, body).unwrap();
-        fails(1, &[all.as_os_str(), &os("--weights"), f.as_os_str()], needle);
+        fails(
+            1,
+            &[all.as_os_str(), &os("--weights"), f.as_os_str()],
+            needle,
+        );
     }
     let out_of_range = format!("3,{n}");
-    fails(2, &[all.as_os_str(), &os("--interpolate"), &os(&out_of_range)], "--interpolate");
+    fails(
+        2,
+        &[all.as_os_str(), &os("--interpolate"), &os(&out_of_range)],
+        "--interpolate",
+    );
 }
