@@ -23,7 +23,7 @@ pub fn cholesky(a: &mut [f64], n: usize) -> bool {
         for k in 0..j {
             d -= a[j * n + k] * a[j * n + k];
         }
-        if !(d > RANK_EPS * scale) {
+        if d.is_nan() || d <= RANK_EPS * scale {
             return false;
         }
         let d = d.sqrt();

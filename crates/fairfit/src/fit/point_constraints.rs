@@ -618,8 +618,8 @@ fn weighted_resolve(
         }
         let w2 = kept.weights[k] * kept.weights[k];
         for &(fa, va) in &free {
-            for ax in 0..3 {
-                b[fa][ax] += w2 * va * target.0[ax];
+            for (bx, tx) in b[fa].iter_mut().zip(target.0) {
+                *bx += w2 * va * tx;
             }
             for &(fb, vb) in &free {
                 m[fa * n + fb] += w2 * va * vb;

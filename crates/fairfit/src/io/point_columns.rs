@@ -116,8 +116,8 @@ pub fn read_point_columns(path: impl AsRef<Path>) -> Result<Option<ColumnPoints>
         }
         let flag = match h.i.map(|c| vals[c]) {
             None => false,
-            Some(f) if f == 0.0 => false,
-            Some(f) if f == 1.0 => true,
+            Some(0.0) => false,
+            Some(1.0) => true,
             Some(f) => {
                 return Err(bad(
                     line_no,
