@@ -69,6 +69,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
 /// input is read.
 pub fn check_options(args: &CurveArgs) -> CmdResult {
     check_method_options(args)?;
+    super::curve_points::check_options(args)?;
     if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
         return Err(CliError::usage(format!(
             "--corner-angle must be in (0, 180] degrees, got {}",
@@ -111,7 +112,7 @@ pub fn fit_input(
         }
         None => args,
     };
-    let (set, cad) = super::cad_input::read_curve_points(&args.input, &args.cad)?;
+    let (set, cad, constraints) = super::curve_points::read_input(args)?;
     if set.dropped_duplicates > 0 {
         diag!(
             "warning: {}: dropped {} consecutive duplicate point(s)",
@@ -159,7 +160,6 @@ pub fn fit_input(
     match cad {
         None => {
             let (screening, kept) = screen_points(args, &set.points);
-            let points = kept.unwrap_or(set.points);
             // a tolerance below the noise: every method fits to the meaningful one (the integrated
             // method's own screening does the same)
             let opts = match screening.as_ref().and_then(|s| s.noise_limited) {
@@ -169,6 +169,11 @@ pub fn fit_input(
                 },
                 None => opts,
             };
+            if !constraints.constraints.is_none() {
+                let (all, s) = (&set.points, screening);
+                return fit_with_constraints(args, &opts, all, s, &constraints, want_report, wall);
+            }
+            let points = kept.unwrap_or(set.points);
             let fit = fit_points(args, &opts, &points, want_report, wall);
             let fit = fit.map_err(|e| name_spikes(args, &points, e))?;
             if args.outliers == OutliersArg::Off && fit.max_deviation > fit.tolerance {
@@ -199,6 +204,7 @@ fn check_curve_outputs(args: &CurveArgs) -> CmdResult {
     let from: Vec<std::path::PathBuf> = [(&args.start_from, true), (&args.end_from, false)]
         .into_iter()
         .filter_map(|(f, d)| f.as_deref().map(|f| super::curve_args::split_from(f, d).0))
+        .chain(args.weights.clone())
         .collect();
     let folders: Vec<OutputFolder<'_>> = args
         .pareto_curves
@@ -357,17 +363,8 @@ fn fit_cad(
     want_report: bool,
     wall: Instant,
 ) -> Result<FitOutput, CliError> {
-    let r = fit_to_exact(&cad.segments, cad.samples, |points, tol| match tol {
-        None => fit_points(args, opts, points, want_report, wall),
-        Some(t) => {
-            let mut tighter = args.clone();
-            (tighter.tol, tighter.rel_tol) = (Some(t), None);
-            let opts = FitOptions {
-                tolerance: Tolerance::Absolute(t),
-                ..opts.clone()
-            };
-            fit_points(&tighter, &opts, points, want_report, wall)
-        }
+    let r = fit_to_exact(&cad.segments, cad.samples, |points, tol| {
+        fit_points_at(args, opts, points, tol, want_report, wall)
     })?;
     super::note_exact_deviation(
         &args.input,
@@ -406,6 +403,54 @@ fn fit_cad(
         );
     }
     Ok((r.fit.curve, report, r.points, pareto))
+}
+
+/// [`fit_points`] at the absolute tolerance `tol` when given (a refit held tighter).
+fn fit_points_at(
+    args: &CurveArgs,
+    opts: &FitOptions,
+    points: &[Vec3],
+    tol: Option<f64>,
+    want_report: bool,
+    wall: Instant,
+) -> Result<Fitted<MethodExtra>, CliError> {
+    let Some(t) = tol else {
+        return fit_points(args, opts, points, want_report, wall);
+    };
+    let mut tighter = args.clone();
+    (tighter.tol, tighter.rel_tol) = (Some(t), None);
+    let opts = FitOptions {
+        tolerance: Tolerance::Absolute(t),
+        ..opts.clone()
+    };
+    fit_points(&tighter, &opts, points, want_report, wall)
+}
+
+/// The fit under weights and points to interpolate (`curve_points.rs`): the screening's spikes
+/// dropped (never a point to interpolate), the method held to the constraints.
+fn fit_with_constraints(
+    args: &CurveArgs,
+    opts: &FitOptions,
+    all: &[Vec3],
+    screening: Option<Screening>,
+    ic: &super::curve_points::InputConstraints,
+    want_report: bool,
+    wall: Instant,
+) -> Result<FitOutput, CliError> {
+    let outliers: Vec<usize> = screening
+        .as_ref()
+        .map(|s| s.outliers.iter().map(|o| o.index).collect())
+        .unwrap_or_default();
+    let (points, ic, index) = super::curve_points::kept_after_screening(all, &outliers, ic);
+    let fit = super::curve_points::fit_constrained(args, &points, &ic, &index, |pts, tol| {
+        fit_points_at(args, opts, pts, tol, want_report, wall)
+            .map_err(super::curve_points::Failure::Method)
+    })?;
+    let (mut report, pareto) = fit.extra;
+    if let (Some(r), Some(sc)) = (report.as_mut(), screening.as_ref()) {
+        add_screening(r, outlier_mode(args), sc);
+    }
+    Ok((fit.curve, report, points, pareto))
 }
 
 /// What a method gives beside its curve: the report (when asked for) and its own files (the Pareto

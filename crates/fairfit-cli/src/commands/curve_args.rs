@@ -301,6 +301,14 @@ pub struct CurveArgs {
     /// The end conditions with --start-from/--end-from read (set by the command, not a flag).
     #[arg(skip)]
     pub resolved_ends: Option<EndConstraints>,
+    /// One weight per point, a line each (`#` comments): point i is held to tol / w_i, weight 0
+    /// ignores it. A point file may instead have a `w` (or `weight`) column named in its header.
+    #[arg(long, value_name = "FILE")]
+    pub weights: Option<PathBuf>,
+    /// Points the curve passes through (within 1e-9 of the data's size): 0-based indices of the
+    /// points as fitted, comma-separated. A point file may instead have an `i` column (0/1).
+    #[arg(long, value_name = "I,J,...", value_delimiter = ',', value_parser = super::whole_number)]
+    pub interpolate: Vec<usize>,
     /// Per-span fairness target F*: every knot span must reach F_j <= F* (integrated method).
     #[arg(long, allow_hyphen_values = true)]
     pub span_fairness: Option<f64>,

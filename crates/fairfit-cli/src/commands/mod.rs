@@ -15,6 +15,7 @@ pub mod curve;
 pub mod curve_args;
 pub mod curve_ends;
 pub mod curve_optim;
+pub mod curve_points;
 pub mod eval;
 pub mod export;
 pub mod files;

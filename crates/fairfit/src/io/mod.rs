@@ -21,6 +21,7 @@ pub mod mesh_read;
 pub mod mesh_write;
 pub mod numbers;
 pub mod p21;
+pub mod point_columns;
 pub mod points;
 pub mod samples;
 pub mod sections;

@@ -8,5 +8,6 @@ mod end_constraints;
 mod hooks;
 mod noise;
 mod outliers;
+mod point_constraints;
 mod screening;
 mod tolerance;
