@@ -16,7 +16,7 @@ use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
 use fairfit::fit::points::absolute_tolerance;
-use fairfit::fit::screening::{screen, spikes_beyond, OutlierMode, Screening};
+use fairfit::fit::screening::{self, screen_input, OutlierMode};
 use fairfit::fit::SmoothingOrder;
 use fairfit::io::curve_to_json;
 use fairfit::prelude::{fit_to_tolerance, FitOptions, FitResult, NurbsCurve, Tolerance, Vec3};
@@ -158,17 +158,18 @@ pub fn fit_input(
     };
     match cad {
         None => {
-            let (screening, kept) = screen_points(args, &set.points);
-            let points = kept.unwrap_or(set.points);
-            // a tolerance below the noise: every method fits to the meaningful one (the integrated
-            // method's own screening does the same)
-            let opts = match screening.as_ref().and_then(|s| s.noise_limited) {
-                Some(t) => FitOptions {
-                    tolerance: Tolerance::Absolute(t),
-                    ..opts
-                },
-                None => opts,
+            // the screening stage (`fairfit::fit::screening`): noise measured, spikes excluded
+            // with `--outliers auto`; a tolerance below the noise: every method fits to the
+            // meaningful one (the integrated method's own screening does the same)
+            let screened = screen_input(set.points, args.tolerance(), outlier_mode(args));
+            if let Some(w) = screened.warning() {
+                diag!("{w}");
+            }
+            let opts = FitOptions {
+                tolerance: screened.fit_tolerance(),
+                ..opts
             };
+            let (points, screening) = (screened.points, screened.screening);
             let fit = fit_points(args, &opts, &points, want_report, wall);
             let fit = fit.map_err(|e| name_spikes(args, &points, e))?;
             if args.outliers == OutliersArg::Off && fit.max_deviation > fit.tolerance {
@@ -419,20 +420,6 @@ fn usable_tolerance(args: &CurveArgs, points: &[Vec3]) -> Option<f64> {
     (t.is_finite() && t > 0.0).then_some(t)
 }
 
-/// The screening stage (`fairfit::fit::screening`): noise measured, spikes excluded with
-/// `--outliers auto`, and the one-line warning when the tolerance is below the noise. Returns the
-/// findings and the kept points when any were excluded.
-fn screen_points(args: &CurveArgs, points: &[Vec3]) -> (Option<Screening>, Option<Vec<Vec3>>) {
-    let Some(tol) = usable_tolerance(args, points) else {
-        return (None, None);
-    };
-    let (s, kept) = screen(points, tol, outlier_mode(args));
-    if let Some(w) = s.noise_warning(tol) {
-        diag!("{w}");
-    }
-    (Some(s), kept)
-}
-
 /// The library's outlier mode of `--outliers`.
 fn outlier_mode(args: &CurveArgs) -> OutlierMode {
     match args.outliers {
@@ -441,20 +428,10 @@ fn outlier_mode(args: &CurveArgs) -> OutlierMode {
     }
 }
 
-/// The spikes that keep tolerance `tol` out of reach, as a sentence (`None` when there are none).
+/// The spikes that keep tolerance `tol` out of reach, as a sentence with the option that excludes
+/// them (`None` when there are none).
 fn spikes_note(points: &[Vec3], tol: f64) -> Option<String> {
-    let found = spikes_beyond(points, tol, 5);
-    if found.is_empty() {
-        return None;
-    }
-    let list: Vec<String> = found
-        .iter()
-        .map(|o| format!("point {} ({:.2e} off)", o.index, o.distance))
-        .collect();
-    Some(format!(
-        "isolated spikes keep the tolerance out of reach: {}; --outliers auto excludes them",
-        list.join(", ")
-    ))
+    screening::spikes_note(points, tol).map(|s| format!("{s}; --outliers auto excludes them"))
 }
 
 /// A failed fit's error with the spikes that caused it named (`--outliers off`).
