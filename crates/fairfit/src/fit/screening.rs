@@ -280,7 +280,8 @@ impl ScreenedInput {
 /// pts[200] = pts[200] * 1.1;
 /// let s = screen_input(pts, Tolerance::Relative(5e-4), OutlierMode::Auto);
 /// assert_eq!((s.points.len(), s.screening.as_ref().unwrap().outliers[0].index), (499, 200));
-/// assert_eq!(s.absolute_tolerance(), Some(1e-3)); // the bounding box's largest side is 2
+/// // relative to the bounding box's largest side, 1 - cos 3 (x from cos 3 to 1)
+/// assert!((s.absolute_tolerance().unwrap() - 5e-4 * (1.0 - 3f64.cos())).abs() < 1e-15);
 /// assert_eq!(s.fit_tolerance(), Tolerance::Relative(5e-4));
 /// assert!(s.warning().is_none());
 /// ```
