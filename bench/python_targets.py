@@ -3,13 +3,13 @@
 
 - overhead: `fairfit.fit_curve` on a 200-point curve against the library's own time for the same fit
   and report (the report's `wall_seconds`, measured inside the extension), target <= 5 %;
-- evaluation: `curve(u)` for 10^6 parameters on one core, target >= 5 M points/s, and equal to the Rust
-  evaluator's numbers (`fairfit eval` at a sample of them);
+- evaluation: `curve(u)` for 10^6 parameters on one core, random and sorted, target >= 5 M points/s,
+  and equal to the Rust evaluator's numbers (`fairfit eval` at a sample of them);
 - the GIL: two Python threads fitting at once against the serial time, target <= 0.6x on 2 cores;
 - Ray: the batch of the shared curves on a local 2-CPU Ray against the serial loop, byte for byte, both
   wall times (needs `ray`; `--data` is the shared data folder, default `../shared/data`).
 
-Usage: python bench/python_targets.py [--data DIR] [--bin target/release/fairfit] [--skip-ray]
+Usage: python bench/python_targets.py [--data DIR] [--bin target/release/fairfit] [--skip-ray] [--only-eval]
 (with the package installed: `pip install ./crates/fairfit-py`).
 """
 
@@ -72,14 +72,32 @@ def overhead() -> dict:
 
 
 def evaluation(binary: str | None) -> dict:
+    """`curve(u)` for 10^6 random parameters and for 10^6 sorted ones (the spans found incrementally),
+    the median and best wall time and the median CPU time of 7 calls each (one core: the evaluation is
+    serial), and the numbers against `fairfit eval`."""
     pts = fairfit.read_points(os.path.join(REPO, "examples", "data", "naca4412.csv"))
     c = fairfit.fit_curve(pts)
     us = np.random.default_rng(0).uniform(0, 1, 1_000_000)
     c(us[:1000])
-    t0 = time.perf_counter()
+    row = {"parameters": len(us)}
+    for label, u in (("random", us), ("sorted", np.linspace(0.0, 1.0, len(us)))):
+        times, cpu = [], []
+        for _ in range(7):
+            t0, c0 = time.perf_counter(), time.process_time()
+            out = c(u)
+            times.append(time.perf_counter() - t0)
+            cpu.append(time.process_time() - c0)
+        # the CPU time of the (serial) call: what one core of its own would take; the wall time
+        # also holds the waits for a core on a loaded machine
+        row[label] = {
+            "median_s": float(np.median(times)),
+            "best_s": min(times),
+            "points_per_s_median": len(u) / float(np.median(times)),
+            "points_per_s_best": len(u) / min(times),
+            "cpu_s_median": float(np.median(cpu)),
+            "points_per_cpu_s": len(u) / float(np.median(cpu)),
+        }
     out = c(us)
-    dt = time.perf_counter() - t0
-    row = {"parameters": len(us), "seconds": dt, "points_per_s": len(us) / dt}
     if binary:
         with tempfile.TemporaryDirectory() as d:
             path = os.path.join(d, "c.json")
@@ -134,10 +152,16 @@ def main() -> None:
     ap.add_argument("--data", default=default_data(), help="the shared data folder")
     ap.add_argument("--bin", default=os.path.join(REPO, "target", "release", "fairfit"))
     ap.add_argument("--skip-ray", action="store_true")
+    ap.add_argument("--only-eval", action="store_true", help="measure the evaluation alone")
     a = ap.parse_args()
     binary = a.bin if os.path.exists(a.bin) else None
     # a loaded machine slows the threads and the evaluation: the load is part of the result
     result = {"load_average_before": os.getloadavg()[0], "cpus": os.cpu_count()}
+    if a.only_eval:
+        result["evaluation"] = evaluation(binary)
+        result["load_average_after"] = os.getloadavg()[0]
+        print(json.dumps(result, indent=2))
+        return
     result.update({"overhead": overhead(), "evaluation": evaluation(binary), "gil": gil()})
     if not a.skip_ray:
         result["ray"] = ray_batch(a.data)

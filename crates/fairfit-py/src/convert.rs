@@ -2,7 +2,7 @@
 
 use fairfit::Vec3;
 use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 /// The points of an `(n, 2)` or `(n, 3)` float array (z = 0 for two columns) and their dimension;
@@ -100,6 +100,18 @@ pub fn parameters(u: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, bool)> {
     if let Ok(x) = u.extract::<f64>() {
         return Ok((vec![x], true));
     }
+    let arr = parameter_array(u)?;
+    Ok((arr.as_slice()?.to_vec(), false))
+}
+
+/// A Python sequence of parameters as a flat, contiguous float64 array (the array itself, not a
+/// copy, when it already is one).
+pub fn parameter_array<'py>(u: &Bound<'py, PyAny>) -> PyResult<numpy::PyReadonlyArray1<'py, f64>> {
+    if let Ok(a) = u.extract::<numpy::PyReadonlyArray1<'py, f64>>() {
+        if a.is_contiguous() {
+            return Ok(a);
+        }
+    }
     let np = u.py().import("numpy")?;
     let a = np.call_method1("asarray", (u,))?;
     let kind: String = a.getattr("dtype")?.getattr("kind")?.extract()?;
@@ -109,9 +121,7 @@ pub fn parameters(u: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, bool)> {
             a.getattr("dtype")?.str()?
         )));
     }
-    let flat = np
-        .call_method1("ascontiguousarray", (a, "float64"))?
-        .call_method0("ravel")?;
-    let arr: numpy::PyReadonlyArray1<'_, f64> = flat.extract()?;
-    Ok((arr.as_slice()?.to_vec(), false))
+    np.call_method1("ascontiguousarray", (a, "float64"))?
+        .call_method0("ravel")?
+        .extract()
 }

@@ -3,14 +3,14 @@
 //! parameters, without the GIL); pickling goes through the curve's JSON, which round-trips every
 //! number exactly.
 
-use crate::convert::{json_to_py, parameters, points_array, vector};
+use crate::convert::{json_to_py, parameter_array, parameters, points_array, vector};
 use fairfit::diffgeo::curvature;
 use fairfit::fair::curve_fairness;
 use fairfit::io::{curve_to_json, Geometry};
 use fairfit::report::curve::exact_shape_json;
 use fairfit::{NurbsCurve, Vec3};
 use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use serde_json::Value;
@@ -129,16 +129,31 @@ impl Curve {
     }
 
     /// curve(u) -> ndarray: the points C(u), an (m, dim) array for m parameters, (dim,) for a scalar.
+    ///
+    /// The points are written straight into the new array without the GIL (no copy of the
+    /// parameters when they are a contiguous float64 array); sorted parameters find their knot
+    /// spans incrementally.
     fn __call__<'py>(&self, py: Python<'py>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-        let (us, scalar) = parameters(u)?;
-        self.check(&us)?;
-        let c = &self.inner;
-        let pts = crate::guarded(py, || Ok(c.points(&us)))?;
-        let a = points_array(py, &pts, self.dim);
-        if scalar {
-            return a.get_item(0);
+        if let Ok(x) = u.extract::<f64>() {
+            self.check(&[x])?;
+            let p = self.inner.point(x);
+            return Ok(vector(py, p.0[..self.dim].to_vec()).into_any());
         }
-        Ok(a.into_any())
+        let us = parameter_array(u)?;
+        let us = us.as_slice()?;
+        self.check(us)?;
+        let dim = self.dim;
+        let out = numpy::PyArray2::<f64>::zeros(py, [us.len(), dim], false);
+        {
+            let mut rw = out.readwrite();
+            let buf = rw.as_slice_mut()?;
+            let c = &self.inner;
+            crate::guarded(py, || {
+                c.points_into_rows(us, dim, buf);
+                Ok(())
+            })?;
+        }
+        Ok(out.into_any())
     }
 
     /// derivatives(u, k) -> ndarray: C(u) and its derivatives up to order k, an (m, k + 1, dim) array

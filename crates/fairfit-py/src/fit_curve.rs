@@ -4,14 +4,15 @@
 use crate::convert::points_from_array;
 use crate::curve::Curve;
 use crate::options::{
-    fit_options, integrated_options, parse_degree, parse_ends, parse_knots, parse_method,
-    parse_param, CurveSettings, Method,
+    fit_options, integrated_options, parse_degree, parse_end, parse_ends, parse_knots,
+    parse_method, parse_outliers, parse_param, CurveSettings, Method,
 };
-use fairfit::fair::{fair_curve, FairingOptions};
+use fairfit::fair::fair_curve;
 use fairfit::fit::max_orthogonal_deviation;
-use fairfit::fit::points::{absolute_tolerance, drop_consecutive_duplicates};
-use fairfit::fit::screening::{screen, OutlierMode};
+use fairfit::fit::points::drop_consecutive_duplicates;
+use fairfit::fit::screening::{screen_input, spikes_note, OutlierMode};
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
+use fairfit::io::limits::{ReadLimits, DEFAULT_MAX_POINTS};
 use fairfit::io::points::MIN_POINTS;
 use fairfit::optim::{
     distinct_control_points, fit_integrated, is_closed, pareto_front_of_result, ParetoCurve,
@@ -19,6 +20,9 @@ use fairfit::optim::{
 use fairfit::report::curve::{
     add_screening, fit_then_fair_report, integrated_report, integrated_warning, lsq_report,
     shape_report, with_method,
+};
+use fairfit::report::end_conditions::{
+    held_fairing, integrated_end_conditions, lsq_end_conditions,
 };
 use fairfit::{NurbsCurve, Vec3};
 use numpy::PyReadonlyArray2;
@@ -40,11 +44,12 @@ pub struct Fitted {
 }
 
 /// The extension's `fit_curve` (the Python wrapper `fairfit.fit_curve` documents it): returns the
-/// curve and the warnings.
+/// curve, the warnings and the Pareto front.
 #[pyfunction]
 #[pyo3(signature = (points, tol, rel_tol, method, degree, control_points, closed, corner_angle,
     ends, seed, threads, band_fairing, span_fairness, param, knots, correction_rounds, smoothing,
-    smoothing_order, start_tangent, end_tangent, input_name, pareto=false))]
+    smoothing_order, start_tangent, end_tangent, input_name, pareto=false, outliers="auto",
+    start=None, end=None, max_points=DEFAULT_MAX_POINTS))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_curve(
     py: Python<'_>,
@@ -70,6 +75,10 @@ pub fn fit_curve(
     end_tangent: Option<[f64; 3]>,
     input_name: Option<String>,
     pareto: bool,
+    outliers: &str,
+    start: Option<&str>,
+    end: Option<&str>,
+    max_points: usize,
 ) -> PyResult<(Curve, Vec<String>, Vec<Curve>)> {
     let wall = Instant::now();
     let settings = CurveSettings {
@@ -90,14 +99,20 @@ pub fn fit_curve(
         correction_rounds,
         smoothing,
         smoothing_order,
-        start_tangent: start_tangent.map(|[x, y, z]| Vec3::new(x, y, z)),
-        end_tangent: end_tangent.map(|[x, y, z]| Vec3::new(x, y, z)),
+        start: parse_end("start", start, start_tangent).map_err(crate::py_err)?,
+        end: parse_end("end", end, end_tangent).map_err(crate::py_err)?,
+        outliers: parse_outliers(outliers).map_err(crate::py_err)?,
+        pareto,
     };
     settings.check().map_err(crate::py_err)?;
-    if pareto && settings.method != Method::Integrated {
-        return Err(crate::py_err("pareto needs method=\"integrated\""));
-    }
     let input = input_name.unwrap_or_else(|| "<array>".into());
+    let limits = ReadLimits {
+        max_points,
+        ..ReadLimits::current()
+    };
+    limits
+        .check_points(&input, points.as_array().nrows(), "points")
+        .map_err(|e| crate::py_err(e.to_string().replace("--max-points N", "max_points=N")))?;
     let (raw, dim) = points_from_array(&points, &input)?;
     let fitted = crate::guarded(py, move || {
         let (points, dropped) = drop_consecutive_duplicates(&raw);
@@ -109,24 +124,7 @@ pub fn fit_curve(
             .to_string());
         }
         settings.check_points(points.len())?;
-        // the screening stage of `fairfit curve` (its default `--outliers auto`): noise measured,
-        // spikes excluded, the same report keys
-        let tol = absolute_tolerance(settings.tolerance(), &points);
-        let screened =
-            (tol.is_finite() && tol > 0.0).then(|| screen(&points, tol, OutlierMode::Auto));
-        let (screening, points) = match screened {
-            Some((s, kept)) => (Some(s), kept.unwrap_or(points)),
-            None => (None, points),
-        };
-        let mut fitted = fit_points(&settings, &input, &points, wall, threads, pareto)?;
-        if let Some(s) = &screening {
-            if let Some(w) = s.noise_warning(tol) {
-                fitted
-                    .warnings
-                    .push(w.trim_start_matches("warning: ").to_string());
-            }
-            add_screening(&mut fitted.report, OutlierMode::Auto, s);
-        }
+        let mut fitted = fit_screened(&settings, &input, points, wall, threads)?;
         if dropped > 0 {
             fitted.warnings.insert(
                 0,
@@ -150,22 +148,72 @@ pub fn fit_curve(
     ))
 }
 
-/// One fit of `points` by the method of `s`, with its report (`fairfit curve`'s `fit_points`).
+/// The screening stage of `fairfit curve` (`fairfit::fit::screening::screen_input`: noise
+/// measured, spikes excluded with `outliers="auto"`, a tolerance below the noise raised), then the
+/// fit of the kept points, with the CLI's report keys and warnings; with `outliers="off"`, a fit
+/// that misses the tolerance because of spikes names them (in its error, or in a warning).
+pub fn fit_screened(
+    s: &CurveSettings,
+    input: &str,
+    points: Vec<Vec3>,
+    wall: Instant,
+    threads: Option<usize>,
+) -> Result<Fitted, String> {
+    let screened = screen_input(points, s.tolerance(), s.outliers);
+    let mut warnings: Vec<String> = screened
+        .warning()
+        .map(|w| w.trim_start_matches("warning: ").to_string())
+        .into_iter()
+        .collect();
+    let opts = fit_options(s, screened.fit_tolerance());
+    let points = &screened.points;
+    let spikes = |tol: f64| {
+        (s.outliers == OutlierMode::Off)
+            .then(|| spikes_note(points, tol))
+            .flatten()
+            .map(|n| format!("{n}; outliers='auto' excludes them"))
+    };
+    let mut fitted = fit_points(s, input, &opts, points, wall, threads).map_err(|e| {
+        // a refused setting is the caller's (the CLI's usage error), not the data's
+        let setting = e.starts_with("invalid option ");
+        match screened
+            .absolute_tolerance()
+            .filter(|_| !setting)
+            .and_then(spikes)
+        {
+            Some(note) => format!("{e}; {note}"),
+            None => e,
+        }
+    })?;
+    warnings.append(&mut fitted.warnings);
+    let field = |k: &str| fitted.report[k].as_f64().unwrap_or(f64::NAN);
+    let (tolerance, max_deviation) = (field("tolerance"), field("max_deviation"));
+    if max_deviation > tolerance {
+        warnings.extend(spikes(tolerance));
+    }
+    if let Some(sc) = &screened.screening {
+        add_screening(&mut fitted.report, s.outliers, sc);
+    }
+    fitted.warnings = warnings;
+    Ok(fitted)
+}
+
+/// One fit of `points` by the method of `s` with the least-squares options `opts`, with its report
+/// (`fairfit curve`'s `fit_points`).
 pub fn fit_points(
     s: &CurveSettings,
     input: &str,
+    opts: &FitOptions,
     points: &[Vec3],
     wall: Instant,
     threads: Option<usize>,
-    pareto: bool,
 ) -> Result<Fitted, String> {
-    let opts = fit_options(s);
     if s.method == Method::Lsq {
-        return fit_lsq(s, input, &opts, points, wall);
+        return fit_lsq(s, input, opts, points, wall);
     }
     let (curve, method_report, warnings, front) = crate::with_pool(threads, || match s.method {
-        Method::Integrated => run_integrated(s, points, pareto),
-        _ => run_fit_then_fair(s, points, &opts),
+        Method::Integrated => run_integrated(s, points),
+        _ => run_fit_then_fair(s, points, opts),
     })?;
     let base = shape_report(&curve, input, points.len(), wall.elapsed().as_secs_f64());
     let report = with_method(base, &method_report);
@@ -193,7 +241,11 @@ fn fit_lsq(
             opts.smoothing, fit.smoothing_used
         ));
     }
-    let report = lsq_report(&fit, input, &s.knots_name, wall.elapsed().as_secs_f64());
+    let mut report = lsq_report(&fit, input, &s.knots_name, wall.elapsed().as_secs_f64());
+    let conditions = s.end_conditions();
+    if !conditions.is_none() {
+        report["end_conditions"] = lsq_end_conditions(points, opts, &conditions, &fit.curve, None);
+    }
     Ok(Fitted {
         curve: fit.curve,
         report,
@@ -205,46 +257,47 @@ fn fit_lsq(
 /// The curve, the method part of its report, the warnings and the Pareto front (empty unless asked).
 type MethodOutput = (NurbsCurve, Value, Vec<String>, Vec<ParetoCurve>);
 
-/// `method="integrated"` (`fairfit curve`'s `run_integrated`), with the Pareto front when `pareto`
-/// (the report's `pareto_members` its size, as `--pareto` writes it).
-fn run_integrated(
-    s: &CurveSettings,
-    points: &[Vec3],
-    pareto: bool,
-) -> Result<MethodOutput, String> {
+/// `method="integrated"` (`fairfit curve`'s `run_integrated`), with the Pareto front when
+/// `s.pareto` (the report's `pareto_members` its size, as `--pareto` writes it).
+fn run_integrated(s: &CurveSettings, points: &[Vec3]) -> Result<MethodOutput, String> {
     let opts = integrated_options(s);
     let closed = is_closed(points, opts.closed);
     let r = fit_integrated(points, &opts).map_err(|e| e.to_string())?;
     let mut report = integrated_report(&r, closed, s.span_fairness, s.seed);
-    let warnings = integrated_warning(&r, s.span_fairness)
-        .into_iter()
-        .collect();
-    let front = if pareto {
+    if !opts.end_conditions.is_none() {
+        report["end_conditions"] = integrated_end_conditions(points, &opts, &r);
+    }
+    let front = if s.pareto {
         let front = pareto_front_of_result(points, &opts, &r).map_err(|e| e.to_string())?;
         report["pareto_members"] = front.len().into();
         front
     } else {
         Vec::new()
     };
+    let warnings = integrated_warning(&r, s.span_fairness)
+        .into_iter()
+        .collect();
     Ok((r.curve, report, warnings, front))
 }
 
-/// `method="fit-then-fair"` (`fairfit curve`'s `run_fit_then_fair`).
+/// `method="fit-then-fair"` (`fairfit curve`'s `run_fit_then_fair`): the control points that carry
+/// end conditions never move.
 fn run_fit_then_fair(
     s: &CurveSettings,
     points: &[Vec3],
     fit_opts: &FitOptions,
 ) -> Result<MethodOutput, String> {
     let fit = fit_to_tolerance(points, fit_opts).map_err(|e| e.to_string())?;
-    let faired = fair_curve(
-        &fit.curve,
-        points,
-        fit.tolerance,
-        &FairingOptions::default(),
-    )
-    .map_err(|e| e.to_string())?;
+    let conditions = s.end_conditions();
+    let fairing = held_fairing(&conditions);
+    let faired =
+        fair_curve(&fit.curve, points, fit.tolerance, &fairing).map_err(|e| e.to_string())?;
     let dev = max_orthogonal_deviation(&faired.curve, &fit.points, &fit.params);
-    let report = fit_then_fair_report(&fit, &faired.curve, faired.iterations, &dev, s.seed);
+    let mut report = fit_then_fair_report(&fit, &faired.curve, faired.iterations, &dev, s.seed);
+    if !conditions.is_none() {
+        report["end_conditions"] =
+            lsq_end_conditions(points, fit_opts, &conditions, &faired.curve, Some(&fairing));
+    }
     Ok((faired.curve, report, Vec::new(), Vec::new()))
 }
 

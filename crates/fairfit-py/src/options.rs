@@ -3,6 +3,8 @@
 //! the same checks with the same messages (named by their Python keywords), the same library options.
 //! `integrated_options` and `fit_options` are the only places that build library options.
 
+use fairfit::fit::end_constraints::{EndConstraint, EndConstraints};
+use fairfit::fit::screening::OutlierMode;
 use fairfit::fit::tolerance::{ClosedMode, FitOptions, KnotRule, Tolerance};
 use fairfit::fit::{Parameterization, SmoothingOrder};
 use fairfit::optim::{EndCondition, IntegratedOptions};
@@ -59,10 +61,14 @@ pub struct CurveSettings {
     pub smoothing: f64,
     /// `smoothing_order` (2 or 3).
     pub smoothing_order: u8,
-    /// `start_tangent`.
-    pub start_tangent: Option<Vec3>,
-    /// `end_tangent`.
-    pub end_tangent: Option<Vec3>,
+    /// `start` (`--start`), or `start_tangent` as a `tangent:` condition; `None` for neither.
+    pub start: Option<EndConstraint>,
+    /// `end` (`--end`), or `end_tangent` as a `tangent:` condition.
+    pub end: Option<EndConstraint>,
+    /// `outliers` (`--outliers`).
+    pub outliers: OutlierMode,
+    /// `pareto` (`--pareto`).
+    pub pareto: bool,
 }
 
 /// `"auto"` or a degree from 1 to 15 (the CLI's `--degree`); `None` is `auto`.
@@ -114,6 +120,36 @@ pub fn parse_knots(text: &str) -> Result<KnotRule, String> {
     }
 }
 
+/// `outliers=`.
+pub fn parse_outliers(text: &str) -> Result<OutlierMode, String> {
+    match text {
+        "auto" => Ok(OutlierMode::Auto),
+        "off" => Ok(OutlierMode::Off),
+        _ => Err(format!("outliers: expected `auto` or `off`, got `{text}`")),
+    }
+}
+
+/// One end's condition from `start=`/`end=` (the text of `--start`/`--end`) or
+/// `start_tangent=`/`end_tangent=` (a direction), which exclude each other (`which` is `"start"`
+/// or `"end"`).
+pub fn parse_end(
+    which: &str,
+    text: Option<&str>,
+    tangent: Option<[f64; 3]>,
+) -> Result<Option<EndConstraint>, String> {
+    match (text, tangent) {
+        (Some(_), Some(_)) => Err(format!(
+            "{which} and {which}_tangent cannot be used together"
+        )),
+        (Some(t), None) => t
+            .parse::<EndConstraint>()
+            .map(Some)
+            .map_err(|e| format!("{which}: {e}, got `{t}`")),
+        (None, Some([x, y, z])) => Ok(Some(EndConstraint::tangent(Vec3::new(x, y, z)))),
+        (None, None) => Ok(None),
+    }
+}
+
 /// `ends=`: true for free ends.
 pub fn parse_ends(text: &str) -> Result<bool, String> {
     match text {
@@ -156,6 +192,7 @@ impl CurveSettings {
 
     /// The checks `fairfit curve` makes before it reads its input, with the same messages.
     pub fn check(&self) -> Result<(), String> {
+        self.check_method_options()?;
         if let Some(a) = self.corner_angle {
             if !(a.is_finite() && a > 0.0 && a <= 180.0) {
                 return Err(format!("corner_angle must be in (0, 180] degrees, got {a}"));
@@ -180,15 +217,55 @@ impl CurveSettings {
         if self.control_points.is_some() && !integrated {
             return Err("control_points needs method='integrated'".into());
         }
-        if (self.start_tangent.is_some() || self.end_tangent.is_some()) && integrated {
-            return Err(
-                "start_tangent and end_tangent need method='lsq' or method='fit-then-fair'".into(),
-            );
-        }
         if self.free_ends && !integrated {
             return Err("ends='free' needs method='integrated'".into());
         }
         Ok(())
+    }
+
+    /// Refuses a keyword the chosen method would ignore (`fairfit curve`'s usage error), naming
+    /// the method that uses it.
+    fn check_method_options(&self) -> Result<(), String> {
+        let given = |keyword: &'static str, set: bool| set.then_some(keyword);
+        let ignored: Option<&str> = match self.method {
+            Method::Integrated => [
+                given("knots", self.knots != KnotRule::Refine),
+                given("param", self.param != Parameterization::Centripetal),
+                given("correction_rounds", self.correction_rounds != 0),
+                given("smoothing", self.smoothing != 0.0),
+                given("smoothing_order", self.smoothing_order != 2),
+            ]
+            .into_iter()
+            .flatten()
+            .next(),
+            _ => [
+                given("span_fairness", self.span_fairness.is_some()),
+                given("pareto", self.pareto),
+                given("band_fairing", !self.band_fairing),
+            ]
+            .into_iter()
+            .flatten()
+            .next(),
+        };
+        let Some(keyword) = ignored else {
+            return Ok(());
+        };
+        let (method, uses) = match self.method {
+            Method::Integrated => ("integrated", "method='lsq' or method='fit-then-fair'"),
+            Method::Lsq => ("lsq", "method='integrated'"),
+            Method::FitThenFair => ("fit-then-fair", "method='integrated'"),
+        };
+        Err(format!(
+            "{keyword} has no effect with method='{method}'; it needs {uses}"
+        ))
+    }
+
+    /// The end conditions (`start`, `end`; none where not given).
+    pub fn end_conditions(&self) -> EndConstraints {
+        EndConstraints {
+            start: self.start.unwrap_or_default(),
+            end: self.end.unwrap_or_default(),
+        }
     }
 
     /// The check `fairfit curve` makes once the points are known.
@@ -202,12 +279,19 @@ impl CurveSettings {
     }
 }
 
-/// The least-squares options (`method="lsq"` and `"fit-then-fair"`), as `fairfit curve` builds them.
-pub fn fit_options(s: &CurveSettings) -> FitOptions {
+/// The least-squares options (`method="lsq"` and `"fit-then-fair"`), as `fairfit curve` builds them,
+/// fitted to `tolerance` (the screening's, [`fairfit::fit::screening::ScreenedInput::fit_tolerance`]).
+/// A tangent alone keeps the least-squares pipeline's end derivative (its length from the data's
+/// speed); a point or a curvature makes every condition exact.
+pub fn fit_options(s: &CurveSettings, tolerance: Tolerance) -> FitOptions {
+    let conditions = s.end_conditions();
+    let exact = [&conditions.start, &conditions.end]
+        .iter()
+        .any(|c| c.point.is_some() || c.curvature.is_some());
     FitOptions {
         degree: s.lowest_degree(),
         parameterization: s.param,
-        tolerance: s.tolerance(),
+        tolerance,
         closed: s.closed_mode(),
         corner_angle_deg: s.corner_angle,
         correction_rounds: s.correction_rounds,
@@ -218,14 +302,20 @@ pub fn fit_options(s: &CurveSettings) -> FitOptions {
             SmoothingOrder::Second
         },
         knot_rule: s.knots,
-        start_tangent: s.start_tangent,
-        end_tangent: s.end_tangent,
+        start_tangent: conditions.start.tangent.filter(|_| !exact),
+        end_tangent: conditions.end.tangent.filter(|_| !exact),
+        end_conditions: if exact {
+            conditions
+        } else {
+            Default::default()
+        },
         ..FitOptions::default()
     }
 }
 
 /// The integrated method's options, as `fairfit curve` builds them (its `integrated_options`).
 pub fn integrated_options(s: &CurveSettings) -> IntegratedOptions {
+    let conditions = s.end_conditions();
     IntegratedOptions::new(s.tolerance())
         .degree(s.lowest_degree())
         .degree_search(s.degree().is_none().then_some(AUTO_MAX_DEGREE))
@@ -240,4 +330,6 @@ pub fn integrated_options(s: &CurveSettings) -> IntegratedOptions {
         } else {
             EndCondition::Pinned
         })
+        .start(conditions.start)
+        .end(conditions.end)
 }

@@ -16,7 +16,7 @@ use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
 use fairfit::fit::points::absolute_tolerance;
-use fairfit::fit::screening::{screen, spikes_beyond, OutlierMode, Screening};
+use fairfit::fit::screening::{self, screen_input, OutlierMode, Screening};
 use fairfit::fit::SmoothingOrder;
 use fairfit::io::curve_to_json;
 use fairfit::prelude::{fit_to_tolerance, FitOptions, FitResult, NurbsCurve, Tolerance, Vec3};
@@ -159,21 +159,32 @@ pub fn fit_input(
     };
     match cad {
         None => {
-            let (screening, kept) = screen_points(args, &set.points);
-            // a tolerance below the noise: every method fits to the meaningful one (the integrated
-            // method's own screening does the same)
-            let opts = match screening.as_ref().and_then(|s| s.noise_limited) {
-                Some(t) => FitOptions {
-                    tolerance: Tolerance::Absolute(t),
-                    ..opts
-                },
-                None => opts,
-            };
-            if !constraints.constraints.is_none() {
-                let (all, s) = (&set.points, screening);
-                return fit_with_constraints(args, &opts, all, s, &constraints, want_report, wall);
+            // the screening stage (`fairfit::fit::screening`): noise measured, spikes excluded
+            // with `--outliers auto`; a tolerance below the noise: every method fits to the
+            // meaningful one (the integrated method's own screening does the same). Point
+            // constraints index the file's points, so they keep every point beside the screening.
+            let constrained = !constraints.constraints.is_none();
+            let all = constrained.then(|| set.points.clone());
+            let screened = screen_input(set.points, args.tolerance(), outlier_mode(args));
+            if let Some(w) = screened.warning() {
+                diag!("{w}");
             }
-            let points = kept.unwrap_or(set.points);
+            let opts = FitOptions {
+                tolerance: screened.fit_tolerance(),
+                ..opts
+            };
+            let (points, screening) = (screened.points, screened.screening);
+            if let Some(all) = all {
+                return fit_with_constraints(
+                    args,
+                    &opts,
+                    &all,
+                    screening,
+                    &constraints,
+                    want_report,
+                    wall,
+                );
+            }
             let fit = fit_points(args, &opts, &points, want_report, wall);
             let fit = fit.map_err(|e| name_spikes(args, &points, e))?;
             if args.outliers == OutliersArg::Off && fit.max_deviation > fit.tolerance {
@@ -464,20 +475,6 @@ fn usable_tolerance(args: &CurveArgs, points: &[Vec3]) -> Option<f64> {
     (t.is_finite() && t > 0.0).then_some(t)
 }
 
-/// The screening stage (`fairfit::fit::screening`): noise measured, spikes excluded with
-/// `--outliers auto`, and the one-line warning when the tolerance is below the noise. Returns the
-/// findings and the kept points when any were excluded.
-fn screen_points(args: &CurveArgs, points: &[Vec3]) -> (Option<Screening>, Option<Vec<Vec3>>) {
-    let Some(tol) = usable_tolerance(args, points) else {
-        return (None, None);
-    };
-    let (s, kept) = screen(points, tol, outlier_mode(args));
-    if let Some(w) = s.noise_warning(tol) {
-        diag!("{w}");
-    }
-    (Some(s), kept)
-}
-
 /// The library's outlier mode of `--outliers`.
 fn outlier_mode(args: &CurveArgs) -> OutlierMode {
     match args.outliers {
@@ -486,20 +483,10 @@ fn outlier_mode(args: &CurveArgs) -> OutlierMode {
     }
 }
 
-/// The spikes that keep tolerance `tol` out of reach, as a sentence (`None` when there are none).
+/// The spikes that keep tolerance `tol` out of reach, as a sentence with the option that excludes
+/// them (`None` when there are none).
 fn spikes_note(points: &[Vec3], tol: f64) -> Option<String> {
-    let found = spikes_beyond(points, tol, 5);
-    if found.is_empty() {
-        return None;
-    }
-    let list: Vec<String> = found
-        .iter()
-        .map(|o| format!("point {} ({:.2e} off)", o.index, o.distance))
-        .collect();
-    Some(format!(
-        "isolated spikes keep the tolerance out of reach: {}; --outliers auto excludes them",
-        list.join(", ")
-    ))
+    screening::spikes_note(points, tol).map(|s| format!("{s}; --outliers auto excludes them"))
 }
 
 /// A failed fit's error with the spikes that caused it named (`--outliers off`).

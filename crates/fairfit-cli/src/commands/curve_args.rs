@@ -158,43 +158,13 @@ fn parse_degree(s: &str) -> Result<DegreeArg, String> {
 
 /// Parses `X,Y` or `X,Y,Z` into a vector.
 fn parse_vector(s: &str) -> Result<Vec3, String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("expected X,Y or X,Y,Z: {e}"))?;
-    match v[..] {
-        [x, y] => Ok(Vec3::new(x, y, 0.0)),
-        [x, y, z] => Ok(Vec3::new(x, y, z)),
-        _ => Err(format!("expected X,Y or X,Y,Z, got {} values", v.len())),
-    }
+    fairfit::fit::end_constraints::parse_vector(s)
 }
 
 /// An end condition `point[:X,Y[,Z]]`, `tangent:X,Y[,Z]`, `curvature:X,Y[,Z]:KAPPA` (signed
-/// curvature) or `curvature:X,Y,Z:KX,KY,KZ` (curvature vector).
+/// curvature) or `curvature:X,Y,Z:KX,KY,KZ` (curvature vector): the library's text form.
 fn parse_end_condition(s: &str) -> Result<EndConstraint, String> {
-    let (kind, rest) = s.split_once(':').unwrap_or((s, ""));
-    match kind.trim() {
-        "point" if rest.is_empty() => Ok(EndConstraint::default()),
-        "point" => parse_vector(rest).map(EndConstraint::point),
-        "tangent" => parse_vector(rest).map(EndConstraint::tangent),
-        "curvature" => {
-            let (t, k) = rest
-                .split_once(':')
-                .ok_or("expected curvature:X,Y[,Z]:KAPPA")?;
-            let t = parse_vector(t)?;
-            if k.contains(',') {
-                Ok(EndConstraint::curvature_vector(t, parse_vector(k)?))
-            } else {
-                let kappa = k
-                    .trim()
-                    .parse::<f64>()
-                    .map_err(|e| format!("expected curvature:X,Y[,Z]:KAPPA: {e}"))?;
-                Ok(EndConstraint::curvature(t, kappa))
-            }
-        }
-        _ => Err("expected point[:X,Y[,Z]], tangent:X,Y[,Z] or curvature:X,Y[,Z]:KAPPA".into()),
-    }
+    s.parse()
 }
 
 /// [`parse_end_condition`] as a check: the text is kept (a parsed condition would make the

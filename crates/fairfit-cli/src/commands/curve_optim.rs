@@ -8,17 +8,16 @@
 use super::curve_args::{CurveArgs, DegreeArg, AUTO_MAX_DEGREE};
 use super::files::Output;
 use super::CliError;
-use fairfit::fair::{fair_curve, FairingOptions};
+use fairfit::fair::fair_curve;
 use fairfit::fit::max_orthogonal_deviation;
 use fairfit::io::curve_to_json;
-use fairfit::optim::{
-    distinct_control_points, is_closed, pareto_csv, pareto_front_of_result, ParetoCurve,
-};
+use fairfit::optim::{is_closed, pareto_csv, pareto_front_of_result, ParetoCurve};
 use fairfit::prelude::{
     fit_integrated_with_stages, fit_to_tolerance, FitOptions, IntegratedOptions, IntegratedResult,
     NurbsCurve, Vec3,
 };
 use fairfit::report::curve::{fit_then_fair_report, integrated_report, integrated_warning};
+use fairfit::report::end_conditions::{held_fairing, integrated_end_conditions};
 use serde_json::{json, Value};
 
 /// A fitted curve and the method-specific part of its report.
@@ -107,7 +106,7 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
     let mut report = integrated_report(&r, closed, args.span_fairness, args.seed);
     let mut files = Vec::new();
     if !opts.end_conditions.is_none() {
-        report["end_conditions"] = end_conditions_report(points, &opts, &r);
+        report["end_conditions"] = integrated_end_conditions(points, &opts, &r);
     }
     if let Some(path) = &args.pareto {
         let front = pareto_front_of_result(points, &opts, &r).map_err(|e| cli_error(e, args))?;
@@ -122,31 +121,6 @@ pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput,
         report,
         files,
     })
-}
-
-/// The report of a fit under end conditions: per constrained end the order asked for and the
-/// continuity achieved (tangent angle in radians, relative curvature difference, distance from a
-/// given point), and the cost: F of the same fit without the conditions at the same degree and
-/// control-point count (`null` when that fit fails).
-fn end_conditions_report(
-    points: &[Vec3],
-    opts: &IntegratedOptions,
-    r: &IntegratedResult,
-) -> serde_json::Value {
-    let mut free = opts.at_degree(r.curve.degree());
-    free.end_conditions = Default::default();
-    let n = distinct_control_points(&r.curve);
-    let free = free.control_points(Some(n));
-    let f_free = fairfit::optim::fit_integrated(points, &free)
-        .ok()
-        .map(|f| f.quality.fairness);
-    super::curve_ends::end_conditions_json(
-        &r.curve,
-        &opts.end_conditions,
-        r.quality.fairness,
-        f_free,
-        f_free.map(|_| n),
-    )
 }
 
 /// The front as CSV at `path`, and every member as a curve JSON in `--pareto-curves` (the folder is
@@ -177,17 +151,7 @@ pub fn run_fit_then_fair(
     let fit = fit_to_tolerance(points, fit_opts).map_err(|e| cli_error(e, args))?;
     // the control points that carry end conditions never move (a tangent holds two, a curvature three)
     let conditions = args.end_conditions();
-    let held = |c: &fairfit::fit::end_constraints::EndConstraint| {
-        if c.is_none() {
-            0
-        } else {
-            c.fixed_points()
-        }
-    };
-    let fairing = FairingOptions {
-        held: (held(&conditions.start), held(&conditions.end)),
-        ..FairingOptions::default()
-    };
+    let fairing = held_fairing(&conditions);
     let faired = fair_curve(&fit.curve, points, fit.tolerance, &fairing)?;
     // measured afresh by projection on the faired curve, started at the least-squares parameters
     // (the fairing's own distances came from an unhinted projection that can stop at a far local

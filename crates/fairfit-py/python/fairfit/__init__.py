@@ -38,6 +38,7 @@ __all__ = [
     "FairfitWarning",
     "Surface",
     "DEFAULT_CORNER_ANGLE",
+    "DEFAULT_MAX_POINTS",
     "fit_curve",
     "fit_surface",
     "fit_surface_from_mesh",
@@ -48,6 +49,9 @@ __all__ = [
 
 #: The turning angle in degrees above which a point is a corner (``fairfit curve --corner-angle``).
 DEFAULT_CORNER_ANGLE = 60.0
+
+#: The most points an input may hold by default (``fairfit --max-points``).
+DEFAULT_MAX_POINTS = 10_000_000
 
 
 class FairfitWarning(UserWarning):
@@ -117,12 +121,19 @@ def fit_curve(
     end_tangent=None,
     name: Optional[str] = None,
     pareto: bool = False,
+    outliers: str = "auto",
+    start: Optional[str] = None,
+    end: Optional[str] = None,
+    max_points: int = DEFAULT_MAX_POINTS,
 ) -> Union[Curve, Tuple[Curve, List[Curve]]]:
     """Fits a fair curve to ordered points within a tolerance: ``fairfit curve`` from Python.
 
     Every keyword is the CLI option of the same name (``rel_tol`` is ``--rel-tol``), with the same
     default, and the same points and ``seed`` give a curve whose :meth:`Curve.to_json` is
-    byte-identical to what ``fairfit curve POINTS -o curve.json`` writes.
+    byte-identical to what ``fairfit curve POINTS -o curve.json`` writes, and a ``report`` with the
+    keys of ``--report``, in every method. A keyword the chosen method ignores (``knots`` with the
+    integrated method, ``span_fairness`` with ``lsq``, ...) raises :class:`FairfitError`, as the CLI
+    refuses the option.
 
     points: an (n, 2) or (n, 3) array of floats, or anything ``np.asarray`` makes one of. Consecutive
         duplicate points are dropped (a :class:`FairfitWarning` says how many), as the CLI does.
@@ -151,7 +162,20 @@ def fit_curve(
     knots: ``"refine"``, ``"averaging"`` or ``"adaptive"`` (``--knots``; lsq and fit-then-fair).
     correction_rounds: parameter-correction rounds per least-squares fit.
     smoothing: scale-free smoothing weight λ (``--smoothing``), with ``smoothing_order`` 2 or 3.
-    start_tangent, end_tangent: tangent directions at the ends (lsq and fit-then-fair).
+    outliers: ``"auto"`` (the default: isolated spikes excluded and listed in the report's
+        ``outliers``) or ``"off"`` (every point kept; a fit that misses the tolerance because of
+        spikes names them, in its error or a :class:`FairfitWarning`). Either way the noise σ is
+        measured and a tolerance below the noise is raised to the meaningful tolerance, with a
+        warning (``--outliers``; docs/fit.md "Screening").
+    start, end: a condition at the first or last point of an open curve, the text of ``--start`` /
+        ``--end``: ``"point:X,Y[,Z]"`` (G0), ``"tangent:X,Y[,Z]"`` (G1, direction only) or
+        ``"curvature:X,Y[,Z]:KAPPA"`` (G2, signed curvature; in 3-D also
+        ``"curvature:X,Y,Z:KX,KY,KZ"``). Every method holds them; the report's ``end_conditions``
+        says the continuity achieved and what it cost in F (docs/constraints.md).
+    start_tangent, end_tangent: a tangent direction (X, Y[, Z]) at the ends, the same as
+        ``start="tangent:X,Y"`` (``--start-tangent``); not with ``start`` / ``end``.
+    max_points: most points the input may hold (``--max-points``, default 10^7); more raise
+        :class:`FairfitError`.
     name: what the report's ``input`` and the messages call the points (default ``"<array>"``).
     pareto: also return the Pareto front of (max deviation, F) at the fitted count (``--pareto``;
         integrated only): a list of :class:`Curve` by increasing deviation (so decreasing F), each
@@ -165,6 +189,13 @@ def fit_curve(
     """
     if isinstance(degree, bool) or not isinstance(degree, (str, int, _np.integer)):
         raise FairfitError(f"degree: expected `auto` or a degree from 1 to 15, got `{degree!r}`")
+    for what, cond in (("start", start), ("end", end)):
+        if cond is not None and not isinstance(cond, str):
+            raise FairfitError(
+                f"{what}: expected text such as 'tangent:1,0' (the CLI's --{what}), got {cond!r}"
+            )
+    if isinstance(max_points, bool) or not isinstance(max_points, (int, _np.integer)) or max_points < 0:
+        raise FairfitError(f"max_points must be a whole number >= 0, got {max_points!r}")
     curve, warnings, front = _fit_curve(
         _points(points),
         None if tol is None else float(tol),
@@ -188,6 +219,10 @@ def fit_curve(
         _vector(end_tangent, "end_tangent"),
         name,
         bool(pareto),
+        outliers,
+        start,
+        end,
+        int(max_points),
     )
     _warn(warnings)
     return (curve, front) if pareto else curve

@@ -68,7 +68,7 @@ def test_pareto_front_is_the_clis_csv_and_curves(cli, tmp_path):
     # by increasing deviation, so decreasing F
     devs = [m.report["max_deviation"] for m in front]
     assert devs == sorted(devs)
-    with pytest.raises(fairfit.FairfitError, match="pareto needs"):
+    with pytest.raises(fairfit.FairfitError, match="pareto has no effect with method=.lsq.; it needs method=.integrated."):
         fairfit.fit_curve(fairfit.read_points(path), method="lsq", degree=3, pareto=True)
 
 

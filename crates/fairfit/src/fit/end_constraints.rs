@@ -493,3 +493,58 @@ pub(crate) fn check_against_data(ends: &EndConstraints, points: &[Vec3], tol: f6
     }
     Ok(())
 }
+
+/// Parses `X,Y` or `X,Y,Z` into a vector (`z` 0 for two values): the text form of end
+/// conditions' vectors (`fairfit curve --start tangent:X,Y`).
+pub fn parse_vector(s: &str) -> std::result::Result<Vec3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|e| format!("expected X,Y or X,Y,Z: {e}"))?;
+    match v[..] {
+        [x, y] => Ok(Vec3::new(x, y, 0.0)),
+        [x, y, z] => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!("expected X,Y or X,Y,Z, got {} values", v.len())),
+    }
+}
+
+impl std::str::FromStr for EndConstraint {
+    type Err = String;
+
+    /// An end condition in the text form of `fairfit curve --start/--end` and the Python package's
+    /// `start=`/`end=`: `point[:X,Y[,Z]]` (G0; without a point the data's end point),
+    /// `tangent:X,Y[,Z]` (G1, direction only), `curvature:X,Y[,Z]:KAPPA` (G2, signed curvature) or
+    /// `curvature:X,Y,Z:KX,KY,KZ` (curvature vector).
+    ///
+    /// ```
+    /// use fairfit::fit::end_constraints::EndConstraint;
+    /// let c: EndConstraint = "curvature:1,0:0.5".parse().unwrap();
+    /// assert_eq!((c.order(), c.point), (2, None));
+    /// assert!("tangent:1".parse::<EndConstraint>().is_err());
+    /// ```
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let (kind, rest) = s.split_once(':').unwrap_or((s, ""));
+        match kind.trim() {
+            "point" if rest.is_empty() => Ok(EndConstraint::default()),
+            "point" => parse_vector(rest).map(EndConstraint::point),
+            "tangent" => parse_vector(rest).map(EndConstraint::tangent),
+            "curvature" => {
+                let (t, k) = rest
+                    .split_once(':')
+                    .ok_or("expected curvature:X,Y[,Z]:KAPPA")?;
+                let t = parse_vector(t)?;
+                if k.contains(',') {
+                    Ok(EndConstraint::curvature_vector(t, parse_vector(k)?))
+                } else {
+                    let kappa = k
+                        .trim()
+                        .parse::<f64>()
+                        .map_err(|e| format!("expected curvature:X,Y[,Z]:KAPPA: {e}"))?;
+                    Ok(EndConstraint::curvature(t, kappa))
+                }
+            }
+            _ => Err("expected point[:X,Y[,Z]], tangent:X,Y[,Z] or curvature:X,Y[,Z]:KAPPA".into()),
+        }
+    }
+}

@@ -28,6 +28,7 @@
 use super::noise::estimate_noise;
 use super::outliers::{find_outliers, Outlier};
 use crate::nurbs::Vec3;
+use crate::tolerance::Tolerance;
 
 /// A tolerance below this many noise `σ` can only be met by following the noise (the floor of
 /// [`meaningful_tolerance`]): the largest of `n` Gaussian deviations is about `σ √(2 ln n)`, 4.3 σ to
@@ -222,4 +223,99 @@ pub fn spikes_beyond(points: &[Vec3], tol: f64, max: usize) -> Vec<Outlier> {
     found.sort_by(|a, b| b.distance.total_cmp(&a.distance));
     found.truncate(max);
     found
+}
+
+/// The screened input of one curve fit ([`screen_input`]): the points to fit, what the screening
+/// found and the tolerance the least-squares fits hold.
+#[derive(Clone, Debug)]
+pub struct ScreenedInput {
+    /// The points the fit runs on: the input without the excluded spikes.
+    pub points: Vec<Vec3>,
+    /// What the screening found; `None` when the tolerance asked for is not a usable number (not
+    /// finite or not positive: the fit then refuses it with its own message).
+    pub screening: Option<Screening>,
+    /// The tolerance asked for.
+    pub asked: Tolerance,
+}
+
+impl ScreenedInput {
+    /// The tolerance asked for in the points' units (of the input, before any spike was excluded),
+    /// `None` when it is not a usable number.
+    pub fn absolute_tolerance(&self) -> Option<f64> {
+        self.screening.as_ref().map(|s| s.tolerance)
+    }
+
+    /// The tolerance the least-squares methods fit to: the meaningful tolerance when the one asked
+    /// for is below the noise (module doc), else the one asked for. The integrated method screens
+    /// its points itself and raises its own tolerance the same way.
+    pub fn fit_tolerance(&self) -> Tolerance {
+        match self.screening.as_ref().and_then(|s| s.noise_limited) {
+            Some(t) => Tolerance::Absolute(t),
+            None => self.asked,
+        }
+    }
+
+    /// The one-line warning for a tolerance below the noise (`warning: …`), if there is one.
+    pub fn warning(&self) -> Option<String> {
+        let s = self.screening.as_ref()?;
+        s.noise_warning(s.tolerance)
+    }
+}
+
+/// The screening stage of a curve fit, the one call of `fairfit curve` and the Python package's
+/// `fit_curve` before they fit: the tolerance made absolute on `points`, then [`screen`] with
+/// `mode` (noise measured, spikes excluded with [`OutlierMode::Auto`], a tolerance below the noise
+/// flagged). A tolerance that is not a finite positive number screens nothing.
+///
+/// ```
+/// use fairfit::fit::screening::{screen_input, OutlierMode};
+/// use fairfit::fit::Tolerance;
+/// use fairfit::nurbs::Vec3;
+/// let mut pts: Vec<Vec3> = (0..500)
+///     .map(|i| {
+///         let a = i as f64 / 499.0 * 3.0;
+///         Vec3::new(a.cos(), a.sin(), 0.0)
+///     })
+///     .collect();
+/// pts[200] = pts[200] * 1.1;
+/// let s = screen_input(pts, Tolerance::Relative(5e-4), OutlierMode::Auto);
+/// assert_eq!((s.points.len(), s.screening.as_ref().unwrap().outliers[0].index), (499, 200));
+/// // relative to the bounding box's largest side, 1 - cos 3 (x from cos 3 to 1)
+/// assert!((s.absolute_tolerance().unwrap() - 5e-4 * (1.0 - 3f64.cos())).abs() < 1e-15);
+/// assert_eq!(s.fit_tolerance(), Tolerance::Relative(5e-4));
+/// assert!(s.warning().is_none());
+/// ```
+pub fn screen_input(points: Vec<Vec3>, tolerance: Tolerance, mode: OutlierMode) -> ScreenedInput {
+    let tol = super::points::absolute_tolerance(tolerance, &points);
+    if !(tol.is_finite() && tol > 0.0) {
+        return ScreenedInput {
+            points,
+            screening: None,
+            asked: tolerance,
+        };
+    }
+    let (s, kept) = screen(&points, tol, mode);
+    ScreenedInput {
+        points: kept.unwrap_or(points),
+        screening: Some(s),
+        asked: tolerance,
+    }
+}
+
+/// The spikes of `points` that keep tolerance `tol` out of reach, as a sentence (at most five,
+/// largest first; `None` when there are none): what a fit that keeps every point says when it
+/// misses the tolerance. The caller adds how to exclude them.
+pub fn spikes_note(points: &[Vec3], tol: f64) -> Option<String> {
+    let found = spikes_beyond(points, tol, 5);
+    if found.is_empty() {
+        return None;
+    }
+    let list: Vec<String> = found
+        .iter()
+        .map(|o| format!("point {} ({:.2e} off)", o.index, o.distance))
+        .collect();
+    Some(format!(
+        "isolated spikes keep the tolerance out of reach: {}",
+        list.join(", ")
+    ))
 }

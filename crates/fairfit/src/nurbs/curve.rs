@@ -245,8 +245,20 @@ impl NurbsCurve {
 
     #[inline]
     fn point_with(&self, u: f64, left: &mut [f64], right: &mut [f64], n: &mut [f64]) -> Vec3 {
+        self.point_in_span(self.find_span(u), u, left, right, n)
+    }
+
+    /// `C(u)` with `span` the knot span holding `u` ([`NurbsCurve::find_span`]).
+    #[inline]
+    fn point_in_span(
+        &self,
+        span: usize,
+        u: f64,
+        left: &mut [f64],
+        right: &mut [f64],
+        n: &mut [f64],
+    ) -> Vec3 {
         let p = self.degree;
-        let span = self.find_span(u);
         basis_funs_into(span, u, p, &self.knots, left, right, n);
         let mut c = [0.0; 4];
         for (j, nj) in n.iter().take(p + 1).enumerate() {
@@ -284,6 +296,66 @@ impl NurbsCurve {
         };
         for (u, o) in us.iter().zip(out.iter_mut()) {
             *o = self.point_with(*u, left, right, n);
+        }
+    }
+
+    /// Evaluates `C(u)` for every parameter of `us` into `out` as rows of the first `dim`
+    /// coordinates (`out.len() == us.len() * dim`, `dim` 1 to 3): the layout of an `(m, dim)`
+    /// array, written in place. No allocation for degrees up to 15. The span of each parameter is
+    /// found by stepping on from the previous parameter's when it is not smaller (sorted
+    /// parameters cost O(1) per point rather than a binary search), by
+    /// [`NurbsCurve::find_span`] otherwise; both give the same span, so the numbers equal
+    /// [`NurbsCurve::point`]'s bit for bit.
+    ///
+    /// ```
+    /// use fairfit::nurbs::{NurbsCurve, Vec3};
+    /// let pts = vec![Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 2.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
+    /// let c = NurbsCurve::bspline(1, vec![0.0, 0.0, 0.5, 1.0, 1.0], pts).unwrap();
+    /// let mut out = [0.0; 6];
+    /// c.points_into_rows(&[0.25, 1.0, 0.5], 2, &mut out);
+    /// assert_eq!(out, [0.5, 1.0, 3.0, 0.0, 1.0, 2.0]);
+    /// ```
+    ///
+    /// # Panics
+    /// When `out.len() != us.len() * dim` or `dim` is not 1 to 3 (a caller's buffer bug).
+    pub fn points_into_rows(&self, us: &[f64], dim: usize, out: &mut [f64]) {
+        assert!(
+            (1..=3).contains(&dim),
+            "points_into_rows: dim must be 1 to 3"
+        );
+        assert_eq!(
+            us.len() * dim,
+            out.len(),
+            "points_into_rows: output length must be us.len() * dim"
+        );
+        let p = self.degree;
+        let last = self.last();
+        let (lo, hi) = (self.knots[p], self.knots[last + 1]);
+        let mut heap;
+        let mut s = Scratch::new();
+        let mut n_stack = [0.0; STACK_DEGREE + 1];
+        let (left, right, n): (&mut [f64], &mut [f64], &mut [f64]) = if p <= STACK_DEGREE {
+            (&mut s.left, &mut s.right, &mut n_stack)
+        } else {
+            heap = vec![0.0; 3 * (p + 1)];
+            let (l, rest) = heap.split_at_mut(p + 1);
+            let (r, n) = rest.split_at_mut(p + 1);
+            (l, r, n)
+        };
+        let mut span = self.find_span(lo);
+        for (&u, row) in us.iter().zip(out.chunks_exact_mut(dim)) {
+            // strictly inside the domain and not before the last span: step on to the one span
+            // with U[span] <= u < U[span + 1] (what the binary search finds)
+            span = if u > lo && u < hi && u >= self.knots[span] {
+                while u >= self.knots[span + 1] {
+                    span += 1;
+                }
+                span
+            } else {
+                self.find_span(u)
+            };
+            let c = self.point_in_span(span, u, left, right, n);
+            row.copy_from_slice(&c.0[..dim]);
         }
     }
 

@@ -1,5 +1,5 @@
 //! What a fit reports and how its files are made: the `--report` JSON of curve and surface fits
-//! ([`curve`], [`surface`]) and the bytes of every output file, the format chosen by the file's
+//! ([`curve`], [`surface`], a curve's [`end_conditions`]) and the bytes of every output file, the format chosen by the file's
 //! extension or by the caller ([`files`]).
 //!
 //! The command-line tool and the Python package both build their reports and files here, so the same
@@ -10,5 +10,6 @@
 //! [`crate::surface`] and formats them with [`crate::io`] and [`crate::plot`].
 
 pub mod curve;
+pub mod end_conditions;
 pub mod files;
 pub mod surface;
