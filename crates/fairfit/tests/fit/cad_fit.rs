@@ -118,12 +118,14 @@ fn fits_hold_the_exact_curve_within_the_tolerance() {
             Box::new(lsq(1e-3)),
         ),
     ];
-    let mut refitted = 0;
+    let mut refitted = Vec::new();
     for (name, segments, fitter) in cases {
         let samples = sample_chain_params(&segments);
         let n = samples.len();
         let r = fit_to_exact(&segments, samples, fitter).unwrap();
-        refitted += usize::from(r.refits > 0);
+        if r.refits > 0 {
+            refitted.push(name);
+        }
         let tol = r.tolerance;
         let w = worst(&segments, &r.fit.curve);
         println!(
@@ -147,8 +149,12 @@ fn fits_hold_the_exact_curve_within_the_tolerance() {
             assert!(r.fit.tolerance > 0.95 * tol);
         }
     }
-    // the integrated fits of the wiggly cubic and the composite strayed at first
-    assert!(refitted >= 2, "{refitted}");
+    // the refit path ran: the integrated fit of the wiggly cubic strays between its samples at first
+    // (1.00023 of the tolerance), so its check adds points of the exact curve and refits
+    assert!(
+        refitted.contains(&"wiggly cubic, integrated 1e-3"),
+        "refitted: {refitted:?}"
+    );
 }
 
 #[test]
