@@ -468,7 +468,7 @@ fn coordinates_near_the_ends_of_the_f64_range_are_measured_exactly_rescaled() {
 mod properties {
     //! F's invariance as a property: on random cubic and quartic curves (rational or not), F, every
     //! F_j and the largest F_j are unchanged (1e-9 relative) under any scaling by 10^-3..10^3, any
-    //! rotation and any translation, while E scales as λ⁻³ and the bending energy as λ⁻¹.
+    //! rotation and any translation (up to 100 sizes of the curve), while E scales as λ⁻³ and the bending energy as λ⁻¹.
     use super::*;
     use proptest::prelude::*;
     use rand::{Rng, SeedableRng};
@@ -491,7 +491,7 @@ mod properties {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 128, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig { cases: 128, failure_persistence: None, rng_seed: proptest::test_runner::RngSeed::Fixed(0x00FA_1AF1), ..ProptestConfig::default() })]
 
         #[test]
         fn fairness_is_invariant_under_scale_rotation_and_translation(
@@ -509,7 +509,9 @@ mod properties {
             prop_assume!(k.norm() > 0.1);
             let k = k / k.norm();
             let lambda = 10f64.powf(log_scale);
-            let t = Vec3::new(shift.0, shift.1, shift.2);
+            // a shift of up to 100 sizes of the scaled curve: coordinates keep their relative
+            // precision (a shift of 100 absolute on a curve scaled to 1e-3 would cost 1e5 ulps)
+            let t = Vec3::new(shift.0, shift.1, shift.2) * lambda;
             let m = map_points(&c, |q| rotate(q, k, angle) * lambda + t);
             let (f0, f) = (curve_fairness(&c), curve_fairness(&m));
             prop_assume!(f0.fairness > 1e-6);
