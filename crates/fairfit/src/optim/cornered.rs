@@ -516,3 +516,44 @@ fn point_segment_distance(q: Vec3, a: Vec3, b: Vec3) -> f64 {
     };
     (a + ab * t - q).norm()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::share_budget;
+
+    #[test]
+    fn budget_is_shared_in_proportion_to_the_free_counts() {
+        // free counts 10, 4 (straight), 20; joined 32 = sum - 2 shared corners: unchanged
+        let (lo, hi) = ([4, 4, 4], [50, 4, 60]);
+        assert_eq!(
+            share_budget(32, &[10, 4, 20], &lo, &hi).unwrap(),
+            vec![10, 4, 20]
+        );
+        // 6 more: D'Hondt on 10 : 20 gives 2 and 4
+        assert_eq!(
+            share_budget(38, &[10, 4, 20], &lo, &hi).unwrap(),
+            vec![12, 4, 24]
+        );
+        // 6 fewer: taken from the larger piece first, in proportion (8 : 16 after 2 and 4)
+        assert_eq!(
+            share_budget(26, &[10, 4, 20], &lo, &hi).unwrap(),
+            vec![8, 4, 16]
+        );
+        // bounds: at least 4 + 4 + 4 - 2 = 10, at most 50 + 4 + 60 - 2 = 112
+        let e = share_budget(9, &[10, 4, 20], &lo, &hi).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                crate::Error::InvalidSetting {
+                    option: "control_points",
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = e.to_string();
+        assert!(e.contains("between 10 and 112"), "{e}");
+        assert!(share_budget(112, &[10, 4, 20], &lo, &hi).is_ok());
+        assert!(share_budget(113, &[10, 4, 20], &lo, &hi).is_err());
+    }
+}

@@ -91,7 +91,7 @@ pub struct IntegratedOptions {
     /// degree searched and the reference of the degree search. Set by [`Self::degree`].
     pub degree: usize,
     /// Degree search (`--degree auto`): also fit every degree from `degree + 1` up to this one and
-    /// keep one by the rule of [`super::stages::degree_search`] (never more curvature extrema than the fit
+    /// keep one by the rule of `optim/stages/degree_search.rs` (never more curvature extrema than the fit
     /// at `degree`; more control points only up to the least-squares baseline, or one above it
     /// where the fit at `degree` kept the baseline's count, and at 5 % of F per point). `None`
     /// fits `degree` only. Set by [`Self::degree_search`].
@@ -119,20 +119,20 @@ pub struct IntegratedOptions {
     /// tolerance. Set by [`Self::control_points`].
     pub control_points: Option<usize>,
     /// Corner threshold in degrees (turning angle at a data point, as in the least-squares method):
-    /// the data are split at corners, the pieces fitted separately and joined C0 ([`super::corners`]).
+    /// the data are split at corners, the pieces fitted separately and joined C0 (`optim/corners.rs`).
     /// `None` fits one smooth curve through everything. Set by [`Self::corner_angle`].
     pub corner_angle_deg: Option<f64>,
     /// Whether isolated spikes are found and excluded before the fit ([`crate::fit::screening`]);
     /// the noise is measured either way. Set by [`Self::outliers`].
     pub outliers: crate::fit::screening::OutlierMode,
     /// Whether the final control points are refined by local fairing moves within the tolerance
-    /// ([`mod@super::fairing::polish`]). Set by [`Self::polish`].
+    /// (`optim/fairing/polish.rs`). Set by [`Self::polish`].
     pub polish: bool,
     /// Closed-curve handling as in the least-squares method (default: closed when the last point
-    /// repeats the first); closed data are fitted by [`super::closed`]. Set by [`Self::closed`].
+    /// repeats the first); closed data are fitted by `optim/closed.rs`. Set by [`Self::closed`].
     pub closed: ClosedMode,
     /// Whether the final control points are first faired inside the tolerance band by sequential
-    /// convex programming ([`super::fairing::band`]; with `polish`, the polish then finishes). Set by
+    /// convex programming (`optim/fairing/band/`; with `polish`, the polish then finishes). Set by
     /// [`Self::band_fairing`].
     pub band_fairing: bool,
     /// Most convex subproblems of the band fairing ([`Budget::band_solves`]).
@@ -141,7 +141,7 @@ pub struct IntegratedOptions {
     pub(crate) polish_evaluations: usize,
     /// Whether an open curve's end points stay on the data's first and last points, or the chosen
     /// curve is faired once more with them moving within the tolerance ([`EndCondition`],
-    /// [`super::stages::release_ends`]). Not applicable to
+    /// `optim/stages/release_ends.rs`). Not applicable to
     /// closed curves (no end points); the pieces between corners keep theirs pinned (they are
     /// joined there). Set by [`Self::ends`].
     pub ends: EndCondition,

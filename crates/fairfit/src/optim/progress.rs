@@ -27,7 +27,7 @@ pub enum Stage {
     /// ([`crate::fit::screening`]; `done` 0 of 1 when it starts).
     Screening,
     /// The reduction of dense data to representatives of tolerance-sized arcs
-    /// ([`super::stages::reduce`]; `done` 0 of 1 when it starts; reported only when it applies).
+    /// (`optim/stages/reduce.rs`; `done` 0 of 1 when it starts; reported only when it applies).
     Reduce,
     /// The least-squares baseline (`done` 0 of 1 when it starts).
     Baseline,

@@ -17,7 +17,7 @@ pub struct OptimStats {
     pub counts_tried: Vec<usize>,
     /// `(count, F)` of every full knot search (F infinite when the tolerance was not met).
     pub fairness_by_count: Vec<(usize, f64)>,
-    /// Accepted control-point moves of the final polish ([`mod@super::fairing::polish`]).
+    /// Accepted control-point moves of the final polish (`optim/fairing/polish.rs`).
     pub polish_moves: usize,
     /// Every degree's fit, in degree order, when the degree was searched
     /// ([`IntegratedOptions::max_degree`](super::IntegratedOptions::max_degree); empty otherwise). Evaluations, iterations and seconds
@@ -26,7 +26,7 @@ pub struct OptimStats {
     /// Wall time in seconds.
     pub seconds: f64,
     /// Whether the chosen curve's end points were free in its last fairing pass
-    /// ([`EndCondition::Free`](super::EndCondition::Free) on an open curve without corners; [`super::stages::release_ends`]).
+    /// ([`EndCondition::Free`](super::EndCondition::Free) on an open curve without corners; `optim/stages/release_ends.rs`).
     pub free_ends: bool,
 }
 

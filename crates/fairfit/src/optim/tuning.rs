@@ -14,18 +14,18 @@ pub use crate::fit::reduce::ReduceTuning;
 /// Every measured threshold of the method, per stage.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Tuning {
-    /// The count descent from the least-squares baseline ([`crate::optim::stages::descent`]).
+    /// The count descent from the least-squares baseline (`optim/stages/descent.rs`).
     pub descent: DescentTuning,
-    /// The count search's choice of the control-point count ([`crate::optim::stages::count_search`]).
+    /// The count search's choice of the control-point count (`optim/stages/count_search.rs`).
     pub count: CountTuning,
     /// The degree search: the higher degrees' finishing budgets and the triggers of the next
-    /// degree's own count search ([`crate::optim::stages::degree_candidates`]).
+    /// degree's own count search (`optim/stages/degree_candidates.rs`).
     pub degree: DegreeTuning,
     /// The particle swarm's settings in the descent, the count search and the degree search.
     pub swarm: SwarmTuning,
-    /// The finishing stages: band fairing and the polish ([`crate::optim::fairing`]).
+    /// The finishing stages: band fairing and the polish (`optim/fairing/`).
     pub fairing: FairingTuning,
-    /// The reduction of dense data before every stage ([`crate::optim::stages::reduce`]).
+    /// The reduction of dense data before every stage (`optim/stages/reduce.rs`).
     pub reduce: ReduceTuning,
 }
 
@@ -135,7 +135,7 @@ impl Default for DegreeTuning {
 
 /// The swarm settings of the knot searches (the count descent's probes, the count search's full
 /// searches, the degree search's short searches). These are the method's own settings, not
-/// [`PsoOptions::default`]'s.
+/// `PsoOptions::default`'s.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SwarmTuning {
     /// Iterations without a relative improvement of [`Self::stall_rel`] after which a full

@@ -4,10 +4,8 @@
 use fairfit::fair::curve_fairness;
 use fairfit::fit::tolerance::{fit_to_tolerance, ClosedMode, FitOptions};
 use fairfit::optim::distinct_control_points;
-use fairfit::optim::search::periodic::{evaluate_closed, ClosedData, ClosedWorkspace};
-use fairfit::optim::search::prepare::prepare;
 use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
-use fairfit::{NurbsCurve, Vec3};
+use fairfit::Vec3;
 
 use crate::common::sampled;
 use sampled::brute_force_deviation;
@@ -29,33 +27,6 @@ fn ellipse(n: usize, a: f64, b: f64, repeat: bool) -> Vec<Vec3> {
 
 fn opts() -> IntegratedOptions {
     IntegratedOptions::new(Tolerance::Relative(1e-3)).seed(7)
-}
-
-#[test]
-fn periodic_candidate_of_a_circle_is_close_and_fair_and_its_deviation_is_exact() {
-    // 8 equal spans on a 100-point circle: the periodic cubic deviates by ~1e-5 of the diameter,
-    // F ≈ 0 (a circle has dκ/ds = 0); the evaluation's deviation agrees with dense sampling
-    let pts = ellipse(100, 1.0, 1.0, false);
-    let prep = prepare(&pts, 3).unwrap();
-    let d = ClosedData::new(&prep).unwrap();
-    for (k, u) in d.params.iter().enumerate() {
-        assert!(
-            (u - k as f64 / 100.0).abs() < 1e-9,
-            "equal chords, equal steps"
-        );
-    }
-    let interior: Vec<f64> = (1..16).map(|j| j as f64 / 16.0).collect();
-    let mut ws = ClosedWorkspace::default();
-    let e = evaluate_closed(&d, &interior, f64::NEG_INFINITY, &mut ws);
-    assert!(e.solved);
-    // 16 equal spans: deviation ~2e-5 of the diameter, F ~ 21 (F of the circle is 0)
-    assert!(e.max_deviation < 3e-5 && e.max_deviation > 1e-7, "{e:?}");
-    assert!(e.fairness < 30.0, "{e:?}");
-    assert_eq!(ws.ctrl.len(), 16 + 3);
-    let c = NurbsCurve::bspline(3, ws.knots.clone(), ws.ctrl.clone()).unwrap();
-    let dense = brute_force_deviation(&c, &d.points);
-    assert!(dense <= e.max_deviation * 1.01, "{dense} vs {e:?}");
-    assert!(dense >= e.max_deviation * 0.95, "{dense} vs {e:?}");
 }
 
 #[test]

@@ -2,7 +2,6 @@
 //! shared among the pieces between corners.
 
 use fairfit::fit::tolerance::ClosedMode;
-use fairfit::optim::cornered::share_budget;
 use fairfit::optim::{fit_integrated, IntegratedOptions, Tolerance};
 use fairfit::{NurbsCurve, Vec3};
 
@@ -50,42 +49,6 @@ fn brute_force_deviation(curve: &NurbsCurve, points: &[Vec3]) -> f64 {
 }
 
 #[test]
-fn budget_is_shared_in_proportion_to_the_free_counts() {
-    // free counts 10, 4 (straight), 20; joined 32 = sum - 2 shared corners: unchanged
-    let (lo, hi) = ([4, 4, 4], [50, 4, 60]);
-    assert_eq!(
-        share_budget(32, &[10, 4, 20], &lo, &hi).unwrap(),
-        vec![10, 4, 20]
-    );
-    // 6 more: D'Hondt on 10 : 20 gives 2 and 4
-    assert_eq!(
-        share_budget(38, &[10, 4, 20], &lo, &hi).unwrap(),
-        vec![12, 4, 24]
-    );
-    // 6 fewer: taken from the larger piece first, in proportion (8 : 16 after 2 and 4)
-    assert_eq!(
-        share_budget(26, &[10, 4, 20], &lo, &hi).unwrap(),
-        vec![8, 4, 16]
-    );
-    // bounds: at least 4 + 4 + 4 - 2 = 10, at most 50 + 4 + 60 - 2 = 112
-    let e = share_budget(9, &[10, 4, 20], &lo, &hi).unwrap_err();
-    assert!(
-        matches!(
-            e,
-            fairfit::Error::InvalidSetting {
-                option: "control_points",
-                ..
-            }
-        ),
-        "{e}"
-    );
-    let e = e.to_string();
-    assert!(e.contains("between 10 and 112"), "{e}");
-    assert!(share_budget(112, &[10, 4, 20], &lo, &hi).is_ok());
-    assert!(share_budget(113, &[10, 4, 20], &lo, &hi).is_err());
-}
-
-#[test]
 fn blunt_trailing_edge_with_a_fixed_count_keeps_its_corners_and_the_tolerance() {
     // fx77w343 closed: a 4.2 % blunt trailing edge, corners at both of its ends; the loop is cut
     // at the upper one (the curve's ends), the lower one is a C0 knot, the edge a straight piece
@@ -125,7 +88,7 @@ fn blunt_trailing_edge_with_a_fixed_count_keeps_its_corners_and_the_tolerance() 
 
 #[test]
 fn pareto_front_of_a_blunt_trailing_edge_keeps_its_corner_and_is_monotone() {
-    use fairfit::optim::pareto::pareto_front_of_result;
+    use fairfit::optim::pareto_front_of_result;
     let pts = read_csv("fx77w343.csv");
     let r = fit_integrated(&pts, &opts()).unwrap();
     let front = pareto_front_of_result(&pts, &opts(), &r).unwrap();

@@ -122,7 +122,7 @@ fn scaling_the_input_by_1000_gives_the_same_knots_and_count() {
 
 #[test]
 fn pareto_front_trades_deviation_for_fairness_without_dominated_members() {
-    use fairfit::optim::pareto::{pareto_csv, pareto_front};
+    use fairfit::optim::{pareto_csv, pareto_front};
     let pts = read_csv("naca4412.csv");
     let r = fit_integrated(&pts, &opts()).unwrap();
     let n = r.curve.n_control_points();

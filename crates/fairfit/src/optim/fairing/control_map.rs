@@ -5,7 +5,7 @@
 //! *movable points* `z_v`; every clamped control point is a fixed linear combination of them,
 //! `P_j = Σ_v M_jv z_v` (or fixed, when its row is empty):
 //!
-//! - **open curves** ([`ControlMap::open`]): the interior control points themselves (`M` the
+//! - **open curves** ([`ControlMap::open_ends`] with [`EndCondition::Pinned`]): the interior control points themselves (`M` the
 //!   identity on `P_1 … P_{n−2}`); the end points stay where the least-squares fit put them (on the
 //!   data's end points), and the data's end points are not measured.
 //! - **open curves with free ends** ([`ControlMap::open_ends`] with [`EndCondition::Free`]): every
@@ -65,14 +65,8 @@ pub struct ControlMap {
 }
 
 impl ControlMap {
-    /// The interior control points of an open clamped curve with `n_ctrl` control points fitted to
-    /// `m_points` data points with interpolated ends.
-    pub fn open(n_ctrl: usize, m_points: usize) -> ControlMap {
-        ControlMap::open_ends(n_ctrl, m_points, EndCondition::Pinned)
-    }
-
     /// The control points of an open clamped curve with `n_ctrl` control points fitted to
-    /// `m_points` data points: with [`EndCondition::Pinned`] the interior ones ([`ControlMap::open`]),
+    /// `m_points` data points: with [`EndCondition::Pinned`] the interior ones,
     /// with [`EndCondition::Free`] all of them, every data point constrained (module doc).
     pub fn open_ends(n_ctrl: usize, m_points: usize, ends: EndCondition) -> ControlMap {
         if ends == EndCondition::Free && n_ctrl >= 2 && m_points >= 2 {

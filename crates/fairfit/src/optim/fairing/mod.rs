@@ -35,8 +35,8 @@ pub mod periodic;
 pub mod polish;
 pub mod tuning;
 
-pub use band::{band_fair, band_fair_mapped, later_passes, refair, BandFaired, BandOptions};
-pub use control_map::{ControlMap, EndCondition};
-pub use periodic::{fair_periodic, PeriodicFaired};
-pub use polish::{polish, polish_mapped, PolishOptions, Polished};
+pub use band::{band_fair, later_passes, refair, BandOptions};
+pub use control_map::EndCondition;
+pub use periodic::fair_periodic;
+pub use polish::{polish, PolishOptions, Polished};
 pub use tuning::{BandTuning, FairingTuning, PolishTuning, StepTuning};

@@ -19,7 +19,7 @@ pub struct FairingTuning {
     pub polish: PolishTuning,
 }
 
-/// The policy of band fairing: the defaults of [`super::band::BandOptions`], the later passes'
+/// The policy of band fairing: the defaults of `BandOptions` in `optim/fairing/band/`, the later passes'
 /// budgets and the step schedule.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BandTuning {
@@ -87,7 +87,7 @@ pub struct StepTuning {
     pub mu_short_step_power: i32,
 }
 
-/// The policy of the polish: the defaults of [`super::polish::PolishOptions`].
+/// The policy of the polish: the defaults of `PolishOptions` in `optim/fairing/polish.rs`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PolishTuning {
     /// Most accepted moves. Default 400.

@@ -100,7 +100,7 @@ pub(super) fn front_archive<P: SwarmProblem<Output = CandidateEval>>(
     seeds: &[Vec<f64>],
     opts: &IntegratedOptions,
     tol: f64,
-) -> ParetoArchive<CandidateEval> {
+) -> ParetoArchive {
     let mopts = MopsoOptions {
         seed: opts.seed,
         particles: opts.particles.max(20),

@@ -8,6 +8,5 @@ pub mod front;
 pub mod joined;
 pub mod periodic;
 
-pub use front::{pareto_csv, pareto_front, ParetoCurve, DEVIATION_CAP};
+pub use front::{pareto_csv, pareto_front, ParetoCurve};
 pub use joined::pareto_front_of_result;
-pub use periodic::pareto_front_periodic;

@@ -53,13 +53,11 @@ impl Default for MopsoOptions {
 
 /// One member of the Pareto archive.
 #[derive(Clone, Debug)]
-pub struct ArchiveMember<O> {
+pub struct ArchiveMember {
     /// Position.
     pub position: Vec<f64>,
     /// Objective values (both minimised).
     pub objectives: [f64; 2],
-    /// The evaluation.
-    pub output: O,
 }
 
 /// Whether `a` Pareto-dominates `b` (no worse in both, better in one).
@@ -68,24 +66,16 @@ pub fn dominates(a: &[f64; 2], b: &[f64; 2]) -> bool {
 }
 
 /// An external archive holding only mutually non-dominated members.
-#[derive(Clone, Debug)]
-pub struct ParetoArchive<O> {
+#[derive(Clone, Debug, Default)]
+pub struct ParetoArchive {
     /// The members, in insertion order.
-    pub members: Vec<ArchiveMember<O>>,
+    pub members: Vec<ArchiveMember>,
 }
 
-impl<O> Default for ParetoArchive<O> {
-    fn default() -> Self {
-        ParetoArchive {
-            members: Vec::new(),
-        }
-    }
-}
-
-impl<O: Clone> ParetoArchive<O> {
+impl ParetoArchive {
     /// Inserts `m` unless an existing member dominates or equals it; removes the members it
     /// dominates. Non-finite objectives are refused. Returns whether it was inserted.
-    pub fn insert(&mut self, m: ArchiveMember<O>) -> bool {
+    pub fn insert(&mut self, m: ArchiveMember) -> bool {
         if !m.objectives.iter().all(|v| v.is_finite()) {
             return false;
         }
@@ -182,7 +172,7 @@ pub fn run_mopso<P: SwarmProblem>(
     seeds: &[Vec<f64>],
     objectives: &(dyn Fn(&P::Output) -> [f64; 2] + Sync),
     opts: &MopsoOptions,
-) -> ParetoArchive<P::Output> {
+) -> ParetoArchive {
     let dim = problem.dim();
     let (lo, hi) = problem.bounds();
     let range: Vec<f64> = lo.iter().zip(&hi).map(|(a, b)| b - a).collect();
@@ -257,7 +247,7 @@ pub fn run_mopso<P: SwarmProblem>(
                 }
             });
         }
-        let results: Vec<(Vec<f64>, P::Output, [f64; 2])> = swarm
+        let results: Vec<(Vec<f64>, [f64; 2])> = swarm
             .par_iter_mut()
             .map(|p| {
                 problem.repair(&mut p.x, &mut p.ws);
@@ -269,14 +259,13 @@ pub fn run_mopso<P: SwarmProblem>(
                     p.best_o = o;
                     p.best_x.copy_from_slice(&p.x);
                 }
-                (p.x.clone(), out, o)
+                (p.x.clone(), o)
             })
             .collect();
-        for (x, out, o) in results {
+        for (x, o) in results {
             archive.insert(ArchiveMember {
                 position: x,
                 objectives: o,
-                output: out,
             });
         }
         archive.truncate(opts.archive_size, opts.grid, opts.gamma, &mut arng);
@@ -344,11 +333,10 @@ mod tests {
 
     #[test]
     fn insertion_removes_dominated_members() {
-        let mut a: ParetoArchive<()> = ParetoArchive::default();
+        let mut a = ParetoArchive::default();
         let m = |x: f64, y: f64| ArchiveMember {
             position: vec![],
             objectives: [x, y],
-            output: (),
         };
         assert!(a.insert(m(1.0, 5.0)));
         assert!(a.insert(m(2.0, 3.0)));

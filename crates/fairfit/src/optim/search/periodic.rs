@@ -311,11 +311,6 @@ impl<'a> ClosedProblem<'a> {
             data,
         }
     }
-
-    /// The encoding.
-    pub fn encoding(&self) -> &KnotEncoding {
-        &self.base.encoding
-    }
 }
 
 impl CountProblem for ClosedProblem<'_> {
@@ -377,5 +372,63 @@ impl SwarmProblem for ClosedProblem<'_> {
 
     fn fitness(&self, e: &CandidateEval) -> Fitness {
         self.base.fitness(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{evaluate_closed, ClosedData, ClosedWorkspace};
+    use crate::nurbs::{NurbsCurve, Vec3};
+    use crate::optim::search::prepare::prepare;
+
+    /// The largest distance from a point to the nearest of 40 001 curve samples equally spaced over
+    /// the domain: an upper bound of the orthogonal distance, independent of the projection code.
+    fn brute_force_deviation(curve: &NurbsCurve, points: &[Vec3]) -> f64 {
+        let (a, b) = curve.domain();
+        let n = 40_000;
+        let samples: Vec<Vec3> = (0..=n)
+            .map(|i| curve.point(a + (b - a) * i as f64 / n as f64))
+            .collect();
+        points
+            .iter()
+            .map(|q| {
+                samples
+                    .iter()
+                    .map(|s| (*s - *q).norm())
+                    .fold(f64::MAX, f64::min)
+            })
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn periodic_candidate_of_a_circle_is_close_and_fair_and_its_deviation_is_exact() {
+        // 8 equal spans on a 100-point circle: the periodic cubic deviates by ~1e-5 of the diameter,
+        // F ≈ 0 (a circle has dκ/ds = 0); the evaluation's deviation agrees with dense sampling
+        let pts: Vec<Vec3> = (0..100)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as f64 / 100.0;
+                Vec3([3.0 + t.cos(), -2.0 + t.sin(), 0.0])
+            })
+            .collect();
+        let prep = prepare(&pts, 3).unwrap();
+        let d = ClosedData::new(&prep).unwrap();
+        for (k, u) in d.params.iter().enumerate() {
+            assert!(
+                (u - k as f64 / 100.0).abs() < 1e-9,
+                "equal chords, equal steps"
+            );
+        }
+        let interior: Vec<f64> = (1..16).map(|j| j as f64 / 16.0).collect();
+        let mut ws = ClosedWorkspace::default();
+        let e = evaluate_closed(&d, &interior, f64::NEG_INFINITY, &mut ws);
+        assert!(e.solved);
+        // 16 equal spans: deviation ~2e-5 of the diameter, F ~ 21 (F of the circle is 0)
+        assert!(e.max_deviation < 3e-5 && e.max_deviation > 1e-7, "{e:?}");
+        assert!(e.fairness < 30.0, "{e:?}");
+        assert_eq!(ws.ctrl.len(), 16 + 3);
+        let c = NurbsCurve::bspline(3, ws.knots.clone(), ws.ctrl.clone()).unwrap();
+        let dense = brute_force_deviation(&c, &d.points);
+        assert!(dense <= e.max_deviation * 1.01, "{dense} vs {e:?}");
+        assert!(dense >= e.max_deviation * 0.95, "{dense} vs {e:?}");
     }
 }

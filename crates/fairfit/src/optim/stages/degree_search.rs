@@ -1,7 +1,7 @@
 //! The degree search of the integrated method (`fairfit curve --degree auto`, the default of
 //! `fairfit curve`; [`IntegratedOptions::max_degree`](crate::optim::IntegratedOptions::max_degree)): besides the *reference* degree
 //! [`IntegratedOptions::degree`](crate::optim::IntegratedOptions::degree) (the cubic), higher degrees up to `max_degree` are tried, and one
-//! result is kept by [`choose_degree`]:
+//! result is kept by [`choose_degree_priced`]:
 //!
 //! 1. **admissible**: the tolerance (and `F*`) is met, and — when the reference meets it — the
 //!    result has no more curvature extrema than the reference's (the extrema count is never traded
@@ -47,7 +47,7 @@ use crate::errors::Result;
 use crate::fair::curve_fairness;
 use crate::optim::kind::periodic::distinct_control_points;
 use crate::optim::result::{DegreeTrial, IntegratedResult};
-use crate::optim::tuning::{CountTuning, Tuning};
+use crate::optim::tuning::Tuning;
 
 /// The degree search's result: the fit of the kept degree.
 #[derive(Clone, Debug)]
@@ -69,7 +69,7 @@ pub(crate) struct Attempt {
 
 /// The staged search's choice: the reference's fit, then the higher degrees `higher` one at a
 /// time (`attempt`), a degree higher still only when the one below it won; one fit kept by
-/// [`choose_degree`] (module doc, "Staged search").
+/// [`choose_degree_priced`] (module doc, "Staged search").
 pub(crate) fn keep_degree(
     reference: IntegratedResult,
     higher: std::ops::RangeInclusive<usize>,
@@ -132,19 +132,10 @@ fn trial_of(r: &IntegratedResult) -> DegreeTrial {
     }
 }
 
-/// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree);
-/// every control point above the reference's is priced at the default
-/// [`CountTuning::extra_point_gain`].
-pub fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
-    choose_degree_priced(
-        trials,
-        fairness_gain,
-        CountTuning::default().extra_point_gain,
-    )
-}
-
-/// [`choose_degree`] with `point_gain` in place of the count search's 5 % per control point above
-/// the reference's: 1 after the wiggly trigger's search above the least-squares baseline
+/// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree),
+/// and `point_gain` prices each control point above the reference's: the count search's
+/// [`CountTuning::extra_point_gain`](crate::optim::tuning::CountTuning::extra_point_gain) as a
+/// rule, 1 after the wiggly trigger's search above the least-squares baseline
 /// ([`super::degree_candidates`], "Wiggly curves"), where only the degree's price is paid.
 pub fn choose_degree_priced(trials: &[DegreeTrial], fairness_gain: f64, point_gain: f64) -> usize {
     let Some(reference) = trials.first() else {
@@ -182,6 +173,17 @@ pub fn choose_degree_priced(trials: &[DegreeTrial], fairness_gain: f64, point_ga
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The index of the trial the module's rule keeps; `trials[0]` is the reference (lowest degree);
+    /// every control point above the reference's is priced at the default
+    /// [`CountTuning::extra_point_gain`].
+    fn choose_degree(trials: &[DegreeTrial], fairness_gain: f64) -> usize {
+        choose_degree_priced(
+            trials,
+            fairness_gain,
+            crate::optim::tuning::CountTuning::default().extra_point_gain,
+        )
+    }
 
     fn t(degree: usize, n: usize, f: f64, ex: usize, met: bool) -> DegreeTrial {
         DegreeTrial {

@@ -56,7 +56,7 @@ mod options;
 mod schedule;
 mod sign_guard;
 
-pub use later_passes::{later_passes, later_passes_tuned, refair};
+pub use later_passes::{later_passes, refair};
 pub use options::{BandFaired, BandOptions};
 
 use super::control_map::ControlMap;

@@ -104,7 +104,7 @@ mod power_form;
 use deviation::{deviations, deviations_bounded};
 use fairness::fairness;
 pub(crate) use fairness::speed_and_dkappa_du;
-pub use moves::{measure_move, measure_move_deviations, measure_move_within};
+pub use moves::{measure_move, measure_move_deviations};
 use power_form::build_power_form;
 
 /// The measured quality of one candidate.
