@@ -4,6 +4,8 @@
 //! `integrated_options` and `fit_options` are the only places that build library options.
 
 use fairfit::fit::end_constraints::{EndConstraint, EndConstraints};
+pub use fairfit::fit::method::Method;
+use fairfit::fit::method::MethodOption;
 use fairfit::fit::screening::OutlierMode;
 use fairfit::fit::tolerance::{ClosedMode, FitOptions, KnotRule, Tolerance};
 use fairfit::fit::{Parameterization, SmoothingOrder};
@@ -12,17 +14,6 @@ use fairfit::Vec3;
 
 /// The highest degree `degree="auto"` tries (the CLI's `AUTO_MAX_DEGREE`).
 pub const AUTO_MAX_DEGREE: usize = 5;
-
-/// The fitting method (`method=`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// `"lsq"`: least squares with a tolerance-driven knot count.
-    Lsq,
-    /// `"integrated"`: integrated fitting and fairing (the default).
-    Integrated,
-    /// `"fit-then-fair"`: least squares, then fairing within the same tolerance.
-    FitThenFair,
-}
 
 /// Every setting of one curve fit, as the Python keywords give them.
 #[derive(Clone, Debug)]
@@ -86,14 +77,7 @@ pub fn parse_degree(text: &str) -> Result<Option<usize>, String> {
 
 /// `method=`.
 pub fn parse_method(text: &str) -> Result<Method, String> {
-    match text {
-        "integrated" => Ok(Method::Integrated),
-        "lsq" => Ok(Method::Lsq),
-        "fit-then-fair" | "fit_then_fair" => Ok(Method::FitThenFair),
-        _ => Err(format!(
-            "method: expected `integrated`, `lsq` or `fit-then-fair`, got `{text}`"
-        )),
-    }
+    text.parse().map_err(|e| format!("method: {e}"))
 }
 
 /// `param=`.
@@ -226,37 +210,37 @@ impl CurveSettings {
     /// Refuses a keyword the chosen method would ignore (`fairfit curve`'s usage error), naming
     /// the method that uses it.
     fn check_method_options(&self) -> Result<(), String> {
-        let given = |keyword: &'static str, set: bool| set.then_some(keyword);
-        let ignored: Option<&str> = match self.method {
-            Method::Integrated => [
-                given("knots", self.knots != KnotRule::Refine),
-                given("param", self.param != Parameterization::Centripetal),
-                given("correction_rounds", self.correction_rounds != 0),
-                given("smoothing", self.smoothing != 0.0),
-                given("smoothing_order", self.smoothing_order != 2),
+        let given = |option: MethodOption, set: bool| set.then_some(option);
+        let ignored = self.method.first_ignored(
+            [
+                given(MethodOption::Knots, self.knots != KnotRule::Refine),
+                given(
+                    MethodOption::Param,
+                    self.param != Parameterization::Centripetal,
+                ),
+                given(MethodOption::CorrectionRounds, self.correction_rounds != 0),
+                given(MethodOption::Smoothing, self.smoothing != 0.0),
+                given(MethodOption::SmoothingOrder, self.smoothing_order != 2),
+                given(MethodOption::SpanFairness, self.span_fairness.is_some()),
+                given(MethodOption::Pareto, self.pareto),
+                given(MethodOption::BandFairing, !self.band_fairing),
             ]
             .into_iter()
-            .flatten()
-            .next(),
-            _ => [
-                given("span_fairness", self.span_fairness.is_some()),
-                given("pareto", self.pareto),
-                given("band_fairing", !self.band_fairing),
-            ]
-            .into_iter()
-            .flatten()
-            .next(),
-        };
-        let Some(keyword) = ignored else {
+            .flatten(),
+        );
+        let Some(option) = ignored else {
             return Ok(());
         };
-        let (method, uses) = match self.method {
-            Method::Integrated => ("integrated", "method='lsq' or method='fit-then-fair'"),
-            Method::Lsq => ("lsq", "method='integrated'"),
-            Method::FitThenFair => ("fit-then-fair", "method='integrated'"),
-        };
+        let uses: Vec<String> = option
+            .methods()
+            .iter()
+            .map(|m| format!("method='{m}'"))
+            .collect();
         Err(format!(
-            "{keyword} has no effect with method='{method}'; it needs {uses}"
+            "{} has no effect with method='{}'; it needs {}",
+            keyword(option),
+            self.method,
+            uses.join(" or ")
         ))
     }
 
@@ -332,4 +316,18 @@ pub fn integrated_options(s: &CurveSettings) -> IntegratedOptions {
         })
         .start(conditions.start)
         .end(conditions.end)
+}
+
+/// The Python keyword of a method-specific option.
+fn keyword(option: MethodOption) -> &'static str {
+    match option {
+        MethodOption::Knots => "knots",
+        MethodOption::Param => "param",
+        MethodOption::CorrectionRounds => "correction_rounds",
+        MethodOption::Smoothing => "smoothing",
+        MethodOption::SmoothingOrder => "smoothing_order",
+        MethodOption::SpanFairness => "span_fairness",
+        MethodOption::Pareto | MethodOption::ParetoCurves => "pareto",
+        MethodOption::BandFairing => "band_fairing",
+    }
 }

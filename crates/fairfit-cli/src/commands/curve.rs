@@ -15,6 +15,7 @@ use super::files::{check_outputs, commit, Inputs, Output, OutputFolder};
 use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::{fit_to_exact, Fitted};
+use fairfit::fit::method::{Method as LibMethod, MethodOption};
 use fairfit::fit::points::absolute_tolerance;
 use fairfit::fit::screening::{self, screen_input, OutlierMode, Screening};
 use fairfit::fit::SmoothingOrder;
@@ -248,51 +249,54 @@ fn is_front_file(name: &str) -> bool {
 
 /// Refuses (a usage error) an option the chosen method would ignore.
 fn check_method_options(args: &CurveArgs) -> CmdResult {
-    let given = |flag: &'static str, set: bool| set.then_some(flag);
-    let (ignored, method): (Vec<&str>, &str) = match args.method {
-        Method::Integrated => (
-            [
-                given("--knots", args.knots != KnotArg::Refine),
-                given("--param", args.param != ParamArg::Centripetal),
-                given("--correction-rounds", args.correction_rounds != 0),
-                given("--smoothing", args.smoothing != 0.0),
-                given("--smoothing-order", args.smoothing_order != 2),
-            ]
-            .into_iter()
-            .flatten()
-            .collect(),
-            "integrated",
-        ),
-        m => (
-            [
-                given("--span-fairness", args.span_fairness.is_some()),
-                given("--pareto", args.pareto.is_some()),
-                given("--pareto-curves", args.pareto_curves.is_some()),
-                given("--no-band-fairing", args.no_band_fairing),
-            ]
-            .into_iter()
-            .flatten()
-            .collect(),
-            if m == Method::Lsq {
-                "lsq"
-            } else {
-                "fit-then-fair"
-            },
-        ),
-    };
-    if let Some(flag) = ignored.first() {
-        let uses = match args.method {
-            Method::Integrated => "--method lsq or --method fit-then-fair",
-            _ => "--method integrated",
-        };
+    let given = |option: MethodOption, set: bool| set.then_some(option);
+    let method = LibMethod::from(args.method);
+    let ignored = method.first_ignored(
+        [
+            given(MethodOption::Knots, args.knots != KnotArg::Refine),
+            given(MethodOption::Param, args.param != ParamArg::Centripetal),
+            given(MethodOption::CorrectionRounds, args.correction_rounds != 0),
+            given(MethodOption::Smoothing, args.smoothing != 0.0),
+            given(MethodOption::SmoothingOrder, args.smoothing_order != 2),
+            given(MethodOption::SpanFairness, args.span_fairness.is_some()),
+            given(MethodOption::Pareto, args.pareto.is_some()),
+            given(MethodOption::ParetoCurves, args.pareto_curves.is_some()),
+            given(MethodOption::BandFairing, args.no_band_fairing),
+        ]
+        .into_iter()
+        .flatten(),
+    );
+    if let Some(option) = ignored {
+        let uses: Vec<String> = option
+            .methods()
+            .iter()
+            .map(|m| format!("--method {m}"))
+            .collect();
         return Err(CliError::usage(format!(
-            "{flag} has no effect with --method {method}; it needs {uses}"
+            "{} has no effect with --method {method}; it needs {}",
+            flag(option),
+            uses.join(" or ")
         )));
     }
     if args.pareto_curves.is_some() && args.pareto.is_none() {
         return Err(CliError::usage("--pareto-curves needs --pareto"));
     }
     Ok(())
+}
+
+/// The flag of a method-specific option.
+fn flag(option: MethodOption) -> &'static str {
+    match option {
+        MethodOption::Knots => "--knots",
+        MethodOption::Param => "--param",
+        MethodOption::CorrectionRounds => "--correction-rounds",
+        MethodOption::Smoothing => "--smoothing",
+        MethodOption::SmoothingOrder => "--smoothing-order",
+        MethodOption::SpanFairness => "--span-fairness",
+        MethodOption::Pareto => "--pareto",
+        MethodOption::ParetoCurves => "--pareto-curves",
+        MethodOption::BandFairing => "--no-band-fairing",
+    }
 }
 
 /// One fit of `points` by the method asked for, with its report when `want_report`.

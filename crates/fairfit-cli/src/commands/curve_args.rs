@@ -19,6 +19,16 @@ pub enum Method {
     FitThenFair,
 }
 
+impl From<Method> for fairfit::fit::method::Method {
+    fn from(m: Method) -> Self {
+        match m {
+            Method::Lsq => fairfit::fit::method::Method::Lsq,
+            Method::Integrated => fairfit::fit::method::Method::Integrated,
+            Method::FitThenFair => fairfit::fit::method::Method::FitThenFair,
+        }
+    }
+}
+
 /// `--outliers`: what to do with isolated spikes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum OutliersArg {

@@ -15,6 +15,7 @@ pub mod foot;
 pub mod hooks;
 pub mod knot_placement;
 pub mod lsq;
+pub mod method;
 pub mod noise;
 pub mod outliers;
 pub mod parameterize;
