@@ -51,6 +51,27 @@ impl Scratch {
     }
 }
 
+/// Runs `f` with the three buffers a curve point evaluation at degree `p` needs (knot differences
+/// left and right, basis values), each of at least `p + 1` entries: on the stack up to
+/// [`STACK_DEGREE`], else in one heap allocation for the whole call.
+#[inline]
+pub(crate) fn with_basis_buffers<R>(
+    p: usize,
+    f: impl FnOnce(&mut [f64], &mut [f64], &mut [f64]) -> R,
+) -> R {
+    if p <= STACK_DEGREE {
+        let mut left = [0.0; STACK_DEGREE + 1];
+        let mut right = [0.0; STACK_DEGREE + 1];
+        let mut n = [0.0; STACK_DEGREE + 1];
+        f(&mut left, &mut right, &mut n)
+    } else {
+        let mut heap = vec![0.0; 3 * (p + 1)];
+        let (left, rest) = heap.split_at_mut(p + 1);
+        let (right, n) = rest.split_at_mut(p + 1);
+        f(left, right, n)
+    }
+}
+
 /// The non-vanishing basis functions `N[span-p..=span]` at `u` (NURBS Book A2.2).
 ///
 /// `out`, `left` and `right` need at least `p + 1` entries.

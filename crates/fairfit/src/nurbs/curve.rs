@@ -5,7 +5,7 @@
 //! unclamped knot vectors, exact rational derivatives up to order 3 and direct access to the homogeneous
 //! control points for the least-squares solvers; no maintained crate offers all of that.
 
-use super::basis::{basis_funs_into, ders_basis_funs_into, Scratch, STACK_DEGREE};
+use super::basis::{basis_funs_into, ders_basis_funs_into, with_basis_buffers};
 use super::knots::{find_span, validate_knots};
 use super::vec3::Vec3;
 use crate::errors::{Error, Result};
@@ -229,18 +229,9 @@ impl NurbsCurve {
     /// (use [`NurbsCurve::check_parameter`] to reject them).
     #[inline]
     pub fn point(&self, u: f64) -> Vec3 {
-        let p = self.degree;
-        if p <= STACK_DEGREE {
-            let mut left = [0.0; STACK_DEGREE + 1];
-            let mut right = [0.0; STACK_DEGREE + 1];
-            let mut n = [0.0; STACK_DEGREE + 1];
-            self.point_with(u, &mut left, &mut right, &mut n)
-        } else {
-            let mut buf = vec![0.0; 3 * (p + 1)];
-            let (l, rest) = buf.split_at_mut(p + 1);
-            let (r, n) = rest.split_at_mut(p + 1);
-            self.point_with(u, l, r, n)
-        }
+        with_basis_buffers(self.degree, |left, right, n| {
+            self.point_with(u, left, right, n)
+        })
     }
 
     #[inline]
@@ -282,21 +273,11 @@ impl NurbsCurve {
     /// When `out.len() != us.len()` (a caller's buffer bug, like `copy_from_slice`; never input data).
     pub fn points_into(&self, us: &[f64], out: &mut [Vec3]) {
         assert_eq!(us.len(), out.len(), "points_into: output length must match");
-        let p = self.degree;
-        let mut heap;
-        let mut s = Scratch::new();
-        let mut n_stack = [0.0; STACK_DEGREE + 1];
-        let (left, right, n): (&mut [f64], &mut [f64], &mut [f64]) = if p <= STACK_DEGREE {
-            (&mut s.left, &mut s.right, &mut n_stack)
-        } else {
-            heap = vec![0.0; 3 * (p + 1)];
-            let (l, rest) = heap.split_at_mut(p + 1);
-            let (r, n) = rest.split_at_mut(p + 1);
-            (l, r, n)
-        };
-        for (u, o) in us.iter().zip(out.iter_mut()) {
-            *o = self.point_with(*u, left, right, n);
-        }
+        with_basis_buffers(self.degree, |left, right, n| {
+            for (u, o) in us.iter().zip(out.iter_mut()) {
+                *o = self.point_with(*u, left, right, n);
+            }
+        });
     }
 
     /// Evaluates `C(u)` for every parameter of `us` into `out` as rows of the first `dim`
@@ -331,32 +312,23 @@ impl NurbsCurve {
         let p = self.degree;
         let last = self.last();
         let (lo, hi) = (self.knots[p], self.knots[last + 1]);
-        let mut heap;
-        let mut s = Scratch::new();
-        let mut n_stack = [0.0; STACK_DEGREE + 1];
-        let (left, right, n): (&mut [f64], &mut [f64], &mut [f64]) = if p <= STACK_DEGREE {
-            (&mut s.left, &mut s.right, &mut n_stack)
-        } else {
-            heap = vec![0.0; 3 * (p + 1)];
-            let (l, rest) = heap.split_at_mut(p + 1);
-            let (r, n) = rest.split_at_mut(p + 1);
-            (l, r, n)
-        };
         let mut span = self.find_span(lo);
-        for (&u, row) in us.iter().zip(out.chunks_exact_mut(dim)) {
-            // strictly inside the domain and not before the last span: step on to the one span
-            // with U[span] <= u < U[span + 1] (what the binary search finds)
-            span = if u > lo && u < hi && u >= self.knots[span] {
-                while u >= self.knots[span + 1] {
-                    span += 1;
-                }
-                span
-            } else {
-                self.find_span(u)
-            };
-            let c = self.point_in_span(span, u, left, right, n);
-            row.copy_from_slice(&c.0[..dim]);
-        }
+        with_basis_buffers(p, |left, right, n| {
+            for (&u, row) in us.iter().zip(out.chunks_exact_mut(dim)) {
+                // strictly inside the domain and not before the last span: step on to the one span
+                // with U[span] <= u < U[span + 1] (what the binary search finds)
+                span = if u > lo && u < hi && u >= self.knots[span] {
+                    while u >= self.knots[span + 1] {
+                        span += 1;
+                    }
+                    span
+                } else {
+                    self.find_span(u)
+                };
+                let c = self.point_in_span(span, u, left, right, n);
+                row.copy_from_slice(&c.0[..dim]);
+            }
+        });
     }
 
     /// Points at `us`, as a new vector.
