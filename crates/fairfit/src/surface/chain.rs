@@ -336,7 +336,8 @@ mod tests {
                 Vec3::new(r * t.cos(), r * t.sin(), 1e-3 * rnd())
             })
             .collect();
-        pts.extend_from_slice(&pts[..50].to_vec());
+        let repeated: Vec<Vec3> = pts[..50].to_vec();
+        pts.extend(repeated);
         pts.extend((0..20).map(|k| Vec3::new(40.0 + 0.1 * k as f64, 40.0, 0.0)));
         let mut grid = NearestUnused::new(&pts);
         let mut tour = vec![7];
