@@ -35,6 +35,7 @@ use super::search::prepare::{prepare, Prepared};
 use super::stages::degree_candidates::raise_open_piece;
 use super::stages::degree_search::{keep_degree, Attempt};
 use super::stages::reduce::{measured, verify, Dense};
+use super::search::objective::PointBands;
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::reduce::reduce;
@@ -90,6 +91,16 @@ pub(crate) fn fit(
             }
             return fit_with_corners(&prep, &ranges, opts, progress, start);
         }
+    }
+    if !opts.point_constraints.is_none() {
+        let pc = &opts.point_constraints;
+        pc.validate(points.len())?;
+        prep.data.bands = PointBands::new(
+            points.len(),
+            pc.weights.as_deref().unwrap_or(&[]),
+            &pc.interpolate,
+            Tuning::default().points.interpolation_band,
+        );
     }
     let r = open::fit(&prep, opts, progress, start).map_err(|e| match conditions.is_none() {
         true => e,
