@@ -267,11 +267,7 @@ pub fn fit_with_point_constraints_inside<T, E: From<Error>>(
     held: Held,
     reweight: bool,
     tuning: &PointConstraintTuning,
-    mut fit: impl FnMut(
-        &[Vec3],
-        Option<f64>,
-        &PointConstraints,
-    ) -> std::result::Result<Fitted<T>, E>,
+    mut fit: impl FnMut(&[Vec3], Option<f64>, &PointConstraints) -> std::result::Result<Fitted<T>, E>,
 ) -> std::result::Result<ConstrainedFit<T>, E> {
     pc.validate(points.len())?;
     let kept = keep(points, pc);
