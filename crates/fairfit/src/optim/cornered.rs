@@ -36,6 +36,7 @@ use super::search::prepare::{prepare, Prepared};
 use super::stages::degree_candidates::raise_open_piece;
 use super::stages::degree_search::{keep_degree, Attempt};
 use super::stages::reduce::{measured, verify, Dense};
+use super::stages::warm_ends;
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::reduce::reduce;
@@ -106,10 +107,44 @@ pub(crate) fn fit(
         true => e,
         false => condition_error(&prep, opts.degree).unwrap_or(e),
     })?;
+    let r = match conditions.is_none() || !opts.point_constraints.is_none() {
+        true => r,
+        false => with_warm_ends(&prep, opts, progress, start, r),
+    };
     if !r.met && !conditions.is_none() {
         return Err(unmet_condition(points, &r, conditions));
     }
     Ok(r)
+}
+
+/// The fit under end conditions: the search's `searched`, or the unconstrained fit moved onto
+/// the conditions and finished under them when that is fairer
+/// ([`super::stages::warm_ends`]).
+fn with_warm_ends(
+    prep: &Prepared,
+    opts: &IntegratedOptions,
+    progress: &Progress<'_>,
+    start: Instant,
+    searched: IntegratedResult,
+) -> IntegratedResult {
+    let free_opts = IntegratedOptions {
+        end_conditions: Default::default(),
+        ..opts.clone()
+    };
+    let mut free_prep = prep.clone();
+    free_prep.data.ends = Default::default();
+    let gain = Tuning::default().count.extra_point_gain;
+    match open::fit(&free_prep, &free_opts, progress, start)
+        .ok()
+        .and_then(|free| warm_ends::from_unconstrained(prep, &free, opts))
+    {
+        Some(warm) if warm_ends::prefer(&warm, &searched, gain) => IntegratedResult {
+            stats: searched.stats,
+            baseline_control_points: searched.baseline_control_points,
+            ..warm
+        },
+        _ => searched,
+    }
 }
 
 /// Why no constrained fit could be made, when the conditions are the cause: a least-squares solve
