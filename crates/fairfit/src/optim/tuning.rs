@@ -38,8 +38,8 @@ pub struct PointTuning {
     /// A point to interpolate is held to `tol / interpolation_band` by the band fairing and the
     /// polish (every least-squares solve meets it exactly); the last exact move
     /// ([`crate::fit::point_constraints`]) is then at most that long, so it changes `F` little.
-    /// 1000: measured on NACA 4412 with 4 points to interpolate, F within 1 % of the move-free
-    /// curve.
+    /// 1000: on NACA 4412 with 4 points to interpolate the move changes F by under 2 % (test
+    /// `the_integrated_search_holds_interpolated_points_without_an_extra_control_point`).
     pub interpolation_band: f64,
 }
 
