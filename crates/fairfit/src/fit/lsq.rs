@@ -14,6 +14,10 @@
 //! - `λ` is scale-free: `λ' = λ (m + 1) D^{2r−1}` (`D` the domain length), so data term and smoothing term
 //!   both scale like length², and `λ` means the same for any number of points and any domain.
 //!
+//! - Per-point weights and points to interpolate ([`LsqSolver::set_point_terms`], module
+//!   `point_terms`): `Σ w_k² |C(ū_k) − Q_k|²` under `C(ū_k) = Q_k`, the equalities by the KKT
+//!   system's Schur complement on the same factor.
+//!
 //! [`LsqSolver`] keeps every buffer, so a repeated solve of the same size allocates nothing.
 
 mod point_terms;
@@ -436,8 +440,9 @@ impl LsqSolver {
                 .iter()
                 .enumerate()
                 .filter_map(|(j, &v)| layout.unknown(span - p + j).map(|u| (u, v)));
-            self.terms
-                .push_row(k, entries, target, 1e-12 * scale.max(1.0))?;
+            // a row on fixed columns only holds when they already pass through the point (to
+            // rounding of the data's size)
+            self.terms.push_row(k, entries, target, 1e-12 * scale)?;
         }
         self.terms.apply(&self.mat, &mut self.rhs)
     }
