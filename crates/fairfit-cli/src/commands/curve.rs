@@ -457,8 +457,13 @@ fn fit_with_constraints(
         .map(|s| s.outliers.iter().map(|o| o.index).collect())
         .unwrap_or_default();
     let (points, ic, index) = super::curve_points::kept_after_screening(all, &outliers, ic);
-    let fit = super::curve_points::fit_constrained(args, &points, &ic, &index, |pts, tol| {
-        fit_points_at(args, opts, pts, tol, want_report, wall)
+    let fit = super::curve_points::fit_constrained(args, &points, &ic, &index, |pts, tol, pc| {
+        // the integrated method holds the constraints in its search too
+        let mut inside = args.clone();
+        if args.method == Method::Integrated {
+            inside.search_constraints = pc.clone();
+        }
+        fit_points_at(&inside, opts, pts, tol, want_report, wall)
             .map_err(super::curve_points::Failure::Method)
     })?;
     let (mut report, pareto) = fit.extra;

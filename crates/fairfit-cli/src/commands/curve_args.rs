@@ -281,6 +281,10 @@ pub struct CurveArgs {
     /// The end conditions with --start-from/--end-from read (set by the command, not a flag).
     #[arg(skip)]
     pub resolved_ends: Option<EndConstraints>,
+    /// The weights and points to interpolate of the points being fitted, for the integrated
+    /// method's search (set by the command, not a flag; indices after screening and weight 0).
+    #[arg(skip)]
+    pub search_constraints: fairfit::fit::point_constraints::PointConstraints,
     /// One weight per point, a line each (`#` comments): point i is held to tol / w_i, weight 0
     /// ignores it. A point file may instead have a `w` (or `weight`) column named in its header.
     #[arg(long, value_name = "FILE")]

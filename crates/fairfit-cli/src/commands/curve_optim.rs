@@ -59,6 +59,7 @@ fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
         .ends(args.ends.into())
         .start(args.end_conditions().start)
         .end(args.end_conditions().end)
+        .point_constraints(args.search_constraints.clone())
 }
 
 /// The command-line flag of a library setting named in an [`fairfit::Error::InvalidSetting`].

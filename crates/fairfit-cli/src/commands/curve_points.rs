@@ -14,7 +14,7 @@ use super::curve_args::{CurveArgs, Method};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::Fitted;
 use fairfit::fit::point_constraints::{
-    fit_with_point_constraints, Held, PointConstraintReport, PointConstraintTuning,
+    fit_with_point_constraints_inside, Held, PointConstraintReport, PointConstraintTuning,
     PointConstraints,
 };
 use fairfit::io::point_columns::read_point_columns;
@@ -233,7 +233,11 @@ pub fn fit_constrained<R>(
     points: &[Vec3],
     ic: &InputConstraints,
     index: &[usize],
-    fit: impl FnMut(&[Vec3], Option<f64>) -> Result<Fitted<(Option<Value>, R)>, Failure>,
+    fit: impl FnMut(
+        &[Vec3],
+        Option<f64>,
+        &PointConstraints,
+    ) -> Result<Fitted<(Option<Value>, R)>, Failure>,
 ) -> Result<Fitted<(Option<Value>, R)>, CliError> {
     let conditions = args.end_conditions();
     // free ends may move (within the tolerance, as the method left them); pinned ends and the
@@ -248,7 +252,8 @@ pub fn fit_constrained<R>(
     };
     let reweight = args.method == Method::Lsq && args.smoothing == 0.0;
     let tuning = PointConstraintTuning::default();
-    let r = fit_with_point_constraints(points, &ic.constraints, held, reweight, &tuning, fit);
+    let r =
+        fit_with_point_constraints_inside(points, &ic.constraints, held, reweight, &tuning, fit);
     let r = match r {
         Ok(r) => r,
         Err(Failure::Method(e)) => return Err(e),

@@ -14,7 +14,13 @@
 //! - `λ` is scale-free: `λ' = λ (m + 1) D^{2r−1}` (`D` the domain length), so data term and smoothing term
 //!   both scale like length², and `λ` means the same for any number of points and any domain.
 //!
+//! - Per-point weights and points to interpolate ([`LsqSolver::set_point_terms`], module
+//!   `point_terms`): `Σ w_k² |C(ū_k) − Q_k|²` under `C(ū_k) = Q_k`, the equalities by the KKT
+//!   system's Schur complement on the same factor.
+//!
 //! [`LsqSolver`] keeps every buffer, so a repeated solve of the same size allocates nothing.
+
+mod point_terms;
 
 use super::banded::EnvelopeCholesky;
 use super::data_basis::DataBasis;
@@ -92,6 +98,8 @@ pub struct LsqSolver {
     /// The smoothing term's `r`-th basis derivatives at its Gauss nodes for `smooth_knots` (they
     /// depend on the knots only: a parameter correction solves again on the same knots).
     smooth: SmoothingDers,
+    /// Per-point weights and points to interpolate ([`LsqSolver::set_point_terms`]).
+    terms: point_terms::PointTerms,
 }
 
 /// `p + 1` values `N^(r)_{s−p+j}` per Gauss node of every non-empty span, in the order the
@@ -154,7 +162,21 @@ impl LsqSolver {
             ders: vec![0.0; 4 * p1],
             gl,
             smooth: SmoothingDers::default(),
+            terms: Default::default(),
         }
+    }
+
+    /// Holds per-point weights (`weights`, one per data point; empty: all 1) and the indices of
+    /// the points to interpolate (`equal`) for every later solve, until set again: the data term
+    /// becomes `Σ_k w_k² |C(ū_k) − Q_k|²` and the solve meets `C(ū_k) = Q_k` for `k ∈ equal`
+    /// (KKT by the Schur complement, module `point_terms`). Both empty: the plain solve, bit for
+    /// bit.
+    pub fn set_point_terms(&mut self, weights: &[f64], equal: &[usize]) {
+        let t = &mut self.terms;
+        t.weights2.clear();
+        t.weights2.extend(weights.iter().map(|w| w * w));
+        t.equal.clear();
+        t.equal.extend_from_slice(equal);
     }
 
     /// The degree this solver fits.
@@ -333,6 +355,9 @@ impl LsqSolver {
         self.add_smoothing_term(knots, points.len(), opts, layout, &fixed);
         self.mat.factor()?;
         self.mat.solve_vec3(&mut self.rhs);
+        if !self.terms.equal.is_empty() {
+            self.hold_equalities(points, layout, &fixed)?;
+        }
         for c in 0..n_ctrl {
             ctrl_out.push(match layout.unknown(c) {
                 Some(u) => self.rhs[u],
@@ -377,13 +402,49 @@ impl LsqSolver {
         let p = self.degree;
         let m = points.len();
         let mut k = 0;
+        let plain = self.terms.weights2.is_empty();
         while k < m {
-            k = if !layout.closed && weights.is_none() && p == 3 {
+            k = if !layout.closed && weights.is_none() && p == 3 && plain {
                 self.add_cubic_run(k, points, layout, fixed)
             } else {
                 self.add_point(k, points, weights, layout, fixed)
             };
         }
+    }
+
+    /// Moves the solution in `self.rhs` onto the equalities `C(ū_k) = Q_k` of the points to
+    /// interpolate (module `point_terms`); `Err` naming `interpolate` when they are dependent.
+    fn hold_equalities(
+        &mut self,
+        points: &[Vec3],
+        layout: Layout,
+        fixed: &impl Fn(usize) -> Vec3,
+    ) -> Result<()> {
+        let p = self.degree;
+        let scale = points.iter().map(|q| q.max_abs()).fold(0.0f64, f64::max);
+        self.terms.clear_rows();
+        for i in 0..self.terms.equal.len() {
+            let k = self.terms.equal[i];
+            if k >= points.len() {
+                continue;
+            }
+            let span = self.basis.spans()[k];
+            let nb = self.basis.values(k, k + 1);
+            let mut target = points[k];
+            for (j, &v) in nb.iter().enumerate() {
+                if layout.unknown(span - p + j).is_none() {
+                    target -= fixed(span - p + j) * v;
+                }
+            }
+            let entries = nb
+                .iter()
+                .enumerate()
+                .filter_map(|(j, &v)| layout.unknown(span - p + j).map(|u| (u, v)));
+            // a row on fixed columns only holds when they already pass through the point (to
+            // rounding of the data's size)
+            self.terms.push_row(k, entries, target, 1e-12 * scale)?;
+        }
+        self.terms.apply(&self.mat, &mut self.rhs)
     }
 
     /// The run of points from `k` in `k`'s span (open unweighted cubic), summed in registers as
@@ -453,13 +514,15 @@ impl LsqSolver {
             }
         }
         let nb = self.basis.values(k, k + 1);
+        // the point's weight² (1 unweighted: every product below is then exact as before)
+        let w2 = self.terms.weight2(k);
         if interior {
             // every column of the span is an unknown: no fixed columns, no wrapping
             let base = span - p - layout.lo;
             for (a, &ra) in nb.iter().enumerate() {
-                self.rhs[base + a] += *q * ra;
+                self.rhs[base + a] += *q * (ra * w2);
                 for (b, &rb) in nb[..=a].iter().enumerate() {
-                    self.mat.add(base + a, base + b, ra * rb);
+                    self.mat.add(base + a, base + b, ra * rb * w2);
                 }
             }
             return k + 1;
@@ -475,11 +538,11 @@ impl LsqSolver {
             let Some(ua) = layout.unknown(span - p + a) else {
                 continue;
             };
-            self.rhs[ua] += target * ra;
+            self.rhs[ua] += target * (ra * w2);
             for (b, &rb) in nb.iter().enumerate() {
                 if let Some(ub) = layout.unknown(span - p + b) {
                     if ub <= ua {
-                        self.mat.add(ua, ub, ra * rb);
+                        self.mat.add(ua, ub, ra * rb * w2);
                     }
                 }
             }

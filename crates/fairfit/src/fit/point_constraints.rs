@@ -32,11 +32,15 @@
 //!    times), which gives it more control points; after the last one the error names the
 //!    constraint (`weights` or `interpolate`).
 //!
-//! **Not inside the search.** The integrated method's knot search, count and degree searches,
-//! band fairing and polish see the points without their weights and without the interpolation
-//! equalities (only points of weight 0 are gone): the weights and equalities act on the curve they
-//! choose, by the move above, which changes its fairness little when the bands are near the
-//! method's own deviations, and the tighter refits cost control points. Fit-then-fair likewise.
+//! **Inside the search** ([`fit_with_point_constraints_inside`]): a method may honour the
+//! constraints itself. The integrated method does (its option `point_constraints`, on open data
+//! without corners that are not reduced): every least-squares solve of its knot, count and degree
+//! searches is weighted and meets the points to interpolate exactly, every deviation it measures
+//! is `w_i d_i`, and its band fairing and polish hold each point to `tol / w_i` and each point to
+//! interpolate to a small fraction of the tolerance. The move above then only closes that last
+//! gap, so it costs no control point. Elsewhere (closed data, corners, reduced dense data,
+//! fit-then-fair's fairing) the method sees the points unweighted, and the move and the refits do
+//! the work.
 //!
 //! Indices (of weights and points to interpolate) are those of the points passed in.
 
@@ -201,6 +205,23 @@ struct Kept {
     interpolate: Vec<bool>,
 }
 
+impl Kept {
+    /// The constraints of the kept points (indices among them); none when every weight is 1
+    /// and nothing is interpolated.
+    fn constraints(&self) -> PointConstraints {
+        PointConstraints {
+            weights: self
+                .weights
+                .iter()
+                .any(|&w| w != 1.0)
+                .then(|| self.weights.clone()),
+            interpolate: (0..self.points.len())
+                .filter(|&j| self.interpolate[j])
+                .collect(),
+        }
+    }
+}
+
 fn keep(points: &[Vec3], pc: &PointConstraints) -> Kept {
     let mut k = Kept {
         points: Vec::new(),
@@ -232,8 +253,26 @@ pub fn fit_with_point_constraints<T, E: From<Error>>(
     tuning: &PointConstraintTuning,
     mut fit: impl FnMut(&[Vec3], Option<f64>) -> std::result::Result<Fitted<T>, E>,
 ) -> std::result::Result<ConstrainedFit<T>, E> {
+    fit_with_point_constraints_inside(points, pc, held, reweight, tuning, |q, t, _| fit(q, t))
+}
+
+/// [`fit_with_point_constraints`] with a method that honours the constraints itself (the
+/// integrated method: [`crate::optim::IntegratedOptions::point_constraints`]): `fit` also gets
+/// the constraints of the points it is given (the points of weight 0 gone; default when every
+/// weight left is 1 and nothing is interpolated). The move and the refits then follow as there,
+/// and have little or nothing left to do.
+pub fn fit_with_point_constraints_inside<T, E: From<Error>>(
+    points: &[Vec3],
+    pc: &PointConstraints,
+    held: Held,
+    reweight: bool,
+    tuning: &PointConstraintTuning,
+    mut fit: impl FnMut(&[Vec3], Option<f64>, &PointConstraints) -> std::result::Result<Fitted<T>, E>,
+) -> std::result::Result<ConstrainedFit<T>, E> {
     pc.validate(points.len())?;
     let kept = keep(points, pc);
+    let inside = kept.constraints();
+    let mut fit = |q: &[Vec3], t: Option<f64>| fit(q, t, &inside);
     let size = bounding_box_extent(points);
     let first = fit(&kept.points, None)?;
     let tol = first.tolerance;

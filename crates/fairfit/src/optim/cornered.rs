@@ -31,10 +31,12 @@ use super::kind::periodic::distinct_control_points;
 use super::open;
 use super::options::{validate, IntegratedOptions};
 use super::result::{FitQuality, IntegratedResult, OptimStats};
+use super::search::objective::PointBands;
 use super::search::prepare::{prepare, Prepared};
 use super::stages::degree_candidates::raise_open_piece;
 use super::stages::degree_search::{keep_degree, Attempt};
 use super::stages::reduce::{measured, verify, Dense};
+use super::stages::warm_ends;
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
 use crate::fit::reduce::reduce;
@@ -91,14 +93,58 @@ pub(crate) fn fit(
             return fit_with_corners(&prep, &ranges, opts, progress, start);
         }
     }
+    if !opts.point_constraints.is_none() {
+        let pc = &opts.point_constraints;
+        pc.validate(points.len())?;
+        prep.data.bands = PointBands::new(
+            points.len(),
+            pc.weights.as_deref().unwrap_or(&[]),
+            &pc.interpolate,
+            Tuning::default().points.interpolation_band,
+        );
+    }
     let r = open::fit(&prep, opts, progress, start).map_err(|e| match conditions.is_none() {
         true => e,
         false => condition_error(&prep, opts.degree).unwrap_or(e),
     })?;
+    let r = match conditions.is_none() || !opts.point_constraints.is_none() {
+        true => r,
+        false => with_warm_ends(&prep, opts, progress, start, r),
+    };
     if !r.met && !conditions.is_none() {
         return Err(unmet_condition(points, &r, conditions));
     }
     Ok(r)
+}
+
+/// The fit under end conditions: the search's `searched`, or the unconstrained fit moved onto
+/// the conditions and finished under them when that is fairer
+/// ([`super::stages::warm_ends`]).
+fn with_warm_ends(
+    prep: &Prepared,
+    opts: &IntegratedOptions,
+    progress: &Progress<'_>,
+    start: Instant,
+    searched: IntegratedResult,
+) -> IntegratedResult {
+    let free_opts = IntegratedOptions {
+        end_conditions: Default::default(),
+        ..opts.clone()
+    };
+    let mut free_prep = prep.clone();
+    free_prep.data.ends = Default::default();
+    let gain = Tuning::default().count.extra_point_gain;
+    match open::fit(&free_prep, &free_opts, progress, start)
+        .ok()
+        .and_then(|free| warm_ends::from_unconstrained(prep, &free, opts))
+    {
+        Some(warm) if warm_ends::prefer(&warm, &searched, gain) => IntegratedResult {
+            stats: searched.stats,
+            baseline_control_points: searched.baseline_control_points,
+            ..warm
+        },
+        _ => searched,
+    }
 }
 
 /// Why no constrained fit could be made, when the conditions are the cause: a least-squares solve

@@ -16,6 +16,7 @@
 use super::fairing::{BandOptions, EndCondition, PolishOptions};
 use crate::errors::{Error, Result};
 use crate::fit::end_constraints::{EndConstraint, EndConstraints};
+use crate::fit::point_constraints::PointConstraints;
 use crate::fit::tolerance::ClosedMode;
 use crate::tolerance::Tolerance;
 
@@ -149,6 +150,12 @@ pub struct IntegratedOptions {
     /// least-squares solve of the knot search and the final fairing honour them. Set by
     /// [`Self::start`] and [`Self::end`].
     pub end_conditions: EndConstraints,
+    /// Per-point weights and points to interpolate (indices of the points passed in), held
+    /// inside the search ([`crate::optim::search::objective::PointBands`]) on open data without
+    /// corners that are neither reduced nor screened down; elsewhere ignored here (the exact hold
+    /// is [`crate::fit::point_constraints::fit_with_point_constraints_inside`]'s). Set by
+    /// [`Self::point_constraints`].
+    pub point_constraints: PointConstraints,
 }
 
 impl Default for IntegratedOptions {
@@ -174,6 +181,7 @@ impl Default for IntegratedOptions {
             closed: crate::fit::tolerance::ClosedMode::Auto,
             ends: EndCondition::Pinned,
             end_conditions: EndConstraints::default(),
+            point_constraints: PointConstraints::default(),
         }
     }
 }
@@ -309,6 +317,12 @@ impl IntegratedOptions {
     /// direction the curve arrives in).
     pub fn end(mut self, condition: EndConstraint) -> Self {
         self.end_conditions.end = condition;
+        self
+    }
+
+    /// Per-point weights and points to interpolate held inside the search (the field's docs).
+    pub fn point_constraints(mut self, pc: PointConstraints) -> Self {
+        self.point_constraints = pc;
         self
     }
 

@@ -93,7 +93,26 @@ pub fn fit_integrated_with_stages(
         }
         None => opts,
     };
-    let fit = |pts: &[Vec3], o: &IntegratedOptions| dispatch(pts, o, progress, start);
+    // points dropped by the screening: the indices of weights and points to interpolate no longer
+    // match, so the search does not see them (the caller's exact hold still does)
+    let unbanded;
+    let opts = if kept.is_some() && !opts.point_constraints.is_none() {
+        unbanded = IntegratedOptions {
+            point_constraints: Default::default(),
+            ..opts.clone()
+        };
+        &unbanded
+    } else {
+        opts
+    };
+    let fit = |pts: &[Vec3], o: &IntegratedOptions| {
+        // reduced data: the representatives are other points
+        let plain = IntegratedOptions {
+            point_constraints: Default::default(),
+            ..o.clone()
+        };
+        dispatch(pts, &plain, progress, start)
+    };
     let mut r = if !closed::is_closed(points, opts.closed) && cornered::has_corners(points, opts) {
         // corners are judged on every point (a representative of the reduced form averages a
         // corner away); the pieces between them are reduced each on its own

@@ -401,6 +401,7 @@ mod tests {
             planar: true,
             corrections: 0,
             ends: Default::default(),
+            bands: Default::default(),
         };
         let mut ws = EvalWorkspace::default();
         set_knots(3, &[0.5], &mut ws);

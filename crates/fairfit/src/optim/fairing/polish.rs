@@ -408,6 +408,7 @@ mod tests {
             planar: true,
             corrections: 1,
             ends: Default::default(),
+            bands: Default::default(),
         };
         let mut ws = EvalWorkspace::default();
         set_knots(3, &[0.2, 0.35, 0.5, 0.65, 0.8], &mut ws);

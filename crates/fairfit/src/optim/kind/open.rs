@@ -251,12 +251,25 @@ pub(crate) fn finish_curve(
 ) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut ws = EvalWorkspace::default();
     set_knots(degree, interior, &mut ws);
-    let mut e: CandidateEval = evaluate_candidate(&prep.data, log_lambda, &mut ws);
+    let e: CandidateEval = evaluate_candidate(&prep.data, log_lambda, &mut ws);
     if !e.solved {
         return Err(Error::Fit(
             "the least-squares system is singular for these knots".into(),
         ));
     }
+    finish_measured(prep, ws, e, degree, polish_within)
+}
+
+/// The finishing of [`finish_curve`] from the measured curve in `ws` (`e` its measure, the
+/// feet in `ws.foot_params`): band fairing, the polish and the re-fairing, then the curve in
+/// input coordinates.
+pub(crate) fn finish_measured(
+    prep: &Prepared,
+    mut ws: EvalWorkspace,
+    mut e: CandidateEval,
+    degree: usize,
+    polish_within: Option<Finishing>,
+) -> Result<(NurbsCurve, FitQuality, Option<Polished>)> {
     let mut polished = None;
     if let Some(Finishing {
         tol,

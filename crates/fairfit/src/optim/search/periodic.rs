@@ -90,6 +90,7 @@ impl ClosedData {
                 planar: d.planar,
                 corrections: 0,
                 ends: Default::default(),
+                bands: Default::default(),
             },
             corrections: d.corrections,
         })

@@ -109,6 +109,7 @@ pub fn prepare(points: &[Vec3], degree: usize) -> Result<Prepared> {
             planar,
             corrections: 1,
             ends: Default::default(),
+            bands: Default::default(),
         },
         origin: lo,
         scale,

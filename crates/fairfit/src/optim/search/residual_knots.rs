@@ -77,6 +77,7 @@ mod tests {
             planar: true,
             corrections: 0,
             ends: Default::default(),
+            bands: Default::default(),
         }
     }
 

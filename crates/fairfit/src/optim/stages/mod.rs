@@ -11,3 +11,4 @@ pub mod descent;
 pub mod own_count_search;
 pub mod reduce;
 pub mod release_ends;
+pub mod warm_ends;

@@ -262,6 +262,7 @@ mod tests {
             planar: true,
             corrections: 1,
             ends: Default::default(),
+            bands: Default::default(),
         };
         let mut ws = EvalWorkspace::default();
         let interior: Vec<f64> = (1..9).map(|i| i as f64 / 9.0).collect();

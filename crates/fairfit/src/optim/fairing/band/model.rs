@@ -282,7 +282,14 @@ impl Model {
             } else {
                 opts.tangent_weight
             };
-            let frame = local_frame(tan, data.planar, weight);
+            let mut frame = local_frame(tan, data.planar, weight);
+            if !data.bands.is_none() {
+                // the point's cone in weighted distance: `‖w_i (C − Q_i)‖ ≤ ρ` (`PointBands`)
+                let f = data.bands.factor(i);
+                for v in frame.iter_mut() {
+                    *v = *v * f;
+                }
+            }
             w.now_dev[i] = frame.iter().map(|f| f.dot(ci).powi(2)).sum::<f64>().sqrt();
             w.cone_of[i] = qp.cones();
             let mut h = [0.0; 4];

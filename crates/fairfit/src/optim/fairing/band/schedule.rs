@@ -218,7 +218,8 @@ impl Pass<'_> {
                 // draw in the cones of the points that left the band
                 left_band = true;
                 for i in model.free.clone() {
-                    let d = distance_at(&ws.knots, &ws.ctrl, p, ws.foot_params[i], data.points[i]);
+                    let d = distance_at(&ws.knots, &ws.ctrl, p, ws.foot_params[i], data.points[i])
+                        * data.bands.factor(i);
                     if d > radius - self.shrink[i] {
                         self.shrink[i] += d - (radius - self.shrink[i]) + opts.margin * tol;
                     }

@@ -48,7 +48,11 @@ pub(super) fn deviation_pass(
     let mut hint = 0;
     let mut worst2 = 0.0f64;
     for k in 1..m.saturating_sub(1) {
-        let (best, best_u) = proj(k, start[k], ws, &mut hint);
+        let (mut best, best_u) = proj(k, start[k], ws, &mut hint);
+        if !data.bands.is_none() {
+            // the weighted deviation (`PointBands`)
+            best *= data.bands.factor(k).powi(2);
+        }
         ws.foot_params[k] = best_u;
         ws.dev2[k] = best;
         if best > worst2 {

@@ -49,6 +49,65 @@ pub struct FitData {
     /// solve honours them ([`LsqSolver::solve_constrained`]) and the final fairing keeps their
     /// control points fixed.
     pub ends: EndConstraints,
+    /// Per-point weights and points to interpolate (empty: none; [`PointBands`]).
+    pub bands: PointBands,
+}
+
+/// Per-point weights and points to interpolate of the data a search sees (issue 26): every
+/// least-squares solve is weighted (`Σ w_k² |C(ū_k) − Q_k|²`) and meets `C(ū_k) = Q_k` at the
+/// points to interpolate ([`LsqSolver::set_point_terms`]); every measured deviation is the
+/// weighted one, `band_k · d_k`, so a candidate within the tolerance `tol` has each point within
+/// `tol / band_k` (the band fairing's cones likewise). Empty: every factor 1, and every
+/// computation is the unweighted one bit for bit.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointBands {
+    /// The least-squares weight of every point (empty: all 1).
+    pub weights: Vec<f64>,
+    /// Indices of the points to interpolate.
+    pub interpolate: Vec<usize>,
+    /// The deviation factor of every point (empty: all 1): its weight, and for a point to
+    /// interpolate a large factor (its band a small fraction of the tolerance).
+    pub band: Vec<f64>,
+}
+
+impl PointBands {
+    /// The bands of weights `weights` (empty: all 1) and points to interpolate `interpolate`
+    /// (held to `tol / interpolation_band`) for `m` points; none when both are empty.
+    pub fn new(m: usize, weights: &[f64], interpolate: &[usize], interpolation_band: f64) -> Self {
+        if weights.is_empty() && interpolate.is_empty() {
+            return PointBands::default();
+        }
+        let mut band: Vec<f64> = if weights.is_empty() {
+            vec![1.0; m]
+        } else {
+            weights.to_vec()
+        };
+        for &k in interpolate {
+            if k < m {
+                band[k] = band[k].max(interpolation_band);
+            }
+        }
+        PointBands {
+            weights: weights.to_vec(),
+            interpolate: interpolate.to_vec(),
+            band,
+        }
+    }
+
+    /// Whether nothing is asked.
+    pub fn is_none(&self) -> bool {
+        self.band.is_empty()
+    }
+
+    /// The deviation factor of point `k` (1 without bands).
+    #[inline]
+    pub fn factor(&self, k: usize) -> f64 {
+        if self.band.is_empty() {
+            1.0
+        } else {
+            self.band[k]
+        }
+    }
 }
 
 /// Runs `$body` with `$proj` bound to the projection of one data point onto the curve in `$ws`,
@@ -418,6 +477,7 @@ fn solve_control_points(
     if solver.degree() != p {
         *solver = LsqSolver::new(p);
     }
+    solver.set_point_terms(&data.bands.weights, &data.bands.interpolate);
     let opts = LsqOptions {
         smoothing: if log_lambda > super::encoding::LOG_LAMBDA_OFF {
             10f64.powf(log_lambda)

@@ -129,7 +129,11 @@ pub(super) fn move_pass(
     for k in 1..data.points.len().saturating_sub(1) {
         let u = start[k];
         if u >= a && u <= b {
-            let (best, best_u) = proj(k, u, ws, &mut hint);
+            let (mut best, best_u) = proj(k, u, ws, &mut hint);
+            if !data.bands.is_none() {
+                // the weighted deviation (`PointBands`)
+                best *= data.bands.factor(k).powi(2);
+            }
             ws.foot_params[k] = best_u;
             ws.dev2[k] = best;
             if best.sqrt() > give_up {

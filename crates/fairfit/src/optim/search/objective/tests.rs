@@ -17,6 +17,7 @@ fn circle_data(n: usize, radius: f64) -> FitData {
         planar: true,
         corrections: 0,
         ends: Default::default(),
+        bands: Default::default(),
     }
 }
 
@@ -48,6 +49,7 @@ fn reproduces_a_cubic_exactly_with_zero_deviation() {
         planar: true,
         corrections: 0,
         ends: Default::default(),
+        bands: Default::default(),
     };
     let mut ws = EvalWorkspace::default();
     set_knots(3, &[0.3, 0.7], &mut ws);
@@ -116,6 +118,7 @@ fn every_projection_arm_gives_the_feet_of_the_spatial_projection() {
             planar: true,
             corrections: 0,
             ends: Default::default(),
+            bands: Default::default(),
         };
         let mut ws = EvalWorkspace::default();
         set_knots(p, &interior, &mut ws);
@@ -191,6 +194,7 @@ fn a_move_measured_in_part_equals_the_full_measurement() {
         planar: true,
         corrections: 1,
         ends: Default::default(),
+        bands: Default::default(),
     };
     let mut ws = EvalWorkspace::default();
     set_knots(3, &[0.2, 0.35, 0.5, 0.65, 0.8], &mut ws);
@@ -237,6 +241,7 @@ fn fairness_matches_closed_form_for_a_parabola() {
         planar: true,
         corrections: 0,
         ends: Default::default(),
+        bands: Default::default(),
     };
     build_power_form(3, &mut ws);
     let (f, _) = fairness(&data, &mut ws);
