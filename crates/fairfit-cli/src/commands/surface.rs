@@ -1,10 +1,12 @@
 //! `fairfit surface`: a fair NURBS surface through section files, or through a mesh / point cloud sliced
 //! into planar sections; writes the surface JSON and optionally a report of its measures.
 
+use super::curve_args::OutliersArg;
 use super::files::{check_outputs, commit, Inputs, Output};
 use super::outputs::{check_output_formats, prepare_outputs, OutputArgs, OutputGeometry};
 use super::{CliError, CmdResult};
 use clap::{Args, ValueEnum};
+use fairfit::fit::screening::OutlierMode;
 use fairfit::io::mesh_read::read_mesh;
 use fairfit::io::sections::{expand_section_inputs, read_section_file, SECTION_EXTENSIONS};
 use fairfit::io::surface_to_json;
@@ -109,6 +111,13 @@ pub struct SurfaceArgs {
     #[arg(long, default_value_t = 5.0, allow_hyphen_values = true,
           value_parser = super::finite_positive)]
     pub gap_factor: f64,
+    /// Spikes of dense sections (as `fairfit curve --outliers`): `auto` excludes isolated points
+    /// farther than 4 tolerances (and 8 noise σ) from the curve of their neighbours on both sides and
+    /// lists them per section in the report (`dense.sections[].outliers`); `off` keeps every point,
+    /// and a surface that misses the tolerance names the spikes of each section that keep it out of
+    /// reach. Sparse sections are never screened.
+    #[arg(long, value_enum, default_value_t = OutliersArg::Auto)]
+    pub outliers: OutliersArg,
     /// Worker threads (0 = all cores; capped at 4 per core; the output does not depend on it).
     #[arg(long, default_value_t = 0, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub threads: usize,
@@ -316,6 +325,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     } = read_input(&args)?;
     let tol = tolerance(&args, &sections)?;
     let opts = surface_options(&args, tol);
+    let spikes = spike_notes(&args, &sections, tol);
     let (r, exact) = reconstruct(&args, sections, exact, &opts)?;
     check_measures(&r)?;
     if let Some(e) = &exact {
@@ -336,7 +346,29 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
     }
     let tol = r.tolerance_used(tol);
     let within = r.deviation.max <= tol && exact.as_ref().is_none_or(|e| e.met);
+    if !within {
+        for note in &spikes {
+            diag!("warning: {note}");
+        }
+    }
     summarise(&r, tol, within, gap_count, summary_on_stdout)
+}
+
+/// With `--outliers off`: per section, the isolated spikes that would keep tolerance `tol` out of
+/// reach, as sentences naming the section (by its input order) and the option that excludes them;
+/// none with `auto` (the fit excludes them itself).
+fn spike_notes(args: &SurfaceArgs, sections: &[Section], tol: f64) -> Vec<String> {
+    if args.outliers != OutliersArg::Off {
+        return Vec::new();
+    }
+    sections
+        .iter()
+        .enumerate()
+        .filter_map(|(k, s)| {
+            fairfit::fit::screening::spikes_note(&s.points, tol)
+                .map(|n| format!("section {k}: {n}; --outliers auto excludes them"))
+        })
+        .collect()
 }
 
 /// Every output named (`-o`, `--report`, CAD/mesh/plot/HTML), refused when it names an input or
@@ -409,6 +441,10 @@ fn surface_options(args: &SurfaceArgs, tol: f64) -> SurfaceOptions {
     opts.skin.approximate_with = args.approximate_v;
     opts.skin.smoothing = args.smooth_v;
     opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
+    opts.dense.outliers = match args.outliers {
+        OutliersArg::Off => OutlierMode::Off,
+        OutliersArg::Auto => OutlierMode::Auto,
+    };
     opts
 }
 

@@ -9,6 +9,18 @@
 //! residual has standard deviation `σ`; `σ` is the median absolute standardised residual divided by
 //! `Φ⁻¹(3/4) ≈ 0.6745` (the MAD of a normal law).
 //!
+//! `σ` is the root-mean-square distance of the noise across the curve, for planar and space curves
+//! alike. Across a planar curve that is the one in-plane normal component, Gaussian for Gaussian
+//! noise, hence the MAD. Across a space curve the residual is a vector in the normal plane, and how
+//! the noise shares itself between the two normal directions is unknown (along one random normal
+//! per point, as a scan's noise along its beam; or independent per coordinate): the MAD of the
+//! pooled components depends on that sharing (0.73 of the true σ for noise along one random
+//! normal). So for space curves `σ²` is the mean of the squared residual vector's length over the
+//! stencils, which does not depend on the sharing, over the stencils within
+//! [`SPACE_TRIM`] times the median length (spikes and stencils that cannot follow a corner are
+//! left out; a Gaussian along one normal loses 0.07 % of its stencils there, 1 % of `σ²`, and an
+//! isotropic one none).
+//!
 //! Why this form:
 //! - a quintic through the nearest neighbours follows the curve's curvature and its changes; what
 //!   is left on clean data is a sixth-order term over six spacings, far below any tolerance on an
@@ -45,6 +57,10 @@ pub const FRAME_SIGMAS: f64 = 30.0;
 /// data, up to about ±30 % on the fewest bins), a residual of shape about 64 (`h⁶`), an alternation
 /// about 0; 2 sits between with a wide margin on both sides.
 pub const RESOLVED_RATIO: f64 = 2.0;
+
+/// Space curves: stencils whose residual is longer than this many times the median length are left
+/// out of the mean square (module doc).
+pub const SPACE_TRIM: f64 = 5.0;
 
 /// `Φ⁻¹(3/4)`: the median absolute value of a standard normal variable.
 const MAD_NORMAL: f64 = 0.674_489_750_196_081_7;
@@ -130,12 +146,28 @@ fn stencil_sigma(
         chords.push((w[6] - w[0]).norm());
         stencil_residual(&w, planar, r, res);
     }
-    (median(res) / MAD_NORMAL, median(&mut chords))
+    let sigma = if planar {
+        median(res) / MAD_NORMAL
+    } else {
+        // the residual vectors' lengths: the mean square of those within SPACE_TRIM medians
+        let cut = SPACE_TRIM * median(res);
+        let (sum, k) = res
+            .iter()
+            .filter(|&&m| m <= cut)
+            .fold((0.0, 0usize), |(s, k), &m| (s + m * m, k + 1));
+        if k == 0 {
+            0.0
+        } else {
+            (sum / k as f64).sqrt()
+        }
+    };
+    (sigma, median(&mut chords))
 }
 
-/// Pushes the standardised residual(s) of the middle of seven bin means `w` from the quintic
-/// through the other six (in their chord's frame) onto `out`: the residual over its standard
-/// deviation `σ √((1 + Σ ℓ_j²) / r)` (`ℓ_j` the Lagrange weights, `r` points per mean).
+/// Pushes the standardised residual of the middle of seven bin means `w` from the quintic
+/// through the other six (in their chord's frame) onto `out`: the residual's length across the
+/// curve (its in-plane normal component for planar data) over the standard deviation
+/// `σ √((1 + Σ ℓ_j²) / r)` of each component (`ℓ_j` the Lagrange weights, `r` points per mean).
 fn stencil_residual(w: &[Vec3], planar: bool, r: usize, out: &mut Vec<f64>) {
     let d = w[6] - w[0];
     let len = d.norm();
@@ -170,11 +202,22 @@ fn stencil_residual(w: &[Vec3], planar: bool, r: usize, out: &mut Vec<f64>) {
         let (v, n2) = perpendicular_pair(u);
         vec![v, n2]
     };
-    for nrm in normals {
+    // planar: the in-plane normal component; space: the length of the residual vector across
+    // the curve (module doc)
+    let across = |nrm: Vec3| {
         let y = |i: usize| (w[i] - w[0]).dot(nrm);
         let pred: f64 = nodes.iter().zip(&weights).map(|(&i, l)| l * y(i)).sum();
-        out.push((y(3) - pred).abs() / var.sqrt());
-    }
+        y(3) - pred
+    };
+    let r = match normals[..] {
+        [n1] => across(n1).abs(),
+        _ => normals
+            .iter()
+            .map(|&n| across(n).powi(2))
+            .sum::<f64>()
+            .sqrt(),
+    };
+    out.push(r / var.sqrt());
 }
 
 /// Two unit vectors perpendicular to the unit `u` and to each other.

@@ -3,7 +3,12 @@
 //! The points are cut, in their order, into *bins*: runs of consecutive points that stay within a
 //! bin length `h` of the bin's first point; a bin also closes where the path turns back along the
 //! bin's direction by [`ReduceTuning::turn_back`]` · h` (a hairpin's two sides never share more than
-//! that). Each bin is replaced by its centroid; the first and last point stay alone. Each bin
+//! that). A bin's boundaries are fractional: it ends on the segment where the path gets `h` from
+//! its start, at the point exactly `h` away, and is replaced by the mean of the polyline between its
+//! boundaries, so the representatives lie `h` apart whether a bin holds two points or two
+//! thousand (centroids of whole points would jump by up to half a bin where the point spacing
+//! is comparable to `h`, and their centripetal parameters cost control points). A bin holding
+//! one point is that point. The first and last point stay alone. Each bin
 //! records its *spread*: the largest distance of its points from the line through the centroid
 //! along the bin's direction. Why this form, and how the integrated method uses it, is in
 //! `crate::optim::stages::reduce`.
@@ -83,13 +88,24 @@ impl Reduced {
 pub(crate) fn bin_points(points: &[Vec3], h: f64, tuning: &ReduceTuning) -> Reduced {
     let n = points.len();
     let mut bins = Vec::with_capacity(n.min(1024));
-    bins.push(bin_of(points, 0, 0));
+    bins.push(bin_of(points, 0, 0, 0.0, 0.0));
     bin_range(points, 1, n - 2, h, tuning, &mut bins);
-    bins.push(bin_of(points, n - 1, n - 1));
+    bins.push(bin_of(points, n - 1, n - 1, (n - 1) as f64, (n - 1) as f64));
     Reduced { bins }
 }
 
 /// Appends the bins of `points[a..=b]` (`a ≤ b + 1`; empty when `a > b`) for bin length `h`.
+///
+/// A bin's boundaries are *fractional*: it closes on the segment where the path first gets `h`
+/// from the bin's start, at the point of that segment exactly `h` away, and the next bin starts
+/// there. Its representative is the mean of the polyline between its two boundaries (index
+/// measure: every segment weighs the same, a cut one its fraction), so consecutive
+/// representatives lie `h` apart however many points a bin holds. (Centroids of whole points are
+/// `h` to `h + s` apart for a point spacing `s`: at two or three points a bin that jumps by half,
+/// and the centripetal parameters of such representatives cost control points a smooth
+/// parameterisation would not.) A bin owns the input points between its boundaries; one that
+/// owns a single point is that point (where the points are `h` or more apart they are their own
+/// representatives, never a point on a chord).
 fn bin_range(
     points: &[Vec3],
     a: usize,
@@ -102,18 +118,35 @@ fn bin_range(
         return;
     }
     let back = tuning.turn_back * h;
+    // the bin's first owned point, its start boundary (a point and its fractional index), its
+    // direction (from the start to the first point `back` away) and its farthest progress so far
     let mut start = a;
-    // the bin's direction (from its first point to the first one `back` away) and the farthest
-    // progress along it so far
+    let (mut origin, mut x0) = (points[a], a as f64);
     let mut dir: Option<Vec3> = None;
     let mut reach = 0.0f64;
     for j in a + 1..=b {
-        let r = points[j] - points[start];
+        let r = points[j] - origin;
         let d = r.norm();
         let t = dir.map_or(d, |u| r.dot(u));
-        if d >= h || t < reach - back {
-            out.push(bin_of(points, start, j - 1));
-            (start, dir, reach) = (j, None, 0.0);
+        let turned = t < reach - back;
+        if d >= h || turned {
+            let x1 = if turned || j - 1 == start {
+                (j - 1) as f64
+            } else {
+                (j - 1) as f64 + crossing(points[j - 1], points[j], origin, h)
+            };
+            out.push(bin_of(points, start, j - 1, x0, x1));
+            (origin, x0) = if turned || j - 1 == start {
+                (points[j], j as f64)
+            } else {
+                (at(points, x1), x1)
+            };
+            start = j;
+            // measured from the new start
+            let r = points[j] - origin;
+            let d = r.norm();
+            dir = (d >= back).then(|| r / d);
+            reach = d;
             continue;
         }
         if dir.is_none() && d >= back {
@@ -121,32 +154,90 @@ fn bin_range(
         }
         reach = reach.max(t);
     }
-    out.push(bin_of(points, start, b));
+    out.push(bin_of(points, start, b, x0, b as f64));
 }
 
-/// The bin of `points[a..=b]`: centroid and spread about the line along the bin's direction (the
-/// mean of its second half minus that of its first half, robust to noise).
-fn bin_of(points: &[Vec3], a: usize, b: usize) -> Bin {
+/// The fraction `f ∈ [0, 1]` of the segment `p → q` at which it is `h` from `o` (`|p − o| < h ≤
+/// |q − o|`).
+fn crossing(p: Vec3, q: Vec3, o: Vec3, h: f64) -> f64 {
+    let (w, d) = (p - o, q - p);
+    let (aa, bb, cc) = (d.norm_squared(), w.dot(d), w.norm_squared() - h * h);
+    if aa <= 0.0 {
+        return 1.0;
+    }
+    ((-bb + (bb * bb - aa * cc).max(0.0).sqrt()) / aa).clamp(0.0, 1.0)
+}
+
+/// The polyline through `points` at the fractional index `x`.
+fn at(points: &[Vec3], x: f64) -> Vec3 {
+    let i = (x.floor() as usize).min(points.len() - 1);
+    let f = x - i as f64;
+    if f <= 0.0 || i + 1 >= points.len() {
+        points[i]
+    } else {
+        points[i] + (points[i + 1] - points[i]) * f
+    }
+}
+
+/// The mean of the polyline through `points` over the fractional indices `[x0, x1]` (index
+/// measure), `x0 ≤ x1`, both within `[first − 1, last + 1]` of the whole indices they span.
+fn polyline_mean(points: &[Vec3], x0: f64, x1: f64) -> Vec3 {
+    let (i0, i1) = (x0.ceil() as usize, x1.floor() as usize);
+    let mut s = Vec3::ZERO;
+    let mut w = 0.0;
+    // the cut segments at both ends (trapezoids), then the whole ones
+    let (p0, p1) = (at(points, x0), at(points, x1));
+    if i0 > i1 {
+        return (p0 + p1) * 0.5;
+    }
+    let head = i0 as f64 - x0;
+    s += (p0 + points[i0]) * (0.5 * head);
+    w += head;
+    let tail = x1 - i1 as f64;
+    s += (points[i1] + p1) * (0.5 * tail);
+    w += tail;
+    for i in i0..i1 {
+        s += (points[i] + points[i + 1]) * 0.5;
+        w += 1.0;
+    }
+    if w > 0.0 {
+        s / w
+    } else {
+        points[i0]
+    }
+}
+
+/// The bin of `points[a..=b]` between the fractional boundaries `x0 ≤ a` and `x1 ≥ b`: the
+/// polyline's mean between them (the point itself when the bin owns one) and the spread of its
+/// points about the line through it along the bin's direction (the mean of its second half minus
+/// that of its first half, robust to noise; the chord between the boundaries for fewer than three
+/// points).
+fn bin_of(points: &[Vec3], a: usize, b: usize, x0: f64, x1: f64) -> Bin {
     let pts = &points[a..=b];
     let m = pts.len();
-    let centroid = mean(pts);
-    let spread = if m < 3 {
-        0.0
+    let centroid = if m == 1 {
+        pts[0]
     } else {
-        let dir = mean(&pts[m / 2..]) - mean(&pts[..m / 2]);
-        let len = dir.norm();
-        pts.iter()
-            .map(|&q| {
-                let r = q - centroid;
-                if len > 0.0 {
-                    let t = r.dot(dir) / len;
-                    (r.norm_squared() - t * t).max(0.0).sqrt()
-                } else {
-                    r.norm()
-                }
-            })
-            .fold(0.0, f64::max)
+        polyline_mean(points, x0, x1)
     };
+    let dir = if m >= 3 {
+        mean(&pts[m / 2..]) - mean(&pts[..m / 2])
+    } else {
+        at(points, x1) - at(points, x0)
+    };
+    let len = dir.norm();
+    let spread = pts
+        .iter()
+        .map(|&q| {
+            let r = q - centroid;
+            if len > 0.0 {
+                let t = r.dot(dir) / len;
+                (r.norm_squared() - t * t).max(0.0).sqrt()
+            } else {
+                r.norm()
+            }
+        })
+        .fold(0.0, f64::max);
     Bin {
         first: a,
         last: b,
@@ -287,6 +378,41 @@ mod tests {
                 upper.min(lower) <= 102,
                 "bin {b:?}: {upper} above, {lower} below"
             );
+        }
+    }
+
+    #[test]
+    fn representatives_lie_a_bin_length_apart_however_few_points_a_bin_holds() {
+        // 85 % of a unit circle's half, the spacing growing from h/6 to h/2 along it: consecutive
+        // representatives are h apart (chord) to within 1 %, where centroids of whole points were
+        // h to 1.5 h apart
+        let tol = 1e-3;
+        let h = 4.0 * tol;
+        let pts: Vec<Vec3> = (0..2000)
+            .map(|i| {
+                let u = i as f64 / 1999.0;
+                let t = std::f64::consts::PI * (0.43 * u + 0.42 * u * u);
+                Vec3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        let r = reduce(&pts, tol, &ReduceTuning::default()).expect("reduced");
+        let inner = &r.bins[1..r.bins.len() - 2];
+        let (mut lo, mut hi) = (f64::MAX, 0.0f64);
+        for w in inner.windows(2) {
+            let d = (w[1].point - w[0].point).norm();
+            lo = lo.min(d / h);
+            hi = hi.max(d / h);
+        }
+        assert!(lo > 0.99 && hi < 1.01, "spacing {lo} .. {hi} of h");
+        // and every representative within the mean sagitta of the arc, κh²/24, plus the
+        // polyline's own mean sagitta, κs²/12 for the spacing s (2 % to second order)
+        let s = pts
+            .windows(2)
+            .map(|w| (w[1] - w[0]).norm())
+            .fold(0.0, f64::max);
+        for b in &r.bins {
+            let off = (b.point.norm() - 1.0).abs();
+            assert!(off <= (h * h / 24.0 + s * s / 12.0) * 1.02, "{off}");
         }
     }
 }

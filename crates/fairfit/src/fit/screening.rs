@@ -38,28 +38,25 @@ pub const NOISE_TOLERANCE_SIGMAS: f64 = 5.0;
 /// The chance that the noise alone puts some point beyond the [`meaningful_tolerance`]: 1 %.
 pub const NOISE_EXCESS_PROBABILITY: f64 = 0.01;
 
-/// The smallest tolerance that `n` points with noise `σ` (per normal direction) can be held to
-/// without following the noise (module doc): `z σ` with `z` the level the largest of the `n` noise
-/// distances exceeds with probability [`NOISE_EXCESS_PROBABILITY`], at least
-/// [`NOISE_TOLERANCE_SIGMAS`]. Planar data have one normal direction (the distance is `|N(0, σ²)|`,
-/// `P(> zσ) = erfc(z/√2)`), space curves two (a Rayleigh distance, `P(> zσ) = e^(−z²/2)`).
+/// The smallest tolerance that `n` points with noise `σ` can be held to without following the noise
+/// (module doc): `z σ` with `z` the level the largest of the `n` noise distances exceeds with
+/// probability [`NOISE_EXCESS_PROBABILITY`], at least [`NOISE_TOLERANCE_SIGMAS`]. `σ` is the
+/// root-mean-square distance across the curve ([`super::noise`]), for planar and space curves
+/// alike; at a given RMS a Gaussian distance has its heaviest tail when the noise lies along one
+/// direction (`|N(0, σ²)|`, `P(> zσ) = erfc(z/√2)`; noise shared evenly between a space curve's
+/// two normal directions has the lighter Rayleigh tail `e^(−z²)`), so that tail is the one used:
+/// the tolerance holds however a space curve's noise is directed.
 ///
 /// ```
 /// use fairfit::fit::screening::meaningful_tolerance;
-/// // up to about 17,000 planar points the floor of 5 σ holds; 10^6 points need 5.73 σ
-/// assert_eq!(meaningful_tolerance(1.0, 10_000, true), 5.0);
-/// assert!((meaningful_tolerance(1.0, 1_000_000, true) - 5.73).abs() < 0.01);
-/// assert!((meaningful_tolerance(2.0, 100_000, false) / 2.0 - (2.0f64 * 1e7f64.ln()).sqrt()).abs() < 1e-9);
+/// // up to about 17,000 points the floor of 5 σ holds; 10^6 points need 5.73 σ
+/// assert_eq!(meaningful_tolerance(1.0, 10_000), 5.0);
+/// assert!((meaningful_tolerance(1.0, 1_000_000) - 5.73).abs() < 0.01);
+/// assert!((meaningful_tolerance(2.0, 1_000_000) / 2.0 - 5.73).abs() < 0.01);
 /// ```
-pub fn meaningful_tolerance(sigma: f64, n: usize, planar: bool) -> f64 {
+pub fn meaningful_tolerance(sigma: f64, n: usize) -> f64 {
     // P(one point beyond z σ)
-    let tail = |z: f64| {
-        if planar {
-            normal_two_sided_tail(z)
-        } else {
-            (-0.5 * z * z).exp()
-        }
-    };
+    let tail = normal_two_sided_tail;
     let p = NOISE_EXCESS_PROBABILITY / n.max(1) as f64;
     let mut z = NOISE_TOLERANCE_SIGMAS;
     if tail(z) > p {
@@ -185,10 +182,7 @@ pub fn screen(points: &[Vec3], tol: f64, mode: OutlierMode) -> (Screening, Optio
         }
     };
     let fitted = kept.as_deref().unwrap_or(points);
-    let planar = fitted
-        .iter()
-        .all(|p| fitted.first().is_none_or(|f| p[2] == f[2]));
-    let limit = meaningful_tolerance(noise.sigma, fitted.len(), planar);
+    let limit = meaningful_tolerance(noise.sigma, fitted.len());
     let screening = Screening {
         noise_sigma: noise.sigma,
         noise_resolved: noise.resolved,

@@ -7,6 +7,13 @@
 //! [`surface_deviation_near`]): the samples of the hint's knot span and one span on each side, so the
 //! cost per point does not grow with the surface's net (a whole-grid scan per point took minutes
 //! for 10^5-10^6 points).
+//!
+//! Both searches end the same way ([`SurfaceProjector::feet`]): Newton from the nearest sample and
+//! from the hint, the nearer foot kept. On a surface periodic in a direction a start on the seam has
+//! a twin on the other side (the same point, the other end of the domain), and Newton runs from both:
+//! the parameters are clamped to the domain, so a foot just across the seam is out of reach from
+//! the wrong side (from `u = 0` toward `u = 1 − δ`, Newton stops at the domain's end, as far from
+//! the point as the seam is).
 
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
@@ -32,6 +39,8 @@ pub struct SurfaceProjector<'a> {
     vs: Vec<f64>,
     grid: Vec<Vec3>,
     per_span: usize,
+    /// Periodic in u and in v: a start on the seam has a twin across it.
+    periodic: (bool, bool),
 }
 
 fn sample_params(knots: &[f64], degree: usize, per_span: usize) -> Vec<f64> {
@@ -64,6 +73,7 @@ impl<'a> SurfaceProjector<'a> {
             vs,
             grid,
             per_span,
+            periodic: (surface.is_periodic_u(), surface.is_periodic_v()),
         }
     }
 
@@ -97,12 +107,7 @@ impl<'a> SurfaceProjector<'a> {
                 }
             }
         }
-        let mut best = self.newton(q, (self.us[bi / nv], self.vs[bi % nv]), ws);
-        let alt = self.newton(q, hint, ws);
-        if alt.distance < best.distance {
-            best = alt;
-        }
-        best
+        self.feet(q, (self.us[bi / nv], self.vs[bi % nv]), Some(hint), ws)
     }
 
     /// Closest point of the surface to `q`; `hint` adds a Newton start (e.g. known section parameters).
@@ -121,15 +126,52 @@ impl<'a> SurfaceProjector<'a> {
                 bi = i;
             }
         }
-        let start = (self.us[bi / nv], self.vs[bi % nv]);
+        self.feet(q, (self.us[bi / nv], self.vs[bi % nv]), hint, ws)
+    }
+
+    /// The nearest of the feet Newton finds from `start`, from the twins of `start` across a
+    /// periodic seam, from `hint` and from its twins (module doc); ties keep the earlier.
+    fn feet(
+        &self,
+        q: Vec3,
+        start: (f64, f64),
+        hint: Option<(f64, f64)>,
+        ws: &mut SurfaceWorkspace,
+    ) -> SurfaceProjection {
         let mut best = self.newton(q, start, ws);
-        if let Some(h) = hint {
-            let alt = self.newton(q, h, ws);
+        let hinted = hint
+            .into_iter()
+            .flat_map(|h| std::iter::once(h).chain(self.twins(h)));
+        for t in self.twins(start).into_iter().chain(hinted) {
+            let alt = self.newton(q, t, ws);
             if alt.distance < best.distance {
                 best = alt;
             }
         }
         best
+    }
+
+    /// The twins of `(u, v)` across the seams of its periodic directions: the same surface point at
+    /// the other end of the domain (none where `(u, v)` is on no periodic seam).
+    fn twins(&self, (u, v): (f64, f64)) -> Vec<(f64, f64)> {
+        let s = self.surface;
+        let across = |t: f64, (a, b): (f64, f64), periodic: bool| {
+            if !periodic {
+                None
+            } else if t <= a {
+                Some(b)
+            } else if t >= b {
+                Some(a)
+            } else {
+                None
+            }
+        };
+        let tu = across(u, s.domain_u(), self.periodic.0);
+        let tv = across(v, s.domain_v(), self.periodic.1);
+        [tu.map(|x| (x, v)), tv.map(|y| (u, y)), tu.zip(tv)]
+            .into_iter()
+            .flatten()
+            .collect()
     }
 
     fn newton(&self, q: Vec3, start: (f64, f64), ws: &mut SurfaceWorkspace) -> SurfaceProjection {
@@ -208,31 +250,9 @@ pub fn surface_deviation_near(
     points: &[Vec3],
     hints: &[(f64, f64)],
 ) -> Deviation {
-    let proj = SurfaceProjector::new(surface, 6);
-    let d: Vec<f64> = points
-        .par_iter()
-        .zip(hints.par_iter())
-        .map_init(
-            || SurfaceWorkspace::new(surface, 2),
-            |ws, (q, &h)| proj.project_near(*q, h, ws).distance,
-        )
-        .collect();
-    statistics(&d)
-}
-
-/// Largest and root-mean-square of the distances `d`.
-fn statistics(d: &[f64]) -> Deviation {
-    let max = d.iter().copied().fold(0.0, f64::max);
-    let rms = if d.is_empty() {
-        0.0
-    } else {
-        (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt()
-    };
-    Deviation {
-        max,
-        rms,
-        points: d.len(),
-    }
+    deviation(surface, points, |proj, i, q, ws| {
+        proj.project_near(q, hints[i], ws)
+    })
 }
 
 /// Orthogonal deviation of `points` (optional parameter hints, same length) from `surface`.
@@ -241,16 +261,25 @@ pub fn surface_deviation(
     points: &[Vec3],
     hints: Option<&[(f64, f64)]>,
 ) -> Deviation {
+    deviation(surface, points, |proj, i, q, ws| {
+        proj.project(q, hints.and_then(|h| h.get(i).copied()), ws)
+    })
+}
+
+/// The deviation statistics of `points` from `surface`, point `i` projected by `project` (one
+/// projector sampling 6 parameters per span, one workspace per worker).
+fn deviation(
+    surface: &NurbsSurface,
+    points: &[Vec3],
+    project: impl Fn(&SurfaceProjector, usize, Vec3, &mut SurfaceWorkspace) -> SurfaceProjection + Sync,
+) -> Deviation {
     let proj = SurfaceProjector::new(surface, 6);
     let d: Vec<f64> = points
         .par_iter()
         .enumerate()
         .map_init(
             || SurfaceWorkspace::new(surface, 2),
-            |ws, (i, q)| {
-                proj.project(*q, hints.and_then(|h| h.get(i).copied()), ws)
-                    .distance
-            },
+            |ws, (i, &q)| project(&proj, i, q, ws).distance,
         )
         .collect();
     let max = d.iter().copied().fold(0.0, f64::max);

@@ -1,7 +1,7 @@
 //! `fit::noise`: the measured σ against the true σ of generated Gaussian noise, and none on clean data.
 
 use crate::common::example_data::read_csv;
-use crate::common::scan_data::{extent, noisy_spiral};
+use crate::common::scan_data::{extent, gauss, noisy_spiral};
 use fairfit::fit::noise::estimate_noise;
 
 #[test]
@@ -63,4 +63,42 @@ fn clean_sparse_table_is_shape_not_noise() {
         let est = estimate_noise(&noisy_spiral(n, rel * tol, 11));
         assert!(est.resolved, "{n} points, σ = tol · {rel}: {est:?}");
     }
+}
+
+/// A conical helix of 10^5 points (torsion and curvature everywhere, no plane) with Gaussian noise
+/// across it: `σ` is the root-mean-square distance across the curve whichever way the noise is
+/// shared between the two normal directions. Along one random normal per point (as a scan's beam)
+/// the distance's RMS is the generating `σ`; independent per coordinate with `σ_c`, its normal-plane
+/// part has RMS `√2 σ_c`.
+#[test]
+fn a_space_curve_measures_the_distance_across_it_however_the_noise_is_directed() {
+    use fairfit::nurbs::Vec3;
+    let n = 100_000;
+    let at = |t: f64| {
+        let r = 1.0 - 0.3 * t / 12.0;
+        (
+            Vec3::new(r * t.cos(), r * t.sin(), 0.15 * t),
+            Vec3::new(
+                -r * t.sin() - 0.025 * t.cos(),
+                r * t.cos() - 0.025 * t.sin(),
+                0.15,
+            ),
+        )
+    };
+    let tol = 1e-3 * 2.0;
+    let sigma = 0.1 * tol;
+    let mut g = crate::common::rng(5);
+    let (mut beam, mut iso) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    for i in 0..n {
+        let (p, d) = at(12.0 * i as f64 / (n - 1) as f64);
+        let u = d / d.norm();
+        let v = Vec3::new(gauss(&mut g), gauss(&mut g), gauss(&mut g));
+        let v = v - u * v.dot(u);
+        beam.push(p + v / v.norm() * (sigma * gauss(&mut g)));
+        iso.push(p + Vec3::new(gauss(&mut g), gauss(&mut g), gauss(&mut g)) * sigma);
+    }
+    let b = estimate_noise(&beam).sigma / sigma;
+    let i = estimate_noise(&iso).sigma / (sigma * 2f64.sqrt());
+    assert!((b - 1.0).abs() < 0.05, "along one normal: σ · {b}");
+    assert!((i - 1.0).abs() < 0.05, "per coordinate: √2 σ_c · {i}");
 }

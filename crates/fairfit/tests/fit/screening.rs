@@ -15,7 +15,7 @@ fn noise_warning_only_when_the_tolerance_is_below_the_noise() {
         assert_eq!(s.noise_limited.is_some(), warned, "σ = tol · {rel}");
         assert!(kept.is_none() && s.outliers.is_empty(), "σ = tol · {rel}");
         if let Some(t) = s.noise_limited {
-            assert_eq!(t, meaningful_tolerance(s.noise_sigma, n, true));
+            assert_eq!(t, meaningful_tolerance(s.noise_sigma, n));
             let line = s.noise_warning(tol).unwrap();
             assert!(!line.contains('\n') && line.contains("below the noise"));
         }

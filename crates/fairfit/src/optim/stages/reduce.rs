@@ -7,8 +7,10 @@
 //! `h = bin_tolerances · tol` of the bin's first point (a bin also closes where the path turns back
 //! towards its first point by more than a quarter of `h`: measured along the bin's direction: a hairpin's two sides never share more
 //! than that).
-//! Each bin is replaced by its centroid; the first and the last point stay as they are (the curve's
-//! ends interpolate them). Why this form rather than moments or a pre-fit:
+//! Each bin is replaced by its mean (of the polyline between its fractional boundaries, so that
+//! the representatives lie `h` apart even where a bin holds two or three points; `crate::fit::reduce`);
+//! the first and the last point stay as they are (the curve's ends interpolate them). Why this
+//! form rather than moments or a pre-fit:
 //!
 //! - **It is the same kind of data.** Every later stage (corners, closure, centripetal
 //!   parameters, knot search, band fairing, polish) runs unchanged on the representatives, so the

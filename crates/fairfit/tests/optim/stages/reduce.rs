@@ -3,8 +3,8 @@
 //! every input point (an independent whole-curve projection) and stays within 1.1 tol of the
 //! noise-free spiral; a burst of 100:1 density gives the count of even sampling; the data scaled
 //! by 1000 give the same knots (12,000 points whose normalised coordinates differ in the last
-//! place, one of them across the pipeline's 2^-36 snap grid). A known defect is kept as an
-//! ignored test until fixed: 10 times fewer points giving the count within one.
+//! place, one of them across the pipeline's 2^-36 snap grid); 10 times fewer points (two or three
+//! to a bin) give the count within one.
 
 use fairfit::diffgeo::projection::CurveProjector;
 use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
@@ -88,8 +88,6 @@ fn a_dense_noisy_spiral_meets_the_tolerance_on_every_point_and_averages_the_nois
 }
 
 #[test]
-#[ignore = "known defect: 20,000 points give 11 control points, 2,000 give 13 (2,000 points put under \
-            3 points in a bin, so their representatives keep more noise); 10^4, 10^5, 10^6 agree"]
 fn ten_times_fewer_points_give_the_count_within_one() {
     let dense = fit(&noisy(&even(20_000), SIGMA, 7));
     let sparse = fit(&noisy(&even(2_000), SIGMA, 11));
@@ -124,15 +122,24 @@ fn a_burst_of_density_gives_the_count_of_even_sampling() {
     }
     burst.push(1.0);
     assert!(burst.len() > 6 * base.len());
-    let (a, b) = (fit(&noisy(&base, SIGMA, 5)), fit(&noisy(&burst, SIGMA, 5)));
-    assert!(a.met && b.met);
-    let (na, nb) = (a.curve.n_control_points(), b.curve.n_control_points());
-    assert!(na.abs_diff(nb) <= 1, "{na} evenly vs {nb} with bursts");
-    // the fairness too (measured: 11 and 11 control points, F 639 and 650)
-    let (fa, fb) = (a.quality.fairness, b.quality.fairness);
+    // the fairness too, over three noise draws: one draw's F moves 5-15 % with the draw alone
+    // (even sampling, seeds 1-4: 561-646), so the means are compared (measured: 10, 11, 10 control
+    // points evenly and 11 with bursts, mean F 656 and 655)
+    let (mut fa, mut fb) = (0.0, 0.0);
+    for seed in [5, 6, 7] {
+        let (a, b) = (
+            fit(&noisy(&base, SIGMA, seed)),
+            fit(&noisy(&burst, SIGMA, seed)),
+        );
+        assert!(a.met && b.met);
+        let (na, nb) = (a.curve.n_control_points(), b.curve.n_control_points());
+        assert!(na.abs_diff(nb) <= 1, "{na} evenly vs {nb} with bursts");
+        fa += a.quality.fairness / 3.0;
+        fb += b.quality.fairness / 3.0;
+    }
     assert!(
         (fb / fa - 1.0).abs() <= 0.1,
-        "F {fa} evenly vs {fb} with bursts"
+        "mean F {fa} evenly vs {fb} with bursts"
     );
 }
 
