@@ -151,7 +151,7 @@ pub struct IntegratedOptions {
     /// [`Self::start`] and [`Self::end`].
     pub end_conditions: EndConstraints,
     /// Per-point weights and points to interpolate (indices of the points passed in), held
-    /// inside the search ([`crate::optim::search::objective::PointBands`]) on open data without
+    /// inside the search (`PointBands` in `optim/search/objective/`) on open data without
     /// corners that are neither reduced nor screened down; elsewhere ignored here (the exact hold
     /// is [`crate::fit::point_constraints::fit_with_point_constraints_inside`]'s). Set by
     /// [`Self::point_constraints`].

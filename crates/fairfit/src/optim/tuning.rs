@@ -28,7 +28,7 @@ pub struct Tuning {
     /// The reduction of dense data before every stage (`optim/stages/reduce.rs`).
     pub reduce: ReduceTuning,
     /// Weights and points to interpolate inside the search
-    /// ([`crate::optim::search::objective::PointBands`]).
+    /// (`PointBands` in `optim/search/objective/`).
     pub points: PointTuning,
 }
 

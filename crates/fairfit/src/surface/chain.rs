@@ -4,12 +4,12 @@
 //!
 //! Written here (no crate orders scan slices). The cost is near linear in the point count, so a slab
 //! of a 10^6-point cloud is ordered in well under a second:
-//! - the nearest unused neighbour is found on a uniform grid ([`NearestUnused`]: rings of cells
+//! - the nearest unused neighbour is found on a uniform grid (`NearestUnused`: rings of cells
 //!   around the current point, a linear scan only when the rings would cost more), exactly the one a
 //!   scan of every point finds (smallest distance, then smallest index);
 //! - the windowed 2-opt costs `O(n · window)` per pass, for a bounded number of passes;
 //! - the global 2-opt between long edges (a tour that jumps across a hole and back) looks at the
-//!   [`MAX_LONG_EDGES`] longest edges at most, for as many moves: a band of noisy points has many
+//!   `MAX_LONG_EDGES` longest edges at most, for as many moves: a band of noisy points has many
 //!   "long" edges that no global move mends, and an unbounded search over them is quadratic.
 
 use crate::nurbs::Vec3;

@@ -8,7 +8,7 @@
 //! cost per point does not grow with the surface's net (a whole-grid scan per point took minutes
 //! for 10^5-10^6 points).
 //!
-//! Both searches end the same way ([`SurfaceProjector::feet`]): Newton from the nearest sample and
+//! Both searches end the same way (`SurfaceProjector::feet`): Newton from the nearest sample and
 //! from the hint, the nearer foot kept. On a surface periodic in a direction a start on the seam has
 //! a twin on the other side (the same point, the other end of the domain), and Newton runs from both:
 //! the parameters are clamped to the domain, so a foot just across the seam is out of reach from
