@@ -4,16 +4,15 @@
 //!
 //! Written here (no crate orders scan slices). The cost is near linear in the point count, so a slab
 //! of a 10^6-point cloud is ordered in well under a second:
-//! - the nearest unused neighbour is found on a uniform grid (`NearestUnused`: rings of cells
-//!   around the current point, a linear scan only when the rings would cost more), exactly the one a
-//!   scan of every point finds (smallest distance, then smallest index);
+//! - the nearest unused neighbour is found on a uniform grid ([`super::point_grid::PointGrid`]),
+//!   exactly the one a scan of every point finds (smallest distance, then smallest index);
 //! - the windowed 2-opt costs `O(n · window)` per pass, for a bounded number of passes;
 //! - the global 2-opt between long edges (a tour that jumps across a hole and back) looks at the
 //!   `MAX_LONG_EDGES` longest edges at most, for as many moves: a band of noisy points has many
 //!   "long" edges that no global move mends, and an unbounded search over them is quadratic.
 
+use super::point_grid::PointGrid;
 use crate::nurbs::Vec3;
-use std::collections::HashMap;
 
 /// The most long edges the global 2-opt pairs up, and the most moves it makes.
 const MAX_LONG_EDGES: usize = 64;
@@ -59,13 +58,13 @@ pub fn order_points(points: &[Vec3], dir: Vec3) -> Vec<Vec3> {
     let start = (0..n)
         .max_by(|&a, &b| points[a].dot(dir).total_cmp(&points[b].dot(dir)))
         .unwrap_or(0);
-    let mut unused = NearestUnused::new(points);
+    let mut unused = PointGrid::new(points);
     let mut tour = Vec::with_capacity(n);
     let mut cur = start;
-    unused.take(cur);
+    unused.remove(points, cur);
     tour.push(cur);
-    while let Some(best) = unused.nearest(points[cur]) {
-        unused.take(best);
+    while let Some(best) = unused.nearest(points, points[cur]) {
+        unused.remove(points, best);
         tour.push(best);
         cur = best;
     }
@@ -128,126 +127,6 @@ pub fn order_points(points: &[Vec3], dir: Vec3) -> Vec<Vec3> {
     t.into_iter().map(|i| points[i]).collect()
 }
 
-/// The points not yet in the tour, on a uniform grid of cubic cells, for the nearest-neighbour
-/// search of [`order_points`].
-struct NearestUnused<'a> {
-    points: &'a [Vec3],
-    /// The grid's origin and cell size (`f64::INFINITY` when all points coincide: one cell).
-    origin: Vec3,
-    cell: f64,
-    cells: HashMap<[i64; 3], Vec<usize>>,
-    /// The largest cell index distance between two occupied cells: no ring beyond it holds a point.
-    max_ring: i64,
-    remaining: usize,
-}
-
-impl<'a> NearestUnused<'a> {
-    /// Every point unused. The cell size makes about one cell per point of a planar set: the square
-    /// root of the area spanned by the two largest extents over the point count.
-    fn new(points: &'a [Vec3]) -> Self {
-        let (mut lo, mut hi) = (points[0], points[0]);
-        for p in points {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let mut ext = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
-        ext.sort_by(|a, b| b.total_cmp(a));
-        let area = (ext[0] * ext[1]).max(ext[0] * ext[0] * 1e-6);
-        let cell = (area / points.len() as f64).sqrt();
-        let cell = if cell > 0.0 && cell.is_finite() {
-            cell
-        } else {
-            f64::INFINITY
-        };
-        let mut grid = NearestUnused {
-            points,
-            origin: lo,
-            cell,
-            cells: HashMap::new(),
-            max_ring: 0,
-            remaining: points.len(),
-        };
-        for (i, &p) in points.iter().enumerate() {
-            let key = grid.key(p);
-            grid.cells.entry(key).or_default().push(i);
-        }
-        let span = |k: usize| grid.key(hi)[k] - grid.key(lo)[k];
-        grid.max_ring = span(0).max(span(1)).max(span(2));
-        grid
-    }
-
-    fn key(&self, p: Vec3) -> [i64; 3] {
-        if self.cell.is_infinite() {
-            return [0; 3];
-        }
-        let c = |k: usize| ((p[k] - self.origin[k]) / self.cell).floor() as i64;
-        [c(0), c(1), c(2)]
-    }
-
-    /// Marks point `i` used.
-    fn take(&mut self, i: usize) {
-        let key = self.key(self.points[i]);
-        if let Some(v) = self.cells.get_mut(&key) {
-            if let Some(pos) = v.iter().position(|&j| j == i) {
-                v.swap_remove(pos);
-                self.remaining -= 1;
-            }
-        }
-    }
-
-    /// The unused point nearest to `q`: the smallest squared distance, then the smallest index
-    /// (what a scan of every unused point in index order finds); `None` when none is left.
-    fn nearest(&self, q: Vec3) -> Option<usize> {
-        if self.remaining == 0 {
-            return None;
-        }
-        let mut best: Option<(f64, usize)> = None;
-        let consider = |best: &mut Option<(f64, usize)>, j: usize| {
-            let d = (self.points[j] - q).norm_squared();
-            if best.is_none_or(|(bd, bj)| d < bd || (d == bd && j < bj)) {
-                *best = Some((d, j));
-            }
-        };
-        let c = self.key(q);
-        for r in 0..=self.max_ring {
-            // a ring costs (2r + 1)³ − (2r − 1)³ cell looks: past the remaining points, scan them
-            let ring_cells = 24 * r * r + 2;
-            if r > 0 && ring_cells as usize > self.remaining {
-                for v in self.cells.values() {
-                    for &j in v {
-                        consider(&mut best, j);
-                    }
-                }
-                return best.map(|b| b.1);
-            }
-            for dx in -r..=r {
-                for dy in -r..=r {
-                    for dz in -r..=r {
-                        if dx.abs().max(dy.abs()).max(dz.abs()) != r {
-                            continue;
-                        }
-                        if let Some(v) = self.cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
-                            for &j in v {
-                                consider(&mut best, j);
-                            }
-                        }
-                    }
-                }
-            }
-            // every point beyond ring r lies at least r cells away
-            if let Some((bd, _)) = best {
-                let reach = r as f64 * self.cell;
-                if bd < reach * reach {
-                    return best.map(|b| b.1);
-                }
-            }
-        }
-        best.map(|b| b.1)
-    }
-}
-
 /// Splits a closed tour at gaps longer than `factor` times its median spacing. Returns the open chain
 /// starting right after the largest gap (or the tour unchanged, closed, when there is no gap) and the gaps.
 pub(crate) fn break_at_gaps(
@@ -297,66 +176,6 @@ pub(crate) fn break_at_gaps(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The nearest-neighbour tour by a scan of every unused point (the definition).
-    fn brute_force_tour(points: &[Vec3], start: usize) -> Vec<usize> {
-        let mut used = vec![false; points.len()];
-        let (mut tour, mut cur) = (vec![start], start);
-        used[start] = true;
-        for _ in 1..points.len() {
-            let mut best = (f64::INFINITY, usize::MAX);
-            for (j, &u) in used.iter().enumerate() {
-                let d = (points[j] - points[cur]).norm_squared();
-                if !u && d < best.0 {
-                    best = (d, j);
-                }
-            }
-            used[best.1] = true;
-            tour.push(best.1);
-            cur = best.1;
-        }
-        tour
-    }
-
-    #[test]
-    fn the_grid_finds_the_tour_a_scan_of_every_point_finds() {
-        // a noisy band around a wavy loop (3-D, near a plane), with repeated points (ties go to the
-        // smaller index) and a far cluster (reached by the linear scan past the rings)
-        let mut s = 987654321u64;
-        let mut rnd = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let mut pts: Vec<Vec3> = (0..3000)
-            .map(|_| {
-                let t = std::f64::consts::TAU * rnd();
-                let r = 1.0 + 0.2 * (3.0 * t).sin() + 0.01 * rnd();
-                Vec3::new(r * t.cos(), r * t.sin(), 1e-3 * rnd())
-            })
-            .collect();
-        let repeated: Vec<Vec3> = pts[..50].to_vec();
-        pts.extend(repeated);
-        pts.extend((0..20).map(|k| Vec3::new(40.0 + 0.1 * k as f64, 40.0, 0.0)));
-        let mut grid = NearestUnused::new(&pts);
-        let mut tour = vec![7];
-        grid.take(7);
-        while let Some(j) = grid.nearest(pts[*tour.last().unwrap()]) {
-            grid.take(j);
-            tour.push(j);
-        }
-        assert_eq!(tour, brute_force_tour(&pts, 7));
-    }
-
-    #[test]
-    fn coincident_points_are_one_cell_and_still_ordered() {
-        let pts = vec![Vec3::new(1.0, 2.0, 3.0); 5];
-        let grid = NearestUnused::new(&pts);
-        assert!(grid.cell.is_infinite());
-        let tour = order_points(&pts, Vec3::new(1.0, 0.0, 0.0));
-        assert_eq!(tour.len(), 5);
-    }
 
     #[test]
     fn shuffled_circle_is_ordered_and_a_missing_arc_is_a_gap() {

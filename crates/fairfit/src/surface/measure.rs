@@ -15,6 +15,7 @@
 //! the wrong side (from `u = 0` toward `u = 1 − δ`, Newton stops at the domain's end, as far from
 //! the point as the seam is).
 
+use super::point_grid::PointGrid;
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
 use rayon::prelude::*;
@@ -38,6 +39,8 @@ pub struct SurfaceProjector<'a> {
     us: Vec<f64>,
     vs: Vec<f64>,
     grid: Vec<Vec3>,
+    /// `grid` on a uniform grid of cells: the nearest sample without a scan of every sample.
+    index: PointGrid,
     per_span: usize,
     /// Periodic in u and in v: a start on the seam has a twin across it.
     periodic: (bool, bool),
@@ -71,6 +74,7 @@ impl<'a> SurfaceProjector<'a> {
             surface,
             us,
             vs,
+            index: PointGrid::new(&grid),
             grid,
             per_span,
             periodic: (surface.is_periodic_u(), surface.is_periodic_v()),
@@ -118,14 +122,8 @@ impl<'a> SurfaceProjector<'a> {
         ws: &mut SurfaceWorkspace,
     ) -> SurfaceProjection {
         let nv = self.vs.len();
-        let (mut bi, mut bd) = (0usize, f64::INFINITY);
-        for (i, p) in self.grid.iter().enumerate() {
-            let d = (*p - q).norm_squared();
-            if d < bd {
-                bd = d;
-                bi = i;
-            }
-        }
+        // the nearest sample (the first of equals, as a scan of every sample finds)
+        let bi = self.index.nearest(&self.grid, q).unwrap_or(0);
         self.feet(q, (self.us[bi / nv], self.vs[bi % nv]), hint, ws)
     }
 

@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod orient;
 mod periodic_fit;
 pub mod pipeline;
+mod point_grid;
 pub mod seam;
 mod seam_tie;
 pub mod section_fit;
