@@ -5,7 +5,8 @@
 
 use crate::convert::{json_to_py, parameter_array, parameters, points_array, vector};
 use fairfit::diffgeo::curvature;
-use fairfit::fair::curve_fairness;
+use fairfit::errors::try_vec;
+use fairfit::fair::try_curve_fairness;
 use fairfit::io::{curve_to_json, Geometry};
 use fairfit::report::curve::exact_shape_json;
 use fairfit::{NurbsCurve, Vec3};
@@ -40,6 +41,22 @@ impl Curve {
         }
         Ok(())
     }
+}
+
+/// The zeroed output of `derivatives(u, k)` for `m` parameters (`m * (k + 1)` points), reserved
+/// fallibly together with the evaluator's work buffers (about `(k + 1) * (degree + 6)` numbers):
+/// a `k` no memory can hold is a one-line error, not an abort.
+fn derivative_buffer(m: usize, k: usize, degree: usize) -> fairfit::Result<Vec<Vec3>> {
+    let what = format!("derivatives of order {k} at {m} parameter(s)");
+    // a size past the address space is refused by `try_vec` like one past the memory
+    let orders = k.saturating_add(1);
+    let n = m.saturating_mul(orders);
+    let work = orders.saturating_mul(degree.saturating_add(6));
+    // the work buffers are allocated by the evaluator: make sure they fit beside the output
+    drop(try_vec::<f64>(work, &what)?);
+    let mut out = try_vec::<Vec3>(n, &what)?;
+    out.resize(n, Vec3::ZERO);
+    Ok(out)
 }
 
 /// The dimension a read curve gets: 2 when every control point has z = 0.
@@ -168,7 +185,7 @@ impl Curve {
         self.check(&us)?;
         let c = &self.inner;
         let d = crate::guarded(py, || {
-            let mut out = vec![Vec3::ZERO; us.len() * (k + 1)];
+            let mut out = derivative_buffer(us.len(), k, c.degree()).map_err(|e| e.to_string())?;
             c.derivatives_batch_into(&us, k, &mut out);
             Ok(out)
         })?;
@@ -208,7 +225,8 @@ impl Curve {
     fn fairness<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let c = &self.inner;
         let (f, exact) = crate::guarded(py, || {
-            let f = curve_fairness(c);
+            // the fallible twin (same numbers): its sample buffers grow with the span count
+            let f = try_curve_fairness(c).map_err(|e| e.to_string())?;
             let exact = exact_shape_json(c, f.length);
             Ok((f, exact))
         })?;

@@ -8,6 +8,7 @@
 //! is one task, never a fan-out of per-section fits followed by a skinning step.
 
 use crate::convert::{json_to_py, parameters, points_array3, vector};
+use fairfit::errors::try_vec;
 use fairfit::io::mesh_read::read_mesh;
 use fairfit::io::surface_to_json;
 use fairfit::report::surface::{surface_report, SectionNotes};
@@ -125,9 +126,12 @@ impl Surface {
         let (us, _) = parameters(u)?;
         let (vs, _) = parameters(v)?;
         let uv: Vec<(f64, f64)> = if grid {
-            us.iter()
-                .flat_map(|&a| vs.iter().map(move |&b| (a, b)))
-                .collect()
+            // a grid's size is a product of two argument lengths: reserved fallibly, so that one
+            // no memory holds is a one-line error, not an abort
+            let n = us.len().saturating_mul(vs.len());
+            let mut uv = try_vec(n, "surface(u, v, grid=True)").map_err(crate::lib_err)?;
+            uv.extend(us.iter().flat_map(|&a| vs.iter().map(move |&b| (a, b))));
+            uv
         } else {
             if us.len() != vs.len() {
                 return Err(crate::py_err(format!(
@@ -143,7 +147,8 @@ impl Surface {
         }
         let s = &self.inner;
         let pts = crate::guarded(py, || {
-            let mut out = vec![Vec3::ZERO; uv.len()];
+            let mut out = try_vec(uv.len(), "surface(u, v)").map_err(|e| e.to_string())?;
+            out.resize(uv.len(), Vec3::ZERO);
             s.points_into(&uv, &mut out);
             Ok(out)
         })?;

@@ -1019,3 +1019,115 @@ fn the_tokenizer_skips_raw_strings_chars_and_nested_comments() {
     );
     assert_eq!(r[1].binds.as_deref(), Some("_"));
 }
+
+// ---------------------------------------------------------------------------------------------------
+// No bare unwrap outside tests
+// ---------------------------------------------------------------------------------------------------
+
+/// Files of `sources` that are test modules of their own: declared `#[cfg(test)] mod name;` by their
+/// parent (`name.rs`, `name/mod.rs`, and everything below `name/`).
+fn test_module_files(sources: &[(String, String)]) -> BTreeSet<String> {
+    let mut prefixes = Vec::new();
+    for (rel, text) in sources {
+        let t = tokens(text);
+        let is = |k: usize, s: &str| t.get(k).is_some_and(|x| x.text == s);
+        // the folder of the file's child modules: `a/b.rs` -> `a/b/`, `a/mod.rs` -> `a/`
+        let dir = match rel.rsplit_once('/') {
+            Some((d, f)) if ["mod.rs", "lib.rs", "main.rs"].contains(&f) => format!("{d}/"),
+            None if ["mod.rs", "lib.rs", "main.rs"].contains(&rel.as_str()) => String::new(),
+            _ => format!("{}/", rel.trim_end_matches(".rs")),
+        };
+        for i in 0..t.len() {
+            let cfg_test = ["#", "[", "cfg", "(", "test", ")", "]"]
+                .iter()
+                .enumerate()
+                .all(|(k, s)| is(i + k, s));
+            let j = if is(i + 7, "pub") { i + 8 } else { i + 7 };
+            if cfg_test && is(j, "mod") && is(j + 2, ";") {
+                prefixes.push(format!("{dir}{}", t[j + 1].text));
+            }
+        }
+    }
+    sources
+        .iter()
+        .map(|(rel, _)| rel.clone())
+        .filter(|rel| {
+            prefixes
+                .iter()
+                .any(|p| *rel == format!("{p}.rs") || rel.starts_with(&format!("{p}/")))
+        })
+        .collect()
+}
+
+/// Every `.unwrap()` call in the non-test code of `sources`, as `path:line`: comments, strings,
+/// `#[cfg(test)]` items and test-module files left out. `unwrap_or`, `unwrap_or_else` and the like
+/// are other tokens and pass.
+fn bare_unwraps(sources: &[(String, String)]) -> Vec<String> {
+    let tests = test_module_files(sources);
+    let mut found = Vec::new();
+    for (rel, text) in sources {
+        if tests.contains(rel) {
+            continue;
+        }
+        let t = without_test_items(tokens(text));
+        for w in t.windows(4) {
+            let texts: Vec<&str> = w.iter().map(|x| x.text.as_str()).collect();
+            if texts == [".", "unwrap", "(", ")"] {
+                found.push(format!("{rel}:{}", w[1].line));
+            }
+        }
+    }
+    found
+}
+
+/// A bare `unwrap()` is a panic with no message: in the library and the CLI, every unwrap that
+/// cannot fail is an `expect` naming the invariant that makes it infallible, and every one that input
+/// can reach is a typed error (docs/reliability.md, "Panics audit").
+#[test]
+fn no_bare_unwrap_in_the_library_or_the_cli() {
+    for (name, sources) in [
+        ("crates/fairfit/src", library()),
+        ("crates/fairfit-cli/src", cli()),
+    ] {
+        assert!(sources.len() > 10, "{name}: {} source files", sources.len());
+        let found = bare_unwraps(&sources);
+        assert!(
+            found.is_empty(),
+            "bare .unwrap() in {name} (use an error, or expect(\"the invariant\")):\n{}",
+            found.join("\n")
+        );
+    }
+}
+
+#[test]
+fn a_planted_unwrap_is_found_and_comments_strings_and_tests_are_not() {
+    let lib = "//! `x.unwrap()` in a doc comment\n\
+               /// let c = f().unwrap();\n\
+               pub fn f(x: Option<u8>) -> u8 {\n\
+               \x20   let s = \"x.unwrap()\"; let r = r#\"y.unwrap()\"#; /* z.unwrap() */\n\
+               \x20   let c = '.'; let _ = x.unwrap_or(0);\n\
+               \x20   x.unwrap()\n\
+               }\n\
+               #[cfg(test)]\nmod tests {\n    fn t() { Some(1).unwrap(); }\n}\n\
+               #[cfg(test)]\nmod more;\n";
+    let sources = vec![
+        ("a/mod.rs".to_string(), lib.to_string()),
+        (
+            "a/more.rs".to_string(),
+            "fn g() { Some(1).unwrap(); }\n".to_string(),
+        ),
+        (
+            "a/more/deep.rs".to_string(),
+            "fn h() { Some(1).unwrap(); }\n".to_string(),
+        ),
+        (
+            "b.rs".to_string(),
+            "fn k() -> u8 { Some(1)\n    .unwrap() }\n".to_string(),
+        ),
+    ];
+    assert_eq!(
+        test_module_files(&sources).into_iter().collect::<Vec<_>>(),
+        vec!["a/more.rs".to_string(), "a/more/deep.rs".to_string()]
+    );
+    assert_eq!(bare_unwraps(&sources), vec!["a/mod.rs:6", "b.rs:2"]);
+}

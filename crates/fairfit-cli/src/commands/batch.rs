@@ -58,7 +58,8 @@ pub struct BatchArgs {
     /// The curve command's options (input, `-o` and the fitting options).
     #[command(flatten)]
     pub curve: CurveArgs,
-    /// Inputs fitted at once (each fit on one thread; results do not depend on it).
+    /// Inputs fitted at once (each fit on one thread; results do not depend on it); at most four
+    /// per core are started, like `--threads`.
     #[arg(long, default_value_t = 1, value_parser = jobs)]
     pub jobs: usize,
     /// Fit only the K-th of N shares of the inputs (K from 1 to N; inputs K, K+N, K+2N, ... in
@@ -137,10 +138,13 @@ pub fn run(args: BatchArgs) -> CmdResult {
         .map_err(|e| CliError::new(fairfit::Error::io(&outdir, &e).to_string()))?;
     crate::progress::hide_fit_bars();
     let bar = crate::progress::batch_bar(inputs.len() as u64, "batch");
+    // capped like `--threads` (results do not depend on the count): `--jobs 99999999999` would
+    // otherwise spend minutes starting threads before the first fit
+    let jobs = args.jobs.min(super::threads::max_threads());
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.jobs)
+        .num_threads(jobs)
         .build()
-        .map_err(|e| CliError::new(format!("cannot start {} worker threads: {e}", args.jobs)))?;
+        .map_err(|e| CliError::new(format!("cannot start {jobs} worker threads: {e}")))?;
     let rows: Vec<Row> = pool.install(|| {
         inputs
             .par_iter()

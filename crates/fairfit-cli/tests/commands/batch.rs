@@ -153,3 +153,30 @@ fn single_file_outputs_and_bad_shards_are_usage_errors() {
     one_line_failure(&["batch", d, "-o", d, "--jobs", "0"], 2, &["--jobs"]);
     one_line_failure(&["batch", d], 2, &["OUTDIR"]);
 }
+
+#[test]
+fn a_huge_jobs_count_is_capped_not_started() {
+    // before: `--jobs 99999999999` asked rayon for that many threads and had not fitted anything
+    // after 30 s; now the pool is capped like `--threads` and the result is the one of `--jobs 1`
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(data("e387.csv"), dir.path().join("e387.csv")).unwrap();
+    let mut curves = Vec::new();
+    for jobs in ["1", "99999999999"] {
+        let out = tempfile::tempdir().unwrap();
+        let start = std::time::Instant::now();
+        let run = fairfit()
+            .args(["batch", dir.path().to_str().unwrap(), "-o"])
+            .arg(out.path())
+            .args(["--jobs", jobs, "--method", "lsq"])
+            .output()
+            .unwrap();
+        assert_success(&run);
+        assert!(
+            start.elapsed().as_secs() < 30,
+            "--jobs {jobs}: {:?}",
+            start.elapsed()
+        );
+        curves.push(std::fs::read(out.path().join("e387.json")).unwrap());
+    }
+    assert_eq!(curves[0], curves[1]);
+}

@@ -294,6 +294,17 @@ def test_parameter_outside_the_domain(naca):
         naca(np.array([0.5, 2.0]))
 
 
+def test_derivatives_of_an_order_no_memory_holds_are_refused_with_one_line(naca):
+    # before: a k this large reached `vec![..; m * (k + 1)]`: an allocation failure aborted the
+    # interpreter, or the product wrapped around
+    for k in (10**15, 2**64 - 1):
+        with pytest.raises(fairfit.FairfitError, match=r"^invalid input data: derivatives of order \d+ at 2 parameter\(s\): not enough memory") as e:
+            naca.derivatives(np.array([0.1, 0.5]), k)
+        assert "\n" not in str(e.value)
+    # an ordinary order is unchanged
+    assert naca.derivatives(0.5, 3).shape == (4, 2)
+
+
 def test_a_rust_panic_becomes_a_fairfit_error():
     from fairfit import _fairfit
 

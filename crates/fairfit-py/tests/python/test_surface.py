@@ -88,3 +88,14 @@ def test_surface_errors():
         fairfit.fit_surface(sections()[:1])
     with pytest.raises(fairfit.FairfitError, match="section 1: a section needs at least 3 points, got 2"):
         fairfit.fit_surface([sections()[0], sections()[1][:2]])
+
+
+def test_a_grid_no_memory_holds_is_refused_with_one_line(surface):
+    # before: the (u, v) pairs of a 10^7 x 10^7 grid were collected into a vector, whose growth
+    # aborted the interpreter when the allocation failed
+    u = np.full(10**7, 0.5)
+    with pytest.raises(fairfit.FairfitError, match=r"^invalid input data: surface\(u, v, grid=True\): not enough memory") as e:
+        surface(u, u, grid=True)
+    assert "\n" not in str(e.value)
+    # an ordinary grid is unchanged
+    assert surface(np.array([0.0, 0.5]), np.array([0.5]), grid=True).shape == (2, 1, 3)

@@ -7,6 +7,7 @@ use super::extrema::{count_extrema, try_count_extrema, ExtremaCounts};
 use crate::errors::Result;
 use crate::nurbs::NurbsCurve;
 use serde::Serialize;
+use std::convert::Infallible;
 
 /// Fairness measures of a curve (method reconstruction §2.3).
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -45,10 +46,9 @@ pub struct CurveFairness {
 /// assert_eq!((f.curvature_extrema, f.inflections), (0, 0));
 /// ```
 pub fn curve_fairness(curve: &NurbsCurve) -> CurveFairness {
-    match fairness_with(curve, &|c, l| Ok(count_extrema(c, l))) {
-        Ok(m) => m,
-        Err(_) => unreachable!("count_extrema does not fail"),
-    }
+    // the counter cannot fail, so neither can the summary: no error to handle, no panic
+    let Ok(m) = fairness_with(curve, &|c, l| Ok::<_, Infallible>(count_extrema(c, l)));
+    m
 }
 
 /// [`curve_fairness`] with the extrema's sample buffers (which grow with the span count) reserved
@@ -58,11 +58,12 @@ pub fn try_curve_fairness(curve: &NurbsCurve) -> Result<CurveFairness> {
     fairness_with(curve, &try_count_extrema)
 }
 
-/// The fairness summary, the extrema counted by `count` (given the curve and its length).
-fn fairness_with(
+/// The fairness summary, the extrema counted by `count` (given the curve and its length); it fails
+/// only when `count` does.
+fn fairness_with<E>(
     curve: &NurbsCurve,
-    count: &dyn Fn(&NurbsCurve, f64) -> Result<ExtremaCounts>,
-) -> Result<CurveFairness> {
+    count: &dyn Fn(&NurbsCurve, f64) -> std::result::Result<ExtremaCounts, E>,
+) -> std::result::Result<CurveFairness, E> {
     // far outside unit size, measure an exactly rescaled copy (see `nurbs::scale`)
     let f = crate::nurbs::scale::normalising_factor(curve.control_points());
     if let Some(s) = (f != 1.0)

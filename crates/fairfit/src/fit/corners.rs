@@ -170,7 +170,9 @@ fn runs_best(cands: Vec<(usize, f64, isize)>, closed: bool, n: usize) -> Vec<usi
         let last_end = runs[runs.len() - 1].last().map_or(0, |c| c.2);
         if ((runs[0][0].0 + n) as isize) < last_end {
             let first = runs.remove(0);
-            runs.last_mut().expect("two runs").extend(first);
+            runs.last_mut()
+                .expect("runs.len() > 1 before one was removed")
+                .extend(first);
         }
     }
     let mut out: Vec<usize> = runs
@@ -202,7 +204,11 @@ impl<'a> Windows<'a> {
         let n = points.len();
         let stride = stride.clamp(1, (n - 1).max(1));
         let mut nodes: Vec<usize> = (0..n).step_by(stride).collect();
-        if *nodes.last().expect("points") != n - 1 {
+        if *nodes
+            .last()
+            .expect("n >= 3 (detect_corners_at): index 0 is a node")
+            != n - 1
+        {
             nodes.push(n - 1);
         }
         let mut t = vec![0.0; n];
