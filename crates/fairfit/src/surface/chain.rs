@@ -4,7 +4,7 @@
 //!
 //! Written here (no crate orders scan slices). The cost is near linear in the point count, so a slab
 //! of a 10^6-point cloud is ordered in well under a second:
-//! - the nearest unused neighbour is found on a uniform grid ([`super::point_grid::PointGrid`]),
+//! - the nearest unused neighbour is found on a uniform grid (`surface/point_grid.rs`),
 //!   exactly the one a scan of every point finds (smallest distance, then smallest index);
 //! - the windowed 2-opt costs `O(n · window)` per pass, for a bounded number of passes;
 //! - the global 2-opt between long edges (a tour that jumps across a hole and back) looks at the
