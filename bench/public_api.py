@@ -8,9 +8,9 @@ leaves out everything not reachable from the crate root) for the crate's index a
 modules from the root.
 
 Counted per top-level module of the crate: functions, structs, enums, traits, constants, type
-aliases, re-exports (`pub use`), the named fields of public structs and the methods of their inherent
-impls (trait impls are not counted: they add no names). A re-exported item is counted once, as the
-`use`, where it is re-exported.
+aliases, the named fields of public structs and the methods of their inherent impls (trait impls are
+not counted: they add no names). A re-export (`pub use`) counts as the item it names, once, under the
+first top-level module it is reachable from; a re-export of another crate's item counts as one name.
 
 Usage:
 
@@ -72,6 +72,13 @@ def count(doc: dict) -> dict:
                     walk(child, top or child_item["name"] or "(root)")
             return
         top = top or "(root)"
+        if kind == "use":
+            # a re-export counts as the item it names (once, wherever it is reachable first); a
+            # re-export of another crate's item, or a glob, counts as one name
+            target = inner.get("id")
+            if target is not None and str(target) in index and not inner.get("is_glob"):
+                walk(target, top)
+                return
         add(top, kind)
         if kind == "struct" and isinstance(inner["kind"], dict) and "plain" in inner["kind"]:
             add(top, "field", len(inner["kind"]["plain"]["fields"]))

@@ -569,37 +569,18 @@ mod tests {
 
     #[test]
     fn budget_is_shared_in_proportion_to_the_free_counts() {
-        // free counts 10, 4 (straight), 20; joined 32 = sum - 2 shared corners: unchanged
         let (lo, hi) = ([4, 4, 4], [50, 4, 60]);
-        assert_eq!(
-            share_budget(32, &[10, 4, 20], &lo, &hi).unwrap(),
-            vec![10, 4, 20]
-        );
+        let share = |n: usize| share_budget(n, &[10, 4, 20], &lo, &hi);
+        // free counts 10, 4 (straight), 20; joined 32 = sum - 2 shared corners: unchanged
+        assert_eq!(share(32).unwrap(), [10, 4, 20]);
         // 6 more: D'Hondt on 10 : 20 gives 2 and 4
-        assert_eq!(
-            share_budget(38, &[10, 4, 20], &lo, &hi).unwrap(),
-            vec![12, 4, 24]
-        );
+        assert_eq!(share(38).unwrap(), [12, 4, 24]);
         // 6 fewer: taken from the larger piece first, in proportion (8 : 16 after 2 and 4)
-        assert_eq!(
-            share_budget(26, &[10, 4, 20], &lo, &hi).unwrap(),
-            vec![8, 4, 16]
-        );
+        assert_eq!(share(26).unwrap(), [8, 4, 16]);
         // bounds: at least 4 + 4 + 4 - 2 = 10, at most 50 + 4 + 60 - 2 = 112
-        let e = share_budget(9, &[10, 4, 20], &lo, &hi).unwrap_err();
-        assert!(
-            matches!(
-                e,
-                crate::Error::InvalidSetting {
-                    option: "control_points",
-                    ..
-                }
-            ),
-            "{e}"
-        );
-        let e = e.to_string();
-        assert!(e.contains("between 10 and 112"), "{e}");
-        assert!(share_budget(112, &[10, 4, 20], &lo, &hi).is_ok());
-        assert!(share_budget(113, &[10, 4, 20], &lo, &hi).is_err());
+        let e = share(9).unwrap_err();
+        let named = matches!(&e, crate::Error::InvalidSetting { option, .. } if *option == "control_points");
+        assert!(named && e.to_string().contains("between 10 and 112"), "{e}");
+        assert!(share(112).is_ok() && share(113).is_err());
     }
 }
