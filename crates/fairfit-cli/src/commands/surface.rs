@@ -22,6 +22,10 @@ use fairfit::surface::{
 use fairfit::Vec3;
 use std::path::PathBuf;
 
+/// The default of `--max-sections`: a loft through 1,000 sections takes about 20 s on two cores
+/// (`bench/hostile_scale.py`: 2,000 STEP sections in 37 s); typical lofts use tens.
+pub const DEFAULT_MAX_SECTIONS: usize = 1000;
+
 /// Axis perpendicular to the slicing planes.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Axis {
@@ -92,6 +96,10 @@ pub struct SurfaceArgs {
     /// fewest that meet the tolerance; 120 lets the sliced Stanford bunny meet 1e-3 of its extent).
     #[arg(long, default_value_t = 120, allow_hyphen_values = true, value_parser = super::whole_number)]
     pub max_ctrl: usize,
+    /// Most sections a surface is fitted through (section files, the curves of a STEP/IGES file, or
+    /// --slices planes); more are refused with one line, since the fit's work grows with the count.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_SECTIONS, value_parser = super::whole_number)]
+    pub max_sections: usize,
     /// Parameterisation of the sections across the surface.
     #[arg(long, value_enum, default_value = "chord")]
     pub v_params: VParam,
@@ -171,6 +179,24 @@ fn check_counts(args: &SurfaceArgs) -> Result<(), CliError> {
         return Err(CliError::usage(format!(
             "--slices {}: a surface needs at least 2 slices (slicing planes)",
             args.slices.unwrap_or(0)
+        )));
+    }
+    if let Some(n) = args.slices.filter(|&n| n > args.max_sections) {
+        return Err(CliError::usage(format!(
+            "--slices {n} is above the limit of {} sections; raise it with --max-sections",
+            args.max_sections
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses more sections than `--max-sections` (read from files, a CAD file's curves or slices).
+fn check_section_count(args: &SurfaceArgs, sections: &[Section]) -> Result<(), CliError> {
+    if sections.len() > args.max_sections {
+        return Err(CliError::new(format!(
+            "{} sections are above the limit of {}; raise it with --max-sections",
+            sections.len(),
+            args.max_sections
         )));
     }
     Ok(())
@@ -323,6 +349,7 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         dropped_chains,
         exact,
     } = read_input(&args)?;
+    check_section_count(&args, &sections)?;
     let tol = tolerance(&args, &sections)?;
     let opts = surface_options(&args, tol);
     let spikes = spike_notes(&args, &sections, tol);

@@ -590,3 +590,46 @@ fn a_run_short_of_memory_fails_with_one_line_and_writes_nothing() {
     mesh.extend(spans);
     refused_under_ulimit(d, gib, &mesh, &["the mesh", "not enough memory for"]);
 }
+
+#[test]
+fn more_sections_than_the_limit_are_refused_with_its_option() {
+    let dir = workspace();
+    let d = dir.path();
+    // the three section files against a limit of 2: refused after reading, before any fit
+    refused(
+        d,
+        &[
+            "surface",
+            "sec/a.csv",
+            "sec/b.csv",
+            "sec/c.csv",
+            "--max-sections",
+            "2",
+            "-o",
+            "s.json",
+        ],
+        1,
+        &["3 sections", "limit of 2", "--max-sections"],
+    );
+    // planes asked for above the limit: a usage error before the cloud is read
+    std::fs::write(d.join("cloud.xyz"), "0 0 0\n1 0 0\n0 1 1\n").unwrap();
+    refused(
+        d,
+        &["surface", "cloud.xyz", "--slices", "1001", "-o", "s.json"],
+        2,
+        &["--slices 1001", "limit of 1000", "--max-sections"],
+    );
+    // at the limit the same files fit
+    let out = fairfit()
+        .current_dir(d)
+        .args(["surface", "sec/a.csv", "sec/b.csv", "sec/c.csv"])
+        .args(["--max-sections", "3", "-o", "s.json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(d.join("s.json").exists());
+}

@@ -9,6 +9,7 @@ use crate::diffgeo::{is_xy_planar, CurveProjector};
 use crate::errors::{try_vec, Error, Result};
 use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsCurve, Vec3};
+use rayon::prelude::*;
 
 /// Samples per knot span for curvature plots.
 const PER_SPAN: usize = 32;
@@ -241,7 +242,11 @@ pub fn deviation_svg(c: &NurbsCurve, points: &[Vec3], size: PlotSize) -> Result<
         ));
     }
     let proj = CurveProjector::new(c, 16);
-    let dev: Vec<f64> = points.iter().map(|&q| proj.project(q).distance).collect();
+    // one projection per point, each independent: the same numbers on any thread count
+    let dev: Vec<f64> = points
+        .par_iter()
+        .map(|&q| proj.project(q).distance)
+        .collect();
     let max = dev.iter().fold(0.0_f64, |m, &d| m.max(d));
     let rms = (dev.iter().map(|d| d * d).sum::<f64>() / dev.len() as f64).sqrt();
     let top = if max > 0.0 { max } else { 1.0 };
