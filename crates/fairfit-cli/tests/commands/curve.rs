@@ -4,7 +4,7 @@
 use crate::common;
 use common::{data, file_with};
 
-use crate::common::polyline;
+use crate::common::{curve_run, polyline};
 
 use assert_cmd::Command;
 use fairfit::diffgeo::CurveProjector;
@@ -224,22 +224,12 @@ fn ill_posed_inputs_fail_with_one_line() {
 /// Runs `fairfit curve FILE --method lsq EXTRA...`, returns the curve and the report.
 fn lsq_run(file: &str, extra: &[&str]) -> (fairfit::NurbsCurve, Value) {
     let dir = TempDir::new().unwrap();
-    let (c, r) = (dir.path().join("c.json"), dir.path().join("r.json"));
-    Command::cargo_bin("fairfit")
-        .unwrap()
-        .args(["curve", file, "--method", "lsq"])
-        .args(extra)
-        .arg("-o")
-        .arg(&c)
-        .arg("--report")
-        .arg(&r)
-        .assert()
-        .success();
-    let Geometry::Curve(curve) = read_geometry(&c).unwrap() else {
-        panic!("not a curve")
-    };
-    let rep: Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
-    (curve, rep)
+    let args: Vec<&str> = ["--method", "lsq"]
+        .into_iter()
+        .chain(extra.iter().copied())
+        .collect();
+    let run = curve_run(dir.path(), "c", file, &args);
+    (run.curve, run.report)
 }
 
 /// Largest distance from the points to a dense polyline through the curve (independent of the
@@ -269,22 +259,8 @@ fn knot_rules_meet_the_tolerance_and_adaptive_needs_fewer_points_than_averaging(
 /// `fairfit curve` with the default (integrated) method and `extra` arguments: curve and report.
 fn integrated_run(file: &str, extra: &[&str]) -> (fairfit::NurbsCurve, Value) {
     let dir = TempDir::new().unwrap();
-    let (c, r) = (dir.path().join("c.json"), dir.path().join("r.json"));
-    Command::cargo_bin("fairfit")
-        .unwrap()
-        .args(["curve", file])
-        .args(extra)
-        .arg("-o")
-        .arg(&c)
-        .arg("--report")
-        .arg(&r)
-        .assert()
-        .success();
-    let Geometry::Curve(curve) = read_geometry(&c).unwrap() else {
-        panic!("not a curve")
-    };
-    let rep: Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
-    (curve, rep)
+    let run = curve_run(dir.path(), "c", file, extra);
+    (run.curve, run.report)
 }
 
 #[test]

@@ -56,6 +56,43 @@ pub fn one_line_failure(args: &[&str], code: i32, needles: &[&str]) -> String {
     err
 }
 
+/// A successful `fairfit curve` run: the curve file's text, the curve and the report.
+pub struct CurveRun {
+    pub json: String,
+    pub curve: fairfit::NurbsCurve,
+    pub report: serde_json::Value,
+}
+
+/// Runs `fairfit curve FILE EXTRA -o DIR/NAME.json --report DIR/NAME-report.json`, asserts that it
+/// succeeded and reads what it wrote.
+pub fn curve_run(
+    dir: &std::path::Path,
+    name: &str,
+    file: impl AsRef<std::ffi::OsStr>,
+    extra: &[&str],
+) -> CurveRun {
+    let c = dir.join(format!("{name}.json"));
+    let r = dir.join(format!("{name}-report.json"));
+    fairfit()
+        .arg("curve")
+        .arg(file)
+        .args(extra)
+        .arg("-o")
+        .arg(&c)
+        .arg("--report")
+        .arg(&r)
+        .assert()
+        .success();
+    let fairfit::io::Geometry::Curve(curve) = fairfit::io::read_geometry(&c).unwrap() else {
+        panic!("{}: not a curve", c.display())
+    };
+    CurveRun {
+        json: std::fs::read_to_string(&c).unwrap(),
+        curve,
+        report: read_json(&r),
+    }
+}
+
 /// Asserts that a finished run succeeded, showing its stderr otherwise.
 pub fn assert_success(out: &std::process::Output) {
     assert!(

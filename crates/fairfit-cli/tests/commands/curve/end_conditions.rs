@@ -3,7 +3,7 @@
 //! the analytic quarter ellipse `x = cos t, y = 0.5 sin t` (curvature 4 at t = 0, 0.5 at t = π/2)
 //! from the written curves' own derivatives.
 
-use crate::common::{data, polyline};
+use crate::common::{curve_run, data, polyline};
 use assert_cmd::Command;
 use fairfit::io::{read_geometry, read_points, Geometry};
 use fairfit::{NurbsCurve, Vec3};
@@ -12,23 +12,8 @@ use tempfile::TempDir;
 
 /// Runs `fairfit curve FILE ARGS -o dir/NAME.json --report dir/NAME-report.json`.
 fn run(dir: &TempDir, name: &str, file: &str, extra: &[&str]) -> (NurbsCurve, Value) {
-    let c = dir.path().join(format!("{name}.json"));
-    let r = dir.path().join(format!("{name}-report.json"));
-    Command::cargo_bin("fairfit")
-        .unwrap()
-        .args(["curve", file])
-        .args(extra)
-        .arg("-o")
-        .arg(&c)
-        .arg("--report")
-        .arg(&r)
-        .assert()
-        .success();
-    let Geometry::Curve(curve) = read_geometry(&c).unwrap() else {
-        panic!("not a curve")
-    };
-    let rep: Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
-    (curve, rep)
+    let run = curve_run(dir.path(), name, file, extra);
+    (run.curve, run.report)
 }
 
 /// Point, unit tangent and curvature vector at the start (`at_end` false) or end of `c`.

@@ -2,11 +2,11 @@
 //! column) on every method of `fairfit curve`, measured on the written curve by an independent
 //! projection (`CurveProjector`: dense samples, then Newton) against the bundled NACA 4412 airfoil.
 
-use crate::common::data;
+use crate::common::{curve_run, data};
 use assert_cmd::Command;
 use fairfit::diffgeo::CurveProjector;
 use fairfit::fit::points::bounding_box_extent;
-use fairfit::io::{read_geometry, read_points, Geometry};
+use fairfit::io::read_points;
 use fairfit::{NurbsCurve, Vec3};
 use serde_json::Value;
 use std::path::Path;
@@ -15,24 +15,8 @@ use tempfile::TempDir;
 /// Runs `fairfit curve FILE ARGS -o dir/NAME.json --report dir/NAME-report.json`: the curve JSON
 /// text, the curve and the report.
 fn run(dir: &TempDir, name: &str, file: &Path, extra: &[&str]) -> (String, NurbsCurve, Value) {
-    let c = dir.path().join(format!("{name}.json"));
-    let r = dir.path().join(format!("{name}-report.json"));
-    Command::cargo_bin("fairfit")
-        .unwrap()
-        .arg("curve")
-        .arg(file)
-        .args(extra)
-        .arg("-o")
-        .arg(&c)
-        .arg("--report")
-        .arg(&r)
-        .assert()
-        .success();
-    let Geometry::Curve(curve) = read_geometry(&c).unwrap() else {
-        panic!("not a curve")
-    };
-    let rep: Value = serde_json::from_str(&std::fs::read_to_string(&r).unwrap()).unwrap();
-    (std::fs::read_to_string(&c).unwrap(), curve, rep)
+    let run = curve_run(dir.path(), name, file, extra);
+    (run.json, run.curve, run.report)
 }
 
 fn distance(curve: &NurbsCurve, q: Vec3) -> f64 {

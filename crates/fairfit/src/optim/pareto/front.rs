@@ -20,7 +20,7 @@ use crate::optim::search::problem::KnotProblem;
 use crate::optim::search::pso::SwarmProblem;
 
 /// Front members deviate at most this many times the tolerance.
-pub const DEVIATION_CAP: f64 = 10.0;
+pub(crate) const DEVIATION_CAP: f64 = 10.0;
 
 /// One curve of the front.
 #[derive(Clone, Debug)]
