@@ -3,6 +3,7 @@
 //! one-line error with exit code 1 (2 for a usage error) and no panic.
 
 use crate::common;
+use crate::common::assert_success;
 use common::{file_with, CIRCLE};
 
 use assert_cmd::Command;
@@ -22,11 +23,7 @@ fn eval(file: &std::path::Path, at: &str) -> std::process::Output {
 
 fn ok_json(file: &std::path::Path, at: &str) -> Vec<Value> {
     let out = eval(file, at);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     serde_json::from_slice::<Vec<Value>>(&out.stdout).unwrap()
 }
 

@@ -4,7 +4,7 @@
 //! Every failing run is checked for its exact exit code, a single stderr line, no file left behind
 //! (no output, no temporary) and every file of its folder unchanged, byte for byte.
 
-use crate::common::{data, fairfit};
+use crate::common::{assert_success, data, fairfit};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -237,11 +237,7 @@ fn links_and_stdout_are_written_through_never_replaced() {
             .args(["curve", "p.csv", "--method", "lsq", "-o", o])
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_success(&out);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(v["kind"], "curve");
     }
@@ -626,10 +622,6 @@ fn more_sections_than_the_limit_are_refused_with_its_option() {
         .args(["--max-sections", "3", "-o", "s.json"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     assert!(d.join("s.json").exists());
 }

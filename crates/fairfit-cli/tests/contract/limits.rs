@@ -2,7 +2,7 @@
 //! raises it, and a hostile input (a device, a sparse file, a huge claim) is refused before it costs
 //! memory (checked under a small address-space limit where a shell is at hand).
 
-use crate::common::{data, fairfit, file_with, one_line_failure, CIRCLE};
+use crate::common::{assert_success, data, fairfit, file_with, one_line_failure, CIRCLE};
 
 /// Runs `fairfit ARGS` under `ulimit -v KB` (a child shell): exit code and stderr.
 fn under_memory_limit(kb: u64, args: &str) -> (Option<i32>, String) {
@@ -140,9 +140,5 @@ fn a_huge_thread_count_from_the_environment_is_clamped() {
         .args(["curve", &foil, "--method", "lsq"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
 }

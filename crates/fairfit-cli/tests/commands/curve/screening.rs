@@ -1,7 +1,7 @@
 //! `fairfit curve` screening: spikes excluded with `--outliers auto` (the default) and listed in the
 //! report, named on stderr with `--outliers off`; the one-line noise warning below the noise.
 
-use crate::common::file_with;
+use crate::common::{assert_success, file_with};
 use assert_cmd::Command;
 use serde_json::Value;
 use tempfile::TempDir;
@@ -48,11 +48,7 @@ fn run(csv: &str, extra: &[&str]) -> (Value, String) {
         .args(extra)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let r: Value = serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap();
     (r, String::from_utf8_lossy(&out.stderr).into_owned())
 }
