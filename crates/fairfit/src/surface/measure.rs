@@ -20,6 +20,7 @@ use crate::nurbs::knots::distinct_breakpoints;
 use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
 use rayon::prelude::*;
 use serde::Serialize;
+use std::sync::OnceLock;
 
 /// The foot point of a surface projection.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,8 +40,9 @@ pub struct SurfaceProjector<'a> {
     us: Vec<f64>,
     vs: Vec<f64>,
     grid: Vec<Vec3>,
-    /// `grid` on a uniform grid of cells: the nearest sample without a scan of every sample.
-    index: PointGrid,
+    /// `grid` on a uniform grid of cells: the nearest sample without a scan of every sample (built
+    /// by the first whole-surface projection; the hinted one never needs it).
+    index: OnceLock<PointGrid>,
     per_span: usize,
     /// Periodic in u and in v: a start on the seam has a twin across it.
     periodic: (bool, bool),
@@ -74,7 +76,7 @@ impl<'a> SurfaceProjector<'a> {
             surface,
             us,
             vs,
-            index: PointGrid::new(&grid),
+            index: OnceLock::new(),
             grid,
             per_span,
             periodic: (surface.is_periodic_u(), surface.is_periodic_v()),
@@ -123,7 +125,8 @@ impl<'a> SurfaceProjector<'a> {
     ) -> SurfaceProjection {
         let nv = self.vs.len();
         // the nearest sample (the first of equals, as a scan of every sample finds)
-        let bi = self.index.nearest(&self.grid, q).unwrap_or(0);
+        let index = self.index.get_or_init(|| PointGrid::new(&self.grid));
+        let bi = index.nearest(&self.grid, q).unwrap_or(0);
         self.feet(q, (self.us[bi / nv], self.vs[bi % nv]), hint, ws)
     }
 
