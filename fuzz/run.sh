@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Fuzzes fairfit's readers with libFuzzer (cargo-fuzz targets, nightly toolchain).
 #   fuzz/run.sh [SECONDS_PER_TARGET] [TARGET...]      (default: 60 s, every target)
+#   FUZZ_PARALLEL=1 fuzz/run.sh 3600                   (every target at once, each logging to
+#                                                      fuzz/logs/TARGET.log; for a long unattended run)
 # Each target starts from a seed corpus made from the repository's data (fuzz/corpus/TARGET, not
 # committed: rebuilt here, kept between runs so a long run grows it). A crash, a panic, an allocation
 # over 256 MB, an RSS over 2 GB or an input taking over 10 s stops the target and leaves the input in
@@ -45,6 +47,17 @@ else
 -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table \
 -Cllvm-args=-sanitizer-coverage-trace-compares --cfg fuzzing -Cdebug-assertions -Coverflow-checks"
   cargo +nightly build --release --bins --target x86_64-unknown-linux-gnu
+  if [ "${FUZZ_PARALLEL:-0}" = 1 ]; then
+    mkdir -p logs
+    for t in "${targets[@]}"; do
+      mkdir -p "artifacts/$t"
+      "target/x86_64-unknown-linux-gnu/release/$t" "corpus/$t" -artifact_prefix="artifacts/$t/" \
+        "${flags[@]}" >"logs/$t.log" 2>&1 &
+    done
+    status=0
+    for t in "${targets[@]}"; do wait -n || status=1; done
+    exit $status
+  fi
   for t in "${targets[@]}"; do
     mkdir -p "artifacts/$t"
     "target/x86_64-unknown-linux-gnu/release/$t" "corpus/$t" -artifact_prefix="artifacts/$t/" "${flags[@]}"

@@ -625,3 +625,58 @@ fn more_sections_than_the_limit_are_refused_with_its_option() {
     assert_success(&out);
     assert!(d.join("s.json").exists());
 }
+
+/// Every method fits the same half ellipse at unit size and at 1e±200 and 1e300 (beyond 2^±64 a fit
+/// and its measures work on an exactly rescaled copy): the same control-point count, deviation over
+/// tolerance, fairness and exact shape counts (squared distances and the numerators' powers of
+/// lengths would otherwise overflow or underflow).
+#[test]
+fn every_method_fits_the_same_shape_at_any_scale() {
+    let dir = workspace();
+    let d = dir.path();
+    let csv = |s: f64| {
+        (0..40)
+            .map(|i| {
+                let t = i as f64 / 39.0 * std::f64::consts::PI;
+                format!("{:e},{:e}\n", s * t.cos(), 0.5 * s * t.sin())
+            })
+            .collect::<String>()
+    };
+    let measures = |r: &serde_json::Value| {
+        let f = |k: &str| r[k].as_f64().unwrap_or_else(|| panic!("{k}: {r}"));
+        let ratio = f("max_deviation") / f("tolerance");
+        let counts = [
+            "control_points",
+            "curvature_extrema_exact",
+            "inflections_exact",
+        ]
+        .map(|k| r[k].as_u64().unwrap_or_else(|| panic!("{k}: {r}")));
+        (counts, ratio, f("fairness"))
+    };
+    for method in ["lsq", "integrated", "fit-then-fair"] {
+        let mut unit = None;
+        for s in [1.0, 1e-200, 1e200, 1e300] {
+            let name = format!("{method}-{s:e}");
+            std::fs::write(d.join(format!("{name}.csv")), csv(s)).unwrap();
+            let run = crate::common::curve_run(
+                d,
+                &name,
+                d.join(format!("{name}.csv")),
+                &["--method", method],
+            );
+            let (counts, ratio, fairness) = measures(&run.report);
+            assert!(ratio <= 1.0 && ratio > 0.5, "{name}: {ratio}");
+            let (c0, r0, f0): ([u64; 3], f64, f64) = *unit.get_or_insert((counts, ratio, fairness));
+            assert_eq!(counts, c0, "{name}");
+            assert_eq!(
+                counts[1], 3,
+                "{name}: a half ellipse has three curvature extrema"
+            );
+            assert!((ratio - r0).abs() < 1e-9, "{name}: {ratio} vs {r0}");
+            assert!(
+                (fairness / f0 - 1.0).abs() < 1e-9,
+                "{name}: {fairness} vs {f0}"
+            );
+        }
+    }
+}

@@ -86,6 +86,19 @@ pub fn count_shape_exact(curve: &NurbsCurve, length: f64) -> ExactShape {
 /// A count that cannot be made exactly is [`count_extrema_sampled`]'s with
 /// [`DENSE_SAMPLES`] per span (sampled once for both).
 pub(super) fn shape_exact(curve: &NurbsCurve, length: f64, want: [bool; 2]) -> ExactShape {
+    // far from unit size (beyond 2^±64) the numerators' powers of lengths overflow or underflow and
+    // the plane test fails: count on an exactly rescaled copy (a power of two; counts are invariant)
+    let f = crate::nurbs::scale::normalising_factor(curve.control_points());
+    if f != 1.0 {
+        if let Ok(scaled) = crate::nurbs::scale::scaled_curve(curve, f) {
+            return shape_at_scale(&scaled, length * f, want);
+        }
+    }
+    shape_at_scale(curve, length, want)
+}
+
+/// [`shape_exact`] at the curve's own scale.
+fn shape_at_scale(curve: &NurbsCurve, length: f64, want: [bool; 2]) -> ExactShape {
     let normal = plane_normal(curve);
     let planar_polynomial = normal.filter(|_| !curve.is_rational());
     let [dkds, kappa] = sign_intervals_nurbs_both(

@@ -5,6 +5,7 @@
 
 use super::foot::FootFinder;
 use crate::diffgeo::CurveProjector;
+use crate::nurbs::scale::{normalising_factor, scaled_curve};
 use crate::nurbs::{NurbsCurve, Vec3};
 
 /// Samples per knot span used by the projector.
@@ -41,6 +42,25 @@ pub fn max_orthogonal_deviation(
     points: &[Vec3],
     params_hint: &[f64],
 ) -> Deviation {
+    // far from unit size (beyond 2^±64) squared distances overflow or underflow: measure an exactly
+    // rescaled copy (a power of two) and scale the distances back
+    let f = normalising_factor(curve.control_points());
+    if f != 1.0 {
+        if let Ok(scaled) = scaled_curve(curve, f) {
+            let q: Vec<Vec3> = points.iter().map(|&p| p * f).collect();
+            let mut d = deviation_at_scale(&scaled, &q, params_hint);
+            let back = 1.0 / f;
+            d.max *= back;
+            d.rms *= back;
+            d.per_point.iter_mut().for_each(|x| *x *= back);
+            return d;
+        }
+    }
+    deviation_at_scale(curve, points, params_hint)
+}
+
+/// [`max_orthogonal_deviation`] at the geometry's own scale.
+fn deviation_at_scale(curve: &NurbsCurve, points: &[Vec3], params_hint: &[f64]) -> Deviation {
     let mut finder = FootFinder::new(curve);
     let mut proj: Option<CurveProjector> = None;
     let mut per_point = Vec::with_capacity(points.len());
