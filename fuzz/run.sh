@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # Fuzzes fairfit's readers with libFuzzer (cargo-fuzz targets, nightly toolchain).
 #   fuzz/run.sh [SECONDS_PER_TARGET] [TARGET...]      (default: 60 s, every target)
+#   FUZZ_BUILD_ONLY=1 fuzz/run.sh                      (build the targets and the corpus, run nothing)
 #   FUZZ_PARALLEL=1 fuzz/run.sh 3600                   (every target at once, each logging to
 #                                                      fuzz/logs/TARGET.log; for a long unattended run)
 # Each target starts from a seed corpus made from the repository's data (fuzz/corpus/TARGET, not
 # committed: rebuilt here, kept between runs so a long run grows it). A crash, a panic, an allocation
 # over 256 MB, an RSS over 2 GB or an input taking over 10 s stops the target and leaves the input in
 # fuzz/artifacts/TARGET/. With `cargo fuzz` installed it is used; without it the targets are built with
-# `cargo +nightly build` and libfuzzer-sys's own flags (the same instrumentation cargo-fuzz passes).
+# `cargo build` and libfuzzer-sys's own flags (the same instrumentation cargo-fuzz passes, no sanitizer),
+# on the nightly toolchain when there is one and otherwise on the default (stable) one: the flags need
+# no nightly feature. Exit status: 0 when every target ran its time without a finding.
 set -euo pipefail
 cd "$(dirname "$0")"
 secs=${1:-60}
@@ -38,6 +41,7 @@ done
 flags=(-max_total_time="$secs" -malloc_limit_mb=256 -rss_limit_mb=2048 -timeout=10 -max_len=1048576
        -print_final_stats=1)
 if cargo +nightly fuzz --version >/dev/null 2>&1; then
+  if [ "${FUZZ_BUILD_ONLY:-0}" = 1 ]; then exec cargo +nightly fuzz build --release; fi
   for t in "${targets[@]}"; do
     mkdir -p "artifacts/$t"
     cargo +nightly fuzz run --release "$t" "corpus/$t" -- -artifact_prefix="artifacts/$t/" "${flags[@]}"
@@ -46,7 +50,10 @@ else
   export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4 \
 -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table \
 -Cllvm-args=-sanitizer-coverage-trace-compares --cfg fuzzing -Cdebug-assertions -Coverflow-checks"
-  cargo +nightly build --release --bins --target x86_64-unknown-linux-gnu
+  toolchain=()
+  if cargo +nightly --version >/dev/null 2>&1; then toolchain=(+nightly); fi
+  cargo "${toolchain[@]}" build --release --bins --target x86_64-unknown-linux-gnu
+  if [ "${FUZZ_BUILD_ONLY:-0}" = 1 ]; then exit 0; fi
   if [ "${FUZZ_PARALLEL:-0}" = 1 ]; then
     mkdir -p logs
     for t in "${targets[@]}"; do
