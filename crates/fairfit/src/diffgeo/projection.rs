@@ -12,6 +12,7 @@
 //! A best sample on a knot also gets a Newton run on its left, so corners (C0 knots) are handled.
 
 use crate::nurbs::{NurbsCurve, Vec3};
+use std::sync::OnceLock;
 
 /// The foot of a projection.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,7 +44,15 @@ pub struct CurveProjector<'a> {
     /// bounding box (min, max) of the control points of each non-empty span: the span's piece of the
     /// curve lies inside (convex hull property, weights > 0)
     hull: Vec<(Vec3, Vec3)>,
+    /// per non-empty span, the samples of its dense search (module doc of [`Self::project`]), computed
+    /// the first time a projection needs them and shared by every later one: the dense search then
+    /// measures distances instead of evaluating the curve (a whole-curve projection of many points
+    /// costs a few distance computations per sample, not curve evaluations)
+    dense: Vec<OnceLock<Box<[DenseSample]>>>,
 }
+
+/// A sample of the dense search: the parameter and the curve point there.
+type DenseSample = (f64, Vec3);
 
 impl<'a> CurveProjector<'a> {
     /// Samples `curve` with `per_span` points in every non-empty knot span (at least 2).
@@ -93,6 +102,9 @@ impl<'a> CurveProjector<'a> {
             pts,
             arc,
             span_start,
+            dense: (0..breaks.len().saturating_sub(1))
+                .map(|_| OnceLock::new())
+                .collect(),
             breaks,
             hull,
         }
@@ -112,28 +124,25 @@ impl<'a> CurveProjector<'a> {
             let (lo, hi) = self.hull[s];
             let gap = zip(zip(lo - q, q - hi, f64::max), Vec3::ZERO, f64::max).norm();
             if gap < out.distance {
-                self.dense_span(q, w[0], w[1], &mut out);
+                self.dense_span(q, s, w[0], w[1], &mut out);
             }
         }
         out
     }
 
-    /// `[a, b]` cut into [`DENSE_PER_SPAN`] intervals, each searched by [`refine_interval`] when its
-    /// distance bound is below `out.distance`.
-    fn dense_span(&self, q: Vec3, a: f64, b: f64, out: &mut Projection) {
-        let at = |k: usize| {
-            let u = if k == DENSE_PER_SPAN {
-                b
-            } else {
-                a + (b - a) * k as f64 / DENSE_PER_SPAN as f64
-            };
-            let p = self.curve.point(u);
+    /// `[a, b]` (span `s`) cut into [`DENSE_PER_SPAN`] intervals, each searched by
+    /// [`refine_interval`] when its distance bound is below `out.distance`.
+    fn dense_span(&self, q: Vec3, s: usize, a: f64, b: f64, out: &mut Projection) {
+        let samples = self.dense[s].get_or_init(|| dense_samples(self.curve, a, b));
+        // samples[2k] is the k-th interval end, samples[2k + 1] the midpoint of interval k
+        let at = |i: usize| {
+            let (u, p) = samples[i];
             (u, p, (p - q).norm())
         };
         let mut left = at(0);
-        for k in 1..=DENSE_PER_SPAN {
-            let right = at(k);
-            refine_interval(self.curve, q, left, right, 2, out);
+        for k in 0..DENSE_PER_SPAN {
+            let right = at(2 * k + 2);
+            refine_from_mid(self.curve, q, left, right, at(2 * k + 1), 2, out);
             left = right;
         }
     }
@@ -209,6 +218,28 @@ fn zip(a: Vec3, b: Vec3, f: fn(f64, f64) -> f64) -> Vec3 {
 /// Intervals per knot span of the second, dense search of [`CurveProjector::project`].
 const DENSE_PER_SPAN: usize = 32;
 
+/// The `2 DENSE_PER_SPAN + 1` samples of the dense search of `[a, b]`: the ends of the intervals
+/// (`a + (b − a) k / DENSE_PER_SPAN`, `b` exactly at the end) and, between them, the midpoints
+/// [`refine_interval`] takes.
+fn dense_samples(curve: &NurbsCurve, a: f64, b: f64) -> Box<[DenseSample]> {
+    let end = |k: usize| {
+        if k == DENSE_PER_SPAN {
+            b
+        } else {
+            a + (b - a) * k as f64 / DENSE_PER_SPAN as f64
+        }
+    };
+    let mut out = Vec::with_capacity(2 * DENSE_PER_SPAN + 1);
+    for k in 0..DENSE_PER_SPAN {
+        let (u0, u1) = (end(k), end(k + 1));
+        let um = 0.5 * (u0 + u1);
+        out.push((u0, curve.point(u0)));
+        out.push((um, curve.point(um)));
+    }
+    out.push((b, curve.point(b)));
+    out.into_boxed_slice()
+}
+
 /// Halvings of a candidate interval before Newton (at most `2^REFINE_DEPTH` Newton brackets, only
 /// those whose bound stays below the best distance).
 const REFINE_DEPTH: u32 = 3;
@@ -227,7 +258,20 @@ fn refine_interval(
 ) {
     let um = 0.5 * (a.0 + b.0);
     let pm = curve.point(um);
-    let m = (um, pm, (pm - q).norm());
+    refine_from_mid(curve, q, a, b, (um, pm, (pm - q).norm()), depth, out);
+}
+
+/// [`refine_interval`] with the midpoint sample `m` of `[a, b]` given.
+fn refine_from_mid(
+    curve: &NurbsCurve,
+    q: Vec3,
+    a: (f64, Vec3, f64),
+    b: (f64, Vec3, f64),
+    m: (f64, Vec3, f64),
+    depth: u32,
+    out: &mut Projection,
+) {
+    let (um, pm) = (m.0, m.1);
     if m.2 < out.distance {
         *out = Projection {
             u: um,

@@ -102,6 +102,36 @@ fn deviation_plot_reports_known_distances() {
     assert!(svg.contains(&format!("RMS {:.3e}", (0.3125f64 / 3.0).sqrt())));
 }
 
+/// Beyond the marker cap (20,000) each marker stands for a run of points and shows its largest
+/// deviation: a single spike between the thinned indices is still drawn.
+#[test]
+fn deviation_plot_thinning_keeps_the_worst_point() {
+    let c = NurbsCurve::bspline(
+        1,
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![Vec3::ZERO, Vec3::new(10.0, 0.0, 0.0)],
+    )
+    .unwrap();
+    let n = 50_000; // a run of 3 points per marker
+    let mut pts: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new(10.0 * i as f64 / n as f64, 0.0, 0.0))
+        .collect();
+    pts[30_001] = Vec3::new(pts[30_001].x(), 0.5, 0.0); // not the first point of its run
+    let svg = deviation_svg(&c, &pts, PlotSize::default()).unwrap();
+    let ys: Vec<&str> = svg
+        .split("<circle")
+        .skip(1)
+        .filter_map(|t| t.split("cy=\"").nth(1)?.split('"').next())
+        .collect();
+    assert!(ys.len() <= 20_000 && ys.len() >= 16_000, "{}", ys.len());
+    let mut distinct = ys.clone();
+    distinct.sort_unstable();
+    distinct.dedup();
+    // every marker at 0 but the spike's
+    assert_eq!(distinct.len(), 2, "{distinct:?}");
+    assert_eq!(ys.iter().filter(|&&y| y != ys[0]).count(), 1);
+}
+
 #[test]
 fn surface_plots_render() {
     let s = wavy_surface();
