@@ -1,6 +1,7 @@
 //! `fit_curve`: one curve fit by the method asked for, with the report `fairfit curve --report` writes
 //! (the same keys, made the same way), run without the GIL in a local rayon pool.
 
+use crate::constrained::{constraints_of_points, fit_constrained};
 use crate::convert::points_from_array;
 use crate::curve::Curve;
 use crate::options::{
@@ -9,7 +10,7 @@ use crate::options::{
 };
 use fairfit::fair::fair_curve;
 use fairfit::fit::max_orthogonal_deviation;
-use fairfit::fit::points::drop_consecutive_duplicates;
+use fairfit::fit::points::{drop_consecutive_duplicates, kept_point_of_each};
 use fairfit::fit::screening::{screen_input, spikes_note, OutlierMode};
 use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::limits::{ReadLimits, DEFAULT_MAX_POINTS};
@@ -49,7 +50,7 @@ pub struct Fitted {
 #[pyo3(signature = (points, tol, rel_tol, method, degree, control_points, closed, corner_angle,
     ends, seed, threads, band_fairing, span_fairness, param, knots, correction_rounds, smoothing,
     smoothing_order, start_tangent, end_tangent, input_name, pareto=false, outliers="auto",
-    start=None, end=None, max_points=DEFAULT_MAX_POINTS))]
+    start=None, end=None, max_points=DEFAULT_MAX_POINTS, weights=None, interpolate=None))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_curve(
     py: Python<'_>,
@@ -79,6 +80,8 @@ pub fn fit_curve(
     start: Option<&str>,
     end: Option<&str>,
     max_points: usize,
+    weights: Option<Vec<f64>>,
+    interpolate: Option<Vec<usize>>,
 ) -> PyResult<(Curve, Vec<String>, Vec<Curve>)> {
     let wall = Instant::now();
     let settings = CurveSettings {
@@ -103,6 +106,7 @@ pub fn fit_curve(
         end: parse_end("end", end, end_tangent).map_err(crate::py_err)?,
         outliers: parse_outliers(outliers).map_err(crate::py_err)?,
         pareto,
+        search_constraints: Default::default(),
     };
     settings.check().map_err(crate::py_err)?;
     let input = input_name.unwrap_or_else(|| "<array>".into());
@@ -114,6 +118,7 @@ pub fn fit_curve(
         .check_points(&input, points.as_array().nrows(), "points")
         .map_err(|e| crate::py_err(e.to_string().replace("--max-points N", "max_points=N")))?;
     let (raw, dim) = points_from_array(&points, &input)?;
+    let constrained = weights.is_some() || interpolate.as_ref().is_some_and(|i| !i.is_empty());
     let fitted = crate::guarded(py, move || {
         let (points, dropped) = drop_consecutive_duplicates(&raw);
         if points.len() < MIN_POINTS {
@@ -124,7 +129,17 @@ pub fn fit_curve(
             .to_string());
         }
         settings.check_points(points.len())?;
-        let mut fitted = fit_screened(&settings, &input, points, wall, threads)?;
+        let mut fitted = if constrained {
+            let kept = kept_point_of_each(&raw);
+            let pc = constraints_of_points(weights, interpolate, raw.len(), &kept)?;
+            let mut rows = vec![0usize; points.len()];
+            for (r, &k) in kept.iter().enumerate().rev() {
+                rows[k] = r;
+            }
+            fit_constrained(&settings, &input, &points, &pc, &rows, wall, threads)?
+        } else {
+            fit_screened(&settings, &input, points, wall, threads)?
+        };
         if dropped > 0 {
             fitted.warnings.insert(
                 0,

@@ -13,6 +13,7 @@
 
 use pyo3::prelude::*;
 
+mod constrained;
 mod convert;
 mod curve;
 mod fit_curve;

@@ -60,6 +60,9 @@ pub struct CurveSettings {
     pub outliers: OutlierMode,
     /// `pareto` (`--pareto`).
     pub pareto: bool,
+    /// The weights and points to interpolate the integrated method holds inside its search (set
+    /// by the constrained fit, `constrained.rs`, for the points it passes; default otherwise).
+    pub search_constraints: fairfit::fit::point_constraints::PointConstraints,
 }
 
 /// `"auto"` or a degree from 1 to 15 (the CLI's `--degree`); `None` is `auto`.
@@ -316,6 +319,7 @@ pub fn integrated_options(s: &CurveSettings) -> IntegratedOptions {
         })
         .start(conditions.start)
         .end(conditions.end)
+        .point_constraints(s.search_constraints.clone())
 }
 
 /// The Python keyword of a method-specific option.

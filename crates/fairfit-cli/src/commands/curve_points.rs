@@ -14,14 +14,13 @@ use super::curve_args::{CurveArgs, Method};
 use super::{CliError, CmdResult};
 use fairfit::fit::cad_fit::Fitted;
 use fairfit::fit::point_constraints::{
-    fit_with_point_constraints_inside, Held, PointConstraintReport, PointConstraintTuning,
-    PointConstraints,
+    fit_with_point_constraints_inside, Held, PointConstraintTuning, PointConstraints,
 };
 use fairfit::io::point_columns::read_point_columns;
 use fairfit::io::PointSet;
-use fairfit::prelude::{NurbsCurve, Vec3};
-use fairfit::report::curve::shape_report;
-use serde_json::{json, Value};
+use fairfit::prelude::Vec3;
+use fairfit::report::point_constraints::add_point_constraints;
+use serde_json::Value;
 use std::path::Path;
 
 /// The constraints of one input and where each part came from (for the messages).
@@ -122,20 +121,11 @@ pub fn read_input(
 
 /// Drops the points of weight 0 from `set` and `ic` (validated: not all, none to interpolate).
 fn drop_ignored(set: &mut PointSet, ic: &mut InputConstraints) {
-    let Some(w) = ic.constraints.weights.take() else {
-        return;
-    };
-    ic.original = (0..w.len()).filter(|&i| w[i] > 0.0).collect();
-    ic.ignored = (0..w.len()).filter(|&i| w[i] == 0.0).collect();
-    set.points = ic.original.iter().map(|&i| set.points[i]).collect();
-    ic.constraints.weights = Some(ic.original.iter().map(|&i| w[i]).collect());
-    let pos = |k: usize| ic.original.binary_search(&k).ok();
-    ic.constraints.interpolate = ic
-        .constraints
-        .interpolate
-        .iter()
-        .filter_map(|&k| pos(k))
-        .collect();
+    let w = fairfit::fit::constrained_points::without_ignored(&set.points, &ic.constraints);
+    set.points = w.points;
+    ic.constraints = w.constraints;
+    ic.original = w.original;
+    ic.ignored = w.ignored;
 }
 
 /// One weight per line (`#` comments and blank lines skipped), each finite and `>= 0`.
@@ -198,29 +188,18 @@ impl From<fairfit::Error> for Failure {
     }
 }
 
-/// Which of `points` the screening kept: not excluded as spikes, or to be interpolated (never
-/// excluded); with the constraints of the kept points and their indices among `points`.
+/// Which of `points` the screening kept (`fairfit::fit::constrained_points::kept_after_screening`),
+/// with the constraints of the kept points and their indices among `points`.
 pub fn kept_after_screening(
     points: &[Vec3],
     outliers: &[usize],
     ic: &InputConstraints,
 ) -> (Vec<Vec3>, InputConstraints, Vec<usize>) {
-    let pc = &ic.constraints;
-    let index: Vec<usize> = (0..points.len())
-        .filter(|i| !outliers.contains(i) || pc.interpolate.contains(i))
-        .collect();
+    let (kept, constraints, index) =
+        fairfit::fit::constrained_points::kept_after_screening(points, outliers, &ic.constraints);
     let mut out = ic.clone();
-    out.constraints.weights = pc
-        .weights
-        .as_ref()
-        .map(|w| index.iter().map(|&i| w[i]).collect());
-    out.constraints.interpolate = index
-        .iter()
-        .enumerate()
-        .filter(|(_, i)| pc.interpolate.contains(i))
-        .map(|(j, _)| j)
-        .collect();
-    (index.iter().map(|&i| points[i]).collect(), out, index)
+    out.constraints = constraints;
+    (kept, out, index)
 }
 
 /// Fits `points` with `fit` (the method; `Some(t)`: at the absolute tolerance `t`) under the
@@ -262,7 +241,8 @@ pub fn fit_constrained<R>(
     let (mut report, files) = r.extra;
     let index: Vec<usize> = index.iter().map(|&i| ic.original[i]).collect();
     if let Some(rep) = report.as_mut() {
-        add_report(rep, args, &r.curve, &r.report, &index, &ic.ignored);
+        let input = args.input.display().to_string();
+        add_point_constraints(rep, &input, &r.curve, &r.report, &index, &ic.ignored);
     }
     Ok(Fitted {
         tolerance: r.report.tolerance,
@@ -270,52 +250,4 @@ pub fn fit_constrained<R>(
         curve: r.curve,
         extra: (report, files),
     })
-}
-
-/// The report's keys of the constrained curve (module docs of `fit::point_constraints`).
-fn add_report(
-    rep: &mut Value,
-    args: &CurveArgs,
-    curve: &NurbsCurve,
-    pr: &PointConstraintReport,
-    index: &[usize],
-    ignored: &[usize],
-) {
-    let input = args.input.display().to_string();
-    let n_points = rep.get("points").and_then(|v| v.as_u64()).unwrap_or(0) as usize;
-    let shape = shape_report(curve, &input, n_points, 0.0);
-    let Some(obj) = rep.as_object_mut() else {
-        return;
-    };
-    if let Some(s) = shape.as_object() {
-        for (k, v) in s.iter().filter(|(k, _)| *k != "wall_seconds") {
-            obj.insert(k.clone(), v.clone());
-        }
-    }
-    // the tolerance asked for (a refit's report has its tighter one)
-    obj.insert("tolerance".into(), json!(pr.tolerance));
-    obj.insert("max_deviation".into(), json!(pr.max_deviation));
-    obj.insert("rms_deviation".into(), json!(pr.rms_deviation));
-    obj.insert(
-        "point_constraints".into(),
-        json!(pr
-            .interpolated
-            .iter()
-            .map(|&(i, d)| json!({"index": index[i], "distance": d}))
-            .collect::<Vec<_>>()),
-    );
-    obj.insert(
-        "point_constraint_fit".into(),
-        json!({
-            "tolerance": pr.tolerance,
-            "fit_tolerance": pr.fit_tolerance,
-            "refits": pr.refits,
-            "moves": pr.moves,
-            "weighted_ratio": pr.weighted_ratio,
-            "ignored": ignored,
-            "tightest": pr.tightest.map(|(i, d, allowed)| json!({
-                "index": index[i], "distance": d, "allowed": allowed
-            })),
-        }),
-    );
 }

@@ -125,6 +125,8 @@ def fit_curve(
     start: Optional[str] = None,
     end: Optional[str] = None,
     max_points: int = DEFAULT_MAX_POINTS,
+    weights=None,
+    interpolate=None,
 ) -> Union[Curve, Tuple[Curve, List[Curve]]]:
     """Fits a fair curve to ordered points within a tolerance: ``fairfit curve`` from Python.
 
@@ -176,6 +178,13 @@ def fit_curve(
         ``start="tangent:X,Y"`` (``--start-tangent``); not with ``start`` / ``end``.
     max_points: most points the input may hold (``--max-points``, default 10^7); more raise
         :class:`FairfitError`.
+    weights: one weight per row of ``points`` (``--weights``, or a ``w`` column): row i is held to
+        ``tol / w_i``, and weight 0 ignores it. Weights must be finite, >= 0 and not all 0. Every
+        method honours them; the report's ``point_constraint_fit`` says how (docs/constraints.md).
+    interpolate: rows of ``points`` the curve passes through, within 1e-9 of the data's size
+        (``--interpolate I,J,...``); the report's ``point_constraints`` lists each with its
+        distance. A run of consecutive duplicate rows counts as one point: it takes the largest
+        weight of the run and is interpolated when any of its rows is.
     name: what the report's ``input`` and the messages call the points (default ``"<array>"``).
     pareto: also return the Pareto front of (max deviation, F) at the fitted count (``--pareto``;
         integrated only): a list of :class:`Curve` by increasing deviation (so decreasing F), each
@@ -196,6 +205,16 @@ def fit_curve(
             )
     if isinstance(max_points, bool) or not isinstance(max_points, (int, _np.integer)) or max_points < 0:
         raise FairfitError(f"max_points must be a whole number >= 0, got {max_points!r}")
+    if weights is not None:
+        w = _np.asarray(weights, dtype=float)
+        if w.ndim != 1:
+            raise FairfitError(f"weights: expected one number per point, got an array of shape {w.shape}")
+        weights = [float(x) for x in w]
+    if interpolate is not None:
+        idx = _np.asarray(interpolate)
+        if idx.ndim != 1 or (idx.size and (idx.dtype.kind not in "iu" or idx.min() < 0)):
+            raise FairfitError(f"interpolate: expected row indices >= 0, got {interpolate!r}")
+        interpolate = [int(i) for i in idx]
     curve, warnings, front = _fit_curve(
         _points(points),
         None if tol is None else float(tol),
@@ -223,6 +242,8 @@ def fit_curve(
         start,
         end,
         int(max_points),
+        weights,
+        interpolate,
     )
     _warn(warnings)
     return (curve, front) if pareto else curve

@@ -178,3 +178,49 @@ def test_the_cli_refuses_the_same_options(cli):
     # at the limit, fitted
     c = fairfit.fit_curve(fairfit.read_points(path), max_points=200, method="lsq", degree=3)
     assert c.report["points"] == 200
+
+
+@pytest.mark.parametrize("method", ["integrated", "lsq", "fit-then-fair"])
+def test_weights_and_points_to_interpolate_give_the_cli_bytes_and_report(cli, tmp_path, method):
+    pts = fairfit.read_points(example("quarter_ellipse_200.csv"))
+    w = np.ones(len(pts))
+    w[50], w[120] = 2.0, 0.0
+    wfile = tmp_path / "w.txt"
+    wfile.write_text("".join(f"{float(x)!r}\n" for x in w))
+    flags = ["--method", method, "--weights", wfile, "--interpolate", "10,100"]
+    flags += ["--degree", "3"] if method != "integrated" else []
+    kw = dict(method=method, degree=3 if method != "integrated" else "auto", weights=w, interpolate=[100, 10])
+    cli_json, cli_rep, _, curve, _ = both(cli, tmp_path, pts, flags, **kw)
+    assert curve.to_json() == cli_json
+    same_report(curve.report, cli_rep)
+    rep = curve.report
+    assert [p["index"] for p in rep["point_constraints"]] == [10, 100]
+    assert max(p["distance"] for p in rep["point_constraints"]) <= 1e-9 * 1.0
+    assert rep["point_constraint_fit"]["ignored"] == [120]
+    assert rep["point_constraint_fit"]["weighted_ratio"] <= 1.0
+
+
+def test_a_weight_0_row_is_the_row_deleted():
+    pts = fairfit.read_points(example("quarter_ellipse_200.csv"))
+    w = np.ones(len(pts))
+    w[77] = 0.0
+    a = fairfit.fit_curve(pts, method="lsq", degree=3, weights=w)
+    b = fairfit.fit_curve(np.delete(pts, 77, axis=0), method="lsq", degree=3)
+    assert np.array_equal(a.control_points, b.control_points)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"weights": [1.0, 2.0]}, "weights: 2 weights for 200 points"),
+        ({"weights": [-1.0] + [1.0] * 199}, "weights:"),
+        ({"interpolate": [500]}, "interpolate:"),
+        ({"interpolate": [-1]}, "interpolate: expected row indices >= 0"),
+    ],
+)
+def test_bad_weights_and_indices_raise_fairfit_error(kwargs, message):
+    pts = fairfit.read_points(example("quarter_ellipse_200.csv"))
+    with pytest.raises(fairfit.FairfitError) as e:
+        fairfit.fit_curve(pts, **kwargs)
+    assert str(e.value).startswith(message), str(e.value)
+    assert "\n" not in str(e.value)

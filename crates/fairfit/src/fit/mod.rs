@@ -5,6 +5,7 @@
 
 pub mod banded;
 pub mod cad_fit;
+pub mod constrained_points;
 pub mod corners;
 pub mod correction;
 pub mod data_basis;

@@ -28,6 +28,34 @@ pub fn drop_consecutive_duplicates(pts: &[Vec3]) -> (Vec<Vec3>, usize) {
     (out, dropped)
 }
 
+/// For each point of `pts`, the index of the point [`drop_consecutive_duplicates`] keeps for it
+/// (its own index among the kept points, or that of the kept point it repeats).
+///
+/// ```
+/// use fairfit::fit::points::kept_point_of_each;
+/// use fairfit::Vec3;
+/// let p = |x: f64| Vec3::new(x, 0.0, 0.0);
+/// assert_eq!(kept_point_of_each(&[p(0.0), p(0.0), p(1.0), p(2.0), p(2.0)]), vec![0, 0, 1, 2, 2]);
+/// ```
+pub fn kept_point_of_each(pts: &[Vec3]) -> Vec<usize> {
+    let eps = 1e-12 * bounding_box_extent(pts).max(f64::MIN_POSITIVE);
+    let mut last: Option<Vec3> = None;
+    let mut kept = 0usize;
+    pts.iter()
+        .map(|&p| {
+            match last {
+                Some(l) if (p - l).max_abs() <= eps => {}
+                Some(_) => {
+                    kept += 1;
+                    last = Some(p);
+                }
+                None => last = Some(p),
+            }
+            kept
+        })
+        .collect()
+}
+
 /// Largest side of the axis-aligned bounding box of `pts` (0 for fewer than 2 points).
 pub fn bounding_box_extent(pts: &[Vec3]) -> f64 {
     let mut lo = [f64::INFINITY; 3];

@@ -1,5 +1,5 @@
 //! What a fit reports and how its files are made: the `--report` JSON of curve and surface fits
-//! ([`curve`], [`surface`], a curve's [`end_conditions`]) and the bytes of every output file, the format chosen by the file's
+//! ([`curve`], [`surface`], a curve's [`end_conditions`] and [`point_constraints`]) and the bytes of every output file, the format chosen by the file's
 //! extension or by the caller ([`files`]).
 //!
 //! The command-line tool and the Python package both build their reports and files here, so the same
@@ -12,4 +12,5 @@
 pub mod curve;
 pub mod end_conditions;
 pub mod files;
+pub mod point_constraints;
 pub mod surface;
