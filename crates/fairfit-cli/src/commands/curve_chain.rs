@@ -34,14 +34,13 @@ use std::time::Instant;
 pub fn run(args: CurveArgs) -> CmdResult {
     let wall = Instant::now();
     check_options(&args)?;
-    let output = args
-        .output
-        .clone()
-        .ok_or_else(|| CliError::usage("--chain needs -o FILE (the joined chain; the pieces go to FILE_1, FILE_2, ...)"))?;
+    let output = args.output.clone().ok_or_else(|| {
+        CliError::usage(
+            "--chain needs -o FILE (the joined chain; the pieces go to FILE_1, FILE_2, ...)",
+        )
+    })?;
     let inputs = inputs(&args);
-    let piece_paths: Vec<PathBuf> = (1..=inputs.len())
-        .map(|k| piece_path(&output, k))
-        .collect();
+    let piece_paths: Vec<PathBuf> = (1..=inputs.len()).map(|k| piece_path(&output, k)).collect();
     check_chain_outputs(&args, &output, &piece_paths, &inputs)?;
     let resolved = super::curve_ends::with_ends_from_files(&args)?;
     let args = resolved.as_ref().unwrap_or(&args);
@@ -66,9 +65,15 @@ pub fn run(args: CurveArgs) -> CmdResult {
     let all: Vec<Vec3> = pieces.iter().flatten().copied().collect();
     let want_report = args.report.is_some() || args.outputs.html.is_some();
     let report = want_report.then(|| chain_report(args, &r, &inputs, &piece_paths, &pieces, wall));
-    let mut files = vec![Output::geometry(&output, curve_to_json(&joined).into_bytes())];
+    let mut files = vec![Output::geometry(
+        &output,
+        curve_to_json(&joined).into_bytes(),
+    )];
     for (path, piece) in piece_paths.iter().zip(&r.pieces) {
-        files.push(Output::geometry(path, curve_to_json(&piece.curve).into_bytes()));
+        files.push(Output::geometry(
+            path,
+            curve_to_json(&piece.curve).into_bytes(),
+        ));
     }
     if let (Some(rp), Some(report)) = (&args.report, &report) {
         files.push(Output::new(rp, super::json_pretty(report)?.into_bytes()));
@@ -129,7 +134,10 @@ fn check_options(args: &CurveArgs) -> CmdResult {
         ));
     }
     let refused = [
-        (args.method != Method::Integrated, "--method lsq/fit-then-fair"),
+        (
+            args.method != Method::Integrated,
+            "--method lsq/fit-then-fair",
+        ),
         (args.closed, "--closed"),
         (args.control_points.is_some(), "--control-points"),
         (args.ends == EndsArg::Free, "--ends free"),
@@ -220,10 +228,17 @@ fn chain_report(
         .enumerate()
         .map(|(k, p)| {
             let mut v = with_method(
-                shape_report(&p.curve, &inputs[k].display().to_string(), pieces[k].len(), seconds),
+                shape_report(
+                    &p.curve,
+                    &inputs[k].display().to_string(),
+                    pieces[k].len(),
+                    seconds,
+                ),
                 &integrated_report(p, false, args.span_fairness, args.seed),
             );
             v["output"] = json!(outputs[k].display().to_string());
+            // the single curve's part between the joins, or the piece's own fit under them
+            v["from_single_curve"] = json!(r.from_single[k]);
             v
         })
         .collect();

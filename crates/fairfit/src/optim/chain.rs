@@ -6,7 +6,7 @@
 //! Consecutive point sets share, or nearly share, their join point: the last point of piece `k` and
 //! the first of piece `k + 1` lie within twice the tolerance of each other (else the chain is
 //! refused: no curve passes within the tolerance of both). The joins are free within the tolerance
-//! of both pieces' end points, and the chain is fitted in two steps:
+//! of both pieces' end points, and the chain is fitted in three steps:
 //!
 //! 1. **one curve through everything**: the integrated method on the union of the points (a join
 //!    point shared by two pieces counted once), with the chain's own start and end conditions. It
@@ -15,7 +15,11 @@
 //!    points) are a join that costs the pieces no fairness they would not pay anyway;
 //! 2. **the pieces**: each piece by the integrated method, its ends held to those join conditions
 //!    (G1: point and tangent; G2: also the curvature vector,
-//!    [`crate::fit::end_constraints`]), the chain's ends to the chain's own conditions.
+//!    [`crate::fit::end_constraints`]), the chain's ends to the chain's own conditions;
+//! 3. **the fairer of two**: the single curve cut at the joins (exact, by knot insertion) meets
+//!    the same join conditions, so each piece keeps whichever of its own fit and its part of the
+//!    single curve has the smaller `∫ (dκ/ds)² ds`, the part only when it is within the tolerance
+//!    of the piece's points ([`ChainResult::from_single`] says which).
 //!
 //! Every piece is fitted from the same joins, so the result does not depend on the order the pieces
 //! are fitted in, and reversing the chain reverses the result. Both sides of a join carry the same
@@ -88,6 +92,9 @@ pub struct ChainJoin {
 pub struct ChainResult {
     /// The pieces, in order, each the integrated method's result for its points.
     pub pieces: Vec<IntegratedResult>,
+    /// Whether piece `k` is the single curve's part between its joins (else its own fit, module
+    /// doc).
+    pub from_single: Vec<bool>,
     /// The joins, `joins[k]` between `pieces[k]` and `pieces[k + 1]`.
     pub joins: Vec<ChainJoin>,
     /// The single curve through every point that chose the joins (module doc).
@@ -151,10 +158,13 @@ pub fn fit_chain<P: AsRef<[Vec3]> + Sync>(
     let single = fit_integrated(&union, &single_opts)?;
     // the tolerance the single curve held (a tolerance below the noise is raised by the screening)
     let tol = single.tolerance.max(tol);
-    let joins: Vec<EndConstraint> = sets
+    let (cuts, joins): (Vec<f64>, Vec<EndConstraint>) = sets
         .windows(2)
         .map(|w| join_condition(&single.curve, w[0], w[1], continuity.order()))
-        .collect::<Result<_>>()?;
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .unzip();
+    let split = split_at(&single.curve, &cuts)?;
     // step 2: every piece under its joins' conditions
     let piece_opts = IntegratedOptions {
         tolerance: Tolerance::Absolute(tol),
@@ -162,7 +172,7 @@ pub fn fit_chain<P: AsRef<[Vec3]> + Sync>(
         ..opts.clone()
     };
     let n = sets.len();
-    let fitted: Vec<IntegratedResult> = sets
+    let fitted: Vec<(IntegratedResult, bool)> = sets
         .par_iter()
         .enumerate()
         .map(|(k, pts)| {
@@ -173,19 +183,28 @@ pub fn fit_chain<P: AsRef<[Vec3]> + Sync>(
             if k + 1 < n {
                 o.end_conditions.end = joins[k];
             }
-            fit_integrated(pts, &o).map_err(|e| piece_error(e, k, n))
+            let own = fit_integrated(pts, &o).map_err(|e| piece_error(e, k, n));
+            fairer(own, &split[k], pts, tol, &single)
         })
-        .collect::<Result<_>>()?;
+        .collect::<Result<Vec<_>>>()?;
+    let (fitted, from_single): (Vec<IntegratedResult>, Vec<bool>) = fitted.into_iter().unzip();
     let measured: Vec<ChainJoin> = (0..n - 1)
         .map(|k| {
             let p = joins[k].point.unwrap_or(sets[k][sets[k].len() - 1]);
-            measure_join(&fitted[k].curve, &fitted[k + 1].curve, p, sets[k], sets[k + 1])
+            measure_join(
+                &fitted[k].curve,
+                &fitted[k + 1].curve,
+                p,
+                sets[k],
+                sets[k + 1],
+            )
         })
         .collect();
     let (length, fairness) = chain_fairness(fitted.iter().map(|r| &r.curve));
     Ok(ChainResult {
         met: fitted.iter().all(|r| r.met),
         pieces: fitted,
+        from_single,
         joins: measured,
         single,
         tolerance: tol,
@@ -271,11 +290,16 @@ fn check_gaps(sets: &[&[Vec3]], tol: f64) -> Result<()> {
     Ok(())
 }
 
-/// The condition at the join of the point sets `a` (before) and `b` (after): position, unit tangent
-/// (`order` ≥ 1) and curvature vector (`order` 2) of `curve` at its closest point to the midpoint of
-/// `a`'s last and `b`'s first point. The tangent is the curve's direction of travel, right for the
-/// end of `a`'s piece and the start of `b`'s.
-fn join_condition(curve: &NurbsCurve, a: &[Vec3], b: &[Vec3], order: usize) -> Result<EndConstraint> {
+/// The parameter of `curve` at the join of the point sets `a` (before) and `b` (after), its closest
+/// point to the midpoint of `a`'s last and `b`'s first point, and the condition there: position,
+/// unit tangent (`order` ≥ 1) and curvature vector (`order` 2) of `curve`. The tangent is the
+/// curve's direction of travel, right for the end of `a`'s piece and the start of `b`'s.
+fn join_condition(
+    curve: &NurbsCurve,
+    a: &[Vec3],
+    b: &[Vec3],
+    order: usize,
+) -> Result<(f64, EndConstraint)> {
     let mid = (a[a.len() - 1] + b[0]) * 0.5;
     let u = crate::diffgeo::project_point(curve, mid).u;
     let d = curve.derivatives(u, 2);
@@ -296,18 +320,125 @@ fn join_condition(curve: &NurbsCurve, a: &[Vec3], b: &[Vec3], order: usize) -> R
         }
         c.curvature = Some(EndCurvature::Vector(k));
     }
-    Ok(c)
+    Ok((u, c))
+}
+
+/// `curve` cut at the increasing interior parameters `cuts` into `cuts.len() + 1` clamped pieces,
+/// each on `[0, 1]` (exact: knot insertion to multiplicity `p` at every cut). A cut outside the
+/// open domain, or cuts out of order, are an error.
+fn split_at(curve: &NurbsCurve, cuts: &[f64]) -> Result<Vec<NurbsCurve>> {
+    let p = curve.degree();
+    let (a, b) = curve.domain();
+    let lost = |u: f64| Error::KnotOperation(format!("cannot cut the curve at {u}"));
+    let mut c = curve.clone();
+    let mut last = a;
+    for &u in cuts {
+        if !(u > last && u < b) {
+            return Err(lost(u));
+        }
+        last = u;
+        let m = c.knots().iter().filter(|&&k| k == u).count();
+        if m < p {
+            c = c.insert_knot(u, p - m)?;
+        }
+    }
+    let (k, pts, w) = (c.knots(), c.control_points(), c.weights());
+    let bounds: Vec<f64> = std::iter::once(a)
+        .chain(cuts.iter().copied())
+        .chain(std::iter::once(b))
+        .collect();
+    let mut out = Vec::with_capacity(cuts.len() + 1);
+    for (j, ends) in bounds.windows(2).enumerate() {
+        let (s, e) = (ends[0], ends[1]);
+        // an interior cut of multiplicity p at knots i..i+p: the curve there is P_{i-1}
+        let first = match j {
+            0 => 0,
+            _ => k
+                .iter()
+                .position(|&x| x == s)
+                .and_then(|i| i.checked_sub(1))
+                .ok_or_else(|| lost(s))?,
+        };
+        let end = match j + 1 == cuts.len() + 1 {
+            true => pts.len() - 1,
+            false => k
+                .iter()
+                .position(|&x| x == e)
+                .and_then(|i| i.checked_sub(1))
+                .ok_or_else(|| lost(e))?,
+        };
+        let map = |x: f64| (x - s) / (e - s);
+        let mut knots = vec![0.0; p + 1];
+        knots.extend(k.iter().filter(|&&x| x > s && x < e).map(|&x| map(x)));
+        knots.extend(std::iter::repeat_n(1.0, p + 1));
+        let weights = c.is_rational().then(|| w[first..=end].to_vec());
+        out.push(NurbsCurve::new(
+            p,
+            knots,
+            pts[first..=end].to_vec(),
+            weights,
+        )?);
+    }
+    Ok(out)
+}
+
+/// The fairer of a piece's own fit under its join conditions (`own`) and the single curve's part
+/// between the same joins (`part`, which meets the same conditions exactly): the part when it is
+/// within the tolerance `tol` of the piece's `points` and its `∫ (dκ/ds)² ds` is no larger (or the
+/// own fit failed), else the own fit (or its error); with whether the part was kept.
+fn fairer(
+    own: Result<IntegratedResult>,
+    part: &NurbsCurve,
+    points: &[Vec3],
+    tol: f64,
+    single: &IntegratedResult,
+) -> Result<(IntegratedResult, bool)> {
+    let dev = crate::fit::max_orthogonal_deviation(part, points, &[]);
+    if !(dev.max <= tol * (1.0 + 1e-9)) {
+        return own.map(|r| (r, false));
+    }
+    let f = curve_fairness(part);
+    if let Ok(r) = &own {
+        let e_own = r.quality.fairness / curve_fairness(&r.curve).length.powi(3);
+        if r.met && e_own < f.energy {
+            return own.map(|r| (r, false));
+        }
+    }
+    let kept = IntegratedResult {
+        curve: part.clone(),
+        quality: super::result::FitQuality {
+            max_deviation: dev.max,
+            rms_deviation: dev.rms,
+            fairness: f.fairness,
+            max_span_fairness: f.max_span_fairness,
+        },
+        tolerance: tol,
+        met: true,
+        log_lambda: single.log_lambda,
+        baseline_control_points: single.baseline_control_points,
+        stats: Default::default(),
+        screening: Default::default(),
+    };
+    Ok((kept, true))
 }
 
 /// A piece's error, naming the piece (`k` of `n`) and, for a refused join condition, the join.
 fn piece_error(e: Error, k: usize, n: usize) -> Error {
     match e {
-        Error::InvalidSetting { option, reason } if option == "start" && k > 0 => Error::Fit(
-            format!("chain piece {} (its join with piece {}): {reason}", k + 1, k),
-        ),
-        Error::InvalidSetting { option, reason } if option == "end" && k + 1 < n => Error::Fit(
-            format!("chain piece {} (its join with piece {}): {reason}", k + 1, k + 2),
-        ),
+        Error::InvalidSetting { option, reason } if option == "start" && k > 0 => {
+            Error::Fit(format!(
+                "chain piece {} (its join with piece {}): {reason}",
+                k + 1,
+                k
+            ))
+        }
+        Error::InvalidSetting { option, reason } if option == "end" && k + 1 < n => {
+            Error::Fit(format!(
+                "chain piece {} (its join with piece {}): {reason}",
+                k + 1,
+                k + 2
+            ))
+        }
         Error::InvalidSetting { option, reason } => Error::InvalidSetting { option, reason },
         Error::Fit(m) => Error::Fit(format!("chain piece {}: {m}", k + 1)),
         other => other,

@@ -54,7 +54,11 @@ fn a_g2_chain_of_two_arcs_joins_with_the_circles_curvature() {
             .arg(&rep)
             .output()
             .unwrap();
-        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
         let (p1, p2) = (dir.path().join("arc_1.json"), dir.path().join("arc_2.json"));
         let (c1, c2) = (curve(&p1), curve(&p2));
         let (x1, t1, k1) = frame(&c1, true);
@@ -108,7 +112,11 @@ fn chain_usage_errors_are_one_line_with_exit_2() {
         b.path().to_str().unwrap(),
         out.to_str().unwrap(),
     );
-    one_line_failure(&["curve", a, "--chain", "g2", "-o", out], 2, &["at least two"]);
+    one_line_failure(
+        &["curve", a, "--chain", "g2", "-o", out],
+        2,
+        &["at least two"],
+    );
     one_line_failure(&["curve", a, b, "-o", out], 2, &["--chain"]);
     one_line_failure(&["curve", a, b, "--chain", "g2"], 2, &["-o"]);
     one_line_failure(
@@ -117,7 +125,17 @@ fn chain_usage_errors_are_one_line_with_exit_2() {
         &["--method", "--chain"],
     );
     one_line_failure(
-        &["curve", a, b, "--chain", "g2", "--control-points", "6", "-o", out],
+        &[
+            "curve",
+            a,
+            b,
+            "--chain",
+            "g2",
+            "--control-points",
+            "6",
+            "-o",
+            out,
+        ],
         2,
         &["--control-points"],
     );
