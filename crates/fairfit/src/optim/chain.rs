@@ -32,7 +32,8 @@
 //! [`ChainResult::fairness`] is the `F = L³ ∫ (dκ/ds)² ds` of the joined chain: `L` the total
 //! length and the integral the sum of the pieces' (the joined curve's integral over its spans;
 //! at a G2 join `κ` is continuous, so the join adds nothing). [`ChainResult::single`] is the
-//! single curve of step 1, so `fairness / single.quality.fairness` is the price of the joins.
+//! single curve of step 1 and [`ChainResult::single_fairness`] its `F` measured the same way, so
+//! their ratio is the price of the joins.
 //!
 //! Invariants: every piece is open, without corners (the end conditions need both), and held to
 //! the single curve's tolerance in the input's units (a relative tolerance is relative to the
@@ -105,6 +106,9 @@ pub struct ChainResult {
     pub length: f64,
     /// `F` of the joined chain (module doc).
     pub fairness: f64,
+    /// `F` of the single curve, measured as [`Self::fairness`] is (`fairness / single_fairness` is
+    /// the price of the joins).
+    pub single_fairness: f64,
     /// Whether every piece met the tolerance.
     pub met: bool,
 }
@@ -206,10 +210,11 @@ pub fn fit_chain<P: AsRef<[Vec3]> + Sync>(
         pieces: fitted,
         from_single,
         joins: measured,
-        single,
         tolerance: tol,
         length,
         fairness,
+        single_fairness: chain_fairness([&single.curve]).1,
+        single,
     })
 }
 

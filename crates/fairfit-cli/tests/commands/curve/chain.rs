@@ -120,6 +120,11 @@ fn chain_usage_errors_are_one_line_with_exit_2() {
     one_line_failure(&["curve", a, b, "-o", out], 2, &["--chain"]);
     one_line_failure(&["curve", a, b, "--chain", "g2"], 2, &["-o"]);
     one_line_failure(
+        &["curve", a, b, "--split-at-le", "-o", out],
+        2,
+        &["--split-at-le", "one airfoil file"],
+    );
+    one_line_failure(
         &["curve", a, b, "--chain", "g1", "--method", "lsq", "-o", out],
         2,
         &["--method", "--chain"],
@@ -160,4 +165,50 @@ fn pieces_that_do_not_meet_are_an_input_error() {
         &["do not meet", "pieces 1 and 2"],
     );
     assert!(!out.exists());
+}
+
+#[test]
+fn split_at_le_pins_the_airfoils_leading_edge_at_the_parameter_half() {
+    let file = crate::common::data("naca4412.csv");
+    let dir = TempDir::new().unwrap();
+    let (out, rep) = (
+        dir.path().join("af.json"),
+        dir.path().join("af-report.json"),
+    );
+    let run = fairfit()
+        .args(["curve", &file, "--split-at-le", "-o"])
+        .arg(&out)
+        .arg("--report")
+        .arg(&rep)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let c = curve(&out);
+    let report = read_json(&rep);
+    assert_eq!(c.domain(), (0.0, 1.0));
+    let p = c.degree();
+    assert_eq!(c.knots().iter().filter(|&&k| k == 0.5).count(), p);
+    // the leading edge of NACA 4412 is its point (0, 0), the farthest from the trailing edge
+    let pts = read_points(&file).unwrap().points;
+    let le = report["split_at_le"]["index"].as_u64().unwrap() as usize;
+    assert_eq!((pts[le][0], pts[le][1]), (0.0, 0.0));
+    let tol = report["tolerance"].as_f64().unwrap();
+    assert!((c.point(0.5) - pts[le]).norm() <= tol);
+    // G2 at the leading edge: the two sides of the knot 0.5, measured on the joined curve
+    let below = 0.5 - f64::EPSILON / 4.0; // the float just below 0.5: the span on the left
+    let (left, right) = (c.derivatives(below, 2), c.derivatives(0.5, 2));
+    let t = |d: &[Vec3]| d[1] / d[1].norm();
+    assert!(t(&left).cross(t(&right)).norm() < 1e-6);
+    let j = &report["joins"][0];
+    assert!(j["tangent_angle"].as_f64().unwrap() <= 1e-9);
+    assert!(j["curvature_relative"].as_f64().unwrap() <= 1e-9);
+    // within the tolerance everywhere; F within 10 % of the single curve's
+    let d = fairfit::fit::max_orthogonal_deviation(&c, &pts, &[]).max;
+    assert!(d <= tol * (1.0 + 1e-9), "{d}");
+    let ratio = report["fairness_ratio"].as_f64().unwrap();
+    assert!(ratio <= 1.10, "{ratio}");
 }
