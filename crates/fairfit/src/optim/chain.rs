@@ -282,7 +282,7 @@ fn check_gaps(sets: &[&[Vec3]], tol: f64) -> Result<()> {
     }
     for (k, w) in sets.windows(2).enumerate() {
         let gap = (w[0][w[0].len() - 1] - w[1][0]).norm();
-        if !(gap <= 2.0 * tol) {
+        if gap.is_nan() || gap > 2.0 * tol {
             return Err(Error::InvalidData(format!(
                 "chain pieces {} and {} do not meet: the last point of piece {} is {gap:.3e} from the first point of piece {} (more than twice the tolerance {tol:.3e}); check their order and direction",
                 k + 1,
@@ -399,7 +399,7 @@ fn fairer(
     single: &IntegratedResult,
 ) -> Result<(IntegratedResult, bool)> {
     let dev = crate::fit::max_orthogonal_deviation(part, points, &[]);
-    if !(dev.max <= tol * (1.0 + 1e-9)) {
+    if dev.max.is_nan() || dev.max > tol * (1.0 + 1e-9) {
         return own.map(|r| (r, false));
     }
     let f = curve_fairness(part);
