@@ -27,9 +27,6 @@ use std::time::Instant;
 
 /// Runs `fairfit curve`.
 pub fn run(args: CurveArgs) -> CmdResult {
-    if super::curve_chain::asked(&args) {
-        return super::curve_chain::run(args);
-    }
     let wall = Instant::now();
     check_curve_outputs(&args)?;
     check_options(&args)?;

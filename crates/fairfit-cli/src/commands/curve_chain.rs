@@ -196,8 +196,8 @@ fn write_all(
     commit(files)
 }
 
-/// Whether `args` ask for a chain (`--chain`, more than one input, or `--split-at-le`): the
-/// command then runs [`run`].
+/// Whether `args` ask for a chain (`--chain`, more than one input, or `--split-at-le`): `fairfit
+/// curve` then runs [`run`] instead of `curve::run`.
 pub fn asked(args: &CurveArgs) -> bool {
     args.chain.is_some() || !args.more_inputs.is_empty() || args.split_at_le
 }
