@@ -17,9 +17,10 @@
 //!    (G1: point and tangent; G2: also the curvature vector,
 //!    [`crate::fit::end_constraints`]), the chain's ends to the chain's own conditions;
 //! 3. **the fairer of two**: the single curve cut at the joins (exact, by knot insertion) meets
-//!    the same join conditions, so each piece keeps whichever of its own fit and its part of the
-//!    single curve has the smaller `∫ (dκ/ds)² ds`, the part only when it is within the tolerance
-//!    of the piece's points ([`ChainResult::from_single`] says which).
+//!    the same join conditions where it is smooth there, so each piece keeps whichever of its own
+//!    fit and its part of the single curve has the smaller `∫ (dκ/ds)² ds`, the part only when it
+//!    meets the piece's end conditions to rounding and is within the tolerance of the piece's
+//!    points ([`ChainResult::from_single`] says which).
 //!
 //! Every piece is fitted from the same joins, so the result does not depend on the order the pieces
 //! are fitted in, and reversing the chain reverses the result. Both sides of a join carry the same
@@ -188,7 +189,7 @@ pub fn fit_chain<P: AsRef<[Vec3]> + Sync>(
                 o.end_conditions.end = joins[k];
             }
             let own = fit_integrated(pts, &o).map_err(|e| piece_error(e, k, n));
-            fairer(own, &split[k], pts, tol, &single)
+            fairer(own, &split[k], pts, tol, &single, &o.end_conditions)
         })
         .collect::<Result<Vec<_>>>()?;
     let (fitted, from_single): (Vec<IntegratedResult>, Vec<bool>) = fitted.into_iter().unzip();
@@ -387,17 +388,26 @@ fn split_at(curve: &NurbsCurve, cuts: &[f64]) -> Result<Vec<NurbsCurve>> {
     Ok(out)
 }
 
-/// The fairer of a piece's own fit under its join conditions (`own`) and the single curve's part
-/// between the same joins (`part`, which meets the same conditions exactly): the part when it is
-/// within the tolerance `tol` of the piece's `points` and its `∫ (dκ/ds)² ds` is no larger (or the
-/// own fit failed), else the own fit (or its error); with whether the part was kept.
+/// The fairer of a piece's own fit under its end conditions `ends` (`own`) and the single curve's
+/// part between the same joins (`part`): the part when it meets `ends` to rounding (it does where
+/// the single curve is smooth at the cuts; not at a corner of it), is within the tolerance `tol`
+/// of the piece's `points` and its `∫ (dκ/ds)² ds` is no larger (or the own fit failed), else the
+/// own fit (or its error); with whether the part was kept.
 fn fairer(
     own: Result<IntegratedResult>,
     part: &NurbsCurve,
     points: &[Vec3],
     tol: f64,
     single: &IntegratedResult,
+    ends: &crate::fit::end_constraints::EndConstraints,
 ) -> Result<(IntegratedResult, bool)> {
+    let meets = |at_end: bool, c: &EndConstraint| {
+        let a = crate::fit::end_constraints::achieved(part, at_end, c);
+        a.point_distance <= 1e-9 * tol && a.tangent_angle <= 1e-10 && a.curvature_relative <= 1e-10
+    };
+    if !(meets(false, &ends.start) && meets(true, &ends.end)) {
+        return own.map(|r| (r, false));
+    }
     let dev = crate::fit::max_orthogonal_deviation(part, points, &[]);
     if dev.max.is_nan() || dev.max > tol * (1.0 + 1e-9) {
         return own.map(|r| (r, false));

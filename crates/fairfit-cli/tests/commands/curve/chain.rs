@@ -212,3 +212,33 @@ fn split_at_le_pins_the_airfoils_leading_edge_at_the_parameter_half() {
     let ratio = report["fairness_ratio"].as_f64().unwrap();
     assert!(ratio <= 1.10, "{ratio}");
 }
+
+#[test]
+fn a_g1_chain_across_a_corner_is_refused_not_written_with_a_kink() {
+    // two straight pieces meeting at a right angle: no tangent is within the tolerance of both
+    let line = |f: &dyn Fn(f64) -> (f64, f64)| {
+        let mut s = String::from("x,y\n");
+        for i in 0..=20 {
+            let (x, y) = f(i as f64 / 20.0);
+            s.push_str(&format!("{x},{y}\n"));
+        }
+        file_with(s.as_bytes())
+    };
+    let (a, b) = (line(&|t| (t, 0.0)), line(&|t| (1.0, t)));
+    let dir = TempDir::new().unwrap();
+    let out = dir.path().join("o.json");
+    one_line_failure(
+        &[
+            "curve",
+            a.path().to_str().unwrap(),
+            b.path().to_str().unwrap(),
+            "--chain",
+            "g1",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        1,
+        &["chain piece 1", "join with piece 2"],
+    );
+    assert!(!out.exists() && !dir.path().join("o_1.json").exists());
+}
