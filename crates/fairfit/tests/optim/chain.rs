@@ -1,6 +1,7 @@
 //! Chains of `fairfit::optim::chain`: two arcs of one circle joined G1 and G2 (the join's tangent
 //! and curvature against the circle's, in closed form), and the NACA 4412 airfoil split at its
-//! leading edge and fitted as a G2 chain (its F against the single-curve fit of the whole airfoil).
+//! leading edge and fitted as a G2 chain (its F against the single-curve fit of the whole airfoil),
+//! and three pieces of a helix (the curvature vector `R/(R² + c²)` towards the axis at both joins).
 
 use crate::common::example_data::read_csv;
 use fairfit::fit::max_orthogonal_deviation;
@@ -106,4 +107,54 @@ fn an_airfoil_as_a_g2_chain_is_nearly_as_fair_as_one_curve() {
         j.curvature
     );
     assert!(ratio <= 1.10, "{ratio}");
+}
+
+#[test]
+fn three_pieces_of_a_helix_join_g2_with_its_curvature_vector() {
+    // x = R cos t, y = R sin t, z = c t: curvature R / (R² + c²), towards the axis
+    let c = 0.3;
+    let helix = |t0: f64, t1: f64, n: usize| -> Vec<Vec3> {
+        (0..n)
+            .map(|i| {
+                let t = t0 + (t1 - t0) * i as f64 / (n - 1) as f64;
+                Vec3::new(R * t.cos(), R * t.sin(), c * t)
+            })
+            .collect()
+    };
+    let pieces = vec![
+        helix(0.0, 1.0, 30),
+        helix(1.0, 2.0, 30),
+        helix(2.0, 3.5, 40),
+    ];
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-4));
+    let r = fit_chain(&pieces, JoinContinuity::G2, &opts).unwrap();
+    assert!(r.met && r.joins.len() == 2);
+    assert_within(&pieces, &r);
+    let kappa = R / (R * R + c * c);
+    for (k, j) in r.joins.iter().enumerate() {
+        assert!(
+            j.position_gap < 1e-12 && j.tangent_angle <= 1e-9,
+            "{k}: {j:?}"
+        );
+        assert!(j.curvature_relative <= 1e-9, "{k}: {j:?}");
+        assert!(
+            (j.curvature / kappa - 1.0).abs() < 0.02,
+            "{k}: {}",
+            j.curvature
+        );
+        // the curvature vector points at the axis: horizontal, opposite the join's radius
+        let d = r.pieces[k]
+            .curve
+            .derivatives(r.pieces[k].curve.domain().1, 2);
+        let kv = d[1].cross(d[2]).cross(d[1]) / d[1].norm().powi(4);
+        let radial = Vec3::new(j.point[0], j.point[1], 0.0);
+        assert!(
+            kv.dot(radial) / (kv.norm() * radial.norm()) < -0.999,
+            "{k}: {kv:?}"
+        );
+    }
+    // the chain's F is the joined chain's: L³ times the pieces' energies summed
+    let (length, fairness) =
+        fairfit::optim::chain::chain_fairness(r.pieces.iter().map(|p| &p.curve));
+    assert_eq!((length, fairness), (r.length, r.fairness));
 }
