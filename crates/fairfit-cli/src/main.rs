@@ -187,6 +187,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Eval(a) => commands::eval::run(a),
         Command::Info(a) => commands::info::run(a),
+        // a chain (`--chain`, several inputs, `--split-at-le`) or one curve
+        Command::Curve(a) if commands::curve_chain::asked(&a) => commands::curve_chain::run(a),
         Command::Curve(a) => commands::curve::run(a),
         Command::Batch(a) => commands::batch::run(a),
         Command::Surface(a) => commands::surface::run(a),

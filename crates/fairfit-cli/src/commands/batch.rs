@@ -181,6 +181,12 @@ pub fn run(args: BatchArgs) -> CmdResult {
 
 /// Usage error for the options of `fairfit curve` that name one output file.
 fn refuse_single_file_options(c: &CurveArgs) -> CmdResult {
+    if c.chain.is_some() || c.split_at_le || !c.more_inputs.is_empty() {
+        return Err(CliError::usage(
+            "--chain, --split-at-le and further inputs: not available in batch (it fits every \
+             input on its own; use `fairfit curve A B ... --chain g1|g2` for a chain)",
+        ));
+    }
     let given = [
         ("--report", c.report.is_some()),
         ("--pareto", c.pareto.is_some()),

@@ -99,6 +99,24 @@ impl From<EndsArg> for EndCondition {
     }
 }
 
+/// `--chain`: the continuity of the joins of a chain of pieces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ChainArg {
+    /// Position and tangent direction.
+    G1,
+    /// Position, tangent direction and curvature vector.
+    G2,
+}
+
+impl From<ChainArg> for fairfit::optim::chain::JoinContinuity {
+    fn from(c: ChainArg) -> Self {
+        match c {
+            ChainArg::G1 => Self::G1,
+            ChainArg::G2 => Self::G2,
+        }
+    }
+}
+
 /// `--continuity`: the order of continuity with a `--start-from` / `--end-from` curve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ContinuityArg {
@@ -188,8 +206,30 @@ fn check_end_condition(s: &str) -> Result<String, String> {
 pub struct CurveArgs {
     /// Point file: CSV/TSV/whitespace with 2 or 3 columns, or a Selig/Lednicer airfoil .dat file; or a
     /// STEP/IGES file whose B-spline curve is sampled densely and re-fitted (re-faired).
+    /// With --chain, the first piece.
     #[arg(required = true)]
     pub input: PathBuf,
+    /// The further pieces of a --chain, in order: each starts where the previous one ends (its
+    /// first point within twice the tolerance of the previous file's last point).
+    #[arg(value_name = "MORE")]
+    pub more_inputs: Vec<PathBuf>,
+    /// Fit INPUT MORE... as one fair chain of curves joined with this continuity: g1 (tangent) or
+    /// g2 (and curvature). The joins are chosen within the tolerance of both pieces' end points
+    /// (where the fairest single curve through every point passes); every piece is fitted by the
+    /// integrated method under them, or is that curve's part between them when it is fairer.
+    /// -o FILE.json writes the joined chain (one B-spline on [0, N], the joins knots of full
+    /// multiplicity) and each piece to FILE_1.json, FILE_2.json, ...; --step,
+    /// --iges, --mesh, --plot and --html show the joined chain; --report lists every piece and the
+    /// continuity measured at every join. --start/--end (and --start-from/--end-from) hold the
+    /// chain's own ends.
+    #[arg(long, value_enum, value_name = "CONTINUITY")]
+    pub chain: Option<ChainArg>,
+    /// Airfoils: split the points at the leading edge (the point farthest from the trailing edge,
+    /// the midpoint of the first and last points; both halves hold it), fit the halves as a G2
+    /// chain (as --chain g2) and write the joined curve on [0, 1] with the leading edge at the
+    /// parameter 0.5, a knot of full multiplicity: every section fitted so shares that knot.
+    #[arg(long, conflicts_with = "chain")]
+    pub split_at_le: bool,
     /// Entity choice for STEP/IGES input.
     #[command(flatten)]
     pub cad: super::cad_input::CadInputArgs,

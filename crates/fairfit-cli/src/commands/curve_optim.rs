@@ -45,7 +45,7 @@ pub fn with_pool<T: Send>(
 }
 
 /// The library's options for the integrated method as `args` ask for them.
-fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
+pub fn integrated_options(args: &CurveArgs) -> IntegratedOptions {
     let degree = args.degree();
     IntegratedOptions::new(args.tolerance())
         .degree(degree.lowest())

@@ -13,6 +13,7 @@ pub mod batch;
 pub mod cad_input;
 pub mod curve;
 pub mod curve_args;
+pub mod curve_chain;
 pub mod curve_ends;
 pub mod curve_optim;
 pub mod curve_points;

@@ -450,6 +450,7 @@ fn noisy_sharp_leading_edge_fits_with_correction_rounds() {
 }
 
 /// The report's curvature extrema against the benchmark's measurer.
+mod chain;
 mod end_conditions;
 mod point_constraints;
 mod report_extrema;

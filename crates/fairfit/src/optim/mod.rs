@@ -32,6 +32,9 @@
 //! 5. **release ends** — `stages::release_ends` (`stages/release_ends.rs`): the last fairing
 //!    pass with the requested end condition.
 //!
+//! [`chain`] (`chain.rs`) fits several point sets as one chain of curves joining with G1 or G2
+//! continuity, each piece by [`fit_integrated`].
+//!
 //! The closed pipeline runs stages 1-4 on the periodic kind. The `--pareto` fronts are in
 //! `pareto` (`pareto/`).
 //!
@@ -46,12 +49,13 @@
 //!    measured threshold of the policy), `context.rs` (the context every stage reads);
 //! 4. `kind` (`kind/`): the curve kinds, open and periodic, behind one trait;
 //! 5. `stages` (`stages/`): the stages above, written once against the curve kind;
-//! 6. the pipelines (`open` < `cornered` < `closed` < `pipeline`), `corners`, and
+//! 6. the pipelines (`open` < `cornered` < `closed` < `pipeline` < `chain`), `corners`, and
 //!    `pareto`.
 
 // index loops over bands and spans read like the formulas they implement
 #![allow(clippy::needless_range_loop)]
 
+pub mod chain;
 pub(crate) mod closed;
 pub(crate) mod context;
 pub(crate) mod cornered;

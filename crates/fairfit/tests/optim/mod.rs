@@ -2,6 +2,7 @@
 //!
 //! One file per source module it tests (`src/optim/<name>.rs`).
 
+mod chain;
 mod closed;
 mod cornered;
 mod fairing;
