@@ -119,9 +119,9 @@ fn clusters(q: &[[f64; 2]], r: f64) -> Option<(usize, Vec<usize>)> {
         }
         best.map(|(_, s)| s)
     };
-    for i in 0..q.len() {
+    for (i, &x) in q.iter().enumerate() {
         if near(&grid, &seeds, i).is_none() {
-            grid.entry(cell(q[i])).or_default().push(seeds.len());
+            grid.entry(cell(x)).or_default().push(seeds.len());
             seeds.push(i);
         }
     }

@@ -228,7 +228,7 @@ fn cloud_cuts(
 }
 
 /// The tolerance in the data's units: a relative one times the largest extent of a slab's points.
-fn absolute_tolerance(t: Tolerance, slabs: &[(Vec<Vec3>, Vec<f64>)]) -> Result<f64> {
+fn absolute_tolerance(t: Tolerance, slabs: &[Slab]) -> Result<f64> {
     let tol = match t {
         Tolerance::Absolute(t) => t,
         Tolerance::Relative(r) => {
@@ -249,15 +249,13 @@ fn absolute_tolerance(t: Tolerance, slabs: &[(Vec<Vec3>, Vec<f64>)]) -> Result<f
     Ok(tol)
 }
 
+/// A slab's points projected onto its plane, and their heights above it.
+type Slab = (Vec<Vec3>, Vec<f64>);
+
 /// Each plane's slab (the points within `slab` plane spacings of it, as [`SliceOptions::slab`]),
 /// projected onto the plane, with their heights above it, in point order; and the slabs'
 /// half-thickness. One pass over the points.
-fn slab_points(
-    pts: &[Vec3],
-    n: Vec3,
-    offsets: &[f64],
-    slab: f64,
-) -> (Vec<(Vec<Vec3>, Vec<f64>)>, f64) {
+fn slab_points(pts: &[Vec3], n: Vec3, offsets: &[f64], slab: f64) -> (Vec<Slab>, f64) {
     let mut slabs = vec![(Vec::new(), Vec::new()); offsets.len()];
     let (first, last) = (offsets[0], offsets[offsets.len() - 1]);
     let (spacing, half) = if offsets.len() > 1 {
