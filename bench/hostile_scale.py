@@ -12,6 +12,9 @@ Cases:
   `--max-sections 2000`, and 2000 at the default limit, refused);
 - `surface` on one IGES file of 10,000 B-spline sections (type 126 entities; refused by the limit);
 - `surface cloud.xyz --slices 6` on a 10^6-point cloud (a wavy cylinder);
+- `surface cloud.xyz --slices 50` on 2 x 10^6-point clouds (issue 24): the wavy cylinder, and a
+  twisted naca4412 loft with noise sigma = tol/10 (the row adds the report's closed sections and
+  largest deviation);
 - `curve --method lsq` on 5 x 10^6 points with `--plot` and `--html`;
 - `info` on a curve JSON of 10^6 control points (refused by `--max-spans`);
 - `curve` with `RAYON_NUM_THREADS=100000`.
@@ -26,6 +29,7 @@ Prints a Markdown table (the rows of docs/reliability.md, "Large inputs").
 from __future__ import annotations
 
 import argparse
+import bisect
 import json
 import math
 import os
@@ -104,6 +108,47 @@ def cloud(path: str, n: int) -> None:
             f.write(f"{r * math.cos(t):.6f} {r * math.sin(t):.6f} {z:.6f}\n")
 
 
+def foil_cloud(path: str, n: int, sigma: float = 1e-4) -> None:
+    """`n` random points of a naca4412 loft (chord 1, its closed outline from examples/data, the
+    blunt trailing edge included), z in [0, 2], twisted by 0.5 rad over the height about the quarter
+    chord, with Gaussian noise `sigma` along the outline's normal (tol/10 at --rel-tol 1e-3)."""
+    outline = []
+    with open(os.path.join(REPO, "examples", "data", "naca4412.csv")) as f:
+        for line in f:
+            try:
+                outline.append(tuple(float(v) for v in line.split(",")))
+            except ValueError:
+                continue
+    outline.append(outline[0])
+    cum = [0.0]
+    for a, b in zip(outline, outline[1:]):
+        cum.append(cum[-1] + math.dist(a, b))
+    rng = random.Random(2)
+    with open(path, "w") as f:
+        for _ in range(n):
+            u, z = rng.random() * cum[-1], rng.random() * 2.0
+            k = min(max(bisect.bisect_right(cum, u) - 1, 0), len(outline) - 2)
+            (x0, y0), (x1, y1) = outline[k], outline[k + 1]
+            seg = cum[k + 1] - cum[k]
+            t = (u - cum[k]) / seg
+            e = rng.gauss(0.0, sigma)
+            x = x0 + t * (x1 - x0) + e * (y1 - y0) / seg - 0.25
+            y = y0 + t * (y1 - y0) - e * (x1 - x0) / seg
+            a = 0.25 * z
+            f.write(f"{x * math.cos(a) - y * math.sin(a):.9f} {x * math.sin(a) + y * math.cos(a):.9f} {z:.9f}\n")
+
+
+def report_note(path: str) -> str:
+    """The sections closed and the largest deviation (in tolerances) of a surface report."""
+    try:
+        r = json.load(open(path))
+    except (OSError, ValueError):
+        return ""
+    closed = sum(1 for s in r["sections"] if s["closed"])
+    return (f"{closed} of {len(r['sections'])} sections closed, {len(r['gaps'])} gaps, max deviation "
+            f"{r['deviation']['max'] / r['tolerance']:.2f} tol over {r['deviation']['points']} section points; ")
+
+
 def spiral(path: str, n: int) -> None:
     """`n` points on a planar spiral arc."""
     with open(path, "w") as f:
@@ -163,6 +208,14 @@ def main() -> int:
         cases.append(("surface --slices 6, cloud of 10^6 points", lambda: cloud(f"{d}/c.xyz", 1_000_000),
                       [ff, "surface", f"{d}/c.xyz", "--slices", "6", "--axis", "z", "--rel-tol", "1e-3",
                        "-o", f"{d}/c.json"], None))
+        cases.append(("surface --slices 50, wavy cylinder cloud of 2 x 10^6 points",
+                      lambda: cloud(f"{d}/c2.xyz", 2_000_000),
+                      [ff, "surface", f"{d}/c2.xyz", "--slices", "50", "--axis", "z", "--rel-tol", "1e-3",
+                       "-o", f"{d}/c2.json", "--report", f"{d}/c2.report.json"], None))
+        cases.append(("surface --slices 50, twisted naca4412 cloud of 2 x 10^6 points, sigma tol/10",
+                      lambda: foil_cloud(f"{d}/f2.xyz", 2_000_000),
+                      [ff, "surface", f"{d}/f2.xyz", "--slices", "50", "--axis", "z", "--rel-tol", "1e-3",
+                       "-o", f"{d}/f2.json", "--report", f"{d}/f2.report.json"], None))
         cases.append(("curve --method lsq --plot --html, 5 x 10^6 points",
                       lambda: spiral(f"{d}/big.csv", 5_000_000),
                       [ff, "curve", f"{d}/big.csv", "--method", "lsq", "--rel-tol", "1e-3", "-o", f"{d}/b.json",
@@ -179,6 +232,8 @@ def main() -> int:
             make()
             built = time.time() - t
             rc, wall, mb, last = run(cmd, args.cap, env)
+            if "--report" in cmd:
+                last = report_note(cmd[cmd.index("--report") + 1]) + last
             rows.append((name, rc, wall, mb, last, built))
             print(f"{name}: rc {rc}, {wall:.1f} s, {mb:.0f} MB", file=sys.stderr)
     print("| case | exit | wall s | peak MB | last stderr line |")

@@ -15,7 +15,7 @@ use fairfit::report::surface::{surface_report, SectionNotes};
 use fairfit::surface::orient::extent;
 use fairfit::surface::slicing::{slice_mesh, SliceOptions};
 use fairfit::surface::{reconstruct_surface, Section, SurfaceOptions, VParams};
-use fairfit::{NurbsSurface, Vec3};
+use fairfit::{NurbsSurface, Tolerance, Vec3};
 use numpy::PyReadonlyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -463,6 +463,10 @@ pub fn fit_surface_from_mesh(
             slices,
             normal,
             gap_factor,
+            tolerance: Some(match settings.tol {
+                Some(t) => Tolerance::Absolute(t),
+                None => Tolerance::Relative(settings.rel_tol),
+            }),
             ..Default::default()
         };
         let s = slice_mesh(&mesh, &opts).map_err(|e| e.to_string())?;

@@ -19,7 +19,7 @@ use fairfit::surface::{
     reconstruct_surface_with_progress, Section, Stage, SurfaceOptions, SurfaceReconstruction,
     VParams,
 };
-use fairfit::Vec3;
+use fairfit::{Tolerance, Vec3};
 use std::path::PathBuf;
 
 /// The default of `--max-sections`: a loft through 1,000 sections takes about 20 s on two cores
@@ -244,6 +244,10 @@ fn read_input(args: &SurfaceArgs) -> Result<Input, CliError> {
             slices: n,
             normal,
             gap_factor: args.gap_factor,
+            tolerance: Some(match (args.tol, args.rel_tol) {
+                (Some(t), _) => Tolerance::Absolute(t),
+                (None, r) => Tolerance::Relative(r.unwrap_or(1e-3)),
+            }),
             ..Default::default()
         };
         let s = slice_mesh(&mesh, &opts)?;

@@ -28,7 +28,8 @@ pub struct Gap {
     pub to: [f64; 3],
     /// Length of the gap.
     pub length: f64,
-    /// Typical (median) spacing of the chain's points, for comparison.
+    /// Typical spacing of the chain's points, for comparison: their median spacing (for a cloud
+    /// slab thinned at a tolerance, at least that tolerance).
     pub typical_spacing: f64,
     /// What was done about it: "bridged" (the chain continues across it) or "open" (the chain ends there).
     pub handling: String,
@@ -127,18 +128,151 @@ pub fn order_points(points: &[Vec3], dir: Vec3) -> Vec<Vec3> {
     t.into_iter().map(|i| points[i]).collect()
 }
 
-/// Splits a closed tour at gaps longer than `factor` times its median spacing. Returns the open chain
-/// starting right after the largest gap (or the tour unchanged, closed, when there is no gap) and the gaps.
+/// An edge longer than this many median spacings ends a run that [`mend_detours`] may move.
+const DETOUR_EDGE: f64 = 3.0;
+
+/// The longest run of points [`mend_detours`] moves.
+const MAX_RUN: usize = 8;
+
+/// The most passes of [`mend_detours`].
+const MAX_DETOUR_PASSES: usize = 50;
+
+/// Mends the detours of a closed tour (Or-opt): a short run of points that the nearest-neighbour
+/// tour left behind and fetched later, between two long edges, is moved (either way round) to the
+/// edge near its ends where it lengthens the tour least, when that shortens the tour. A 2-opt
+/// reversal cannot do this. Runs are at most [`MAX_RUN`] points between edges longer than
+/// [`DETOUR_EDGE`] median spacings; the insertion edges are those at the points within two median
+/// spacings of the run's ends (a uniform grid). Deterministic; the tour keeps its first point.
+pub(crate) fn mend_detours(tour: Vec<Vec3>) -> Vec<Vec3> {
+    let n = tour.len();
+    let typical = median_spacing(&tour, true);
+    if n < 2 * MAX_RUN || !(typical.is_finite() && typical > 0.0) {
+        return tour;
+    }
+    let long = DETOUR_EDGE * typical;
+    let key = |p: Vec3| {
+        [
+            (p.x() / typical).floor() as i64,
+            (p.y() / typical).floor() as i64,
+            (p.z() / typical).floor() as i64,
+        ]
+    };
+    let mut grid: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
+    for (i, &p) in tour.iter().enumerate() {
+        grid.entry(key(p)).or_default().push(i);
+    }
+    let near = |p: Vec3| {
+        let k = key(p);
+        let mut out = Vec::new();
+        for dx in -2..=2 {
+            for dy in -2..=2 {
+                for dz in -2..=2 {
+                    if let Some(v) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) {
+                        out.extend(v.iter().copied());
+                    }
+                }
+            }
+        }
+        out.sort_unstable();
+        out
+    };
+    let d = |a: usize, b: usize| tour[a].distance(tour[b]);
+    let mut next: Vec<usize> = (0..n).map(|i| (i + 1) % n).collect();
+    let mut prev: Vec<usize> = (0..n).map(|i| (i + n - 1) % n).collect();
+    for _ in 0..MAX_DETOUR_PASSES {
+        let mut moved = false;
+        // the run starts: points after a long edge, in tour order from the first point
+        let mut starts = Vec::new();
+        let mut i = 0;
+        for _ in 0..n {
+            if d(prev[i], i) > long {
+                starts.push(i);
+            }
+            i = next[i];
+        }
+        for a in starts {
+            if d(prev[a], a) <= long {
+                continue;
+            }
+            // the run a..=b, ended by a long edge
+            let mut run = vec![a];
+            let mut b = a;
+            while run.len() <= MAX_RUN && d(b, next[b]) <= long {
+                b = next[b];
+                run.push(b);
+            }
+            if run.len() > MAX_RUN || next[b] == a || run.contains(&0) {
+                continue;
+            }
+            let (pa, nb) = (prev[a], next[b]);
+            let gain = d(pa, a) + d(b, nb) - d(pa, nb);
+            let mut best: Option<(f64, usize, bool)> = None;
+            let mut cands = near(tour[a]);
+            cands.extend(near(tour[b]));
+            cands.sort_unstable();
+            cands.dedup();
+            for q in cands {
+                let nq = next[q];
+                if run.contains(&q) || run.contains(&nq) || q == pa {
+                    continue;
+                }
+                for rev in [false, true] {
+                    let (first, last) = if rev { (b, a) } else { (a, b) };
+                    let cost = d(q, first) + d(last, nq) - d(q, nq);
+                    if best.is_none_or(|(c, _, _)| cost < c) {
+                        best = Some((cost, q, rev));
+                    }
+                }
+            }
+            let Some((cost, q, rev)) = best else { continue };
+            if gain - cost <= 1e-12 * gain {
+                continue;
+            }
+            // unlink the run, then link it between q and next[q]
+            next[pa] = nb;
+            prev[nb] = pa;
+            let nq = next[q];
+            if rev {
+                for &x in &run {
+                    std::mem::swap(&mut next[x], &mut prev[x]);
+                }
+            }
+            let (first, last) = if rev { (b, a) } else { (a, b) };
+            next[q] = first;
+            prev[first] = q;
+            next[last] = nq;
+            prev[nq] = last;
+            moved = true;
+        }
+        if !moved {
+            break;
+        }
+    }
+    let mut out = Vec::with_capacity(n);
+    let mut i = 0;
+    for _ in 0..n {
+        out.push(tour[i]);
+        i = next[i];
+    }
+    out
+}
+
+/// Splits a closed tour at gaps longer than `factor` times its typical spacing: the median spacing,
+/// at least `min_spacing` (the scale below which the points were merged: a thinned slab's points
+/// are a tolerance's sample of the curve, and a random cloud's holes shorter than a few tolerances
+/// are no holes at that scale). Returns the open chain starting right after the largest gap (or the
+/// tour unchanged, closed, when there is no gap) and the gaps.
 pub(crate) fn break_at_gaps(
     tour: Vec<Vec3>,
     factor: f64,
     section: usize,
+    min_spacing: f64,
 ) -> (Vec<Vec3>, bool, Vec<Gap>) {
     let n = tour.len();
     if n < 3 {
         return (tour, false, Vec::new());
     }
-    let typical = median_spacing(&tour, true);
+    let typical = median_spacing(&tour, true).max(min_spacing);
     let mut gaps = Vec::new();
     let mut largest = (usize::MAX, 0.0);
     for i in 0..n {
@@ -196,7 +330,7 @@ mod tests {
         }
         let tour = order_points(&pts, Vec3::new(1.0, 0.0, 0.0));
         let h = 2.0 * 2.0 * (std::f64::consts::PI / n as f64).sin();
-        let (chain, closed, gaps) = break_at_gaps(tour, 4.0, 0);
+        let (chain, closed, gaps) = break_at_gaps(tour, 4.0, 0, 0.0);
         assert!(closed && gaps.is_empty());
         for w in chain.windows(2) {
             assert!((w[0].distance(w[1]) - h).abs() < 1e-12);
@@ -209,7 +343,7 @@ mod tests {
             .collect();
         let removed = n - kept.len();
         let tour = order_points(&kept, Vec3::new(1.0, 0.0, 0.0));
-        let (chain, closed, gaps) = break_at_gaps(tour, 4.0, 3);
+        let (chain, closed, gaps) = break_at_gaps(tour, 4.0, 3, 0.0);
         assert!(!closed);
         assert_eq!(gaps.len(), 1);
         let want = 2.0 * 2.0 * (std::f64::consts::PI * (removed + 1) as f64 / n as f64).sin();

@@ -7,7 +7,8 @@
 //! sections on a clamped knot vector), [`section_fit`] (least squares on
 //! fixed knots), [`compatible`] (the shared knot vector), [`dense`] (dense sections screened and
 //! reduced, the tolerance verified on every point), [`skinning`], [`measure`],
-//! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections), [`cad_skin`] (surfaces held to
+//! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections; a private
+//! thinning of a cloud's slabs to tolerance-sized clusters), [`cad_skin`] (surfaces held to
 //! the exact CAD section curves), plus a private dense solver. Fairness
 //! comes from [`crate::fair`], iso-curves from [`crate::nurbs::NurbsSurface`].
 
@@ -26,6 +27,7 @@ pub mod seam;
 mod seam_tie;
 pub mod section_fit;
 pub mod skinning;
+mod slab_cells;
 pub mod slicing;
 
 pub use compatible::{make_compatible, CompatibleOptions, CompatibleSections};

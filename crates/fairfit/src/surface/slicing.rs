@@ -7,16 +7,30 @@
 //!   open pieces are appended end-to-nearest-end when close, and a remaining open end is closed when the
 //!   gap is short compared with the chain: every such bridge is reported as a [`Gap`], however short (a
 //!   mesh chain only ends at a hole). Loops other than the kept one are reported as dropped.
-//! - Point clouds: the points in a thin slab around the plane are projected onto it and ordered
-//!   ([`super::chain::order_points`]); tour edges much longer than the median spacing are gaps.
+//! - Point clouds: the points in a thin slab around the plane are projected onto it; with a
+//!   tolerance ([`SliceOptions::tolerance`]) they are thinned to one representative per cluster of
+//!   radius [`CLUSTER_TOLERANCES`] tolerances (a private module, `slab_cells`: the section's size then
+//!   follows the shape and the tolerance, not the point count), and ordered
+//!   ([`super::chain::order_points`]); tour edges much longer than the median spacing are gaps. The
+//!   points are sorted into their slabs in one pass and the slabs are cut in parallel, collected in
+//!   plane order (the same sections on any thread count).
 
-use super::chain::{break_at_gaps, median_spacing, order_points, Gap};
+use super::chain::{break_at_gaps, median_spacing, mend_detours, order_points, Gap};
 use super::mesh::Mesh;
 use super::orient::Section;
 use super::pipeline::{MAX_COORDINATE, MIN_SECTION_SIZE};
+use super::slab_cells::thin;
 use crate::errors::{Error, Result};
 use crate::nurbs::Vec3;
+use crate::tolerance::Tolerance;
+use rayon::prelude::*;
 use std::collections::HashMap;
+
+/// The radius of a cloud slab's clusters, in tolerances: a cluster's points lie within half the
+/// tolerance of each other in the plane (the size of a tolerance's detail), and two sides of a thin
+/// part are merged only where they come that close. Noise across the slab's band can raise it, at
+/// most to half the tolerance.
+pub const CLUSTER_TOLERANCES: f64 = 0.25;
 
 /// Options of [`slice_mesh`].
 #[derive(Clone, Debug)]
@@ -31,6 +45,11 @@ pub struct SliceOptions {
     pub gap_factor: f64,
     /// Open chains are closed (and the bridge reported) when the gap is below this fraction of their length.
     pub close_fraction: f64,
+    /// The fit's tolerance, for point clouds: each slab's points are thinned to clusters of radius
+    /// [`CLUSTER_TOLERANCES`] times it. A relative tolerance is a fraction of the largest extent
+    /// of a slab's projected points (the largest section's, as the CLI's `--rel-tol`). `None`
+    /// (the default): every slab point is a section point. Meshes are not affected.
+    pub tolerance: Option<Tolerance>,
 }
 
 impl Default for SliceOptions {
@@ -41,6 +60,7 @@ impl Default for SliceOptions {
             slab: 0.1,
             gap_factor: 5.0,
             close_fraction: 0.25,
+            tolerance: None,
         }
     }
 }
@@ -147,23 +167,21 @@ pub fn slice_mesh(mesh: &Mesh, opts: &SliceOptions) -> Result<Slices> {
     }
     let offsets = plane_offsets(&mesh.vertices, n, opts.slices)?;
     let dir = in_plane_dir(n);
+    let cuts: Vec<Cut> = if mesh.triangles.is_empty() {
+        cloud_cuts(&mesh.vertices, n, &offsets, opts, dir)?
+    } else {
+        offsets
+            .iter()
+            .map(|&h| slice_triangles_at(mesh, n, h, opts, dir))
+            .collect()
+    };
     let mut out = Slices::default();
-    for &h in &offsets {
-        let cut = if mesh.triangles.is_empty() {
-            slice_cloud_at(
-                &mesh.vertices,
-                n,
-                h,
-                opts,
-                &offsets,
-                dir,
-                out.sections.len(),
-            )
-        } else {
-            slice_triangles_at(mesh, n, h, opts, dir, out.sections.len())
-        };
+    for (&h, cut) in offsets.iter().zip(cuts) {
         match cut {
-            Some((sec, gaps, dropped)) => {
+            Some((sec, mut gaps, dropped)) => {
+                for g in &mut gaps {
+                    g.section = out.sections.len();
+                }
                 out.sections.push(sec);
                 out.offsets.push(h);
                 out.gaps.extend(gaps);
@@ -175,33 +193,108 @@ pub fn slice_mesh(mesh: &Mesh, opts: &SliceOptions) -> Result<Slices> {
     Ok(out)
 }
 
+/// A plane's section, its gaps (numbered by [`slice_mesh`]) and how many pieces were dropped;
+/// `None` when the plane cuts nothing usable.
 type Cut = Option<(Section, Vec<Gap>, usize)>;
 
-fn slice_cloud_at(
+/// The cuts of a point cloud by the planes at `offsets` along the unit `n`: its points sorted into
+/// the planes' slabs, thinned when a tolerance is given, and ordered; the slabs in parallel,
+/// collected in plane order.
+fn cloud_cuts(
     pts: &[Vec3],
     n: Vec3,
-    h: f64,
-    opts: &SliceOptions,
     offsets: &[f64],
+    opts: &SliceOptions,
     dir: Vec3,
-    index: usize,
-) -> Cut {
-    let spacing = if offsets.len() > 1 {
-        offsets[1] - offsets[0]
-    } else {
-        1.0
+) -> Result<Vec<Cut>> {
+    let (slabs, half) = slab_points(pts, n, offsets, opts.slab);
+    let tol = match opts.tolerance {
+        None => None,
+        Some(t) => Some(absolute_tolerance(t, &slabs)?),
     };
-    let half = opts.slab * spacing;
-    let near: Vec<Vec3> = pts
-        .iter()
-        .filter(|p| (p.dot(n) - h).abs() <= half)
-        .map(|&p| p - n * (p.dot(n) - h))
-        .collect();
+    let plane = (dir, n.cross(dir));
+    Ok(slabs
+        .into_par_iter()
+        .map(|(near, heights)| {
+            let near = match tol {
+                Some(tol) if near.len() >= 4 => {
+                    thin(&near, &heights, half, CLUSTER_TOLERANCES * tol, plane)
+                }
+                _ => near,
+            };
+            cut_slab(near, tol.unwrap_or(0.0), dir, opts)
+        })
+        .collect())
+}
+
+/// The tolerance in the data's units: a relative one times the largest extent of a slab's points.
+fn absolute_tolerance(t: Tolerance, slabs: &[Slab]) -> Result<f64> {
+    let tol = match t {
+        Tolerance::Absolute(t) => t,
+        Tolerance::Relative(r) => {
+            let largest = slabs
+                .iter()
+                .map(|s| crate::surface::orient::extent(&s.0))
+                .fold(0.0, f64::max);
+            r * largest
+        }
+    };
+    // a relative tolerance of slabs that hold nothing (no extent) leaves the points unthinned
+    let ok = tol.is_finite() && (tol > 0.0 || matches!(t, Tolerance::Relative(r) if r > 0.0));
+    if !ok {
+        return Err(Error::InvalidOption(format!(
+            "the slicing tolerance must be a positive number, got {t:?}"
+        )));
+    }
+    Ok(tol)
+}
+
+/// A slab's points projected onto its plane, and their heights above it.
+type Slab = (Vec<Vec3>, Vec<f64>);
+
+/// Each plane's slab (the points within `slab` plane spacings of it, as [`SliceOptions::slab`]),
+/// projected onto the plane, with their heights above it, in point order; and the slabs'
+/// half-thickness. One pass over the points.
+fn slab_points(pts: &[Vec3], n: Vec3, offsets: &[f64], slab: f64) -> (Vec<Slab>, f64) {
+    let mut slabs = vec![(Vec::new(), Vec::new()); offsets.len()];
+    let (first, last) = (offsets[0], offsets[offsets.len() - 1]);
+    let (spacing, half) = if offsets.len() > 1 {
+        (
+            (last - first) / (offsets.len() - 1) as f64,
+            slab * (offsets[1] - offsets[0]),
+        )
+    } else {
+        (1.0, slab)
+    };
+    let top = (offsets.len() - 1) as f64;
+    for &p in pts {
+        let d = p.dot(n);
+        // the candidate planes, widened by one each side: the exact test below decides
+        let a = (((d - half - first) / spacing).floor() - 1.0).clamp(0.0, top) as usize;
+        let b = (((d + half - first) / spacing).ceil() + 1.0).clamp(0.0, top) as usize;
+        for (k, &h) in offsets.iter().enumerate().take(b + 1).skip(a) {
+            if (d - h).abs() <= half {
+                slabs[k].0.push(p - n * (d - h));
+                slabs[k].1.push(d - h);
+            }
+        }
+    }
+    (slabs, half)
+}
+
+/// One slab's section from its (thinned) points: ordered by a tour (its detours mended when the
+/// slab was thinned, `min_spacing > 0`) opened at its largest gap, gaps judged against a spacing of
+/// at least `min_spacing`; `None` below four points.
+fn cut_slab(near: Vec<Vec3>, min_spacing: f64, dir: Vec3, opts: &SliceOptions) -> Cut {
     if near.len() < 4 {
         return None;
     }
-    let tour = order_points(&near, dir);
-    let (chain, closed, gaps) = break_at_gaps(tour, opts.gap_factor, index);
+    let mut tour = order_points(&near, dir);
+    if min_spacing > 0.0 {
+        // a thinned slab: the tour's detours mended before its gaps are judged
+        tour = mend_detours(tour);
+    }
+    let (chain, closed, gaps) = break_at_gaps(tour, opts.gap_factor, 0, min_spacing);
     let sec = if closed {
         Section::closed_loop(chain)
     } else {
@@ -216,14 +309,7 @@ fn slice_cloud_at(
 /// The cross-section of a triangle mesh by the plane `x·n = h`: the longest chain of crossed
 /// edges, with close open pieces bridged onto it (the section, its gaps, and how many pieces were
 /// dropped); `None` when the plane misses the mesh or the chain has fewer than four points.
-fn slice_triangles_at(
-    mesh: &Mesh,
-    n: Vec3,
-    h: f64,
-    opts: &SliceOptions,
-    dir: Vec3,
-    index: usize,
-) -> Cut {
+fn slice_triangles_at(mesh: &Mesh, n: Vec3, h: f64, opts: &SliceOptions, dir: Vec3) -> Cut {
     let segs = crossing_segments(mesh, n, h);
     if segs.is_empty() {
         return None;
@@ -240,7 +326,7 @@ fn slice_triangles_at(
     let typical = median_spacing(&main, closed).max(f64::MIN_POSITIVE);
     let mut dropped = 0usize;
     if !closed {
-        closed = join_open_pieces(&mut main, &mut pieces, &mut gaps, opts, index, typical);
+        closed = join_open_pieces(&mut main, &mut pieces, &mut gaps, opts, typical);
     }
     dropped += pieces.len();
     if main.len() < 4 {
@@ -385,7 +471,6 @@ fn join_open_pieces(
     pieces: &mut Vec<(Vec<Vec3>, bool)>,
     gaps: &mut Vec<Gap>,
     opts: &SliceOptions,
-    index: usize,
     typical: f64,
 ) -> bool {
     let mut closed = false;
@@ -412,7 +497,7 @@ fn join_open_pieces(
             p.reverse();
         }
         gaps.push(Gap {
-            section: index,
+            section: 0,
             from: end.0,
             to: p[0].0,
             length: d,
@@ -430,7 +515,7 @@ fn join_open_pieces(
         "open"
     };
     gaps.push(Gap {
-        section: index,
+        section: 0,
         from: main[main.len() - 1].0,
         to: main[0].0,
         length: d,

@@ -1,4 +1,5 @@
-//! Tests of `fairfit::surface`: skinning, the seam of closed surfaces, dense sections and the projection.
+//! Tests of `fairfit::surface`: skinning, the seam of closed surfaces, dense sections, the projection
+//! and the slicing of dense clouds.
 //!
 //! One file per source module it tests (`src/surface/<name>.rs`).
 
@@ -7,3 +8,4 @@ mod dense;
 mod measure;
 mod seam;
 mod skinning;
+mod slicing;
