@@ -9,6 +9,7 @@
 
 use crate::convert::{json_to_py, parameters, points_array3, vector};
 use fairfit::errors::try_vec;
+use fairfit::io::limits::DEFAULT_MAX_SECTIONS;
 use fairfit::io::mesh_read::read_mesh;
 use fairfit::io::surface_to_json;
 use fairfit::report::surface::{surface_report, SectionNotes};
@@ -341,10 +342,20 @@ fn centripetal(v_params: &str) -> PyResult<bool> {
     }
 }
 
+/// Refuses more sections than `max_sections` (`fairfit surface --max-sections`), before any work.
+fn check_section_count(n: usize, max_sections: usize) -> PyResult<()> {
+    if n > max_sections {
+        return Err(crate::py_err(format!(
+            "{n} sections are above the limit of {max_sections}; raise it with max_sections=N"
+        )));
+    }
+    Ok(())
+}
+
 /// The extension's `fit_surface` (documented by the wrapper `fairfit.fit_surface`).
 #[pyfunction]
 #[pyo3(signature = (sections, tol, rel_tol, degree, degree_v, max_ctrl, v_params, approximate_v,
-    smooth_v, clamped_seam, threads, names))]
+    smooth_v, clamped_seam, threads, names, max_sections=DEFAULT_MAX_SECTIONS))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface(
     py: Python<'_>,
@@ -360,7 +371,9 @@ pub fn fit_surface(
     clamped_seam: bool,
     threads: Option<usize>,
     names: Option<Vec<String>>,
+    max_sections: usize,
 ) -> PyResult<Surface> {
+    check_section_count(sections.len(), max_sections)?;
     let settings = SurfaceSettings {
         tol,
         rel_tol,
@@ -405,7 +418,8 @@ pub fn fit_surface(
 /// The extension's `fit_surface_from_mesh` (documented by the wrapper).
 #[pyfunction]
 #[pyo3(signature = (path, slices, axis, normal, gap_factor, tol, rel_tol, degree, degree_v,
-    max_ctrl, v_params, approximate_v, smooth_v, clamped_seam, threads))]
+    max_ctrl, v_params, approximate_v, smooth_v, clamped_seam, threads,
+    max_sections=DEFAULT_MAX_SECTIONS))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface_from_mesh(
     py: Python<'_>,
@@ -424,7 +438,14 @@ pub fn fit_surface_from_mesh(
     smooth_v: f64,
     clamped_seam: bool,
     threads: Option<usize>,
+    max_sections: usize,
 ) -> PyResult<Surface> {
+    if slices > max_sections {
+        return Err(crate::py_err(format!(
+            "slices {slices} is above the limit of {max_sections} sections; raise it with \
+             max_sections=N"
+        )));
+    }
     let settings = SurfaceSettings {
         tol,
         rel_tol,

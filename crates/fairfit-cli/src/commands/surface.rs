@@ -22,9 +22,7 @@ use fairfit::surface::{
 use fairfit::{Tolerance, Vec3};
 use std::path::PathBuf;
 
-/// The default of `--max-sections`: a loft through 1,000 sections takes about 20 s on two cores
-/// (`bench/hostile_scale.py`: 2,000 STEP sections in 37 s); typical lofts use tens.
-pub const DEFAULT_MAX_SECTIONS: usize = 1000;
+pub use fairfit::io::limits::DEFAULT_MAX_SECTIONS;
 
 /// Axis perpendicular to the slicing planes.
 #[derive(Clone, Copy, Debug, ValueEnum)]

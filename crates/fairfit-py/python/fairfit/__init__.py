@@ -39,6 +39,7 @@ __all__ = [
     "Surface",
     "DEFAULT_CORNER_ANGLE",
     "DEFAULT_MAX_POINTS",
+    "DEFAULT_MAX_SECTIONS",
     "fit_curve",
     "fit_surface",
     "fit_surface_from_mesh",
@@ -52,6 +53,9 @@ DEFAULT_CORNER_ANGLE = 60.0
 
 #: The most points an input may hold by default (``fairfit --max-points``).
 DEFAULT_MAX_POINTS = 10_000_000
+
+#: The most sections a surface may have by default (``fairfit surface --max-sections``).
+DEFAULT_MAX_SECTIONS = 1000
 
 
 class FairfitWarning(UserWarning):
@@ -263,6 +267,7 @@ def fit_surface(
     clamped_seam: bool = False,
     threads: Optional[int] = None,
     names: Optional[Sequence[str]] = None,
+    max_sections: int = DEFAULT_MAX_SECTIONS,
 ) -> Surface:
     """A fair surface through ordered sections: ``fairfit surface SECTIONS...`` from Python.
 
@@ -277,6 +282,8 @@ def fit_surface(
     smooth_v: smoothing across the sections (``--smooth-v``).
     clamped_seam: closed sections clamped at a seam instead of periodic (``--clamped-seam``).
     threads: worker threads (None: one per core); names: what the report calls each section.
+    max_sections: most sections (``--max-sections``, default 1,000: the loft's work grows with the
+        count); more raise :class:`FairfitError` before any work.
 
     One knot vector is searched for all sections together (the sections' fits are not independent),
     then the compatible curves are skinned. Returns the :class:`Surface` with the report
@@ -296,6 +303,7 @@ def fit_surface(
         bool(clamped_seam),
         threads,
         None if names is None else [str(n) for n in names],
+        _count(max_sections, "max_sections"),
     )
 
 
@@ -316,6 +324,7 @@ def fit_surface_from_mesh(
     smooth_v: float = 1e-3,
     clamped_seam: bool = False,
     threads: Optional[int] = None,
+    max_sections: int = DEFAULT_MAX_SECTIONS,
 ) -> Surface:
     """A fair surface through a mesh or point cloud (.ply, .stl, .obj) cut by ``slices`` planes along
     ``axis`` (or ``normal``): ``fairfit surface MESH --slices N --axis z``. The other keywords are
@@ -336,7 +345,14 @@ def fit_surface_from_mesh(
         float(smooth_v),
         bool(clamped_seam),
         threads,
+        _count(max_sections, "max_sections"),
     )
+
+
+def _count(n, what: str) -> int:
+    if isinstance(n, bool) or not isinstance(n, (int, _np.integer)) or n < 0:
+        raise FairfitError(f"{what} must be a whole number >= 0, got {n!r}")
+    return int(n)
 
 
 def read(path: Union[str, PathLike], index: int = 0) -> Union[Curve, Surface]:

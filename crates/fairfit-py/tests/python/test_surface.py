@@ -99,3 +99,16 @@ def test_a_grid_no_memory_holds_is_refused_with_one_line(surface):
     assert "\n" not in str(e.value)
     # an ordinary grid is unchanged
     assert surface(np.array([0.0, 0.5]), np.array([0.5]), grid=True).shape == (2, 1, 3)
+
+
+def test_more_sections_than_max_sections_are_refused_before_any_work(tmp_path):
+    assert fairfit.DEFAULT_MAX_SECTIONS == 1000
+    with pytest.raises(fairfit.FairfitError) as e:
+        fairfit.fit_surface(sections(), max_sections=4)
+    assert str(e.value) == "5 sections are above the limit of 4; raise it with max_sections=N"
+    # the limit itself is allowed
+    assert isinstance(fairfit.fit_surface(sections(), max_sections=5), fairfit.Surface)
+    with pytest.raises(fairfit.FairfitError, match="slices 2000 is above the limit of 1000 sections"):
+        fairfit.fit_surface_from_mesh(tmp_path / "absent.ply", 2000)
+    with pytest.raises(fairfit.FairfitError, match="max_sections must be a whole number >= 0"):
+        fairfit.fit_surface(sections(), max_sections=-1)
