@@ -40,8 +40,9 @@ pub enum Error {
         /// End of the domain.
         max: f64,
     },
-    /// A JSON document could not be read; the message names the field.
-    #[error("invalid JSON: {0}")]
+    /// A JSON document could not be read; the message names the field. Displayed on one line:
+    /// control characters the document put in a key or value (a `\n` escape) are escaped.
+    #[error("invalid JSON: {}", printable(.0))]
     Json(String),
     /// A file could not be read or written; the message names the path.
     #[error("{path}: {message}")]
@@ -111,4 +112,20 @@ pub fn try_vec<T>(n: usize, what: &str) -> Result<Vec<T>> {
         Error::out_of_memory(what, (n as u64).saturating_mul(size_of::<T>() as u64))
     })?;
     Ok(v)
+}
+
+/// `text` with its control characters escaped (`\n`, `\r`, `\t`, `\u{1b}`): an error message quoting
+/// what an input holds stays one line.
+fn printable(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c.is_control() => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out
 }

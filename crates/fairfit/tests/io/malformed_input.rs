@@ -435,3 +435,14 @@ fn extreme_scales_tessellate_plot_and_project_like_unit_scale() {
         }
     }
 }
+
+/// A key or value holding a control character (a `\n` escape in the document) is quoted in the error
+/// escaped: the message stays one line (found by the `json` libFuzzer target).
+#[test]
+fn a_json_error_quoting_a_control_character_is_one_line() {
+    let doc = r#"{"kind": "curve", "degree": 3, "knots": [0,0,0,0,1,1,1,1],
+        "con\ntrol\u001b_points": [[0,0,0],[1,0,0],[2,1,0],[3,0,0]]}"#;
+    let e = geometry_from_str(doc).unwrap_err().to_string();
+    assert!(!e.contains('\n') && !e.contains('\u{1b}'), "{e}");
+    assert!(e.contains(r"con\ntrol\u{1b}_points"), "{e}");
+}
