@@ -99,15 +99,7 @@ pub fn fit_constrained(
         .map(|sc| sc.outliers.iter().map(|o| o.index).collect())
         .unwrap_or_default();
     let (kept, kc, index) = kept_after_screening(&w.points, &outliers, &w.constraints);
-    let conditions = s.end_conditions();
-    let pinned = usize::from(!s.free_ends);
-    let held_at = |c: &fairfit::fit::end_constraints::EndConstraint| {
-        pinned + usize::from(c.tangent.is_some()) + usize::from(c.curvature.is_some())
-    };
-    let held = Held {
-        start: held_at(&conditions.start),
-        end: held_at(&conditions.end),
-    };
+    let held = Held::at_ends(!s.free_ends, &s.end_conditions());
     let reweight = s.method == Method::Lsq && s.smoothing == 0.0;
     let tuning = PointConstraintTuning::default();
     let fit = |pts: &[Vec3], tol: Option<f64>, inside: &PointConstraints| {

@@ -221,14 +221,7 @@ pub fn fit_constrained<R>(
     let conditions = args.end_conditions();
     // free ends may move (within the tolerance, as the method left them); pinned ends and the
     // control points of end conditions are held
-    let pinned = usize::from(args.ends != super::curve_args::EndsArg::Free);
-    let held_at = |c: &fairfit::fit::end_constraints::EndConstraint| {
-        pinned + usize::from(c.tangent.is_some()) + usize::from(c.curvature.is_some())
-    };
-    let held = Held {
-        start: held_at(&conditions.start),
-        end: held_at(&conditions.end),
-    };
+    let held = Held::at_ends(args.ends != super::curve_args::EndsArg::Free, &conditions);
     let reweight = args.method == Method::Lsq && args.smoothing == 0.0;
     let tuning = PointConstraintTuning::default();
     let r =

@@ -159,6 +159,22 @@ impl Default for Held {
     }
 }
 
+impl Held {
+    /// The control points a fit holds at each end: the end point when `pinned_ends`, and the ones
+    /// an end condition fixes (one more for a tangent, one more for a curvature).
+    pub fn at_ends(pinned_ends: bool, conditions: &super::end_constraints::EndConstraints) -> Held {
+        let held_at = |c: &super::end_constraints::EndConstraint| {
+            usize::from(pinned_ends)
+                + usize::from(c.tangent.is_some())
+                + usize::from(c.curvature.is_some())
+        };
+        Held {
+            start: held_at(&conditions.start),
+            end: held_at(&conditions.end),
+        }
+    }
+}
+
 /// What the constraints achieved.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PointConstraintReport {
