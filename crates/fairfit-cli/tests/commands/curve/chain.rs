@@ -149,22 +149,7 @@ fn chain_usage_errors_are_one_line_with_exit_2() {
 #[test]
 fn pieces_that_do_not_meet_are_an_input_error() {
     let (a, b) = (arc_file(0.0, 1.0, 20), arc_file(1.2, 2.0, 20));
-    let dir = TempDir::new().unwrap();
-    let out = dir.path().join("o.json");
-    one_line_failure(
-        &[
-            "curve",
-            a.path().to_str().unwrap(),
-            b.path().to_str().unwrap(),
-            "--chain",
-            "g2",
-            "-o",
-            out.to_str().unwrap(),
-        ],
-        1,
-        &["do not meet", "pieces 1 and 2"],
-    );
-    assert!(!out.exists());
+    refused_chain(&a, &b, "g2", &["do not meet", "pieces 1 and 2"]);
 }
 
 #[test]
@@ -225,6 +210,17 @@ fn a_g1_chain_across_a_corner_is_refused_not_written_with_a_kink() {
         file_with(s.as_bytes())
     };
     let (a, b) = (line(&|t| (t, 0.0)), line(&|t| (1.0, t)));
+    refused_chain(&a, &b, "g1", &["chain piece 1", "join with piece 2"]);
+}
+
+/// `fairfit curve A B --chain CONTINUITY -o o.json` fails as an input error (exit 1, one line with
+/// `needles`) and writes neither the chain nor a piece.
+fn refused_chain(
+    a: &NamedTempFile,
+    b: &NamedTempFile,
+    continuity: &str,
+    needles: &[&str],
+) {
     let dir = TempDir::new().unwrap();
     let out = dir.path().join("o.json");
     one_line_failure(
@@ -233,12 +229,12 @@ fn a_g1_chain_across_a_corner_is_refused_not_written_with_a_kink() {
             a.path().to_str().unwrap(),
             b.path().to_str().unwrap(),
             "--chain",
-            "g1",
+            continuity,
             "-o",
             out.to_str().unwrap(),
         ],
         1,
-        &["chain piece 1", "join with piece 2"],
+        needles,
     );
     assert!(!out.exists() && !dir.path().join("o_1.json").exists());
 }
