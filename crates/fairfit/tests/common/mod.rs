@@ -10,6 +10,7 @@ pub mod example_data;
 pub mod python;
 pub mod sampled;
 pub mod scan_data;
+pub mod xorshift;
 
 use fairfit::nurbs::{NurbsCurve, NurbsSurface, Vec3};
 use rand::{Rng, SeedableRng};

@@ -2,6 +2,7 @@
 //! tolerance at every point with the control points of the clean sparse sections, the noise is
 //! measured, spikes are excluded by index, and a sliced cloud gives the same bytes on 1 and 2 threads.
 
+use crate::common::xorshift::Xorshift;
 use fairfit::io::surface_to_json;
 use fairfit::nurbs::Vec3;
 use fairfit::surface::slicing::{slice_mesh, SliceOptions};
@@ -14,26 +15,10 @@ fn truth(t: f64, z: f64) -> Vec3 {
     Vec3::new(r * t.cos(), 0.7 * r * t.sin(), z)
 }
 
-/// A deterministic standard normal (xorshift and Box-Muller).
-struct Noise(u64);
-
-impl Noise {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-    fn normal(&mut self) -> f64 {
-        let (a, b) = (self.uniform(), self.uniform());
-        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
-    }
-}
-
 /// `k` closed sections of `n` points each (the last repeats the first), with in-plane normal noise
 /// `sigma`.
 fn sections(k: usize, n: usize, sigma: f64) -> Vec<Section> {
-    let mut noise = Noise(0x9e37_79b9_7f4a_7c15);
+    let mut noise = Xorshift(0x9e37_79b9_7f4a_7c15);
     (0..k)
         .map(|j| {
             let z = 2.0 * j as f64 / (k - 1) as f64;
@@ -157,7 +142,7 @@ fn spikes_of_dense_sections_are_excluded_by_index() {
 fn a_sliced_dense_cloud_gives_the_same_surface_on_1_and_2_threads() {
     // 200,000 points of a prism on the section at z = 0, between z = 0 and 2, sliced into 8 planes
     // (slab 0.1 of the spacing: ~5,000 points per section, exactly on the section curve)
-    let mut noise = Noise(7);
+    let mut noise = Xorshift(7);
     let vertices: Vec<Vec3> = (0..200_000)
         .map(|_| {
             let (t, z) = (

@@ -4,34 +4,19 @@
 //! and the tolerance, not by the point count; thin parts (a sharp trailing edge) are not merged
 //! across beyond that.
 
+use crate::common::xorshift::Xorshift;
 use fairfit::nurbs::Vec3;
 use fairfit::surface::slicing::{slice_mesh, SliceOptions, Slices, CLUSTER_TOLERANCES};
 use fairfit::surface::Mesh;
 use fairfit::Tolerance;
 use std::f64::consts::TAU;
 
-/// A deterministic uniform and standard normal (xorshift, Box-Muller).
-struct Rng(u64);
-
-impl Rng {
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-    fn normal(&mut self) -> f64 {
-        let (a, b) = (self.uniform(), self.uniform());
-        (-2.0 * a.ln()).sqrt() * (TAU * b).cos()
-    }
-}
-
 const TOL: f64 = 1e-2;
 
 /// `n` points of the cylinder of radius 1 around the z axis, z in [0, 2], with radial noise
 /// `sigma`, in random order.
 fn noisy_cylinder(n: usize, sigma: f64, seed: u64) -> Mesh {
-    let mut rng = Rng(seed);
+    let mut rng = Xorshift(seed);
     let vertices = (0..n)
         .map(|_| {
             let (t, z) = (TAU * rng.uniform(), 2.0 * rng.uniform());
@@ -155,7 +140,7 @@ fn distance_to_blade(p: Vec3) -> f64 {
 
 #[test]
 fn a_thin_blade_cloud_is_sliced_closed_and_not_merged_across_its_edge() {
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Xorshift(0x9e37_79b9_7f4a_7c15);
     let vertices: Vec<Vec3> = (0..200_000)
         .map(|_| {
             let (p, normal) = blade(rng.uniform());

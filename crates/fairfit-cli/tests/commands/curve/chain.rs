@@ -215,12 +215,7 @@ fn a_g1_chain_across_a_corner_is_refused_not_written_with_a_kink() {
 
 /// `fairfit curve A B --chain CONTINUITY -o o.json` fails as an input error (exit 1, one line with
 /// `needles`) and writes neither the chain nor a piece.
-fn refused_chain(
-    a: &NamedTempFile,
-    b: &NamedTempFile,
-    continuity: &str,
-    needles: &[&str],
-) {
+fn refused_chain(a: &NamedTempFile, b: &NamedTempFile, continuity: &str, needles: &[&str]) {
     let dir = TempDir::new().unwrap();
     let out = dir.path().join("o.json");
     one_line_failure(
