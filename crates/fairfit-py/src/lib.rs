@@ -8,14 +8,16 @@
 //! - an error of the library becomes `fairfit.FairfitError` (a `ValueError`) whose message is the
 //!   CLI's one-line message (without `error: `), and a Rust panic becomes the same exception with the
 //!   CLI's `internal error (...)` line: nothing unwinds into Python;
-//! - the options of `fit_curve` map to the library in one place (the `options` module), exactly as the CLI's
-//!   `fairfit curve` maps its flags, so the same points and seed give byte-identical curve JSON.
+//! - the options of `fit_curve` and `fit_chain` map to the library in one place (the `options`
+//!   module), exactly as the CLI's `fairfit curve` (and `--chain`) maps its flags, so the same points
+//!   and seed give byte-identical curve JSON.
 
 use pyo3::prelude::*;
 
 mod constrained;
 mod convert;
 mod curve;
+mod fit_chain;
 mod fit_curve;
 mod options;
 mod output;
@@ -94,6 +96,7 @@ fn _fairfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<curve::Curve>()?;
     m.add_class::<surface::Surface>()?;
     m.add_function(wrap_pyfunction!(fit_curve::fit_curve, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_chain::fit_chain, m)?)?;
     m.add_function(wrap_pyfunction!(surface::fit_surface, m)?)?;
     m.add_function(wrap_pyfunction!(surface::fit_surface_from_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(output::read, m)?)?;

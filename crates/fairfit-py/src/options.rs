@@ -1,7 +1,8 @@
 //! The options of `fit_curve`, checked and mapped to the library exactly as the CLI's `fairfit curve`
 //! maps its flags (`crates/fairfit-cli/src/commands/curve.rs` and `curve_optim.rs`): the same defaults,
 //! the same checks with the same messages (named by their Python keywords), the same library options.
-//! `integrated_options` and `fit_options` are the only places that build library options.
+//! `integrated_options` (with `chain_options` on top of it) and `fit_options` are the only places
+//! that build library options.
 
 use fairfit::fit::end_constraints::{EndConstraint, EndConstraints};
 pub use fairfit::fit::method::Method;
@@ -320,6 +321,13 @@ pub fn integrated_options(s: &CurveSettings) -> IntegratedOptions {
         .start(conditions.start)
         .end(conditions.end)
         .point_constraints(s.search_constraints.clone())
+}
+
+/// The options of every piece of a chain (`fit_chain`), as `fairfit curve --chain` builds them (its
+/// `fit_pieces`): the integrated method's options with the screening of `outliers`, which the chain
+/// fit runs itself (on the union of the pieces) instead of the single fit's screening stage.
+pub fn chain_options(s: &CurveSettings) -> IntegratedOptions {
+    integrated_options(s).outliers(s.outliers)
 }
 
 /// The Python keyword of a method-specific option.

@@ -5,7 +5,7 @@
 //!
 //! Outputs, all made in memory and written all or none: `-o FILE` (required) holds the joined
 //! chain, one B-spline on `[0, N]` (piece `k` on `[k − 1, k]`) whose joins are knots of full
-//! multiplicity (`fairfit::io::cad_chain::join_segments`: exact, G1/G2 there as the pieces are),
+//! multiplicity (`fairfit::report::chain::joined_curve`: exact, G1/G2 there as the pieces are),
 //! and piece `k` (1-based, in input order)
 //! goes to `FILE` with `_k` before its extension; `--step`, `--iges`, `--mesh`, `--plot` and `--html`
 //! show the joined chain; `--report` lists every piece (its own report, as a single fit's) and the
@@ -29,12 +29,11 @@ use super::files::{check_outputs, commit, Inputs, Output};
 use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
 use fairfit::fit::screening::OutlierMode;
-use fairfit::io::cad_chain::join_segments;
 use fairfit::io::cad_read::CadFormat;
 use fairfit::io::curve_to_json;
 use fairfit::optim::chain::{fit_chain, ChainResult};
 use fairfit::prelude::{NurbsCurve, Vec3};
-use fairfit::report::curve::{integrated_report, shape_report, with_method};
+use fairfit::report::chain::{joined_curve, unit_domain, ChainReportInputs};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -62,7 +61,7 @@ pub fn run(args: CurveArgs) -> CmdResult {
         .collect::<Result<_, _>>()?;
     let continuity = args.chain.unwrap_or(ChainArg::G2);
     let r = fit_pieces(args, &pieces, continuity)?;
-    let joined = join_segments(&unit_pieces(&r)?)?;
+    let joined = joined_curve(&r)?;
     let names: Vec<String> = inputs.iter().map(|p| p.display().to_string()).collect();
     let report = wants_report(args)
         .then(|| chain_report(args, &r, &names, Some(&piece_paths), &pieces, wall));
@@ -95,7 +94,7 @@ fn run_split(args: CurveArgs, wall: Instant) -> CmdResult {
     })?;
     let pieces = vec![points[..=le].to_vec(), points[le..].to_vec()];
     let r = fit_pieces(args, &pieces, ChainArg::G2)?;
-    let joined = unit_domain(&join_segments(&unit_pieces(&r)?)?)?;
+    let joined = unit_domain(&joined_curve(&r)?)?;
     let input = args.input.display().to_string();
     let names = [
         format!("{input} (to the leading edge)"),
@@ -139,8 +138,8 @@ fn fit_pieces(
         crate::progress::with_spinner("chain", || fit_chain(pieces, continuity.into(), &opts))
             .map_err(|e| super::curve_optim::cli_error(e, args))
     })?;
-    if !r.met {
-        diag!("warning: a chain piece misses the tolerance (see the report's pieces)");
+    if let Some(w) = r.warning() {
+        diag!("warning: {w}");
     }
     Ok(r)
 }
@@ -148,24 +147,6 @@ fn fit_pieces(
 /// Whether a report is made (`--report` or `--html`).
 fn wants_report(args: &CurveArgs) -> bool {
     args.report.is_some() || args.outputs.html.is_some()
-}
-
-/// The pieces' curves, each on `[0, 1]`, for joining: every join then lies at a whole number.
-fn unit_pieces(r: &ChainResult) -> Result<Vec<NurbsCurve>, CliError> {
-    r.pieces.iter().map(|p| unit_domain(&p.curve)).collect()
-}
-
-/// `c` with its knots mapped affinely onto `[0, 1]` (the same curve).
-fn unit_domain(c: &NurbsCurve) -> Result<NurbsCurve, CliError> {
-    let (a, b) = c.domain();
-    let knots: Vec<f64> = c.knots().iter().map(|&k| (k - a) / (b - a)).collect();
-    let weights = c.is_rational().then(|| c.weights().to_vec());
-    Ok(NurbsCurve::new(
-        c.degree(),
-        knots,
-        c.control_points().to_vec(),
-        weights,
-    )?)
 }
 
 /// `files` with the report and the CAD, mesh, plot and HTML outputs of the joined curve, written
@@ -327,8 +308,8 @@ fn read_piece(path: &Path, args: &CurveArgs) -> Result<Vec<Vec3>, CliError> {
     Ok(set.points)
 }
 
-/// The `--report` of a chain: the chain's measures, every piece's own report and every join's
-/// measured continuity.
+/// The `--report` of a chain (`fairfit::report::chain::chain_report`, as Python's `fit_chain`
+/// makes it): the chain's measures, every piece's own report and every join's measured continuity.
 fn chain_report(
     args: &CurveArgs,
     r: &ChainResult,
@@ -337,52 +318,19 @@ fn chain_report(
     pieces: &[Vec<Vec3>],
     wall: Instant,
 ) -> Value {
-    let seconds = wall.elapsed().as_secs_f64();
-    let piece_reports: Vec<Value> = r
-        .pieces
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            let mut v = with_method(
-                shape_report(&p.curve, &inputs[k], pieces[k].len(), seconds),
-                &integrated_report(p, false, args.span_fairness, args.seed),
-            );
-            if let Some(o) = outputs {
-                v["output"] = json!(o[k].display().to_string());
-            }
-            // the single curve's part between the joins, or the piece's own fit under them
-            v["from_single_curve"] = json!(r.from_single[k]);
-            v
-        })
-        .collect();
-    let joins: Vec<Value> = r
-        .joins
-        .iter()
-        .enumerate()
-        .map(|(k, j)| {
-            json!({
-                "pieces": [k + 1, k + 2],
-                "point": j.point.0,
-                "data_gap": j.data_gap,
-                "position_gap": j.position_gap,
-                "tangent_angle": j.tangent_angle,
-                "curvature_relative": j.curvature_relative,
-                "curvature": j.curvature,
-            })
-        })
-        .collect();
-    let single = r.single_fairness;
-    json!({
-        "chain": format!("{:?}", args.chain.unwrap_or(ChainArg::G2)).to_lowercase(),
-        "pieces": piece_reports,
-        "joins": joins,
-        "tolerance": r.tolerance,
-        "tolerance_met": r.met,
-        "max_deviation": r.pieces.iter().map(|p| p.quality.max_deviation).fold(0.0, f64::max),
-        "length": r.length,
-        "fairness": r.fairness,
-        "single_curve_fairness": single,
-        "fairness_ratio": (single > 0.0).then(|| r.fairness / single),
-        "wall_seconds": seconds,
-    })
+    let outputs: Option<Vec<String>> =
+        outputs.map(|o| o.iter().map(|p| p.display().to_string()).collect());
+    let points: Vec<usize> = pieces.iter().map(Vec::len).collect();
+    fairfit::report::chain::chain_report(
+        r,
+        &ChainReportInputs {
+            continuity: args.chain.unwrap_or(ChainArg::G2).into(),
+            names: inputs,
+            outputs: outputs.as_deref(),
+            points: &points,
+            span_fairness: args.span_fairness,
+            seed: args.seed,
+            wall_seconds: wall.elapsed().as_secs_f64(),
+        },
+    )
 }

@@ -9,9 +9,10 @@ numpy points in, fair NURBS out::
     curve.report["max_deviation"]        # the fit's report, the keys of `fairfit curve --report`
     curve.save("curve.step")             # .json .step .iges .obj .stl .ply .svg .png .html
 
-The keyword names and defaults of :func:`fit_curve` and :func:`fit_surface` are those of the
-command-line tool's ``fairfit curve`` and ``fairfit surface`` options (``--rel-tol`` is ``rel_tol``),
-and the same points and seed give a curve whose JSON is byte-identical to the CLI's ``-o`` file. Errors
+The keyword names and defaults of :func:`fit_curve`, :func:`fit_chain` and :func:`fit_surface` are
+those of the command-line tool's ``fairfit curve`` (``--chain``) and ``fairfit surface`` options
+(``--rel-tol`` is ``rel_tol``), and the same points and seed give a curve whose JSON is byte-identical
+to the CLI's ``-o`` file. Errors
 raise :class:`FairfitError` (a ``ValueError``) with the CLI's one-line message. Every fit and every
 batch evaluation runs with the GIL released; ``threads`` sets the size of the fit's own thread pool
 (results do not depend on it). :mod:`fairfit.ray` fans fits out on a Ray cluster.
@@ -26,6 +27,7 @@ from typing import List, Optional, Sequence, Tuple, Union
 import numpy as _np
 
 from ._fairfit import Curve, FairfitError, Surface, __version__
+from ._fairfit import fit_chain as _fit_chain
 from ._fairfit import fit_curve as _fit_curve
 from ._fairfit import fit_surface as _fit_surface
 from ._fairfit import fit_surface_from_mesh as _fit_surface_from_mesh
@@ -40,6 +42,7 @@ __all__ = [
     "DEFAULT_CORNER_ANGLE",
     "DEFAULT_MAX_POINTS",
     "DEFAULT_MAX_SECTIONS",
+    "fit_chain",
     "fit_curve",
     "fit_surface",
     "fit_surface_from_mesh",
@@ -251,6 +254,105 @@ def fit_curve(
     )
     _warn(warnings)
     return (curve, front) if pareto else curve
+
+
+def fit_chain(
+    pieces: Sequence,
+    continuity: str = "g2",
+    *,
+    tol: Optional[float] = None,
+    rel_tol: float = 1e-3,
+    degree: Union[str, int] = "auto",
+    corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
+    seed: int = 0,
+    threads: Optional[int] = None,
+    band_fairing: bool = True,
+    span_fairness: Optional[float] = None,
+    outliers: str = "auto",
+    start: Optional[str] = None,
+    end: Optional[str] = None,
+    start_tangent=None,
+    end_tangent=None,
+    names: Optional[Sequence[str]] = None,
+    max_points: int = DEFAULT_MAX_POINTS,
+) -> Tuple[Curve, List[Curve]]:
+    """Fits several point sets as one fair chain of curves joining with G1 or G2 continuity:
+    ``fairfit curve A.csv B.csv ... --chain g1|g2`` from Python.
+
+    The joins are where the fairest single curve through every point passes (its position, tangent
+    and, for G2, curvature vector there); each piece is the integrated method's fit of its points
+    under those join conditions, or the single curve's part between the joins when that is fairer
+    (docs/constraints.md, "Chains"). The same points and ``seed`` give curves whose
+    :meth:`Curve.to_json` is byte-identical to the CLI's ``-o FILE`` (the joined chain) and
+    ``FILE_k`` (piece k) files, and a report with the keys of its ``--report``.
+
+    pieces: a list of (n_k, 2) or (n_k, 3) arrays of floats, the point sets in order, each ordered
+        along the chain: the last point of piece k and the first of piece k + 1 must lie within twice
+        the tolerance of each other (they may be the same point). Consecutive duplicate points are
+        dropped (a :class:`FairfitWarning` says how many), as the CLI does.
+    continuity: ``"g1"`` (position and tangent direction) or ``"g2"`` (also the curvature vector,
+        the default) at every join (``--chain``).
+    tol, rel_tol: absolute tolerance, or relative to the largest side of the bounding box of all
+        pieces together (``--tol``, ``--rel-tol``, default 1e-3); every piece is held to it.
+    degree, corner_angle, seed, threads, band_fairing, span_fairness, outliers, max_points: as in
+        :func:`fit_curve` (the integrated method's keywords; ``outliers`` screens the union of the
+        pieces). The keywords of one curve's shape or of one point set (``method``,
+        ``control_points``, ``closed``, ``ends``, ``weights``, ``interpolate``, ``pareto``) do not
+        apply to a chain, as the CLI refuses those options with ``--chain``.
+    start, end, start_tangent, end_tangent: the chain's own conditions at the first point of the
+        first piece and the last point of the last piece, as in :func:`fit_curve`.
+    names: what each piece's report and the messages call its points (default ``"<piece k>"``,
+        1-based).
+
+    Returns ``(chain, pieces)``: ``chain`` the joined chain, one :class:`Curve` on ``[0, N]`` for N
+    pieces (piece k, 1-based, on ``[k - 1, k]``; every join a knot of full multiplicity, so exactly
+    as continuous as the pieces), and ``pieces`` the N piece curves in input order. ``chain.report``
+    is the dict ``--report`` writes: ``chain`` (the continuity), ``pieces`` (each piece's own
+    report, also ``pieces[k].report``, with ``from_single_curve``), ``joins`` (for each join:
+    ``pieces``, ``point``, ``data_gap``, ``position_gap``, ``tangent_angle`` in radians,
+    ``curvature_relative`` = ``|k1 - k2| / max(|k1|, |k2|)`` of the two curvature vectors,
+    ``curvature``), ``tolerance``, ``tolerance_met``, ``max_deviation``, ``length``, ``fairness``,
+    ``single_curve_fairness`` and ``fairness_ratio``.
+
+    Raises :class:`FairfitError` with the CLI's one-line message for fewer than two pieces, pieces
+    that do not meet, a continuity other than ``"g1"`` / ``"g2"``, non-finite points and invalid
+    options; a piece that misses the tolerance is a :class:`FairfitWarning`.
+    """
+    if isinstance(pieces, (str, bytes)) or not hasattr(pieces, "__len__"):
+        raise FairfitError(
+            f"pieces must be a list of (n, 2) or (n, 3) arrays (the point sets, in order), got {type(pieces).__name__}"
+        )
+    if not isinstance(continuity, str):
+        raise FairfitError(f"continuity: expected `g1` or `g2`, got `{continuity!r}`")
+    if isinstance(degree, bool) or not isinstance(degree, (str, int, _np.integer)):
+        raise FairfitError(f"degree: expected `auto` or a degree from 1 to 15, got `{degree!r}`")
+    for what, cond in (("start", start), ("end", end)):
+        if cond is not None and not isinstance(cond, str):
+            raise FairfitError(
+                f"{what}: expected text such as 'tangent:1,0' (the CLI's --{what}), got {cond!r}"
+            )
+    arrays = [_points(p, f"piece {k + 1}") for k, p in enumerate(pieces)]
+    joined, curves, warnings = _fit_chain(
+        arrays,
+        continuity,
+        None if tol is None else float(tol),
+        float(rel_tol),
+        str(degree),
+        None if corner_angle is None else float(corner_angle),
+        int(seed),
+        threads,
+        bool(band_fairing),
+        span_fairness,
+        outliers,
+        start,
+        end,
+        _vector(start_tangent, "start_tangent"),
+        _vector(end_tangent, "end_tangent"),
+        None if names is None else [str(n) for n in names],
+        _count(max_points, "max_points"),
+    )
+    _warn(warnings)
+    return joined, curves
 
 
 def fit_surface(

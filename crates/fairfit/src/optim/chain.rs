@@ -68,6 +68,34 @@ impl JoinContinuity {
             JoinContinuity::G2 => 2,
         }
     }
+
+    /// The name front ends spell it with (`fairfit curve --chain g1|g2`, the report's `chain`).
+    pub fn name(self) -> &'static str {
+        match self {
+            JoinContinuity::G1 => "g1",
+            JoinContinuity::G2 => "g2",
+        }
+    }
+}
+
+impl std::fmt::Display for JoinContinuity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for JoinContinuity {
+    type Err = String;
+
+    /// `g1` or `g2` (the names of [`JoinContinuity::name`]); the error is the reason alone, for the
+    /// caller to prefix with its own name of the option.
+    fn from_str(text: &str) -> std::result::Result<Self, String> {
+        match text {
+            "g1" => Ok(JoinContinuity::G1),
+            "g2" => Ok(JoinContinuity::G2),
+            _ => Err(format!("expected `g1` or `g2`, got `{text}`")),
+        }
+    }
 }
 
 /// One join of a chain, measured on the fitted pieces: the end of piece `k` against the start of
@@ -112,6 +140,14 @@ pub struct ChainResult {
     pub single_fairness: f64,
     /// Whether every piece met the tolerance.
     pub met: bool,
+}
+
+impl ChainResult {
+    /// The warning a front end shows when a piece missed the tolerance (`None` when every piece met
+    /// it): the pieces' reports say which.
+    pub fn warning(&self) -> Option<&'static str> {
+        (!self.met).then_some("a chain piece misses the tolerance (see the report's pieces)")
+    }
 }
 
 /// Fits the point sets `pieces` (each ordered, consecutive ones meeting end to start) as one fair
