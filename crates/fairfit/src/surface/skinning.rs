@@ -271,25 +271,21 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
                 .into(),
         ));
     }
-    let ends = Ends {
-        start: opts
-            .start_tangent_v
-            .map(|d| unit_direction(d, "the v tangent at the first section"))
-            .transpose()?,
-        end: opts
-            .end_tangent_v
-            .map(|d| unit_direction(d, "the v tangent at the last section"))
-            .transpose()?,
-        speed: 0.0,
-    };
-    let ends = if ends.count() > 0 {
-        Ends {
-            speed: column_speed(distinct)?,
-            ..ends
-        }
+    let start = opts
+        .start_tangent_v
+        .map(|d| unit_direction(d, "the v tangent at the first section"))
+        .transpose()?;
+    let end = opts
+        .end_tangent_v
+        .map(|d| unit_direction(d, "the v tangent at the last section"))
+        .transpose()?;
+    // the magnitude is only measured (and can only fail) when a tangent is asked
+    let speed = if start.is_some() || end.is_some() {
+        column_speed(distinct)?
     } else {
-        ends
+        0.0
     };
+    let ends = Ends { start, end, speed };
     let (q, knots_v, net_cw) = match opts.approximate_with {
         Some(n_v) if n_v < k1 => approximate(distinct, &v_params, opts, n_v, &ends)?,
         _ => interpolate(distinct, &v_params, opts.degree_v, &ends)?,
