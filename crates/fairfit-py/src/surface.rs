@@ -255,6 +255,10 @@ pub struct SurfaceSettings {
     pub clamped_seam: bool,
     /// `threads`.
     pub threads: Option<usize>,
+    /// `start_tangent_v`: the direction of `∂S/∂v` along the first section.
+    pub start_tangent_v: Option<[f64; 3]>,
+    /// `end_tangent_v`: the same along the last section.
+    pub end_tangent_v: Option<[f64; 3]>,
 }
 
 /// `fairfit surface`'s checks of the counts, with its messages (named by the Python keywords).
@@ -277,6 +281,42 @@ fn check_counts(s: &SurfaceSettings) -> Result<(), String> {
             s.smooth_v
         ));
     }
+    check_tangents(s)
+}
+
+/// `fairfit surface`'s checks of `--start-tangent-v` / `--end-tangent-v`, named by the keywords: a
+/// finite non-zero direction, a degree in v of at least 2, enough control points to approximate.
+fn check_tangents(s: &SurfaceSettings) -> Result<(), String> {
+    for (what, d) in [
+        ("start_tangent_v", s.start_tangent_v),
+        ("end_tangent_v", s.end_tangent_v),
+    ] {
+        if let Some(d) = d {
+            let v = Vec3::new(d[0], d[1], d[2]);
+            if !(v.is_finite() && v.norm() > 0.0) {
+                return Err(format!(
+                    "{what} must be a finite non-zero vector X,Y,Z, got {d:?}"
+                ));
+            }
+        }
+    }
+    let tangents =
+        usize::from(s.start_tangent_v.is_some()) + usize::from(s.end_tangent_v.is_some());
+    if tangents > 0 && s.degree_v < 2 {
+        return Err(format!(
+            "start_tangent_v / end_tangent_v need degree_v 2 or more, got {}",
+            s.degree_v
+        ));
+    }
+    if let Some(n) = s
+        .approximate_v
+        .filter(|&n| tangents > 0 && n < 2 + tangents)
+    {
+        return Err(format!(
+            "approximate_v {n}: with {tangents} v end tangent(s) it needs at least {} control points",
+            2 + tangents
+        ));
+    }
     Ok(())
 }
 
@@ -295,6 +335,8 @@ fn surface_options(s: &SurfaceSettings, tol: f64) -> SurfaceOptions {
     };
     opts.skin.approximate_with = s.approximate_v;
     opts.skin.smoothing = s.smooth_v;
+    opts.skin.start_tangent_v = s.start_tangent_v.map(|[x, y, z]| Vec3::new(x, y, z));
+    opts.skin.end_tangent_v = s.end_tangent_v.map(|[x, y, z]| Vec3::new(x, y, z));
     opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
     opts
 }
@@ -355,7 +397,8 @@ fn check_section_count(n: usize, max_sections: usize) -> PyResult<()> {
 /// The extension's `fit_surface` (documented by the wrapper `fairfit.fit_surface`).
 #[pyfunction]
 #[pyo3(signature = (sections, tol, rel_tol, degree, degree_v, max_ctrl, v_params, approximate_v,
-    smooth_v, clamped_seam, threads, names, max_sections=DEFAULT_MAX_SECTIONS))]
+    smooth_v, clamped_seam, threads, names, max_sections=DEFAULT_MAX_SECTIONS,
+    start_tangent_v=None, end_tangent_v=None))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface(
     py: Python<'_>,
@@ -372,6 +415,8 @@ pub fn fit_surface(
     threads: Option<usize>,
     names: Option<Vec<String>>,
     max_sections: usize,
+    start_tangent_v: Option<[f64; 3]>,
+    end_tangent_v: Option<[f64; 3]>,
 ) -> PyResult<Surface> {
     check_section_count(sections.len(), max_sections)?;
     let settings = SurfaceSettings {
@@ -385,6 +430,8 @@ pub fn fit_surface(
         smooth_v,
         clamped_seam,
         threads,
+        start_tangent_v,
+        end_tangent_v,
     };
     let names = names.unwrap_or_else(|| {
         (0..sections.len())
@@ -419,7 +466,7 @@ pub fn fit_surface(
 #[pyfunction]
 #[pyo3(signature = (path, slices, axis, normal, gap_factor, tol, rel_tol, degree, degree_v,
     max_ctrl, v_params, approximate_v, smooth_v, clamped_seam, threads,
-    max_sections=DEFAULT_MAX_SECTIONS))]
+    max_sections=DEFAULT_MAX_SECTIONS, start_tangent_v=None, end_tangent_v=None))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface_from_mesh(
     py: Python<'_>,
@@ -439,6 +486,8 @@ pub fn fit_surface_from_mesh(
     clamped_seam: bool,
     threads: Option<usize>,
     max_sections: usize,
+    start_tangent_v: Option<[f64; 3]>,
+    end_tangent_v: Option<[f64; 3]>,
 ) -> PyResult<Surface> {
     if slices > max_sections {
         return Err(crate::py_err(format!(
@@ -457,6 +506,8 @@ pub fn fit_surface_from_mesh(
         smooth_v,
         clamped_seam,
         threads,
+        start_tangent_v,
+        end_tangent_v,
     };
     if slices < 2 {
         return Err(crate::py_err(format!(

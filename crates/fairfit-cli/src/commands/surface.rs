@@ -109,6 +109,17 @@ pub struct SurfaceArgs {
     #[arg(long, default_value_t = 1e-3, allow_hyphen_values = true,
           value_parser = super::finite_non_negative)]
     pub smooth_v: f64,
+    /// Direction X,Y,Z of the surface's derivative across the sections (∂S/∂v) along the whole first
+    /// section, pointing towards the next one; only the direction counts (the magnitude is the mean
+    /// length of the control columns). Interpolation gains one control point across the sections,
+    /// --approximate-v holds two. Needs --degree-v 2 or more. The report's `v_end_tangents` gives the
+    /// largest angle reached.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_direction, allow_hyphen_values = true)]
+    pub start_tangent_v: Option<Vec3>,
+    /// Direction X,Y,Z of ∂S/∂v along the whole last section (pointing away from the previous one), as
+    /// --start-tangent-v.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_direction, allow_hyphen_values = true)]
+    pub end_tangent_v: Option<Vec3>,
     /// Fit closed sections clamped, with a C0 edge at their aligned seam, even when they are smooth
     /// there (by default smooth closed sections are fitted and skinned periodically in u: no crease).
     #[arg(long)]
@@ -157,9 +168,33 @@ fn parse_normal(s: &str) -> Result<Vec3, CliError> {
     Ok(Vec3::new(v[0], v[1], v[2]))
 }
 
+/// clap value parser: a direction `X,Y,Z`, three finite numbers not all zero.
+fn parse_direction(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("expected three numbers X,Y,Z: {e}"))?;
+    let [x, y, z] = v[..] else {
+        return Err(format!(
+            "expected three numbers X,Y,Z, got {} values",
+            v.len()
+        ));
+    };
+    let d = Vec3::new(x, y, z);
+    if !d.is_finite() {
+        return Err("expected finite numbers X,Y,Z".into());
+    }
+    if d.norm() <= 0.0 {
+        return Err("the direction must be a non-zero vector".into());
+    }
+    Ok(d)
+}
+
 /// Refuses counts no surface can have (before any file is read): fewer control points per section
 /// than a degree-p section needs (p + 1; the fit had lifted such a --max-ctrl silently), fewer than 2
-/// control points across the sections, fewer than 2 slicing planes.
+/// control points across the sections (2 plus one per v end tangent with `--approximate-v`), v end
+/// tangents with `--degree-v` below 2, fewer than 2 slicing planes.
 fn check_counts(args: &SurfaceArgs) -> Result<(), CliError> {
     let need = args.degree.saturating_add(1);
     if args.degree >= 1 && args.max_ctrl < need {
@@ -171,6 +206,23 @@ fn check_counts(args: &SurfaceArgs) -> Result<(), CliError> {
     if let Some(n) = args.approximate_v.filter(|&n| n < 2) {
         return Err(CliError::usage(format!(
             "--approximate-v {n}: approximation across the sections needs at least 2 control points"
+        )));
+    }
+    let tangents =
+        usize::from(args.start_tangent_v.is_some()) + usize::from(args.end_tangent_v.is_some());
+    if tangents > 0 && args.degree_v < 2 {
+        return Err(CliError::usage(format!(
+            "--start-tangent-v / --end-tangent-v need --degree-v 2 or more, got {}",
+            args.degree_v
+        )));
+    }
+    if let Some(n) = args
+        .approximate_v
+        .filter(|&n| tangents > 0 && n < 2 + tangents)
+    {
+        return Err(CliError::usage(format!(
+            "--approximate-v {n}: with {tangents} v end tangent(s) it needs at least {} control points",
+            2 + tangents
         )));
     }
     if args.slices.is_some_and(|n| n < 2) {
@@ -469,6 +521,8 @@ fn surface_options(args: &SurfaceArgs, tol: f64) -> SurfaceOptions {
     };
     opts.skin.approximate_with = args.approximate_v;
     opts.skin.smoothing = args.smooth_v;
+    opts.skin.start_tangent_v = args.start_tangent_v;
+    opts.skin.end_tangent_v = args.end_tangent_v;
     opts.iso_curves = fairfit::fair::DEFAULT_ISO_CURVES;
     opts.dense.outliers = match args.outliers {
         OutliersArg::Off => OutlierMode::Off,

@@ -434,3 +434,4 @@ fn sections_ordered_by_position_along_an_axis() {
 /// Sections and meshes at extreme scales, thread counts and output paths.
 mod extremes;
 mod outliers;
+mod v_tangents;

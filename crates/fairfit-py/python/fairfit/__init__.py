@@ -99,6 +99,15 @@ def _vector(v, what: str) -> Optional[list]:
     return [float(a[0]), float(a[1]), float(a[2]) if a.size == 3 else 0.0]
 
 
+def _direction(v, what: str) -> Optional[list]:
+    if v is None:
+        return None
+    a = _np.asarray(v, dtype=_np.float64).ravel()
+    if a.size != 3:
+        raise FairfitError(f"{what} must be X,Y,Z, got {a.size} values")
+    return [float(a[0]), float(a[1]), float(a[2])]
+
+
 def _warn(messages) -> None:
     for m in messages:
         _warnings.warn(m, FairfitWarning, stacklevel=3)
@@ -370,6 +379,8 @@ def fit_surface(
     threads: Optional[int] = None,
     names: Optional[Sequence[str]] = None,
     max_sections: int = DEFAULT_MAX_SECTIONS,
+    start_tangent_v=None,
+    end_tangent_v=None,
 ) -> Surface:
     """A fair surface through ordered sections: ``fairfit surface SECTIONS...`` from Python.
 
@@ -386,6 +397,9 @@ def fit_surface(
     threads: worker threads (None: one per core); names: what the report calls each section.
     max_sections: most sections (``--max-sections``, default 1,000: the loft's work grows with the
         count); more raise :class:`FairfitError` before any work.
+    start_tangent_v / end_tangent_v: a direction (X, Y, Z) for the derivative across the sections
+        along the whole first / last section (``--start-tangent-v``, ``--end-tangent-v``; only the
+        direction counts, the report's ``v_end_tangents`` gives the largest angle reached).
 
     One knot vector is searched for all sections together (the sections' fits are not independent),
     then the compatible curves are skinned. Returns the :class:`Surface` with the report
@@ -406,6 +420,8 @@ def fit_surface(
         threads,
         None if names is None else [str(n) for n in names],
         _count(max_sections, "max_sections"),
+        _direction(start_tangent_v, "start_tangent_v"),
+        _direction(end_tangent_v, "end_tangent_v"),
     )
 
 
@@ -427,6 +443,8 @@ def fit_surface_from_mesh(
     clamped_seam: bool = False,
     threads: Optional[int] = None,
     max_sections: int = DEFAULT_MAX_SECTIONS,
+    start_tangent_v=None,
+    end_tangent_v=None,
 ) -> Surface:
     """A fair surface through a mesh or point cloud (.ply, .stl, .obj) cut by ``slices`` planes along
     ``axis`` (or ``normal``): ``fairfit surface MESH --slices N --axis z``. The other keywords are
@@ -448,6 +466,8 @@ def fit_surface_from_mesh(
         bool(clamped_seam),
         threads,
         _count(max_sections, "max_sections"),
+        _direction(start_tangent_v, "start_tangent_v"),
+        _direction(end_tangent_v, "end_tangent_v"),
     )
 
 

@@ -112,3 +112,40 @@ def test_more_sections_than_max_sections_are_refused_before_any_work(tmp_path):
         fairfit.fit_surface_from_mesh(tmp_path / "absent.ply", 2000)
     with pytest.raises(fairfit.FairfitError, match="max_sections must be a whole number >= 0"):
         fairfit.fit_surface(sections(), max_sections=-1)
+
+
+def test_v_end_tangents_give_the_cli_bytes_and_hold_the_direction(cli, tmp_path):
+    paths = write_sections(tmp_path)
+    out, rep = tmp_path / "s.json", tmp_path / "r.json"
+    d0, d1 = [0.2, 0.0, 1.0], [0.0, 0.3, 1.0]
+    cli(
+        "surface", *paths, "--rel-tol", "1e-3", "--start-tangent-v", "0.2,0,1",
+        "--end-tangent-v", "0,0.3,1", "-o", out, "--report", rep,
+    )
+    s = fairfit.fit_surface(
+        sections(), rel_tol=1e-3, names=[str(p) for p in paths], start_tangent_v=d0,
+        end_tangent_v=np.array(d1),
+    )
+    assert s.to_json() == out.read_text()
+    report = json.loads(rep.read_text())
+    assert s.report["v_end_tangents"] == report["v_end_tangents"]
+    for end, d in [("start", d0), ("end", d1)]:
+        assert s.report["v_end_tangents"][end]["max_angle"] <= 1e-9
+        np.testing.assert_allclose(s.report["v_end_tangents"][end]["direction"], np.array(d) / np.linalg.norm(d))
+    # one more control point across per end; without the keywords no such report key
+    assert s.report["net"][1] == 7
+    assert "v_end_tangents" not in fairfit.fit_surface(sections(), rel_tol=1e-3).report
+
+
+def test_v_end_tangent_errors():
+    for bad, msg in [
+        ([0, 0, 0], "start_tangent_v must be a finite non-zero vector"),
+        ([np.nan, 0, 1], "start_tangent_v must be a finite non-zero vector"),
+        ([1, 2], "start_tangent_v must be X,Y,Z, got 2 values"),
+    ]:
+        with pytest.raises(fairfit.FairfitError, match=msg):
+            fairfit.fit_surface(sections(), start_tangent_v=bad)
+    with pytest.raises(fairfit.FairfitError, match="need degree_v 2 or more"):
+        fairfit.fit_surface(sections(), end_tangent_v=[0, 0, 1], degree_v=1)
+    with pytest.raises(fairfit.FairfitError, match="at least 4 control points"):
+        fairfit.fit_surface(sections(), start_tangent_v=[0, 0, 1], end_tangent_v=[0, 0, 1], approximate_v=3)

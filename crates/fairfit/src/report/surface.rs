@@ -76,6 +76,10 @@ pub fn surface_report(
     if let (Some(d), Some(obj)) = (&r.dense, report.as_object_mut()) {
         obj.insert("dense".into(), json!(d));
     }
+    // only when v end tangents were asked, for the same reason
+    if let (Some(t), Some(obj)) = (&r.v_end_tangents, report.as_object_mut()) {
+        obj.insert("v_end_tangents".into(), json!(t));
+    }
     report
 }
 

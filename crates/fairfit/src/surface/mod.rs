@@ -6,7 +6,8 @@
 //! a private periodic least-squares fit of closed sections, a private seam tie (smooth closed
 //! sections on a clamped knot vector), [`section_fit`] (least squares on
 //! fixed knots), [`compatible`] (the shared knot vector), [`dense`] (dense sections screened and
-//! reduced, the tolerance verified on every point), [`skinning`], [`measure`],
+//! reduced, the tolerance verified on every point), [`skinning`] (with [`skin_ends`]: v end
+//! tangents), [`measure`],
 //! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections; a private
 //! thinning of a cloud's slabs to tolerance-sized clusters), [`cad_skin`] (surfaces held to
 //! the exact CAD section curves), plus a private dense solver. Fairness
@@ -26,6 +27,7 @@ mod point_grid;
 pub mod seam;
 mod seam_tie;
 pub mod section_fit;
+pub mod skin_ends;
 pub mod skinning;
 mod slab_cells;
 pub mod slicing;
@@ -40,4 +42,5 @@ pub use pipeline::{
     SurfaceOptions, SurfaceReconstruction,
 };
 pub use seam::{periodic_seam, seam_continuity, seam_continuity_at, SeamContinuity};
+pub use skin_ends::{max_v_tangent_angle, VEndTangents, VTangentCheck};
 pub use skinning::{skin, Skin, SkinOptions, VParams};

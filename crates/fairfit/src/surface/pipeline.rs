@@ -7,6 +7,7 @@ use super::dense::{DenseOptions, DenseSummary};
 use super::measure::{surface_deviation, surface_deviation_near, Deviation};
 use super::orient::{align_sections, extent, Section};
 use super::seam::{seam_continuity, seam_continuity_at, SeamContinuity};
+use super::skin_ends::VEndTangents;
 use super::skinning::{skin, SkinOptions};
 
 /// Iso-curves `v = const` at which the seam continuity is measured (ends included: one more).
@@ -67,6 +68,9 @@ pub struct SurfaceReconstruction {
     /// Then `sections` hold the kept points (spikes excluded), and the fits in `compatible` are of
     /// the representatives while its `max_deviation` is that of every kept point.
     pub dense: Option<DenseSummary>,
+    /// With v end tangents asked ([`SkinOptions::start_tangent_v`], `end_tangent_v`): the largest
+    /// angle between `∂S/∂v` and each asked direction over a dense u sampling; `None` without.
+    pub v_end_tangents: Option<VEndTangents>,
 }
 
 impl SurfaceReconstruction {
@@ -241,6 +245,14 @@ fn skinned(
     } else {
         None
     };
+    let v_end_tangents = sk.v_tangent_speed.and_then(|speed| {
+        VEndTangents::measure(
+            &sk.surface,
+            opts.skin.start_tangent_v,
+            opts.skin.end_tangent_v,
+            speed,
+        )
+    });
     progress(Stage::Measured);
     Ok(SurfaceReconstruction {
         surface: sk.surface,
@@ -253,6 +265,7 @@ fn skinned(
         fairness,
         seam,
         dense,
+        v_end_tangents,
     })
 }
 

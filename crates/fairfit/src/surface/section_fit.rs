@@ -102,6 +102,34 @@ pub(crate) fn lsq_control_points<const C: usize>(
     knots: &[f64],
     smoothing: f64,
 ) -> Result<Vec<[f64; C]>> {
+    let m = data.len();
+    if m < 2 || params.len() != m {
+        return Err(Error::Fit("least squares needs at least 2 points".into()));
+    }
+    lsq_control_points_held(
+        data,
+        params,
+        degree,
+        knots,
+        smoothing,
+        &[data[0]],
+        &[data[m - 1]],
+    )
+}
+
+/// [`lsq_control_points`] with the leading control points held at `front` and the trailing ones at
+/// `back` (each at least one: the first and last data points are not fitted, they are taken as held by
+/// the end control points of a clamped knot vector, `front[0]` and `back[back.len() - 1]`). Holding two
+/// at an end fixes the end derivative as well (skinning's v end tangents).
+pub(crate) fn lsq_control_points_held<const C: usize>(
+    data: &[[f64; C]],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    smoothing: f64,
+    front: &[[f64; C]],
+    back: &[[f64; C]],
+) -> Result<Vec<[f64; C]>> {
     let p = degree;
     let n_ctrl = knots.len() - p - 1;
     let m = data.len();
@@ -113,13 +141,20 @@ pub(crate) fn lsq_control_points<const C: usize>(
             "least squares needs at least 2 control points".into(),
         ));
     }
+    let (a, b) = (front.len(), back.len());
+    if a == 0 || b == 0 || a + b > n_ctrl {
+        return Err(Error::Fit(format!(
+            "least squares cannot hold {a} leading and {b} trailing of {n_ctrl} control points"
+        )));
+    }
     let mut ctrl = vec![[0.0; C]; n_ctrl];
-    ctrl[0] = data[0];
-    ctrl[n_ctrl - 1] = data[m - 1];
-    if n_ctrl == 2 {
+    ctrl[..a].copy_from_slice(front);
+    ctrl[n_ctrl - b..].copy_from_slice(back);
+    if a + b == n_ctrl {
         return Ok(ctrl);
     }
-    let nu = n_ctrl - 2;
+    let held = |idx: usize| idx < a || idx >= n_ctrl - b;
+    let nu = n_ctrl - a - b;
     let mut ntn = Dense::zeros(nu);
     let mut rhs = vec![[0.0; C]; nu];
     let (mut left, mut right, mut nb) = (vec![0.0; p + 1], vec![0.0; p + 1], vec![0.0; p + 1]);
@@ -128,11 +163,11 @@ pub(crate) fn lsq_control_points<const C: usize>(
         let span = find_span(n_ctrl - 1, p, u, knots);
         basis_funs_into(span, u, p, knots, &mut left, &mut right, &mut nb);
         let first = span - p;
-        // residual after the fixed end points
+        // residual after the held control points
         let mut r = data[k];
         for (j, &nj) in nb.iter().enumerate() {
             let idx = first + j;
-            if idx == 0 || idx == n_ctrl - 1 {
+            if held(idx) {
                 for c in 0..C {
                     r[c] -= nj * ctrl[idx][c];
                 }
@@ -140,43 +175,41 @@ pub(crate) fn lsq_control_points<const C: usize>(
         }
         for (j, &nj) in nb.iter().enumerate() {
             let idx = first + j;
-            if idx == 0 || idx == n_ctrl - 1 {
+            if held(idx) {
                 continue;
             }
             for c in 0..C {
-                rhs[idx - 1][c] += nj * r[c];
+                rhs[idx - a][c] += nj * r[c];
             }
             for (l, &nl) in nb.iter().enumerate() {
                 let jdx = first + l;
-                if jdx == 0 || jdx == n_ctrl - 1 {
+                if held(jdx) {
                     continue;
                 }
-                *ntn.at(idx - 1, jdx - 1) += nj * nl;
+                *ntn.at(idx - a, jdx - a) += nj * nl;
             }
         }
     }
     if smoothing > 0.0 {
         let g = bending_gram(p, knots, n_ctrl);
         // objective / m = mean squared residual + smoothing * ∫ |C''(u)|² du: scale-free weight
-        {
-            let lam = smoothing * m as f64;
-            for i in 1..=nu {
-                for j in 0..n_ctrl {
-                    let gij = lam * g.get(i, j);
-                    if j == 0 || j == n_ctrl - 1 {
-                        for c in 0..C {
-                            rhs[i - 1][c] -= gij * ctrl[j][c];
-                        }
-                    } else {
-                        *ntn.at(i - 1, j - 1) += gij;
+        let lam = smoothing * m as f64;
+        for i in a..n_ctrl - b {
+            for j in 0..n_ctrl {
+                let gij = lam * g.get(i, j);
+                if held(j) {
+                    for c in 0..C {
+                        rhs[i - a][c] -= gij * ctrl[j][c];
                     }
+                } else {
+                    *ntn.at(i - a, j - a) += gij;
                 }
             }
         }
     }
     cholesky(&mut ntn)?;
     cholesky_solve(&ntn, &mut rhs);
-    ctrl[1..n_ctrl - 1].copy_from_slice(&rhs);
+    ctrl[a..n_ctrl - b].copy_from_slice(&rhs);
     Ok(ctrl)
 }
 

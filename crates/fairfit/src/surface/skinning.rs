@@ -2,10 +2,14 @@
 //! the sections by averaged chord or centripetal lengths over the control-point columns, v knots by
 //! averaging (eq. 9.8), interpolation of every control column in homogeneous coordinates (weights must
 //! stay positive); or, for many or noisy sections, least-squares approximation of the columns with a
-//! bending (smoothing) term and fewer v control points.
+//! bending (smoothing) term and fewer v control points. Optionally `∂S/∂v` along the first and last
+//! sections is held parallel to given directions ([`super::skin_ends`]).
 
 use super::linalg::{lu_solve, Dense};
-use super::section_fit::lsq_control_points;
+use super::section_fit::lsq_control_points_held;
+use super::skin_ends::{
+    column_speed, doubled_ends, homogeneous_derivative, leg_factor, unit_direction,
+};
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::basis_funs_into;
 use crate::nurbs::knots::{find_span, is_clamped};
@@ -33,6 +37,13 @@ pub struct SkinOptions {
     pub approximate_with: Option<usize>,
     /// Bending weight of the approximation (relative to the data term); unused for interpolation.
     pub smoothing: f64,
+    /// A direction (X, Y, Z, any non-zero length) for `∂S/∂v` along the whole first section (`v = 0`,
+    /// pointing towards increasing v): `None` leaves the end free. The magnitude is the method's
+    /// ([`super::skin_ends`]); interpolation gains one control point per column, approximation holds
+    /// two and needs a degree in v of at least 2.
+    pub start_tangent_v: Option<Vec3>,
+    /// The same along the last section (`v = 1`).
+    pub end_tangent_v: Option<Vec3>,
 }
 
 impl Default for SkinOptions {
@@ -42,6 +53,8 @@ impl Default for SkinOptions {
             params: VParams::ChordLength,
             approximate_with: None,
             smoothing: 0.0,
+            start_tangent_v: None,
+            end_tangent_v: None,
         }
     }
 }
@@ -53,6 +66,58 @@ pub struct Skin {
     pub surface: NurbsSurface,
     /// `S(u, v_params[k])` is section `k` (exactly when interpolating).
     pub v_params: Vec<f64>,
+    /// With v end tangents: the magnitude of `∂S/∂v` at the constrained ends (the mean polygon length
+    /// of the control columns, [`super::skin_ends`]); `None` without.
+    pub v_tangent_speed: Option<f64>,
+}
+
+/// The asked v end tangents, as unit vectors, and the magnitude of the end derivatives.
+struct Ends {
+    start: Option<Vec3>,
+    end: Option<Vec3>,
+    speed: f64,
+}
+
+impl Ends {
+    fn count(&self) -> usize {
+        usize::from(self.start.is_some()) + usize::from(self.end.is_some())
+    }
+
+    /// End derivatives need a degree in v of at least 2 (at degree 1 the leg is the whole span).
+    fn check_degree(&self, q: usize) -> Result<()> {
+        if self.count() > 0 && q < 2 {
+            return Err(Error::InvalidOption(format!(
+                "v end tangents need a degree in v of at least 2, got {q}"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The held leading and trailing control points of a column for approximation: the end points,
+    /// and the leg points of the asked tangents on the knots `kv` of degree `q`.
+    #[allow(clippy::type_complexity)]
+    fn held(&self, col: &[[f64; 4]], kv: &[f64], q: usize) -> (Vec<[f64; 4]>, Vec<[f64; 4]>) {
+        let (first, last) = (col[0], col[col.len() - 1]);
+        let leg = |end: &[f64; 4], d: Vec3, at_start: bool, sign: f64| {
+            let f = sign * leg_factor(kv, q, at_start);
+            let dv = homogeneous_derivative(end, self.speed, d);
+            [
+                end[0] + f * dv[0],
+                end[1] + f * dv[1],
+                end[2] + f * dv[2],
+                end[3] + f * dv[3],
+            ]
+        };
+        let mut front = vec![first];
+        front.extend(self.start.map(|d| leg(&first, d, true, 1.0)));
+        let mut back: Vec<[f64; 4]> = self
+            .end
+            .map(|d| leg(&last, d, false, -1.0))
+            .into_iter()
+            .collect();
+        back.push(last);
+        (front, back)
+    }
 }
 
 fn averaged_params(cols: &[Vec<[f64; 4]>], centripetal: bool) -> Result<Vec<f64>> {
@@ -206,43 +271,24 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
                 .into(),
         ));
     }
+    let start = opts
+        .start_tangent_v
+        .map(|d| unit_direction(d, "the v tangent at the first section"))
+        .transpose()?;
+    let end = opts
+        .end_tangent_v
+        .map(|d| unit_direction(d, "the v tangent at the last section"))
+        .transpose()?;
+    // the magnitude is only measured (and can only fail) when a tangent is asked
+    let speed = if start.is_some() || end.is_some() {
+        column_speed(distinct)?
+    } else {
+        0.0
+    };
+    let ends = Ends { start, end, speed };
     let (q, knots_v, net_cw) = match opts.approximate_with {
-        Some(n_v) if n_v < k1 => {
-            let q = opts.degree_v.min(n_v.saturating_sub(1)).max(1);
-            if n_v < 2 {
-                return Err(Error::InvalidOption(
-                    "approximation in v needs at least 2 control points".into(),
-                ));
-            }
-            let kv = approximation_knots(&v_params, q, n_v);
-            let mut net = Vec::with_capacity(n_u);
-            for col in distinct {
-                net.push(lsq_control_points(col, &v_params, q, &kv, opts.smoothing)?);
-            }
-            (q, kv, net)
-        }
-        _ => {
-            let q = opts.degree_v.min(k1 - 1);
-            let kv = averaging_knots(&v_params, q);
-            let mut a = Dense::zeros(k1);
-            let (mut left, mut right, mut nb) =
-                (vec![0.0; q + 1], vec![0.0; q + 1], vec![0.0; q + 1]);
-            for (k, &v) in v_params.iter().enumerate() {
-                let span = find_span(k1 - 1, q, v, &kv);
-                basis_funs_into(span, v, q, &kv, &mut left, &mut right, &mut nb);
-                for (j, &b) in nb.iter().enumerate() {
-                    *a.at(k, span - q + j) = b;
-                }
-            }
-            let mut net = Vec::with_capacity(n_u);
-            for col in distinct {
-                let mut m = a.clone();
-                let mut b = col.clone();
-                lu_solve(&mut m, &mut b)?;
-                net.push(b);
-            }
-            (q, kv, net)
-        }
+        Some(n_v) if n_v < k1 => approximate(distinct, &v_params, opts, n_v, &ends)?,
+        _ => interpolate(distinct, &v_params, opts.degree_v, &ends)?,
     };
     let mut net_cw = net_cw;
     for i in 0..copies {
@@ -278,5 +324,107 @@ pub fn skin(sections: &[NurbsCurve], opts: &SkinOptions) -> Result<Skin> {
         pts,
         if rational { Some(wts) } else { None },
     )?;
-    Ok(Skin { surface, v_params })
+    Ok(Skin {
+        surface,
+        v_params,
+        v_tangent_speed: (ends.count() > 0).then_some(ends.speed),
+    })
+}
+
+/// Homogeneous control columns with their degree and knots: `(q, knots_v, columns)`.
+type Columns = (usize, Vec<f64>, Vec<Vec<[f64; 4]>>);
+
+/// Least-squares approximation of every column with `n_v` control points (knots by eq. 9.69), the end
+/// points held, and with v end tangents the leg points too.
+fn approximate(
+    distinct: &[Vec<[f64; 4]>],
+    v_params: &[f64],
+    opts: &SkinOptions,
+    n_v: usize,
+    ends: &Ends,
+) -> Result<Columns> {
+    let q = opts.degree_v.min(n_v.saturating_sub(1)).max(1);
+    if n_v < 2 {
+        return Err(Error::InvalidOption(
+            "approximation in v needs at least 2 control points".into(),
+        ));
+    }
+    ends.check_degree(q)?;
+    if n_v < 2 + ends.count() {
+        return Err(Error::InvalidOption(format!(
+            "approximation in v with {} v end tangent(s) needs at least {} control points, got {n_v}",
+            ends.count(),
+            2 + ends.count()
+        )));
+    }
+    let kv = approximation_knots(v_params, q, n_v);
+    let mut net = Vec::with_capacity(distinct.len());
+    for col in distinct {
+        let (front, back) = ends.held(col, &kv, q);
+        net.push(lsq_control_points_held(
+            col,
+            v_params,
+            q,
+            &kv,
+            opts.smoothing,
+            &front,
+            &back,
+        )?);
+    }
+    Ok((q, kv, net))
+}
+
+/// Interpolation of every column through its sections (NURBS Book eq. 9.8 knots), with one more
+/// control point and equation per asked v end tangent (eq. 9.21; knots by eq. 9.8 of the parameters
+/// with the constrained ends doubled, eq. 9.22).
+fn interpolate(
+    distinct: &[Vec<[f64; 4]>],
+    v_params: &[f64],
+    degree_v: usize,
+    ends: &Ends,
+) -> Result<Columns> {
+    let k1 = v_params.len();
+    let (s, e) = (ends.start.is_some(), ends.end.is_some());
+    let n = k1 + ends.count();
+    let q = degree_v.min(n - 1);
+    ends.check_degree(q)?;
+    let kv = averaging_knots(&doubled_ends(v_params, s, e), q);
+    // rows: section 0, start leg, inner sections, end leg, last section (eq. 9.21)
+    let row_of = |k: usize| k + usize::from(s && k > 0) + usize::from(e && k + 1 == k1);
+    let mut a = Dense::zeros(n);
+    let (mut left, mut right, mut nb) = (vec![0.0; q + 1], vec![0.0; q + 1], vec![0.0; q + 1]);
+    for (k, &v) in v_params.iter().enumerate() {
+        let span = find_span(n - 1, q, v, &kv);
+        basis_funs_into(span, v, q, &kv, &mut left, &mut right, &mut nb);
+        for (j, &b) in nb.iter().enumerate() {
+            *a.at(row_of(k), span - q + j) = b;
+        }
+    }
+    if s {
+        *a.at(1, 0) = -1.0;
+        *a.at(1, 1) = 1.0;
+    }
+    if e {
+        *a.at(n - 2, n - 2) = -1.0;
+        *a.at(n - 2, n - 1) = 1.0;
+    }
+    let mut net = Vec::with_capacity(distinct.len());
+    for col in distinct {
+        let mut m = a.clone();
+        let mut b = vec![[0.0; 4]; n];
+        for (k, c) in col.iter().enumerate() {
+            b[row_of(k)] = *c;
+        }
+        if let Some(d) = ends.start {
+            let f = leg_factor(&kv, q, true);
+            b[1] = homogeneous_derivative(&col[0], ends.speed, d).map(|x| f * x);
+        }
+        if let Some(d) = ends.end {
+            let f = leg_factor(&kv, q, false);
+            b[n - 2] = homogeneous_derivative(&col[k1 - 1], ends.speed, d).map(|x| f * x);
+        }
+        lu_solve(&mut m, &mut b)?;
+        net.push(b);
+    }
+    Ok((q, kv, net))
 }

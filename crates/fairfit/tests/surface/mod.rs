@@ -7,5 +7,6 @@ mod cad_skin;
 mod dense;
 mod measure;
 mod seam;
+mod skin_ends;
 mod skinning;
 mod slicing;
