@@ -4,7 +4,8 @@
 //! noise-free spiral; a burst of 100:1 density gives the count of even sampling; the data scaled
 //! by 1000 give the same knots (12,000 points whose normalised coordinates differ in the last
 //! place, one of them across the pipeline's 2^-36 snap grid); 10 times fewer points (two or three
-//! to a bin) give the count within one.
+//! to a bin) give the count within one, and so do 10^4 and 10^5 points at noise tol/10 and three
+//! swarm seeds.
 
 use fairfit::diffgeo::projection::CurveProjector;
 use fairfit::optim::{fit_integrated, IntegratedOptions, IntegratedResult, Tolerance};
@@ -96,6 +97,38 @@ fn ten_times_fewer_points_give_the_count_within_one() {
         sparse.curve.n_control_points(),
     );
     assert!(a.abs_diff(b) <= 1, "{a} vs {b} control points");
+}
+
+#[test]
+fn ten_and_a_hundred_thousand_noisy_points_give_the_count_within_one_at_every_seed() {
+    // noise tol/10 on each coordinate: held to the tightest bin's share everywhere, the fit was
+    // held to about half the tolerance at 10^5 points and the count moved with the density and the
+    // swarm's seed; each representative held to its own bin's share, every count of both densities
+    // and three seeds lies within one
+    let mut counts = Vec::new();
+    for (n, data_seed) in [(10_000, 5), (100_000, 9)] {
+        let pts = noisy(&even(n), 2.2e-4, data_seed);
+        let tol = tolerance(&pts);
+        for seed in 0..3 {
+            let opts = IntegratedOptions::new(Tolerance::Relative(1e-3))
+                .corner_angle(None)
+                .seed(seed);
+            let r = fit_integrated(&pts, &opts).unwrap();
+            assert!(r.met, "{n} points, seed {seed}");
+            let proj = CurveProjector::new(&r.curve, 16);
+            let worst = pts
+                .iter()
+                .map(|&q| proj.project(q).distance)
+                .fold(0.0, f64::max);
+            assert!(worst <= tol * (1.0 + 1e-9), "{worst} > {tol}");
+            counts.push(r.curve.n_control_points());
+        }
+    }
+    let (lo, hi) = (counts.iter().min(), counts.iter().max());
+    assert!(
+        hi.zip(lo).is_some_and(|(h, l)| h - l <= 1),
+        "{counts:?} control points (10^4 then 10^5 points, seeds 0..3)"
+    );
 }
 
 #[test]
