@@ -29,8 +29,11 @@ pub struct ReduceTuning {
     /// sparser data are their own reduced form. Default 2.
     pub min_points_per_bin: f64,
     /// Rounds of bin cutting where an input point misses the tolerance, before the tolerance
-    /// itself is tightened once. Default 3.
+    /// itself is tightened ([`Self::tighten_rounds`]). Default 3.
     pub repair_rounds: usize,
+    /// Rounds of tightening after the bin cutting, while an input point still misses the
+    /// tolerance: each takes twice the excess off the reduced fit's tolerance. Default 3.
+    pub tighten_rounds: usize,
     /// The grid, in units of the bounding box's largest side, that the representatives and the
     /// reduced fit's tolerance are rounded to before the search sees them: far coarser than the
     /// few units in the last place by which a rescaled input's normalised coordinates differ
@@ -47,6 +50,7 @@ impl Default for ReduceTuning {
             turn_back: 0.25,
             min_points_per_bin: 2.0,
             repair_rounds: 3,
+            tighten_rounds: 3,
             grid: 1.0 / (1u64 << 30) as f64,
         }
     }

@@ -77,6 +77,8 @@ pub(crate) fn fit(
                 closed: ClosedMode::Open,
                 // the open curve from a corner back to it closes there
                 ends: EndCondition::Pinned,
+                // the per-point factors index the unrotated points
+                tolerance_factors: Vec::new(),
                 ..opts.clone()
             };
             return cornered::fit(&seq, &open, progress, start);

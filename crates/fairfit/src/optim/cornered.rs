@@ -102,6 +102,8 @@ pub(crate) fn fit(
             &pc.interpolate,
             Tuning::default().points.interpolation_band,
         );
+    } else {
+        prep.data.bands = PointBands::of_factors(&opts.tolerance_factors, prep.data.points.len());
     }
     let r = open::fit(&prep, opts, progress, start).map_err(|e| match conditions.is_none() {
         true => e,
@@ -396,7 +398,9 @@ fn fit_piece(
     if let Some(dense) = dense {
         // dense: its reduced form fitted, verified and repaired on every point of the piece
         let fit = |pts: &[Vec3], o: &IntegratedOptions| -> Result<IntegratedResult> {
-            open::fit(&prepare(pts, o.degree)?, o, progress, Instant::now())
+            let mut q = prepare(pts, o.degree)?;
+            q.data.bands = PointBands::of_factors(&o.tolerance_factors, q.data.points.len());
+            open::fit(&q, o, progress, Instant::now())
         };
         let r = dense.fit(&sub, &reduce_tuning, &fit)?;
         return Ok(piece_of(r, piece.len()));
@@ -421,6 +425,8 @@ fn piece_options(
         seed: opts.seed ^ (i as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03),
         // the pieces are joined at their ends
         ends: EndCondition::Pinned,
+        // the whole curve's per-point factors index other points
+        tolerance_factors: Vec::new(),
         ..opts.clone()
     }
 }

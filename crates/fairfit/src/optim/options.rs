@@ -156,6 +156,12 @@ pub struct IntegratedOptions {
     /// is [`crate::fit::point_constraints::fit_with_point_constraints_inside`]'s). Set by
     /// [`Self::point_constraints`].
     pub point_constraints: PointConstraints,
+    /// The deviation factor of every point fitted (empty: all 1), on open data without corners
+    /// and without [`Self::point_constraints`]: point `k` is held within `tolerance / factor_k`.
+    /// Set by the reduction of dense data ([`super::stages::reduce`]): each representative's own
+    /// share of the tolerance (its bin's spread deducted), every factor at most 1, so a pipeline
+    /// that ignores them holds every representative to the tightest share.
+    pub(crate) tolerance_factors: Vec<f64>,
 }
 
 impl Default for IntegratedOptions {
@@ -182,6 +188,7 @@ impl Default for IntegratedOptions {
             ends: EndCondition::Pinned,
             end_conditions: EndConstraints::default(),
             point_constraints: PointConstraints::default(),
+            tolerance_factors: Vec::new(),
         }
     }
 }

@@ -28,13 +28,23 @@
 //! # Certificate and repair
 //!
 //! Every bin records its *spread*: how far its points lie from the line through its centroid along
-//! the bin's direction (noise plus sagitta). The reduced data are fitted within `tol − spread`
-//! (largest spread), so a curve within that of every representative is within `tol` of the bin's
-//! points. The fit is then measured on **every input point** (in the normalised units, like the
+//! the bin's direction (noise plus sagitta). Each representative is held within its own *share*
+//! of the tolerance, `tol − spread` of the widest spread among its bin and the two neighbouring
+//! ones (the curve between two representatives passes the points of both bins): a curve within
+//! that of the representative, and following the bin's line, is within `tol` of the bin's points.
+//! The shares reach the search as per-point deviation factors (`PointBands`, the mechanism of
+//! per-point weights), so a bin of large spread (the noise's extreme, a leading edge's sagitta)
+//! tightens the fit there and nowhere else: held to the tightest share everywhere, a fit of
+//! 10^6 noisy points was held to about half the tolerance and needed two control points more than
+//! the same shape at 10^4 points.
+//!
+//! The fit is then measured on **every input point** (in the normalised units, like the
 //! fit itself, so that a scaled input gives the same result) by exact foot-point projection
-//! ([`crate::diffgeo::projection::CurveProjector`]); where a point is still outside `tol`, its bin
-//! is cut in two (`h/2` there) and the reduced data fitted again ([`ReduceTuning::repair_rounds`]
-//! times at most; then once more with the tolerance tightened by the largest excess).
+//! ([`crate::diffgeo::projection::CurveProjector`]); where a point is still outside `tol` (the
+//! curve bends away between representatives), its bin is cut in two (`h/2` there) and the
+//! reduced data fitted again ([`ReduceTuning::repair_rounds`] times at most); then every share
+//! is tightened by twice the largest excess ([`ReduceTuning::tighten_rounds`] times at most)
+//! until every point is within `tol`.
 //!
 //! # Scale
 //!
@@ -47,7 +57,7 @@
 //! same. (Rounding every input point to a grid instead, as the pipeline's own normalisation does,
 //! flips about one point in `10^4` at `2^-36`, and the swarm turns that one representative's shift
 //! into other knots.) The grid is `10^-6` of a relative tolerance of `10^-3`, far below any
-//! tolerance; the spread is rounded up and the inner tolerance down, so the certificate holds.
+//! tolerance; the spread is rounded up and every share down, so the certificate holds.
 //!
 //! # When it applies
 //!
@@ -159,9 +169,10 @@ impl Dense {
         Ok(r)
     }
 
-    /// The reduced data fitted by `fit` within the tolerance less the bins' spread, measured on
-    /// every input point, and repaired while a point misses the tolerance (module doc). Everything
-    /// runs in normalised units; the result is in the input's.
+    /// The reduced data fitted by `fit`, every representative within its bin's share of the
+    /// tolerance ([`Dense::factors`]), measured on every input point, and repaired while a point
+    /// misses the tolerance (module doc, "Certificate and repair"). Everything runs in normalised
+    /// units; the result is in the input's.
     pub fn fit(
         mut self,
         opts: &IntegratedOptions,
@@ -172,35 +183,66 @@ impl Dense {
         let tol = self.tol;
         let base = self.normalised_options(opts);
         let grid = tuning.grid;
-        // the inner tolerance on the grid, rounded down (so the certificate holds) from the spread
-        // rounded up
         let on_grid = |t: f64| (t / grid).floor() * grid;
-        // a spread beyond the tolerance is noise no fit within it can average (the fit says so)
-        let spread = (self.red.spread() / grid).ceil() * grid;
-        let mut inner = on_grid((tol - spread).max(0.25 * tol));
-        let (mut round, mut tightened) = (0, false);
+        let (mut cuts, mut tightenings) = (0, 0);
+        // the tightest share; a tightening shrinks every share by the same factor
+        let mut inner = self.share(self.red.spread(), tuning);
         loop {
             let o = IntegratedOptions {
                 tolerance: Tolerance::Absolute(inner),
+                tolerance_factors: self.factors(tuning),
                 ..base.clone()
             };
             let r = fit(&self.points(grid), &o)?;
             let (max, rms, per_bin) = verify(&r.curve, &self.normalised, &self.red, tol);
-            let done = max <= tol || tightened || !r.met;
+            let done = max <= tol || !r.met;
             let cut: Vec<bool> = per_bin.iter().map(|&d| d > tol).collect();
             if !done
-                && round < tuning.repair_rounds
+                && cuts < tuning.repair_rounds
                 && refine(&self.normalised, &mut self.red, &cut, h, tuning)
             {
-                round += 1;
+                cuts += 1;
+                inner = inner.min(self.share(self.red.spread(), tuning));
                 continue;
             }
-            if done || on_grid(inner - (max - tol)) <= 0.0 {
+            // the excess taken off the tightest share, twice over (a fit tightened by exactly
+            // the excess lands on the tolerance's edge again)
+            let tighter = on_grid(inner - 2.0 * (max - tol));
+            if done || tightenings == tuning.tighten_rounds || tighter <= 0.0 {
                 return self.to_input(measured(r, max, rms, tol, opts.span_fairness));
             }
-            inner = on_grid(inner - (max - tol));
-            tightened = true;
+            inner = tighter;
+            tightenings += 1;
         }
+    }
+
+    /// A bin of spread `spread`'s share of the tolerance: the spread (rounded up to the grid)
+    /// deducted, the share rounded down to it (so the certificate holds on the grid); never below
+    /// a quarter of the tolerance (a spread beyond the tolerance is noise no fit within it can
+    /// average: the verification says so).
+    fn share(&self, spread: f64, tuning: &ReduceTuning) -> f64 {
+        let grid = tuning.grid;
+        let spread = (spread / grid).ceil() * grid;
+        ((self.tol - spread).max(0.25 * self.tol) / grid).floor() * grid
+    }
+
+    /// The deviation factor of every representative: the tightest share over its own share, the
+    /// share of the widest spread among the bin and its two neighbours (the curve between two
+    /// representatives passes the points of both bins). Every factor is at most 1: a
+    /// representative held within `inner / factor` is held within its share scaled by `inner`
+    /// over the tightest share.
+    fn factors(&self, tuning: &ReduceTuning) -> Vec<f64> {
+        let b = &self.red.bins;
+        let tightest = self.share(self.red.spread(), tuning);
+        (0..b.len())
+            .map(|k| {
+                let s = b[k.saturating_sub(1)..(k + 2).min(b.len())]
+                    .iter()
+                    .map(|x| x.spread)
+                    .fold(0.0, f64::max);
+                tightest / self.share(s, tuning)
+            })
+            .collect()
     }
 }
 

@@ -94,6 +94,20 @@ impl PointBands {
         }
     }
 
+    /// Deviation factors alone (no weight, no point to interpolate): point `k` held within
+    /// `tol / factors[k]`; none unless there is one factor for each of the `m` points (the
+    /// reduction's shares of the tolerance, `IntegratedOptions::tolerance_factors`).
+    pub fn of_factors(factors: &[f64], m: usize) -> Self {
+        if factors.is_empty() || factors.len() != m {
+            return PointBands::default();
+        }
+        PointBands {
+            weights: Vec::new(),
+            interpolate: Vec::new(),
+            band: factors.to_vec(),
+        }
+    }
+
     /// Whether nothing is asked.
     pub fn is_none(&self) -> bool {
         self.band.is_empty()
