@@ -9,6 +9,8 @@ For every curve of the shared data (airfoils, synthetic, IEA 15 MW airfoils: 33 
 2. U's start and end evaluated here (`measure.Curve`, scipy, no fairfit code): the unit tangent and the
    signed curvature;
 3. the constrained fit C: the same command with `--start curvature:TX,TY:K --end curvature:TX,TY:K`;
+   closed data (the last point repeats the first) are fitted open (`--open`), both ends held to
+   U's frame at the data's first point (leaving it at the start, arriving at the end);
 4. both measured by the independent `bench/measure.py`: max deviation, F, curvature extrema, and at C's
    ends the tangent angle to the condition and the relative curvature difference.
 
@@ -55,7 +57,39 @@ def load_curve(path: str) -> measure.Curve:
 
 def end_frame(curve: measure.Curve, at_end: bool):
     """(unit tangent, signed curvature) of a planar curve at its start or end (xy plane)."""
-    u = np.array([curve.hi if at_end else curve.lo])
+    return frame_at(curve, curve.hi if at_end else curve.lo)
+
+
+def seam_frames(curve: measure.Curve, point):
+    """The frames of closed data's unconstrained fit U where the data start and end (their first
+    point, which the last repeats): U's parameter of that point (the nearest of dense samples,
+    refined by golden section), U's frame leaving it (the start) and arriving at it (the end), one
+    side each, at 1e-13 of the domain from it (U may have a corner there). A periodic U starts at
+    the first point; one cut at a corner starts at that corner."""
+    lo, hi = curve.lo, curve.hi
+    us = np.linspace(lo, hi, 20001)
+    q = np.asarray(point, dtype=float)[:2]
+    d = np.linalg.norm(curve.points(us)[:, :2] - q, axis=1)
+    i = int(np.argmin(d))
+    a, b = us[max(i - 1, 0)], us[min(i + 1, len(us) - 1)]
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    dist = lambda u: float(np.linalg.norm(curve.points(np.array([u]))[0, :2] - q))  # noqa: E731
+    for _ in range(80):
+        c, e = b - g * (b - a), a + g * (b - a)
+        if dist(c) < dist(e):
+            b = e
+        else:
+            a = c
+    u0 = 0.5 * (a + b)
+    eps = 1e-13 * (hi - lo)
+    if u0 - lo <= 1e-9 * (hi - lo) or hi - u0 <= 1e-9 * (hi - lo):
+        return end_frame(curve, False), end_frame(curve, True)
+    return frame_at(curve, u0 + eps), frame_at(curve, u0 - eps)
+
+
+def frame_at(curve: measure.Curve, u: float):
+    """(unit tangent, signed curvature) of a planar curve at `u` (xy plane)."""
+    u = np.array([u])
     _, d1, d2 = curve.derivs(u, 2)
     d1, d2 = d1[0][:2], d2[0][:2]
     s = float(np.hypot(d1[0], d1[1]))
@@ -80,6 +114,13 @@ def metrics(curve_path: str, points):
     return measure.measure(c["degree"], c["knots"], c["control_points"], c.get("weights"), points)
 
 
+def is_closed(points) -> bool:
+    """Whether the last point repeats the first (1e-9 of the bounding box, fairfit's own rule)."""
+    p = np.asarray(points, dtype=float)
+    extent = float(np.max(p.max(axis=0) - p.min(axis=0)))
+    return extent > 0 and float(np.linalg.norm(p[-1] - p[0])) <= 1e-9 * extent
+
+
 def one(binary: str, name: str, path: str, baseline: str | None, tmp: str) -> dict:
     points = measure.read_points(path)
     base = os.path.join(baseline, f"curve_{name}_integrated_s0.json") if baseline else None
@@ -87,11 +128,17 @@ def one(binary: str, name: str, path: str, baseline: str | None, tmp: str) -> di
         base = os.path.join(tmp, f"{name}_free.json")
         fit(binary, path, base, [])
     u = load_curve(base)
-    (t0, k0), (t1, k1) = end_frame(u, False), end_frame(u, True)
+    closed = is_closed(points)
+    if closed:
+        (t0, k0), (t1, k1) = seam_frames(u, points[0])
+    else:
+        (t0, k0), (t1, k1) = end_frame(u, False), end_frame(u, True)
     out = os.path.join(tmp, f"{name}_g2.json")
     row = {"name": name}
+    row["open"] = "yes" if closed else ""
+    extra = ["--open"] if closed else []
     try:
-        fit(binary, path, out, ["--start", condition(t0, k0), "--end", condition(t1, k1)])
+        fit(binary, path, out, ["--start", condition(t0, k0), "--end", condition(t1, k1), *extra])
     except RuntimeError as e:
         row["error"] = str(e).splitlines()[-1][:200]
         return row
@@ -146,7 +193,7 @@ def targets_met(s: dict) -> bool:
     )
 
 
-COLUMNS = ["name", "n_free", "n_g2", "F_free", "F_g2", "ratio", "ext_free", "ext_g2", "angle",
+COLUMNS = ["name", "open", "n_free", "n_g2", "F_free", "F_g2", "ratio", "ext_free", "ext_g2", "angle",
            "curvature_rel", "max_dev_g2", "tol", "error"]
 
 

@@ -255,8 +255,12 @@ pub struct CurveArgs {
     #[arg(long = "param", value_enum, default_value_t = ParamArg::Centripetal)]
     pub param: ParamArg,
     /// Treat the points as a closed curve (otherwise closed only when the last point repeats the first).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "open")]
     pub closed: bool,
+    /// Treat the points as an open curve even when the last point repeats the first: the curve
+    /// starts and ends at that point, with ends of its own (which --start/--end can hold).
+    #[arg(long)]
+    pub open: bool,
     /// Turning angle (degrees) above which a point is a corner kept as a C0 knot.
     #[arg(long, default_value_t = fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG, allow_hyphen_values = true)]
     pub corner_angle: f64,
@@ -389,12 +393,13 @@ impl CurveArgs {
         }
     }
 
-    /// `--closed`: always closed; otherwise closed when the last point repeats the first.
+    /// `--closed`: always closed; `--open`: always open; otherwise closed when the last point
+    /// repeats the first.
     pub fn closed_mode(&self) -> ClosedMode {
-        if self.closed {
-            ClosedMode::Closed
-        } else {
-            ClosedMode::Auto
+        match (self.closed, self.open) {
+            (true, _) => ClosedMode::Closed,
+            (false, true) => ClosedMode::Open,
+            (false, false) => ClosedMode::Auto,
         }
     }
 

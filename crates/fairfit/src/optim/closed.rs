@@ -58,7 +58,7 @@ pub(crate) fn fit(
             } else {
                 "start"
             },
-            reason: "closed data have no ends to hold a condition (fit them as open data)".into(),
+            reason: "closed data have no ends to hold a condition (fit them as open data: --open, or closed=False in Python)".into(),
         });
     }
     let mut pts = points.to_vec();

@@ -24,6 +24,7 @@
 //! `N` takes them evenly (the tolerance may then be missed; the result says so). An `N` outside what
 //! the pieces can take is an [`Error::InvalidSetting`] of `control_points` naming the range.
 
+use super::condition_checks::{condition_error, held_at_corner_pieces, unmet_condition};
 use super::context::{tolerance_of, Progress};
 use super::corners::{join, pieces, straight_piece};
 use super::fairing::EndCondition;
@@ -39,6 +40,7 @@ use super::stages::reduce::{measured, verify, Dense};
 use super::stages::warm_ends;
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
+use crate::fit::end_constraints::{EndConstraint, EndConstraints};
 use crate::fit::reduce::reduce;
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
@@ -81,16 +83,12 @@ pub(crate) fn fit(
         );
         let ranges = pieces(prep.data.points.len(), &corners);
         if ranges.len() > 1 {
-            if !conditions.is_none() {
-                return Err(Error::InvalidSetting {
-                    option: "corner_angle",
-                    reason: format!(
-                        "the data have {} corners; start and end conditions need data without corners (no corner detection)",
-                        ranges.len() - 1
-                    ),
-                });
+            // the first piece holds the start condition, the last one the end condition
+            let r = fit_with_corners(&prep, &ranges, opts, progress, start)?;
+            if !r.met && !conditions.is_none() {
+                return Err(unmet_condition(points, &r, conditions));
             }
-            return fit_with_corners(&prep, &ranges, opts, progress, start);
+            return held_at_corner_pieces(r, conditions);
         }
     }
     if !opts.point_constraints.is_none() {
@@ -149,60 +147,6 @@ fn with_warm_ends(
     }
 }
 
-/// Why no constrained fit could be made, when the conditions are the cause: a least-squares solve
-/// with averaging knots and the fewest control points the conditions leave room for (one free)
-/// refuses them ([`Error::InvalidSetting`] naming the end); `None` when it does not.
-fn condition_error(prep: &Prepared, p: usize) -> Option<Error> {
-    let (lo, hi) = prep.data.ends.fixed_points();
-    let n = (lo + hi + 1).max(p + 1).min(prep.data.points.len());
-    let interior = super::search::prepare::averaging_interior_knots(&prep.data.params, p, n);
-    let mut knots = vec![0.0; p + 1];
-    knots.extend_from_slice(&interior);
-    knots.resize(knots.len() + p + 1, 1.0);
-    let mut solver = crate::fit::lsq::LsqSolver::new(p);
-    let mut ctrl = Vec::new();
-    let d = &prep.data;
-    match solver.solve_constrained(
-        &d.points,
-        &d.params,
-        &knots,
-        None,
-        &Default::default(),
-        &d.ends,
-        d.planar,
-        &mut ctrl,
-    ) {
-        Err(e @ Error::InvalidSetting { .. }) => Some(e),
-        _ => None,
-    }
-}
-
-/// The error of a constrained fit that misses the tolerance: names the constrained end nearer the
-/// worst deviation (the condition leaves the tolerance band there).
-fn unmet_condition(
-    points: &[Vec3],
-    r: &IntegratedResult,
-    conditions: &crate::fit::end_constraints::EndConstraints,
-) -> Error {
-    let d = crate::fit::max_orthogonal_deviation(&r.curve, points, &[]).per_point;
-    let half = d.len() / 2;
-    let worst = |x: &[f64]| x.iter().copied().fold(0.0, f64::max);
-    let (d0, d1) = (worst(&d[..half]), worst(&d[half..]));
-    let which = match (conditions.start.is_none(), conditions.end.is_none()) {
-        (false, true) => "start",
-        (true, false) => "end",
-        _ if d0 >= d1 => "start",
-        _ => "end",
-    };
-    Error::InvalidSetting {
-        option: which,
-        reason: format!(
-            "the {which} condition cannot be met within the tolerance {:.3e} (the best constrained fit deviates {:.3e}); check its direction and curvature against the data",
-            r.tolerance, r.quality.max_deviation
-        ),
-    }
-}
-
 /// One fitted piece (normalised coordinates).
 #[derive(Clone)]
 struct Piece {
@@ -257,7 +201,8 @@ fn fit_with_corners(
         }
     }
     let reference = joined(prep, ranges, &pieces, extra, opts, start)?;
-    if !opts_in.searches_degree() {
+    // the raised pieces are fitted without the end conditions: under them the degree is kept
+    if !opts_in.searches_degree() || !prep.data.ends.is_none() {
         return Ok(reference);
     }
     // staged degree search: every piece raised at its own count from its own knots
@@ -388,7 +333,7 @@ fn fit_piece(
             straight: true,
         });
     }
-    let sub = piece_options(prep, i, opts, count);
+    let sub = piece_options(prep, (i, ranges.len()), opts, count);
     // the piece is open data without corners: the open pipeline on its own points
     validate(&sub)?;
     let reduce_tuning = Tuning::default().reduce;
@@ -400,12 +345,16 @@ fn fit_piece(
         let fit = |pts: &[Vec3], o: &IntegratedOptions| -> Result<IntegratedResult> {
             let mut q = prepare(pts, o.degree)?;
             q.data.bands = PointBands::of_factors(&o.tolerance_factors, q.data.points.len());
+            q.data.ends = o.end_conditions.normalized(q.origin, q.scale);
             open::fit(&q, o, progress, Instant::now())
         };
         let r = dense.fit(&sub, &reduce_tuning, &fit)?;
         return Ok(piece_of(r, piece.len()));
     }
-    let piece_prep = prepare(piece, sub.degree)?;
+    let mut piece_prep = prepare(piece, sub.degree)?;
+    piece_prep.data.ends = sub
+        .end_conditions
+        .normalized(piece_prep.origin, piece_prep.scale);
     let r = open::fit(&piece_prep, &sub, progress, Instant::now())?;
     Ok(piece_of(r, piece.len()))
 }
@@ -413,7 +362,7 @@ fn fit_piece(
 /// The options of piece `i`'s own fit (its seed stream, the whole curve's tolerance).
 fn piece_options(
     prep: &Prepared,
-    i: usize,
+    (i, pieces): (usize, usize),
     opts: &IntegratedOptions,
     count: Option<usize>,
 ) -> IntegratedOptions {
@@ -427,6 +376,20 @@ fn piece_options(
         ends: EndCondition::Pinned,
         // the whole curve's per-point factors index other points
         tolerance_factors: Vec::new(),
+        // the first piece holds the curve's start condition, the last its end condition, in the
+        // normalised coordinates the pieces' points are in
+        end_conditions: EndConstraints {
+            start: if i == 0 {
+                prep.data.ends.start.clone()
+            } else {
+                EndConstraint::default()
+            },
+            end: if i + 1 == pieces {
+                prep.data.ends.end.clone()
+            } else {
+                EndConstraint::default()
+            },
+        },
         ..opts.clone()
     }
 }
@@ -478,7 +441,7 @@ fn raise_piece(
         return (curve.map(|curve| Piece { curve, ..q.clone() }), 0, 0);
     }
     let count = Some(distinct_control_points(&q.curve));
-    let sub = piece_options(prep, i, opts, count);
+    let sub = piece_options(prep, (i, ranges.len()), opts, count);
     let tol = tolerance_of(opts, prep.scale);
     if let Some(red) = reduced_piece(piece, tol, d, &tuning.reduce) {
         // dense: raised on its representatives within the tolerance less their spread, kept only

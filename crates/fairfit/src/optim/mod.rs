@@ -57,6 +57,7 @@
 
 pub mod chain;
 pub(crate) mod closed;
+pub(crate) mod condition_checks;
 pub(crate) mod context;
 pub(crate) mod cornered;
 pub(crate) mod corners;

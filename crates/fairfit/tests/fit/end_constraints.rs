@@ -354,3 +354,33 @@ fn g2_ends_from_the_unconstrained_fit_cost_no_control_point_and_almost_no_fairne
     );
     assert!(f.curvature_extrema <= f0.curvature_extrema);
 }
+
+#[test]
+fn integrated_holds_g2_ends_of_data_with_a_corner_at_its_end_pieces() {
+    // the arc, then a corner turning the tangent by 90° and a straight leg of length 1.5: the fit
+    // is split at the corner (a C0 knot), the arc piece holds the start condition, the leg the end
+    // condition (its direction, curvature 0 is not asked: a G1 end)
+    let mut pts = arc(80, 2e-4);
+    let c = pts[pts.len() - 1];
+    let leg = Vec3::new(SWEEP.cos(), SWEEP.sin(), 0.0) * -1.0;
+    pts.extend((1..60).map(|i| c + leg * (1.5 * i as f64 / 59.0)));
+    let (s, _) = arc_g2();
+    let e = EndConstraint::tangent(leg);
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3))
+        .start(s)
+        .end(e);
+    let r = fit_integrated(&pts, &opts).unwrap();
+    assert!(r.met && r.quality.max_deviation <= r.tolerance);
+    for (at_end, cond) in [(false, &s), (true, &e)] {
+        let a = achieved(&r.curve, at_end, cond);
+        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
+        assert!(a.curvature_relative <= 1e-9, "{}", a.curvature_relative);
+    }
+    // the corner: a knot of full multiplicity (3) inside the domain
+    let k = r.curve.knots();
+    let inner = &k[4..k.len() - 4];
+    assert!(
+        inner.windows(3).any(|w| w[0] == w[1] && w[1] == w[2]),
+        "no C0 knot in {k:?}"
+    );
+}

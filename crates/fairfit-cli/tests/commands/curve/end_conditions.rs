@@ -204,3 +204,61 @@ fn a_missing_start_from_file_is_an_input_error() {
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("/nonexistent/a.json"), "{err}");
 }
+
+#[test]
+fn closed_data_fitted_open_hold_g2_ends_at_the_seam() {
+    // the whole ellipse `x = cos t, y = 0.5 sin t`, its last point repeating the first at t = 0:
+    // closed data, so a condition is refused; with --open the curve starts and ends there, and both
+    // ends hold the ellipse's tangent (0, 1) and curvature 4 towards −x
+    let dir = TempDir::new().unwrap();
+    let file = dir.path().join("ellipse.csv");
+    let rows: Vec<String> = (0..=240)
+        .map(|i| {
+            let t = std::f64::consts::TAU * (i % 240) as f64 / 240.0;
+            format!("{},{}", t.cos(), 0.5 * t.sin())
+        })
+        .collect();
+    std::fs::write(&file, format!("x,y\n{}\n", rows.join("\n"))).unwrap();
+    let ends = ["--start", "curvature:0,1:4", "--end", "curvature:0,1:4"];
+    let refused = Command::cargo_bin("fairfit")
+        .unwrap()
+        .arg("curve")
+        .arg(&file)
+        .args(ends)
+        .output()
+        .unwrap();
+    assert!(!refused.status.success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("closed data have no ends") && err.contains("--open"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    let pts = read_points(&file).unwrap().points;
+    let (curve, rep) = run(
+        &dir,
+        "open",
+        file.to_str().unwrap(),
+        &[&ends[..], &["--open"]].concat(),
+    );
+    assert_eq!(rep["closed"], false);
+    for at_end in [false, true] {
+        let (p, t, k) = frame(&curve, at_end);
+        assert!((p - Vec3::new(1.0, 0.0, 0.0)).norm() <= 1e-12, "{p:?}");
+        assert!(angle(t, Vec3::new(0.0, 1.0, 0.0)) <= 1e-9, "{t:?}");
+        assert!((k - Vec3::new(-4.0, 0.0, 0.0)).norm() <= 4e-9, "{k:?}");
+    }
+    let tol = rep["tolerance"].as_f64().unwrap();
+    let worst = polyline::polyline_deviation(&curve, &pts, 50_000);
+    assert!(worst <= tol * (1.0 + 1e-6), "{worst} > {tol}");
+    // --open and --closed contradict each other
+    let both = Command::cargo_bin("fairfit")
+        .unwrap()
+        .arg("curve")
+        .arg(&file)
+        .args(["--open", "--closed"])
+        .output()
+        .unwrap();
+    assert!(!both.status.success());
+    assert!(String::from_utf8_lossy(&both.stderr).contains("cannot be used with"));
+}
