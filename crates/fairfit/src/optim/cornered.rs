@@ -133,12 +133,12 @@ fn with_warm_ends(
     };
     let mut free_prep = prep.clone();
     free_prep.data.ends = Default::default();
-    let gain = Tuning::default().count.extra_point_gain;
+    let rule = Tuning::default().count;
     match open::fit(&free_prep, &free_opts, progress, start)
         .ok()
         .and_then(|free| warm_ends::from_unconstrained(prep, &free, opts))
     {
-        Some(warm) if warm_ends::prefer(&warm, &searched, gain) => IntegratedResult {
+        Some(warm) if warm_ends::prefer(&warm, &searched, &rule) => IntegratedResult {
             stats: searched.stats,
             baseline_control_points: searched.baseline_control_points,
             ..warm

@@ -12,8 +12,9 @@
 //!
 //! **Why it helps.** When `U` nearly meets the conditions, the move is small and the finished
 //! curve keeps `U`'s count and nearly its `F`; when `U` meets them exactly (conditions taken from
-//! `U`'s own ends) it is `U` to rounding. [`prefer`] keeps the fairer of the two by the count
-//! rule's price per control point ([`crate::optim::tuning::CountTuning::extra_point_gain`]).
+//! `U`'s own ends) it is `U` to rounding. [`prefer`] keeps one of the two by the count search's
+//! rule: the fewer curvature extrema, then the fairer at the rule's price per control point
+//! ([`crate::optim::tuning::CountTuning::extra_point_gain`]).
 //!
 //! Invariants: the candidate holds the conditions exactly as the search's curves do (its fixed
 //! control points are set by the same functions and never moved), and it is taken only when it
@@ -28,6 +29,9 @@ use crate::optim::options::IntegratedOptions;
 use crate::optim::result::IntegratedResult;
 use crate::optim::search::objective::{measure_current, EvalWorkspace};
 use crate::optim::search::prepare::Prepared;
+use crate::optim::stages::count_choice::choose_count;
+use crate::optim::stages::count_search::rank_fit;
+use crate::optim::tuning::CountTuning;
 
 /// The unconstrained fit `free` (of the same data, input coordinates) moved onto the end
 /// conditions of `prep.data.ends` and finished under them (module docs); `None` when the
@@ -97,20 +101,24 @@ pub(crate) fn from_unconstrained(
     })
 }
 
-/// Whether `warm` is to be kept over `searched` (both meeting the tolerance): at the same count
-/// the fairer; each control point more must lower `F` by the factor `gain` (the count rule's).
-pub(crate) fn prefer(warm: &IntegratedResult, searched: &IntegratedResult, gain: f64) -> bool {
+/// Whether `warm` is to be kept over `searched` (both meeting the tolerance): by the count
+/// search's own rule ([`choose_count`]): the fewer curvature extrema first, then the lower `F`,
+/// each control point more pricing `F` by the factor [`CountTuning::extra_point_gain`]; a tie
+/// keeps `searched`.
+pub(crate) fn prefer(
+    warm: &IntegratedResult,
+    searched: &IntegratedResult,
+    t: &CountTuning,
+) -> bool {
     if !warm.met {
         return false;
     }
     if !searched.met {
         return true;
     }
-    let (nw, ns) = (
-        warm.curve.n_control_points() as i32,
-        searched.curve.n_control_points() as i32,
-    );
-    let (fw, fs) = (warm.quality.fairness, searched.quality.fairness);
-    // F scaled to a common count: an extra control point is worth a factor `gain`
-    fw * gain.powi(nw - ns) < fs
+    let counts = [
+        searched.curve.n_control_points(),
+        warm.curve.n_control_points(),
+    ];
+    choose_count(&counts, &[rank_fit(searched), rank_fit(warm)], t) == 1
 }
