@@ -380,12 +380,12 @@ fn piece_options(
         // normalised coordinates the pieces' points are in
         end_conditions: EndConstraints {
             start: if i == 0 {
-                prep.data.ends.start.clone()
+                prep.data.ends.start
             } else {
                 EndConstraint::default()
             },
             end: if i + 1 == pieces {
-                prep.data.ends.end.clone()
+                prep.data.ends.end
             } else {
                 EndConstraint::default()
             },
