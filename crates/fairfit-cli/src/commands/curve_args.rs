@@ -304,7 +304,8 @@ pub struct CurveArgs {
     pub end_tangent: Option<Vec3>,
     /// Condition at the first point (open curves): point[:X,Y[,Z]] (G0), tangent:X,Y[,Z] (G1,
     /// direction only) or curvature:X,Y[,Z]:KAPPA (G2, signed curvature; in 3-D also
-    /// curvature:X,Y,Z:KX,KY,KZ). Every method holds it.
+    /// curvature:X,Y,Z:KX,KY,KZ). Every method holds it. Closed data have no ends: fit them with
+    /// --open.
     #[arg(long, value_parser = check_end_condition, allow_hyphen_values = true)]
     pub start: Option<String>,
     /// Condition at the last point (as --start; the tangent is the direction the curve arrives in).
