@@ -25,6 +25,7 @@ pub mod pipeline;
 mod point_grid;
 pub mod seam;
 mod seam_tie;
+pub mod section_corners;
 pub mod section_fit;
 pub mod skinning;
 mod slab_cells;
@@ -40,4 +41,5 @@ pub use pipeline::{
     SurfaceOptions, SurfaceReconstruction,
 };
 pub use seam::{periodic_seam, seam_continuity, seam_continuity_at, SeamContinuity};
+pub use section_corners::HeldCorners;
 pub use skinning::{skin, Skin, SkinOptions, VParams};
