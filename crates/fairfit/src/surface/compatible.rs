@@ -12,7 +12,7 @@
 use super::orient::Section;
 use super::seam::{periodic_seam, smooth_at_seam};
 use super::seam_tie::tie_order;
-use super::section_corners::{piecewise_params, plan_corners, HeldCorners};
+use super::section_corners::{piecewise_params, plan_corners, CornerFreedom, HeldCorners};
 use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
 use crate::errors::{Error, Result};
 use crate::fair::FairnessEvaluator;
@@ -48,8 +48,13 @@ pub struct CompatibleOptions {
     /// clamped and each smooth closed section gets its seam tied (`C^(p−1)`, at most `C^2`, see
     /// the private `seam_tie` module). `false` keeps the plain clamped fit (C0 seams).
     pub periodic_closed: bool,
-    /// Turning angle (degrees) above which a point next to a seam is a corner (the seam stays C0).
+    /// Turning angle (degrees) above which a point is a corner, judged at the tolerance's scale: next to
+    /// a seam it keeps the seam C0; inside the sections it is held as a C0 knot when
+    /// [`Self::hold_corners`] allows ([`super::section_corners`]).
     pub corner_angle_deg: f64,
+    /// Hold matching inner corners of the sections as C0 knot lines (`false`: they are smoothed over
+    /// like any other point).
+    pub hold_corners: bool,
 }
 
 impl Default for CompatibleOptions {
@@ -65,6 +70,7 @@ impl Default for CompatibleOptions {
             uniform_blends: vec![0.5, 0.25],
             periodic_closed: true,
             corner_angle_deg: crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG,
+            hold_corners: true,
         }
     }
 }
@@ -456,8 +462,11 @@ pub(crate) fn make_compatible_with_progress(
         sections,
         opts.corner_angle_deg,
         opts.tolerance,
-        !periodic,
-        opts.section_params.is_some(),
+        CornerFreedom {
+            clamped: !periodic,
+            params_given: opts.section_params.is_some(),
+            switched_off: !opts.hold_corners,
+        },
     );
     if let Some(plan) = &plan {
         params = sections

@@ -84,15 +84,23 @@ fn cumulative_chords(points: &[crate::nurbs::Vec3]) -> Vec<f64> {
     s
 }
 
+/// What allows or forbids holding corners besides the corners themselves.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CornerFreedom {
+    /// The shared knot vector is clamped (a periodic one holds no corner).
+    pub(crate) clamped: bool,
+    /// The caller fixed the point parameters.
+    pub(crate) params_given: bool,
+    /// The caller switched holding off.
+    pub(crate) switched_off: bool,
+}
+
 /// The inner corners of every section and, when they can be held, the plan to hold them (module doc).
-/// `clamped` is false when the shared knot vector is periodic (no corner is held then);
-/// `params_given` when the caller fixed the point parameters.
 pub(crate) fn plan_corners(
     sections: &[Section],
     angle_deg: f64,
     tol: f64,
-    clamped: bool,
-    params_given: bool,
+    freedom: CornerFreedom,
 ) -> (HeldCorners, Option<CornerPlan>) {
     let indices: Vec<Vec<usize>> = sections
         .iter()
@@ -117,13 +125,16 @@ pub(crate) fn plan_corners(
              smoothed over"
         )));
     }
-    if !clamped {
+    if freedom.switched_off {
+        return not_held(Some("holding corners is switched off".into()));
+    }
+    if !freedom.clamped {
         return not_held(Some(
             "the sections are fitted periodically (smooth seams): inner corners are smoothed over"
                 .into(),
         ));
     }
-    if params_given {
+    if freedom.params_given {
         return not_held(Some(
             "the section parameters were given: inner corners are smoothed over".into(),
         ));
