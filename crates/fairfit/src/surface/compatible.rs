@@ -8,6 +8,9 @@
 //! points grows geometrically until the worst section's orthogonal deviation is within tolerance, then is
 //! bisected down to the smallest count that passes; among the passing candidates of that count the one
 //! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
+//!
+//! Matching inner corners of the sections are held as knots of multiplicity `p` that the search never
+//! moves or removes, with piecewise chord-length parameters ([`super::section_corners`]).
 
 use super::orient::Section;
 use super::seam::{periodic_seam, smooth_at_seam};

@@ -5,7 +5,8 @@
 //! Files, one concept each: [`orient`] (sections, orientation, seams), [`seam`] (smooth or C0 seams of closed sections),
 //! a private periodic least-squares fit of closed sections, a private seam tie (smooth closed
 //! sections on a clamped knot vector), [`section_fit`] (least squares on
-//! fixed knots), [`compatible`] (the shared knot vector), [`dense`] (dense sections screened and
+//! fixed knots), [`section_corners`] (inner corners held as C0 knot lines), [`compatible`] (the shared
+//! knot vector), [`dense`] (dense sections screened and
 //! reduced, the tolerance verified on every point), [`skinning`], [`measure`],
 //! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections; a private
 //! thinning of a cloud's slabs to tolerance-sized clusters), [`cad_skin`] (surfaces held to
