@@ -15,7 +15,7 @@
 //!   length) nothing is held and the reason is reported; the sections are fitted as without corners.
 
 use super::orient::Section;
-use crate::fit::corners::corners_at_tolerance;
+use crate::fit::corners::{corners_at_tolerance, CornerScale};
 use serde::Serialize;
 
 /// What became of the sections' inner corners (the surface report's `corners`).
@@ -55,14 +55,23 @@ impl CornerPlan {
 }
 
 /// Point indices of the inner corners of `section` at tolerance `tol` (increasing; the ends of an open
-/// section and the seam of a closed one excluded).
+/// section and the seam of a closed one excluded). On a closed section a corner found within one
+/// tangent window (arc length, [`CornerScale`]) of the seam is the seam's own corner, found a point
+/// or two off (noisy or thinned sections): the detector would merge it into the seam's run.
 fn inner_corners(section: &Section, angle_deg: f64, tol: f64) -> Vec<usize> {
     let m = section.points.len();
     if section.closed && m > 3 {
         let distinct = &section.points[..m - 1];
-        corners_at_tolerance(distinct, true, angle_deg, tol)
+        let found = corners_at_tolerance(distinct, true, angle_deg, tol);
+        if found.iter().all(|&k| k == 0) {
+            return Vec::new();
+        }
+        let window = CornerScale::measure(distinct, tol, angle_deg).window;
+        let chords = cumulative_chords(&section.points);
+        let total = chords[m - 1];
+        found
             .into_iter()
-            .filter(|&k| k > 0)
+            .filter(|&k| k > 0 && chords[k].min(total - chords[k]) > window)
             .collect()
     } else {
         corners_at_tolerance(&section.points, false, angle_deg, tol)
