@@ -14,8 +14,9 @@
 //! - Otherwise (different counts, a periodic seam, parameters given by the caller, a piece of zero
 //!   length) nothing is held and the reason is reported; the sections are fitted as without corners.
 
-use super::orient::Section;
+use super::orient::{extent, Section};
 use crate::fit::corners::{corners_at_tolerance, CornerScale};
+use crate::nurbs::Vec3;
 use serde::Serialize;
 
 /// What became of the sections' inner corners (the surface report's `corners`).
@@ -58,23 +59,33 @@ impl CornerPlan {
 /// section and the seam of a closed one excluded). On a closed section a corner found within one
 /// tangent window (arc length, [`CornerScale`]) of the seam is the seam's own corner, found a point
 /// or two off (noisy or thinned sections): the detector would merge it into the seam's run.
+///
+/// The points are first scaled to unit extent about their first point (as the curve side detects on
+/// its normalised data), so the decision does not depend on the section's size.
 fn inner_corners(section: &Section, angle_deg: f64, tol: f64) -> Vec<usize> {
     let m = section.points.len();
+    let ext = extent(&section.points);
+    if !(ext > 0.0 && ext.is_finite()) || m < 3 {
+        return Vec::new();
+    }
+    let origin = section.points[0];
+    let pts: Vec<Vec3> = section.points.iter().map(|&p| (p - origin) / ext).collect();
+    let tol = tol / ext;
     if section.closed && m > 3 {
-        let distinct = &section.points[..m - 1];
+        let distinct = &pts[..m - 1];
         let found = corners_at_tolerance(distinct, true, angle_deg, tol);
         if found.iter().all(|&k| k == 0) {
             return Vec::new();
         }
         let window = CornerScale::measure(distinct, tol, angle_deg).window;
-        let chords = cumulative_chords(&section.points);
+        let chords = cumulative_chords(&pts);
         let total = chords[m - 1];
         found
             .into_iter()
             .filter(|&k| k > 0 && chords[k].min(total - chords[k]) > window)
             .collect()
     } else {
-        corners_at_tolerance(&section.points, false, angle_deg, tol)
+        corners_at_tolerance(&pts, false, angle_deg, tol)
             .into_iter()
             .filter(|&k| k > 0 && k + 1 < m)
             .collect()
@@ -82,7 +93,7 @@ fn inner_corners(section: &Section, angle_deg: f64, tol: f64) -> Vec<usize> {
 }
 
 /// Cumulative chord lengths of `points` (first 0).
-fn cumulative_chords(points: &[crate::nurbs::Vec3]) -> Vec<f64> {
+fn cumulative_chords(points: &[Vec3]) -> Vec<f64> {
     let mut s = Vec::with_capacity(points.len());
     let mut acc = 0.0;
     s.push(0.0);
@@ -178,11 +189,7 @@ pub(crate) fn plan_corners(
 
 /// Piecewise chord-length parameters of `points` whose corners at `corners` (increasing point indices)
 /// take the parameters `at` (module doc). The pieces have positive length ([`plan_corners`] checked).
-pub(crate) fn piecewise_params(
-    points: &[crate::nurbs::Vec3],
-    corners: &[usize],
-    at: &[f64],
-) -> Vec<f64> {
+pub(crate) fn piecewise_params(points: &[Vec3], corners: &[usize], at: &[f64]) -> Vec<f64> {
     let m = points.len();
     let chords = cumulative_chords(points);
     let mut ends: Vec<(usize, f64)> = vec![(0, 0.0)];
@@ -226,7 +233,6 @@ pub(crate) fn hold_params(params: &mut [f64], held: &[(usize, f64)]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nurbs::Vec3;
 
     #[test]
     fn pieces_keep_their_points() {
