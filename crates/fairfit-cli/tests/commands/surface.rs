@@ -89,8 +89,61 @@ fn blade_sections_within_tolerance() {
         "{net:?}"
     );
     assert_eq!(r["sections"].as_array().unwrap().len(), 10);
+    // one section has an inner corner, the others none: nothing is held, and the report says why
+    let c = &r["corners"];
+    assert_eq!(c["held"], false);
+    assert_eq!(c["per_section"][2], 1);
+    assert!(c["reason"].as_str().unwrap().contains("different"), "{c}");
+    assert!(r["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|s| s["corners_held"] == 0));
     let s = read_json(&out);
     assert_eq!(s["kind"], "surface");
+}
+
+/// Four closed D-shaped sections (a half-ellipse from (a, 0) over the top to (−a, 0), closed by the
+/// straight segment back along y = 0): a corner at the seam and one inside, held as a C0 knot line.
+#[test]
+fn inner_corners_of_the_sections_are_held_and_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (k, z) in [0.0f64, 1.0, 2.5, 3.0].into_iter().enumerate() {
+        let (a, b) = (2.0 + 0.3 * z, 1.0 + 0.1 * z * z);
+        let mut s = String::new();
+        for i in 0..=60 {
+            let t = std::f64::consts::PI * i as f64 / 60.0;
+            s += &format!("{},{},{z}\n", a * t.cos(), b * t.sin());
+        }
+        for i in 1..=20 {
+            s += &format!("{},0,{z}\n", -a + 2.0 * a * i as f64 / 20.0);
+        }
+        std::fs::write(d.join(format!("sec_{k}.csv")), s).unwrap();
+    }
+    let rep = d.join("r.json");
+    fairfit()
+        .arg("surface")
+        .arg(d)
+        .args(["--tol", "1e-3", "-o"])
+        .arg(d.join("s.json"))
+        .arg("--report")
+        .arg(&rep)
+        .assert()
+        .success();
+    let r = read_json(&rep);
+    assert_eq!(r["within_tolerance"], true);
+    let c = &r["corners"];
+    assert_eq!(c["held"], true, "{c}");
+    assert_eq!(c["per_section"], serde_json::json!([1, 1, 1, 1]));
+    assert!(r["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|s| s["corners_held"] == 1));
+    let tc = c["params"][0].as_f64().unwrap();
+    let knots = r["knots_u"].as_array().unwrap();
+    assert_eq!(knots.iter().filter(|k| k.as_f64() == Some(tc)).count(), 3);
 }
 
 #[test]

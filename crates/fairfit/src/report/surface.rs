@@ -50,6 +50,11 @@ pub fn surface_report(
                 "max_deviation": r.section_deviation[k],
                 "exact_max_deviation": exact.map(|e| e.section_max_deviation[k]),
                 "dropped_chains": notes.dropped_chains.get(k),
+                "corners_held": if r.compatible.corners.held {
+                    r.compatible.corners.per_section.get(k).copied().unwrap_or(0)
+                } else {
+                    0
+                },
             })
         })
         .collect();
@@ -64,6 +69,7 @@ pub fn surface_report(
         "iso_fairness": r.fairness,
         "knots_u": r.compatible.knots,
         "periodic_u": r.compatible.periodic,
+        "corners": r.compatible.corners,
         "seam": r.seam,
         "v_params": r.v_params,
         "candidates_tried": r.compatible.candidates_tried,

@@ -8,10 +8,14 @@
 //! points grows geometrically until the worst section's orthogonal deviation is within tolerance, then is
 //! bisected down to the smallest count that passes; among the passing candidates of that count the one
 //! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
+//!
+//! Matching inner corners of the sections are held as knots of multiplicity `p` that the search never
+//! moves or removes, with piecewise chord-length parameters ([`super::section_corners`]).
 
 use super::orient::Section;
 use super::seam::{periodic_seam, smooth_at_seam};
 use super::seam_tie::tie_order;
+use super::section_corners::{piecewise_params, plan_corners, CornerFreedom, HeldCorners};
 use super::section_fit::{chord_length_params, fit_section_with, SectionFit};
 use crate::errors::{Error, Result};
 use crate::fair::FairnessEvaluator;
@@ -47,8 +51,13 @@ pub struct CompatibleOptions {
     /// clamped and each smooth closed section gets its seam tied (`C^(p−1)`, at most `C^2`, see
     /// the private `seam_tie` module). `false` keeps the plain clamped fit (C0 seams).
     pub periodic_closed: bool,
-    /// Turning angle (degrees) above which a point next to a seam is a corner (the seam stays C0).
+    /// Turning angle (degrees) above which a point is a corner, judged at the tolerance's scale: next to
+    /// a seam it keeps the seam C0; inside the sections it is held as a C0 knot when
+    /// [`Self::hold_corners`] allows ([`super::section_corners`]).
     pub corner_angle_deg: f64,
+    /// Hold matching inner corners of the sections as C0 knot lines (`false`: they are smoothed over
+    /// like any other point).
+    pub hold_corners: bool,
 }
 
 impl Default for CompatibleOptions {
@@ -64,6 +73,7 @@ impl Default for CompatibleOptions {
             uniform_blends: vec![0.5, 0.25],
             periodic_closed: true,
             corner_angle_deg: crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG,
+            hold_corners: true,
         }
     }
 }
@@ -86,6 +96,9 @@ pub struct CompatibleSections {
     pub within_tolerance: bool,
     /// Number of candidate knot vectors evaluated.
     pub candidates_tried: usize,
+    /// The sections' inner corners and whether they are held as C0 knots of multiplicity `p`
+    /// ([`super::section_corners`]).
+    pub corners: HeldCorners,
 }
 
 impl CompatibleSections {
@@ -168,16 +181,37 @@ fn knots_from_density(cdf: &[f64], blend: f64, degree: usize, n_ctrl: usize) -> 
 }
 
 /// Clamped or periodic shared knot vectors, built from their interior knots (the breakpoints strictly
-/// inside `(0, 1)`; both forms hold them at indices `p + 1 .. len − p − 1`).
+/// inside `(0, 1)`; both forms hold them at indices `p + 1 .. len − p − 1`). A clamped form may hold
+/// corner knots of multiplicity `p` ([`super::section_corners`]): they are added by [`Self::full`] and
+/// left out by [`Self::interior`], so the knot search only ever inserts and removes the free knots.
 #[derive(Clone, Copy)]
-struct KnotForm {
+struct KnotForm<'a> {
     degree: usize,
     periodic: bool,
+    corners: &'a [f64],
 }
 
-impl KnotForm {
+/// Free knots closer than this to a corner knot are dropped (the density's smallest knot gap).
+const CORNER_GAP: f64 = 1e-6;
+
+impl KnotForm<'_> {
     fn full(self, interior: &[f64]) -> Vec<f64> {
         let p = self.degree;
+        if !self.corners.is_empty() {
+            let mut all: Vec<f64> = interior
+                .iter()
+                .copied()
+                .filter(|t| self.corners.iter().all(|c| (t - c).abs() > CORNER_GAP))
+                .collect();
+            for &c in self.corners {
+                all.extend(std::iter::repeat_n(c, p));
+            }
+            all.sort_by(f64::total_cmp);
+            let mut k = vec![0.0; p + 1];
+            k.extend(all);
+            k.extend(std::iter::repeat_n(1.0, p + 1));
+            return k;
+        }
         if self.periodic {
             let mut b = Vec::with_capacity(interior.len() + 2);
             b.push(0.0);
@@ -192,8 +226,17 @@ impl KnotForm {
         }
     }
 
-    fn interior(self, knots: &[f64]) -> &[f64] {
-        &knots[self.degree + 1..knots.len() - self.degree - 1]
+    /// The free interior knots (corner knots left out).
+    fn interior(self, knots: &[f64]) -> Vec<f64> {
+        let inner = &knots[self.degree + 1..knots.len() - self.degree - 1];
+        if self.corners.is_empty() {
+            return inner.to_vec();
+        }
+        inner
+            .iter()
+            .copied()
+            .filter(|t| !self.corners.contains(t))
+            .collect()
     }
 
     /// Distinct control points (a periodic curve repeats `p` of them).
@@ -220,10 +263,31 @@ impl KnotForm {
         let p = self.degree;
         if self.periodic {
             let k = knots_from_density(cdf, blend, p, n_ctrl.max(p + 1) + p);
-            self.full(self.interior(&k))
+            self.full(&self.interior(&k))
+        } else if !self.corners.is_empty() {
+            let k = knots_from_density(cdf, blend, p, n_ctrl);
+            let free = KnotForm {
+                corners: &[],
+                ..self
+            }
+            .interior(&k);
+            self.full(&free)
         } else {
             knots_from_density(cdf, blend, p, n_ctrl)
         }
+    }
+}
+
+/// What every fit of a section keeps whatever the knots: its seam tie order ([`seam_ties`]) and its
+/// held corner parameters (`(point index, parameter)`, empty when no corner is held).
+struct Fixed {
+    ties: Vec<usize>,
+    held: Vec<Vec<(usize, f64)>>,
+}
+
+impl Fixed {
+    fn held(&self, k: usize) -> &[(usize, f64)] {
+        self.held.get(k).map_or(&[], Vec::as_slice)
     }
 }
 
@@ -239,13 +303,13 @@ fn evaluate(
     knots: Vec<f64>,
     opts: &CompatibleOptions,
     global: bool,
-    ties: &[usize],
+    fixed: &Fixed,
 ) -> Option<Candidate> {
     let fits: Result<Vec<SectionFit>> = sections
         .par_iter()
         .zip(params.par_iter())
-        .zip(ties.par_iter())
-        .map(|((s, t), &tie)| {
+        .enumerate()
+        .map(|(k, (s, t))| {
             fit_section_with(
                 &s.points,
                 t,
@@ -254,7 +318,8 @@ fn evaluate(
                 opts.smoothing,
                 opts.corrections,
                 global,
-                tie,
+                fixed.ties[k],
+                fixed.held(k),
             )
         })
         .collect();
@@ -311,7 +376,7 @@ fn fair_per_section(
     params: &[Vec<f64>],
     mut c: Candidate,
     opts: &CompatibleOptions,
-    ties: &[usize],
+    fixed: &Fixed,
 ) -> Candidate {
     if opts.fairing_weights.is_empty() {
         return c;
@@ -319,8 +384,8 @@ fn fair_per_section(
     let improved: Vec<Option<SectionFit>> = sections
         .par_iter()
         .zip(params.par_iter())
-        .zip(ties.par_iter())
-        .map(|((s, t), &tie)| {
+        .enumerate()
+        .map(|(k, (s, t))| {
             opts.fairing_weights.iter().find_map(|&w| {
                 fit_section_with(
                     &s.points,
@@ -330,7 +395,8 @@ fn fair_per_section(
                     w,
                     opts.corrections,
                     true,
-                    tie,
+                    fixed.ties[k],
+                    fixed.held(k),
                 )
                 .ok()
                 .filter(|f| f.max_deviation <= opts.tolerance)
@@ -393,13 +459,34 @@ pub(crate) fn make_compatible_with_progress(
 ) -> Result<CompatibleSections> {
     let p = opts.degree;
     let min_pts = validate(sections, opts)?;
-    let params = section_params(sections, opts)?;
+    let mut params = section_params(sections, opts)?;
     let periodic = opts.periodic_closed && periodic_seam(sections, opts.corner_angle_deg);
+    let (corners, plan) = plan_corners(
+        sections,
+        opts.corner_angle_deg,
+        opts.tolerance,
+        CornerFreedom {
+            clamped: !periodic,
+            params_given: opts.section_params.is_some(),
+            switched_off: !opts.hold_corners,
+        },
+    );
+    if let Some(plan) = &plan {
+        params = sections
+            .iter()
+            .zip(&plan.indices)
+            .map(|(s, idx)| piecewise_params(&s.points, idx, &plan.params))
+            .collect();
+    }
+    let fixed = Fixed {
+        ties: seam_ties(sections, opts, periodic),
+        held: plan.as_ref().map(|c| c.held_params()).unwrap_or_default(),
+    };
     let form = KnotForm {
         degree: p,
         periodic,
+        corners: plan.as_ref().map_or(&[], |c| c.params.as_slice()),
     };
-    let ties = seam_ties(sections, opts, periodic);
     let cdf = mean_turning_cdf(sections, &params);
     let n_max = max_control_points(sections, opts, min_pts);
     let blends = if opts.uniform_blends.is_empty() {
@@ -411,7 +498,7 @@ pub(crate) fn make_compatible_with_progress(
         sections,
         params: &params,
         opts,
-        ties: &ties,
+        fixed: &fixed,
         form,
         progress,
         tried: 0,
@@ -423,7 +510,7 @@ pub(crate) fn make_compatible_with_progress(
     let mut best_fail: Option<Candidate> = None;
     // a single span first: cheap, and exact when the sections are polynomial (open fits only)
     if !periodic {
-        if let Some(c) = search.try_knots(knots_from_density(&cdf, 1.0, p, p + 1)) {
+        if let Some(c) = search.try_knots(form.full(&[])) {
             if c.max_dev <= opts.tolerance {
                 finals.push(c);
             }
@@ -444,7 +531,7 @@ pub(crate) fn make_compatible_with_progress(
         let c = best_fail.ok_or_else(|| {
             Error::Fit("no knot vector gave a well-posed fit for every section".into())
         })?;
-        let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
+        let c = evaluate(sections, &params, c.knots.clone(), opts, true, &fixed).unwrap_or(c);
         let msf = worst_span_fairness(&c.fits);
         return Ok(CompatibleSections {
             knots: c.knots,
@@ -454,12 +541,13 @@ pub(crate) fn make_compatible_with_progress(
             within_tolerance: false,
             candidates_tried: tried,
             periodic,
+            corners,
         });
     }
     let (msf, c) = fewest_then_fairest(finals)?;
     // final measurement with global projection (never larger than the search's estimate)
-    let c = evaluate(sections, &params, c.knots.clone(), opts, true, &ties).unwrap_or(c);
-    let c = fair_per_section(sections, &params, c, opts, &ties);
+    let c = evaluate(sections, &params, c.knots.clone(), opts, true, &fixed).unwrap_or(c);
+    let c = fair_per_section(sections, &params, c, opts, &fixed);
     let msf = worst_span_fairness(&c.fits).min(msf);
     Ok(CompatibleSections {
         knots: c.knots,
@@ -469,6 +557,7 @@ pub(crate) fn make_compatible_with_progress(
         max_span_fairness: msf,
         candidates_tried: tried,
         periodic,
+        corners,
     })
 }
 
@@ -623,8 +712,8 @@ struct Search<'a> {
     sections: &'a [Section],
     params: &'a [Vec<f64>],
     opts: &'a CompatibleOptions,
-    ties: &'a [usize],
-    form: KnotForm,
+    fixed: &'a Fixed,
+    form: KnotForm<'a>,
     progress: &'a mut dyn FnMut(usize),
     tried: usize,
 }
@@ -640,7 +729,7 @@ impl Search<'_> {
             knots,
             self.opts,
             false,
-            self.ties,
+            self.fixed,
         )
     }
 
@@ -668,7 +757,7 @@ impl Search<'_> {
             if next.is_empty() {
                 return None;
             }
-            let mut interior = form.interior(&knots).to_vec();
+            let mut interior = form.interior(&knots);
             for t in next {
                 let pos = interior.partition_point(|&k| k <= t);
                 interior.insert(pos, t);
@@ -686,7 +775,7 @@ impl Search<'_> {
             if form.interior(&cur.knots).len() <= form.min_interior() {
                 break;
             }
-            let mut interior = form.interior(&cur.knots).to_vec();
+            let mut interior = form.interior(&cur.knots);
             interior.remove(i);
             let k2 = form.full(&interior);
             match self.try_knots(k2) {

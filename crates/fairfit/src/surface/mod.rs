@@ -5,9 +5,9 @@
 //! Files, one concept each: [`orient`] (sections, orientation, seams), [`seam`] (smooth or C0 seams of closed sections),
 //! a private periodic least-squares fit of closed sections, a private seam tie (smooth closed
 //! sections on a clamped knot vector), [`section_fit`] (least squares on
-//! fixed knots), [`compatible`] (the shared knot vector), [`dense`] (dense sections screened and
-//! reduced, the tolerance verified on every point), [`skinning`] (with [`skin_ends`]: v end
-//! tangents), [`measure`],
+//! fixed knots), [`section_corners`] (inner corners held as C0 knot lines), [`compatible`] (the shared
+//! knot vector), [`dense`] (dense sections screened and reduced, the tolerance verified on every
+//! point), [`skinning`] (with [`skin_ends`]: v end tangents), [`measure`],
 //! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections; a private
 //! thinning of a cloud's slabs to tolerance-sized clusters), [`cad_skin`] (surfaces held to
 //! the exact CAD section curves), plus a private dense solver. Fairness
@@ -26,6 +26,7 @@ pub mod pipeline;
 mod point_grid;
 pub mod seam;
 mod seam_tie;
+pub mod section_corners;
 pub mod section_fit;
 pub mod skin_ends;
 pub mod skinning;
@@ -42,5 +43,9 @@ pub use pipeline::{
     SurfaceOptions, SurfaceReconstruction,
 };
 pub use seam::{periodic_seam, seam_continuity, seam_continuity_at, SeamContinuity};
+<<<<<<< HEAD
 pub use skin_ends::{max_v_tangent_angle, VEndTangents, VTangentCheck};
+=======
+pub use section_corners::HeldCorners;
+>>>>>>> secorner
 pub use skinning::{skin, Skin, SkinOptions, VParams};

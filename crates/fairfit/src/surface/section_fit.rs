@@ -10,6 +10,7 @@
 use super::linalg::{cholesky, cholesky_solve, Dense};
 use super::periodic_fit::lsq_periodic_control_points;
 use super::seam_tie::lsq_tied_control_points;
+use super::section_corners::hold_params;
 use crate::diffgeo::CurveProjector;
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
@@ -288,13 +289,16 @@ pub fn fit_section(
         corrections,
         true,
         0,
+        &[],
     )
 }
 
 /// [`fit_section`]; with `global = false` the distances come from Newton started at each point's
 /// current parameter only (fast, may overestimate a distance, never underestimates it), for searches.
 /// `seam_tie > 0` on a clamped knot vector ties the end derivatives of a closed section up to that order
-/// ([`super::seam_tie`]; untied when there are too few control points).
+/// ([`super::seam_tie`]; untied when there are too few control points). `held` lists the points whose
+/// parameters stay fixed (the corners held as C0 knots, [`super::section_corners`]): the parameter
+/// correction keeps them and never moves another point across one.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_section_with(
     points: &[Vec3],
@@ -305,6 +309,7 @@ pub(crate) fn fit_section_with(
     corrections: usize,
     global: bool,
     seam_tie: usize,
+    held: &[(usize, f64)],
 ) -> Result<SectionFit> {
     let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
     let periodic = !is_clamped(knots, degree);
@@ -391,6 +396,7 @@ pub(crate) fn fit_section_with(
                 new_params[k] = new_params[k - 1];
             }
         }
+        hold_params(&mut new_params, held);
         params = new_params;
     }
     best.ok_or_else(|| Error::Fit("no section fit computed".into()))

@@ -4,6 +4,7 @@
 //! One file per source module it tests (`src/surface/<name>.rs`).
 
 mod cad_skin;
+mod corners;
 mod dense;
 mod measure;
 mod seam;
