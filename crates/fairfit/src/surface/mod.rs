@@ -43,9 +43,6 @@ pub use pipeline::{
     SurfaceOptions, SurfaceReconstruction,
 };
 pub use seam::{periodic_seam, seam_continuity, seam_continuity_at, SeamContinuity};
-<<<<<<< HEAD
-pub use skin_ends::{max_v_tangent_angle, VEndTangents, VTangentCheck};
-=======
 pub use section_corners::HeldCorners;
->>>>>>> secorner
+pub use skin_ends::{max_v_tangent_angle, VEndTangents, VTangentCheck};
 pub use skinning::{skin, Skin, SkinOptions, VParams};
