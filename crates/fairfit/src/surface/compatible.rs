@@ -452,7 +452,42 @@ pub fn make_compatible(
 }
 
 /// [`make_compatible`] reporting the number of candidates evaluated so far to `progress`.
+///
+/// Held corners are kept only when they let every section meet the tolerance: otherwise (a corner
+/// the detector placed a point off on noisy sections, where the held fit runs to the control-point
+/// cap and still misses) the sections are fitted again with the corners smoothed over, as without
+/// holding, and the report's `corners.reason` says why.
 pub(crate) fn make_compatible_with_progress(
+    sections: &[Section],
+    opts: &CompatibleOptions,
+    progress: &mut dyn FnMut(usize),
+) -> Result<CompatibleSections> {
+    let held = fit_once(sections, opts, progress)?;
+    if held.within_tolerance || !held.corners.held {
+        return Ok(held);
+    }
+    let free = CompatibleOptions {
+        hold_corners: false,
+        ..opts.clone()
+    };
+    let mut plain = fit_once(sections, &free, progress)?;
+    plain.corners = HeldCorners {
+        held: false,
+        params: Vec::new(),
+        reason: Some(format!(
+            "held as C0 knot lines the sections missed the tolerance ({:.3} of it, {} control points); fitted with the corners smoothed over",
+            held.max_deviation / opts.tolerance,
+            held.knots.len().saturating_sub(opts.degree + 1)
+        )),
+        ..held.corners
+    };
+    plain.candidates_tried += held.candidates_tried;
+    Ok(plain)
+}
+
+/// One compatible fit of `sections` under `opts` (corners held when [`CompatibleOptions::hold_corners`]
+/// and the sections allow it).
+fn fit_once(
     sections: &[Section],
     opts: &CompatibleOptions,
     progress: &mut dyn FnMut(usize),
