@@ -249,6 +249,16 @@ pub fn finite_positive(s: &str) -> Result<f64, String> {
     }
 }
 
+/// clap value parser: a turning angle in degrees, in `(0, 180]`.
+pub fn corner_angle(s: &str) -> Result<f64, String> {
+    let x: f64 = s.trim().parse().map_err(|e| format!("{e}"))?;
+    if x.is_finite() && x > 0.0 && x <= 180.0 {
+        Ok(x)
+    } else {
+        Err(format!("expected an angle in (0, 180] degrees, got {s}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

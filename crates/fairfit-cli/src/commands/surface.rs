@@ -124,6 +124,17 @@ pub struct SurfaceArgs {
     /// there (by default smooth closed sections are fitted and skinned periodically in u: no crease).
     #[arg(long)]
     pub clamped_seam: bool,
+    /// Turning angle (degrees) above which a section point is a corner, judged at the tolerance's
+    /// scale (as `fairfit curve --corner-angle`): at a seam it keeps the seam C0; inside the
+    /// sections, when every section has the same number of them, they are held as C0 knot lines
+    /// shared by all sections (the report's `corners`).
+    #[arg(long, value_name = "DEG", default_value_t = fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG,
+          value_parser = super::corner_angle, allow_hyphen_values = true)]
+    pub corner_angle: f64,
+    /// Do not hold inner corners of the sections as C0 knot lines: they are smoothed over like any
+    /// other point.
+    #[arg(long)]
+    pub no_corners: bool,
     /// A chain edge longer than this many median spacings is reported as a gap (slicing).
     #[arg(long, default_value_t = 5.0, allow_hyphen_values = true,
           value_parser = super::finite_positive)]
@@ -514,6 +525,8 @@ fn surface_options(args: &SurfaceArgs, tol: f64) -> SurfaceOptions {
     opts.sections.tolerance = tol;
     opts.sections.max_control_points = args.max_ctrl;
     opts.sections.periodic_closed = !args.clamped_seam;
+    opts.sections.corner_angle_deg = args.corner_angle;
+    opts.sections.hold_corners = !args.no_corners;
     opts.skin.degree_v = args.degree_v;
     opts.skin.params = match args.v_params {
         VParam::Chord => VParams::ChordLength,

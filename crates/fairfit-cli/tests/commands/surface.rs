@@ -144,6 +144,45 @@ fn inner_corners_of_the_sections_are_held_and_reported() {
     let tc = c["params"][0].as_f64().unwrap();
     let knots = r["knots_u"].as_array().unwrap();
     assert_eq!(knots.iter().filter(|k| k.as_f64() == Some(tc)).count(), 3);
+    // --no-corners smooths them over; --corner-angle 100 finds none (the D's corners turn by 90°)
+    let out = tempfile::tempdir().unwrap();
+    let (o, rep) = (out.path().join("s2.json"), out.path().join("r2.json"));
+    for (flag, value, found) in [
+        ("--no-corners", None, 1),
+        ("--corner-angle", Some("100"), 0),
+    ] {
+        let mut cmd = fairfit();
+        cmd.arg("surface").arg(d).args(["--tol", "1e-3", flag]);
+        if let Some(v) = value {
+            cmd.arg(v);
+        }
+        cmd.arg("-o")
+            .arg(&o)
+            .arg("--report")
+            .arg(&rep)
+            .assert()
+            .success();
+        let c = read_json(&rep)["corners"].clone();
+        assert_eq!(c["held"], false, "{flag}: {c}");
+        assert_eq!(
+            c["per_section"],
+            serde_json::json!(vec![found; 4]),
+            "{flag}: {c}"
+        );
+    }
+    let bad = fairfit()
+        .arg("surface")
+        .arg(d)
+        .args(["--tol", "1e-3", "--corner-angle", "0", "-o"])
+        .arg(out.path().join("s3.json"))
+        .output()
+        .unwrap();
+    assert!(!bad.status.success() && !out.path().join("s3.json").exists());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("--corner-angle") && err.contains("(0, 180]"),
+        "{err}"
+    );
 }
 
 #[test]
