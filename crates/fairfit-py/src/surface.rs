@@ -259,6 +259,9 @@ pub struct SurfaceSettings {
     pub start_tangent_v: Option<[f64; 3]>,
     /// `end_tangent_v`: the same along the last section.
     pub end_tangent_v: Option<[f64; 3]>,
+    /// `corner_angle`: the sections' corner angle in degrees (`--corner-angle`); `None` smooths
+    /// inner corners over (`--no-corners`; seams keep the default angle).
+    pub corner_angle: Option<f64>,
 }
 
 /// `fairfit surface`'s checks of the counts, with its messages (named by the Python keywords).
@@ -280,6 +283,12 @@ fn check_counts(s: &SurfaceSettings) -> Result<(), String> {
             "smooth_v must be a finite number >= 0, got {}",
             s.smooth_v
         ));
+    }
+    if let Some(a) = s
+        .corner_angle
+        .filter(|a| !(a.is_finite() && *a > 0.0 && *a <= 180.0))
+    {
+        return Err(format!("corner_angle must be in (0, 180] degrees, got {a}"));
     }
     check_tangents(s)
 }
@@ -327,6 +336,10 @@ fn surface_options(s: &SurfaceSettings, tol: f64) -> SurfaceOptions {
     opts.sections.tolerance = tol;
     opts.sections.max_control_points = s.max_ctrl;
     opts.sections.periodic_closed = !s.clamped_seam;
+    opts.sections.corner_angle_deg = s
+        .corner_angle
+        .unwrap_or(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG);
+    opts.sections.hold_corners = s.corner_angle.is_some();
     opts.skin.degree_v = s.degree_v;
     opts.skin.params = if s.centripetal_v {
         VParams::Centripetal
@@ -398,7 +411,8 @@ fn check_section_count(n: usize, max_sections: usize) -> PyResult<()> {
 #[pyfunction]
 #[pyo3(signature = (sections, tol, rel_tol, degree, degree_v, max_ctrl, v_params, approximate_v,
     smooth_v, clamped_seam, threads, names, max_sections=DEFAULT_MAX_SECTIONS,
-    start_tangent_v=None, end_tangent_v=None))]
+    start_tangent_v=None, end_tangent_v=None,
+    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG)))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface(
     py: Python<'_>,
@@ -417,6 +431,7 @@ pub fn fit_surface(
     max_sections: usize,
     start_tangent_v: Option<[f64; 3]>,
     end_tangent_v: Option<[f64; 3]>,
+    corner_angle: Option<f64>,
 ) -> PyResult<Surface> {
     check_section_count(sections.len(), max_sections)?;
     let settings = SurfaceSettings {
@@ -432,6 +447,7 @@ pub fn fit_surface(
         threads,
         start_tangent_v,
         end_tangent_v,
+        corner_angle,
     };
     let names = names.unwrap_or_else(|| {
         (0..sections.len())
@@ -466,7 +482,8 @@ pub fn fit_surface(
 #[pyfunction]
 #[pyo3(signature = (path, slices, axis, normal, gap_factor, tol, rel_tol, degree, degree_v,
     max_ctrl, v_params, approximate_v, smooth_v, clamped_seam, threads,
-    max_sections=DEFAULT_MAX_SECTIONS, start_tangent_v=None, end_tangent_v=None))]
+    max_sections=DEFAULT_MAX_SECTIONS, start_tangent_v=None, end_tangent_v=None,
+    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG)))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface_from_mesh(
     py: Python<'_>,
@@ -488,6 +505,7 @@ pub fn fit_surface_from_mesh(
     max_sections: usize,
     start_tangent_v: Option<[f64; 3]>,
     end_tangent_v: Option<[f64; 3]>,
+    corner_angle: Option<f64>,
 ) -> PyResult<Surface> {
     if slices > max_sections {
         return Err(crate::py_err(format!(
@@ -508,6 +526,7 @@ pub fn fit_surface_from_mesh(
         threads,
         start_tangent_v,
         end_tangent_v,
+        corner_angle,
     };
     if slices < 2 {
         return Err(crate::py_err(format!(

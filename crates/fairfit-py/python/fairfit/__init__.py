@@ -381,6 +381,7 @@ def fit_surface(
     max_sections: int = DEFAULT_MAX_SECTIONS,
     start_tangent_v=None,
     end_tangent_v=None,
+    corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
 ) -> Surface:
     """A fair surface through ordered sections: ``fairfit surface SECTIONS...`` from Python.
 
@@ -400,6 +401,10 @@ def fit_surface(
     start_tangent_v / end_tangent_v: a direction (X, Y, Z) for the derivative across the sections
         along the whole first / last section (``--start-tangent-v``, ``--end-tangent-v``; only the
         direction counts, the report's ``v_end_tangents`` gives the largest angle reached).
+    corner_angle: turning angle in degrees above which a section point is a corner
+        (``--corner-angle``, default 60): a seam corner keeps the seam C0, and inner corners, when
+        every section has the same number, are held as C0 knot lines (the report's ``corners``);
+        None smooths inner corners over (``--no-corners``).
 
     One knot vector is searched for all sections together (the sections' fits are not independent),
     then the compatible curves are skinned. Returns the :class:`Surface` with the report
@@ -422,6 +427,7 @@ def fit_surface(
         _count(max_sections, "max_sections"),
         _direction(start_tangent_v, "start_tangent_v"),
         _direction(end_tangent_v, "end_tangent_v"),
+        None if corner_angle is None else float(corner_angle),
     )
 
 
@@ -445,6 +451,7 @@ def fit_surface_from_mesh(
     max_sections: int = DEFAULT_MAX_SECTIONS,
     start_tangent_v=None,
     end_tangent_v=None,
+    corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
 ) -> Surface:
     """A fair surface through a mesh or point cloud (.ply, .stl, .obj) cut by ``slices`` planes along
     ``axis`` (or ``normal``): ``fairfit surface MESH --slices N --axis z``. The other keywords are
@@ -468,6 +475,7 @@ def fit_surface_from_mesh(
         _count(max_sections, "max_sections"),
         _direction(start_tangent_v, "start_tangent_v"),
         _direction(end_tangent_v, "end_tangent_v"),
+        None if corner_angle is None else float(corner_angle),
     )
 
 

@@ -149,3 +149,40 @@ def test_v_end_tangent_errors():
         fairfit.fit_surface(sections(), end_tangent_v=[0, 0, 1], degree_v=1)
     with pytest.raises(fairfit.FairfitError, match="at least 4 control points"):
         fairfit.fit_surface(sections(), start_tangent_v=[0, 0, 1], end_tangent_v=[0, 0, 1], approximate_v=3)
+
+
+def d_sections():
+    """Four closed D-shaped sections (a half-ellipse over the top, closed by the straight segment
+    along y = 0): a corner at the seam and one inside (as the CLI test of held corners)."""
+    out = []
+    for z in [0.0, 1.0, 2.5, 3.0]:
+        a, b = 2.0 + 0.3 * z, 1.0 + 0.1 * z * z
+        t = np.pi * np.arange(61) / 60.0
+        top = np.column_stack([a * np.cos(t), b * np.sin(t), np.full(61, z)])
+        x = -a + 2.0 * a * np.arange(1, 21) / 20.0
+        base = np.column_stack([x, np.zeros(20), np.full(20, z)])
+        out.append(np.vstack([top, base]))
+    return out
+
+
+def test_corner_angle_holds_inner_corners_as_the_cli_does(cli, tmp_path):
+    paths = []
+    for k, s in enumerate(d_sections()):
+        p = tmp_path / f"sec_{k}.csv"
+        np.savetxt(p, s, delimiter=",", fmt="%.17g")
+        paths.append(p)
+    names = [str(p) for p in paths]
+    for flags, kw, held, found in [
+        ([], {}, True, 1),
+        (["--no-corners"], {"corner_angle": None}, False, 1),
+        (["--corner-angle", "100"], {"corner_angle": 100}, False, 0),
+    ]:
+        out, rep = tmp_path / "s.json", tmp_path / "r.json"
+        cli("surface", *paths, "--tol", "1e-3", *flags, "-o", out, "--report", rep)
+        s = fairfit.fit_surface(d_sections(), tol=1e-3, names=names, **kw)
+        assert s.to_json() == out.read_text(), flags
+        c = s.report["corners"]
+        assert c == json.loads(rep.read_text())["corners"]
+        assert c["held"] is held and c["per_section"] == [found] * 4, (flags, c)
+    with pytest.raises(fairfit.FairfitError, match=r"corner_angle must be in \(0, 180\] degrees"):
+        fairfit.fit_surface(d_sections(), corner_angle=0)
