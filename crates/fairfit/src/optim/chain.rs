@@ -201,7 +201,8 @@ pub fn fit_chain<P: AsRef<[Vec3]> + Sync>(
     let tol = single.tolerance.max(tol);
     let (cuts, joins): (Vec<f64>, Vec<EndConstraint>) = sets
         .windows(2)
-        .map(|w| join_condition(&single.curve, w[0], w[1], continuity.order()))
+        .enumerate()
+        .map(|(k, w)| join_condition(&single.curve, (k, w[0], w[1]), continuity.order()))
         .collect::<Result<Vec<_>>>()?
         .into_iter()
         .unzip();
@@ -338,12 +339,20 @@ fn check_gaps(sets: &[&[Vec3]], tol: f64) -> Result<()> {
 /// curve's direction of travel, right for the end of `a`'s piece and the start of `b`'s.
 fn join_condition(
     curve: &NurbsCurve,
-    a: &[Vec3],
-    b: &[Vec3],
+    (k, a, b): (usize, &[Vec3], &[Vec3]),
     order: usize,
 ) -> Result<(f64, EndConstraint)> {
     let mid = (a[a.len() - 1] + b[0]) * 0.5;
     let u = crate::diffgeo::project_point(curve, mid).u;
+    let turn = turn_at(curve, u);
+    if turn > CORNER_TURN {
+        return Err(Error::InvalidData(format!(
+            "chain pieces {} and {} meet at a corner (the curve through every point turns by {:.1} degrees there): a G1/G2 chain needs a smooth join; fit them as one curve, which keeps the corner, or separately",
+            k + 1,
+            k + 2,
+            turn.to_degrees()
+        )));
+    }
     let d = curve.derivatives(u, 2);
     let speed = d[1].norm();
     if !(speed > 0.0 && speed.is_finite()) {
@@ -363,6 +372,23 @@ fn join_condition(
         c.curvature = Some(EndCurvature::Vector(k));
     }
     Ok((u, c))
+}
+
+/// The turn of a join (radians) above which the single curve has a corner there: its tangents
+/// `1e-9` of the domain either side of a smooth join differ by about `1e-8` rad, across a corner
+/// (a C0 knot) by the corner's angle.
+const CORNER_TURN: f64 = 1e-3;
+
+/// The angle between `curve`'s unit tangents just before and just after `u`.
+fn turn_at(curve: &NurbsCurve, u: f64) -> f64 {
+    let (a, b) = curve.domain();
+    let h = 1e-9 * (b - a);
+    let tangent = |x: f64| {
+        let d = curve.derivatives(x.clamp(a, b), 1);
+        d[1] / d[1].norm()
+    };
+    let (l, r) = (tangent(u - h), tangent(u + h));
+    l.cross(r).norm().atan2(l.dot(r))
 }
 
 /// `curve` cut at the increasing interior parameters `cuts` into `cuts.len() + 1` clamped pieces,

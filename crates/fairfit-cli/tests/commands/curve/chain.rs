@@ -200,7 +200,8 @@ fn split_at_le_pins_the_airfoils_leading_edge_at_the_parameter_half() {
 
 #[test]
 fn a_g1_chain_across_a_corner_is_refused_not_written_with_a_kink() {
-    // two straight pieces meeting at a right angle: no tangent is within the tolerance of both
+    // two straight pieces meeting at a right angle: the corner is named (no tangent is within the
+    // tolerance of both)
     let line = |f: &dyn Fn(f64) -> (f64, f64)| {
         let mut s = String::from("x,y\n");
         for i in 0..=20 {
@@ -210,7 +211,12 @@ fn a_g1_chain_across_a_corner_is_refused_not_written_with_a_kink() {
         file_with(s.as_bytes())
     };
     let (a, b) = (line(&|t| (t, 0.0)), line(&|t| (1.0, t)));
-    refused_chain(&a, &b, "g1", &["chain piece 1", "join with piece 2"]);
+    refused_chain(
+        &a,
+        &b,
+        "g1",
+        &["chain pieces 1 and 2 meet at a corner", "90.0 degrees"],
+    );
 }
 
 /// `fairfit curve A B --chain CONTINUITY -o o.json` fails as an input error (exit 1, one line with
