@@ -36,6 +36,20 @@ fn arc_g1() -> (EndConstraint, EndConstraint) {
     )
 }
 
+/// Asserts that `curve` holds `start` and `end` to 1e-9: the tangent angle, and the relative
+/// curvature where a curvature is asked (0 otherwise).
+fn assert_ends_held(curve: &NurbsCurve, start: &EndConstraint, end: &EndConstraint) {
+    for (at_end, cond) in [(false, start), (true, end)] {
+        let a = achieved(curve, at_end, cond);
+        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
+        assert!(
+            a.curvature_relative <= 1e-9,
+            "curvature {}",
+            a.curvature_relative
+        );
+    }
+}
+
 fn clamped(n_ctrl: usize, p: usize) -> Vec<f64> {
     let spans = n_ctrl - p;
     let mut k = vec![0.0; p + 1];
@@ -128,10 +142,7 @@ fn integrated_holds_g1_ends_of_an_arc_within_the_tolerance() {
         .end(e);
     let r = fit_integrated(&pts, &opts).unwrap();
     assert!(r.met && r.quality.max_deviation <= r.tolerance);
-    for (at_end, cond) in [(false, &s), (true, &e)] {
-        let a = achieved(&r.curve, at_end, cond);
-        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
-    }
+    assert_ends_held(&r.curve, &s, &e);
     // the curve still starts and ends on the data's end points
     assert!((r.curve.point(0.0) - pts[0]).norm() <= 1e-9 * R);
     assert!((r.curve.point(1.0) - pts[79]).norm() <= 1e-9 * R);
@@ -146,15 +157,7 @@ fn integrated_holds_g2_ends_of_an_arc_within_the_tolerance() {
         .end(e);
     let r = fit_integrated(&pts, &opts).unwrap();
     assert!(r.met && r.quality.max_deviation <= r.tolerance);
-    for (at_end, cond) in [(false, &s), (true, &e)] {
-        let a = achieved(&r.curve, at_end, cond);
-        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
-        assert!(
-            a.curvature_relative <= 1e-9,
-            "curvature {}",
-            a.curvature_relative
-        );
-    }
+    assert_ends_held(&r.curve, &s, &e);
     let (_, b) = r.curve.domain();
     let d = r.curve.derivatives(b, 2);
     let kappa = d[1].cross(d[2])[2] / d[1].norm().powi(3);
@@ -328,11 +331,7 @@ fn g2_ends_from_the_unconstrained_fit_cost_no_control_point_and_almost_no_fairne
     let e = EndConstraint::from_curve_end(&free.curve, true, 2).unwrap();
     let r = fit_integrated(&pts, &opts.clone().start(s).end(e)).unwrap();
     assert!(r.met && r.quality.max_deviation <= r.tolerance);
-    for (at_end, cond) in [(false, &s), (true, &e)] {
-        let a = achieved(&r.curve, at_end, cond);
-        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
-        assert!(a.curvature_relative <= 1e-9, "{}", a.curvature_relative);
-    }
+    assert_ends_held(&r.curve, &s, &e);
     let (f, f0) = (
         fairfit::fair::curve_fairness(&r.curve),
         fairfit::fair::curve_fairness(&free.curve),
@@ -371,11 +370,7 @@ fn integrated_holds_g2_ends_of_data_with_a_corner_at_its_end_pieces() {
         .end(e);
     let r = fit_integrated(&pts, &opts).unwrap();
     assert!(r.met && r.quality.max_deviation <= r.tolerance);
-    for (at_end, cond) in [(false, &s), (true, &e)] {
-        let a = achieved(&r.curve, at_end, cond);
-        assert!(a.tangent_angle <= 1e-9, "angle {}", a.tangent_angle);
-        assert!(a.curvature_relative <= 1e-9, "{}", a.curvature_relative);
-    }
+    assert_ends_held(&r.curve, &s, &e);
     // the corner: a knot of full multiplicity (3) inside the domain
     let k = r.curve.knots();
     let inner = &k[4..k.len() - 4];
