@@ -86,6 +86,21 @@ impl Reduced {
     pub fn spread(&self) -> f64 {
         self.bins.iter().map(|b| b.spread).fold(0.0, f64::max)
     }
+
+    /// Per bin, the widest spread among it and its two neighbours: what a curve passing its
+    /// representative must leave room for (between two representatives it passes the points of
+    /// both bins).
+    pub fn neighbour_spreads(&self) -> Vec<f64> {
+        let b = &self.bins;
+        (0..b.len())
+            .map(|k| {
+                b[k.saturating_sub(1)..(k + 2).min(b.len())]
+                    .iter()
+                    .map(|x| x.spread)
+                    .fold(0.0, f64::max)
+            })
+            .collect()
+    }
 }
 
 /// The bins of `points` (at least 3) for bin length `h` (module doc), the ends alone.

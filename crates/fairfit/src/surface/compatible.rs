@@ -278,16 +278,38 @@ impl KnotForm<'_> {
     }
 }
 
-/// What every fit of a section keeps whatever the knots: its seam tie order ([`seam_ties`]) and its
-/// held corner parameters (`(point index, parameter)`, empty when no corner is held).
-struct Fixed {
+/// What every fit of a section keeps whatever the knots: its seam tie order ([`seam_ties`]), its
+/// held corner parameters (`(point index, parameter)`, empty when no corner is held) and its
+/// points' deviation factors ([`make_compatible_held_to`]; empty: all 1).
+struct Fixed<'a> {
     ties: Vec<usize>,
     held: Vec<Vec<(usize, f64)>>,
+    factors: &'a [Vec<f64>],
 }
 
-impl Fixed {
+impl Fixed<'_> {
     fn held(&self, k: usize) -> &[(usize, f64)] {
         self.held.get(k).map_or(&[], Vec::as_slice)
+    }
+
+    /// Section `k`'s deviation of point `i` as the search measures it (times its factor).
+    fn measured(&self, k: usize, i: usize, d: f64) -> f64 {
+        self.factors
+            .get(k)
+            .and_then(|f| f.get(i))
+            .map_or(d, |f| f * d)
+    }
+
+    /// Section `k`'s largest measured deviation of `fit`.
+    fn max_measured(&self, k: usize, fit: &SectionFit) -> f64 {
+        if self.factors.is_empty() {
+            return fit.max_deviation;
+        }
+        fit.deviations
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| self.measured(k, i, d))
+            .fold(0.0, f64::max)
     }
 }
 
@@ -324,7 +346,11 @@ fn evaluate(
         })
         .collect();
     let fits = fits.ok()?;
-    let max_dev = fits.iter().map(|f| f.max_deviation).fold(0.0, f64::max);
+    let max_dev = fits
+        .iter()
+        .enumerate()
+        .map(|(k, f)| fixed.max_measured(k, f))
+        .fold(0.0, f64::max);
     Some(Candidate {
         knots,
         fits,
@@ -335,13 +361,14 @@ fn evaluate(
 /// Where to insert the next knots: in the (at most `count`) spans with the largest deviation over all
 /// sections above `tol`, at the worst point of that span, or at the span's middle when that point lies
 /// close to a knot.
-fn insertion_knots(c: &Candidate, p: usize, tol: f64, count: usize) -> Vec<f64> {
+fn insertion_knots(c: &Candidate, fixed: &Fixed, p: usize, tol: f64, count: usize) -> Vec<f64> {
     let k = &c.knots;
     let n1 = k.len() - p - 1;
     // per span: (largest deviation, its parameter)
     let mut worst: Vec<(f64, f64)> = vec![(0.0, 0.0); n1];
-    for f in &c.fits {
-        for (&t, &d) in f.params.iter().zip(&f.deviations) {
+    for (sec, f) in c.fits.iter().enumerate() {
+        for (i, (&t, &d)) in f.params.iter().zip(&f.deviations).enumerate() {
+            let d = fixed.measured(sec, i, d);
             let span = crate::nurbs::knots::find_span(n1 - 1, p, t, k);
             if d > worst[span].0 {
                 worst[span] = (d, t);
@@ -399,7 +426,7 @@ fn fair_per_section(
                     fixed.held(k),
                 )
                 .ok()
-                .filter(|f| f.max_deviation <= opts.tolerance)
+                .filter(|f| fixed.max_measured(k, f) <= opts.tolerance)
             })
         })
         .collect();
@@ -408,7 +435,12 @@ fn fair_per_section(
             *fit = n;
         }
     }
-    c.max_dev = c.fits.iter().map(|f| f.max_deviation).fold(0.0, f64::max);
+    c.max_dev = c
+        .fits
+        .iter()
+        .enumerate()
+        .map(|(k, f)| fixed.max_measured(k, f))
+        .fold(0.0, f64::max);
     c
 }
 
@@ -462,7 +494,20 @@ pub(crate) fn make_compatible_with_progress(
     opts: &CompatibleOptions,
     progress: &mut dyn FnMut(usize),
 ) -> Result<CompatibleSections> {
-    let held = fit_once(sections, opts, progress)?;
+    make_compatible_held_to(sections, opts, &[], progress)
+}
+
+/// [`make_compatible_with_progress`] with every point `i` of section `k` held within
+/// `tolerance / factors[k][i]` instead of the tolerance (factors at most 1; empty: all 1): the
+/// search, the fairing and `max_deviation` measure `factors[k][i] · d_i` against the tolerance.
+/// The dense path's representatives use it, each within its bin's share ([`super::dense`]).
+pub(crate) fn make_compatible_held_to(
+    sections: &[Section],
+    opts: &CompatibleOptions,
+    factors: &[Vec<f64>],
+    progress: &mut dyn FnMut(usize),
+) -> Result<CompatibleSections> {
+    let held = fit_once(sections, opts, factors, progress)?;
     if held.within_tolerance || !held.corners.held {
         return Ok(held);
     }
@@ -470,7 +515,7 @@ pub(crate) fn make_compatible_with_progress(
         hold_corners: false,
         ..opts.clone()
     };
-    let mut plain = fit_once(sections, &free, progress)?;
+    let mut plain = fit_once(sections, &free, factors, progress)?;
     plain.corners = HeldCorners {
         held: false,
         params: Vec::new(),
@@ -490,6 +535,7 @@ pub(crate) fn make_compatible_with_progress(
 fn fit_once(
     sections: &[Section],
     opts: &CompatibleOptions,
+    factors: &[Vec<f64>],
     progress: &mut dyn FnMut(usize),
 ) -> Result<CompatibleSections> {
     let p = opts.degree;
@@ -516,6 +562,7 @@ fn fit_once(
     let fixed = Fixed {
         ties: seam_ties(sections, opts, periodic),
         held: plan.as_ref().map(|c| c.held_params()).unwrap_or_default(),
+        factors,
     };
     let form = KnotForm {
         degree: p,
@@ -747,7 +794,7 @@ struct Search<'a> {
     sections: &'a [Section],
     params: &'a [Vec<f64>],
     opts: &'a CompatibleOptions,
-    fixed: &'a Fixed,
+    fixed: &'a Fixed<'a>,
     form: KnotForm<'a>,
     progress: &'a mut dyn FnMut(usize),
     tried: usize,
@@ -785,7 +832,7 @@ impl Search<'_> {
             }
             let n_ctrl = form.distinct(&knots);
             let room = n_max.saturating_sub(n_ctrl);
-            let next = insertion_knots(&c, p, tol, room.min((n_ctrl / 6).max(1)));
+            let next = insertion_knots(&c, self.fixed, p, tol, room.min((n_ctrl / 6).max(1)));
             if best_fail.as_ref().is_none_or(|f| c.max_dev < f.max_dev) {
                 *best_fail = Some(c);
             }

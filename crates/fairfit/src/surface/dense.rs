@@ -19,15 +19,20 @@
 //!    (the largest over the sections, [`DenseSummary::tolerance_used`]; said so, never silent).
 //! 2. **Reduction**: representatives of tolerance-sized arcs, each bin's spread (noise plus
 //!    sagitta) recorded ([`crate::fit::reduce`], the same tuning as curves).
-//! 3. **Compatible fit** of the representatives ([`super::compatible`]) within `tol − spread` (the
-//!    largest spread, at least `tol/4`): a curve within that of every representative is within
-//!    `tol` of its bin's points.
+//! 3. **Compatible fit** of the representatives ([`super::compatible`]), each within its own
+//!    bin's *share* of the tolerance, `tol − spread` of the widest spread among its bin and its two
+//!    neighbours (at least `tol/4`), as for curves: a curve within that of every representative is
+//!    within `tol` of its bin's points. The shares reach the shared knot search as per-point
+//!    deviation factors, so a bin of large spread (a thin trailing edge's sagitta, the noise's
+//!    extreme) tightens the fit there and nowhere else; held to the tightest share everywhere, the
+//!    sections of noisy cloud slices were held to a quarter of the tolerance and took up to 1.6
+//!    times the control points (the vase clouds of `bench/dense_surface.py`).
 //! 4. **Verification on every kept point**: each point is projected onto its section curve by
 //!    Newton from the previous point's foot, by the local sampled search when Newton lands beyond
 //!    the tolerance, and a remaining violation is confirmed by the whole-curve search. Bins holding
 //!    a point beyond the tolerance are cut in two and the search runs again
-//!    ([`ReduceTuning::repair_rounds`] times at most), then once with the fit tolerance tightened by
-//!    the largest excess.
+//!    ([`ReduceTuning::repair_rounds`] times at most); then every share is tightened by twice the
+//!    largest excess ([`ReduceTuning::tighten_rounds`] times at most).
 //! 5. The skinned surface's deviation of every kept point is measured by a projection started at
 //!    the point's section parameters ([`super::measure::surface_deviation_near`]): a local search,
 //!    not a scan of the whole sample grid per point.
@@ -35,7 +40,7 @@
 //! Every step is a pure function of the sections, and the parallel loops collect in input order:
 //! the result does not depend on the thread count.
 
-use super::compatible::{make_compatible_with_progress, CompatibleOptions, CompatibleSections};
+use super::compatible::{make_compatible_held_to, CompatibleOptions, CompatibleSections};
 use super::orient::Section;
 use super::section_fit::newton_from;
 use crate::diffgeo::CurveProjector;
@@ -243,9 +248,11 @@ pub(crate) fn fit(
     let tuning = &dense.reduce;
     let tol = p.tol;
     let h = tuning.bin_tolerances * tol;
-    let spread = p.reduced.iter().map(Reduced::spread).fold(0.0, f64::max);
-    let mut inner = (tol - spread).max(0.25 * tol);
-    let (mut rounds, mut tightened) = (0, false);
+    let share = |spread: f64| (tol - spread).max(0.25 * tol);
+    let tightest = |p: &Prepared| share(p.reduced.iter().map(Reduced::spread).fold(0.0, f64::max));
+    // the tightest share; a tightening shrinks every share by the same factor
+    let mut inner = tightest(&p);
+    let (mut cuts, mut tightenings) = (0, 0);
     loop {
         let reps: Vec<Section> = p
             .sections
@@ -256,9 +263,18 @@ pub(crate) fn fit(
                 closed: s.closed,
             })
             .collect();
+        let t = tightest(&p);
+        let factors: Vec<Vec<f64>> = p
+            .reduced
+            .iter()
+            .map(|r| {
+                let ns = r.neighbour_spreads();
+                ns.into_iter().map(|s| t / share(s)).collect()
+            })
+            .collect();
         let mut o = sections.clone();
         o.tolerance = inner;
-        let compatible = make_compatible_with_progress(&reps, &o, progress)?;
+        let compatible = make_compatible_held_to(&reps, &o, &factors, progress)?;
         let checked: Vec<Checked> = p
             .sections
             .par_iter()
@@ -267,24 +283,34 @@ pub(crate) fn fit(
             .map(|((s, r), f)| check(&s.points, r, f, compatible.periodic, tol))
             .collect::<Result<_>>()?;
         let max = checked.iter().map(|c| c.max).fold(0.0, f64::max);
-        let done = max <= tol || tightened || !compatible.within_tolerance;
-        if !done && rounds < tuning.repair_rounds {
+        let done = max <= tol || !compatible.within_tolerance;
+        if !done && cuts < tuning.repair_rounds {
             let mut changed = false;
             for ((s, r), c) in p.sections.iter().zip(&mut p.reduced).zip(&checked) {
                 let cut: Vec<bool> = c.per_bin.iter().map(|&d| d > tol).collect();
                 changed |= refine(&s.points, r, &cut, h, tuning);
             }
             if changed {
-                rounds += 1;
+                cuts += 1;
+                inner = inner.min(tightest(&p));
                 continue;
             }
         }
-        if done || inner - (max - tol) <= 0.0 {
-            return Ok(finished(p, compatible, checked, max, inner, rounds));
+        // the excess taken off the tightest share, twice over (a fit tightened by exactly the
+        // excess lands on the tolerance's edge again)
+        let tighter = inner - 2.0 * (max - tol);
+        if done || tightenings == tuning.tighten_rounds || tighter <= 0.0 {
+            return Ok(finished(
+                p,
+                compatible,
+                checked,
+                max,
+                inner,
+                cuts + tightenings,
+            ));
         }
-        inner -= max - tol;
-        rounds += 1;
-        tightened = true;
+        inner = tighter;
+        tightenings += 1;
     }
 }
 

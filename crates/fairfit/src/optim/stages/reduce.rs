@@ -232,16 +232,11 @@ impl Dense {
     /// representative held within `inner / factor` is held within its share scaled by `inner`
     /// over the tightest share.
     fn factors(&self, tuning: &ReduceTuning) -> Vec<f64> {
-        let b = &self.red.bins;
         let tightest = self.share(self.red.spread(), tuning);
-        (0..b.len())
-            .map(|k| {
-                let s = b[k.saturating_sub(1)..(k + 2).min(b.len())]
-                    .iter()
-                    .map(|x| x.spread)
-                    .fold(0.0, f64::max);
-                tightest / self.share(s, tuning)
-            })
+        self.red
+            .neighbour_spreads()
+            .into_iter()
+            .map(|s| tightest / self.share(s, tuning))
             .collect()
     }
 }
