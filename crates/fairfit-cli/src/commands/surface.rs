@@ -135,6 +135,13 @@ pub struct SurfaceArgs {
     /// other point.
     #[arg(long)]
     pub no_corners: bool,
+    /// Airfoil sections: pin every section's leading edge (the point farthest from the midpoint of its
+    /// first and last points, the trailing edge) to the parameter 0.5 on its curve, as `fairfit curve
+    /// --split-at-le` does, without a knot there: each section curve passes through its leading edge
+    /// at u = 0.5 and the surface's iso-curve u = 0.5 is the leading edge (the report's
+    /// `split_at_le`). A section whose leading edge is an end point is refused.
+    #[arg(long)]
+    pub split_at_le: bool,
     /// A chain edge longer than this many median spacings is reported as a gap (slicing).
     #[arg(long, default_value_t = 5.0, allow_hyphen_values = true,
           value_parser = super::finite_positive)]
@@ -527,6 +534,7 @@ fn surface_options(args: &SurfaceArgs, tol: f64) -> SurfaceOptions {
     opts.sections.periodic_closed = !args.clamped_seam;
     opts.sections.corner_angle_deg = args.corner_angle;
     opts.sections.hold_corners = !args.no_corners;
+    opts.sections.split_at_le = args.split_at_le;
     opts.skin.degree_v = args.degree_v;
     opts.skin.params = match args.v_params {
         VParam::Chord => VParams::ChordLength,

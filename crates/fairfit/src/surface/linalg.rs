@@ -101,6 +101,32 @@ pub(crate) fn cholesky_solve<const C: usize>(l: &Dense, b: &mut [[f64; C]]) {
     }
 }
 
+/// Imposes one equality constraint `aᵀx = c` (per coordinate) on the solution `x` of the normal
+/// equations `H x = b`, `l` the Cholesky factor of `H` from [`cholesky`]: the minimiser of the same
+/// quadratic under the constraint is `x + H⁻¹a (c − aᵀx) / (aᵀH⁻¹a)` (the Schur complement of the
+/// one-row KKT system), one more solve. Leaves `x` unchanged when `aᵀH⁻¹a` is not positive (`a` zero:
+/// the constraint does not involve the unknowns).
+pub(crate) fn constrain_solution<const C: usize>(
+    l: &Dense,
+    x: &mut [[f64; C]],
+    a: &[f64],
+    c: [f64; C],
+) {
+    let mut z: Vec<[f64; 1]> = a.iter().map(|&v| [v]).collect();
+    cholesky_solve(l, &mut z);
+    let s: f64 = a.iter().zip(&z).map(|(ai, zi)| ai * zi[0]).sum();
+    if !(s > 0.0 && s.is_finite()) {
+        return;
+    }
+    for k in 0..C {
+        let ax: f64 = a.iter().zip(x.iter()).map(|(ai, xi)| ai * xi[k]).sum();
+        let lambda = (c[k] - ax) / s;
+        for (xi, zi) in x.iter_mut().zip(&z) {
+            xi[k] += lambda * zi[0];
+        }
+    }
+}
+
 /// Solves `A x = b` (several right-hand sides) by LU with partial pivoting; `A` is overwritten.
 pub(crate) fn lu_solve<const C: usize>(m: &mut Dense, b: &mut [[f64; C]]) -> Result<()> {
     let n = m.n;
