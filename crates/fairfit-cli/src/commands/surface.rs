@@ -422,6 +422,9 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         exact,
     } = read_input(&args)?;
     check_section_count(&args, &sections)?;
+    if args.split_at_le {
+        check_leading_edges(&sections, &names)?;
+    }
     let tol = tolerance(&args, &sections)?;
     let opts = surface_options(&args, tol);
     let spikes = spike_notes(&args, &sections, tol);
@@ -451,6 +454,24 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         }
     }
     summarise(&r, tol, within, gap_count, summary_on_stdout)
+}
+
+/// `--split-at-le`: every section has a leading edge (the point farthest from the midpoint of its
+/// first and last points is not an end point; orientation and seam alignment do not change that for
+/// an open section, and a closed one always has one), else a one-line error naming its file.
+fn check_leading_edges(sections: &[Section], names: &[String]) -> CmdResult {
+    for (k, s) in sections.iter().enumerate() {
+        if fairfit::fit::airfoil::leading_edge(&s.points).is_none() {
+            let name = names
+                .get(k)
+                .map_or_else(|| format!("section {k}"), Clone::clone);
+            return Err(CliError::new(format!(
+                "{name} (section {k}): no leading edge to split at: the point farthest from the \
+                 trailing edge (the midpoint of its first and last points) is an end point"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// With `--outliers off`: per section, the isolated spikes that would keep tolerance `tol` out of
