@@ -182,6 +182,43 @@ pub(crate) fn lu_solve<const C: usize>(m: &mut Dense, b: &mut [[f64; C]]) -> Res
 mod tests {
     use super::*;
 
+    /// The constrained minimiser of `½ xᵀHx − bᵀx` under `aᵀx = c` meets the constraint and its
+    /// gradient `Hx − b` is a multiple of `a` (the KKT conditions).
+    #[test]
+    fn constrained_solution_meets_the_kkt_conditions() {
+        let n = 6;
+        let mut h = Dense::zeros(n);
+        for i in 0..n {
+            for j in 0..n {
+                *h.at(i, j) = if i == j {
+                    4.0
+                } else {
+                    1.0 / (1.0 + (i + j) as f64)
+                };
+            }
+        }
+        let b: Vec<[f64; 2]> = (0..n).map(|i| [(i as f64).cos(), 1.0 - i as f64]).collect();
+        let a: Vec<f64> = (0..n).map(|i| [0.0, 0.3, 0.5, 0.2, 0.0, 0.0][i]).collect();
+        let c = [0.7, -2.0];
+        let mut l = h.clone();
+        cholesky(&mut l).unwrap();
+        let mut x = b.clone();
+        cholesky_solve(&l, &mut x);
+        constrain_solution(&l, &mut x, &a, c);
+        let aa: f64 = a.iter().map(|v| v * v).sum();
+        for k in 0..2 {
+            let ax: f64 = a.iter().zip(&x).map(|(ai, xi)| ai * xi[k]).sum();
+            assert!((ax - c[k]).abs() < 1e-14, "{ax} vs {}", c[k]);
+            let g: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| h.get(i, j) * x[j][k]).sum::<f64>() - b[i][k])
+                .collect();
+            let mu = g.iter().zip(&a).map(|(gi, ai)| gi * ai).sum::<f64>() / aa;
+            for (gi, ai) in g.iter().zip(&a) {
+                assert!((gi - mu * ai).abs() < 1e-13, "{gi} vs {}", mu * ai);
+            }
+        }
+    }
+
     #[test]
     fn solvers_reproduce_a_known_solution() {
         // SPD matrix A = B Bᵀ + I with known x
