@@ -136,15 +136,15 @@ pub(crate) fn split_params(
         }
         if idx.contains(&le) {
             return Err(Error::InvalidData(format!(
-                "section {k}: its leading edge (point {le}) is a held corner; fit without \
-                 --split-at-le or with the corners smoothed over (--no-corners)"
+                "section {k}: its leading edge (point {le}) is a held corner: smooth the corners \
+                 over or do not split at the leading edge"
             )));
         }
         let sides: Vec<bool> = idx.iter().map(|&i| i < le).collect();
         if before.as_ref().is_some_and(|b| *b != sides) {
             return Err(Error::InvalidData(format!(
                 "section {k}: its held corners lie on other sides of its leading edge than in \
-                 section 0; fit with the corners smoothed over (--no-corners)"
+                 section 0: smooth the corners over or do not split at the leading edge"
             )));
         }
         for (sum, &i) in sums.iter_mut().zip(idx) {

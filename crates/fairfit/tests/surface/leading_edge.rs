@@ -203,7 +203,8 @@ fn held_corners_and_the_pinned_leading_edge_combine() {
 }
 
 /// A section whose farthest point from the midpoint of its ends is an end point (a parabola arc) has
-/// no leading edge: a one-line `InvalidData` naming it. Given section parameters conflict.
+/// no leading edge: a one-line `InvalidData` naming it; so is a leading edge that is a held corner.
+/// Given section parameters conflict.
 #[test]
 fn sections_without_a_leading_edge_are_refused() {
     let (a, _, _) = open_airfoil(0, 40);
@@ -219,6 +220,25 @@ fn sections_without_a_leading_edge_are_refused() {
     let msg = e.to_string();
     assert!(matches!(e, Error::InvalidData(_)), "{e:?}");
     assert!(msg.contains("section 1") && !msg.contains('\n'), "{msg}");
+    // D-shaped sections (a half-ellipse closed by its chord): the point farthest from the seam
+    // corner is the other, held, corner
+    let d: Vec<Section> = (0..3)
+        .map(|k| {
+            let (a, z) = (2.0 + 0.3 * k as f64, k as f64);
+            let mut pts: Vec<Vec3> = (0..=60)
+                .map(|i| {
+                    let t = std::f64::consts::PI * i as f64 / 60.0;
+                    Vec3::new(a * t.cos(), t.sin(), z)
+                })
+                .collect();
+            pts.extend((1..=20).map(|i| Vec3::new(-a + 2.0 * a * i as f64 / 20.0, 0.0, z)));
+            Section::from_points(pts)
+        })
+        .collect();
+    let e = reconstruct_surface(d, &options(true))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("section 0") && e.contains("held corner"), "{e}");
     let mut o = options(true);
     o.sections.section_params = Some(vec![vec![0.0; 81]; 2]);
     let e = reconstruct_surface(vec![a.clone(), a], &o).unwrap_err();
