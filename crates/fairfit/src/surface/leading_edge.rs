@@ -13,6 +13,9 @@
 //!   sections' averaged chord positions within their half, so every corner stays on its side of
 //!   `u_LE`. A leading edge that is a held corner, or corners on different sides of the leading edge in
 //!   different sections, are refused, naming the section.
+//! - Dense sections ([`super::dense`]) are fitted through representatives of tolerance-sized arcs;
+//!   the arc holding the data's leading edge is represented by that point itself, so the point
+//!   pinned is the data's.
 //! - The leading edge is NOT a knot: the sections share one knot vector anyway, so pinning adds no
 //!   knot per section. The leading edge's parameter is held through the parameter correction, and
 //!   every section fit passes through its leading-edge point exactly at `u_LE` (one equality
