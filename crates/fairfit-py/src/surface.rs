@@ -262,6 +262,8 @@ pub struct SurfaceSettings {
     /// `corner_angle`: the sections' corner angle in degrees (`--corner-angle`); `None` smooths
     /// inner corners over (`--no-corners`; seams keep the default angle).
     pub corner_angle: Option<f64>,
+    /// `split_at_le`: every section's leading edge pinned to u = 0.5 (`--split-at-le`).
+    pub split_at_le: bool,
 }
 
 /// `fairfit surface`'s checks of the counts, with its messages (named by the Python keywords).
@@ -340,6 +342,7 @@ fn surface_options(s: &SurfaceSettings, tol: f64) -> SurfaceOptions {
         .corner_angle
         .unwrap_or(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG);
     opts.sections.hold_corners = s.corner_angle.is_some();
+    opts.sections.split_at_le = s.split_at_le;
     opts.skin.degree_v = s.degree_v;
     opts.skin.params = if s.centripetal_v {
         VParams::Centripetal
@@ -412,7 +415,7 @@ fn check_section_count(n: usize, max_sections: usize) -> PyResult<()> {
 #[pyo3(signature = (sections, tol, rel_tol, degree, degree_v, max_ctrl, v_params, approximate_v,
     smooth_v, clamped_seam, threads, names, max_sections=DEFAULT_MAX_SECTIONS,
     start_tangent_v=None, end_tangent_v=None,
-    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG)))]
+    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG), split_at_le=false))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface(
     py: Python<'_>,
@@ -432,6 +435,7 @@ pub fn fit_surface(
     start_tangent_v: Option<[f64; 3]>,
     end_tangent_v: Option<[f64; 3]>,
     corner_angle: Option<f64>,
+    split_at_le: bool,
 ) -> PyResult<Surface> {
     check_section_count(sections.len(), max_sections)?;
     let settings = SurfaceSettings {
@@ -448,6 +452,7 @@ pub fn fit_surface(
         start_tangent_v,
         end_tangent_v,
         corner_angle,
+        split_at_le,
     };
     let names = names.unwrap_or_else(|| {
         (0..sections.len())
@@ -483,7 +488,7 @@ pub fn fit_surface(
 #[pyo3(signature = (path, slices, axis, normal, gap_factor, tol, rel_tol, degree, degree_v,
     max_ctrl, v_params, approximate_v, smooth_v, clamped_seam, threads,
     max_sections=DEFAULT_MAX_SECTIONS, start_tangent_v=None, end_tangent_v=None,
-    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG)))]
+    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG), split_at_le=false))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface_from_mesh(
     py: Python<'_>,
@@ -506,6 +511,7 @@ pub fn fit_surface_from_mesh(
     start_tangent_v: Option<[f64; 3]>,
     end_tangent_v: Option<[f64; 3]>,
     corner_angle: Option<f64>,
+    split_at_le: bool,
 ) -> PyResult<Surface> {
     if slices > max_sections {
         return Err(crate::py_err(format!(
@@ -527,6 +533,7 @@ pub fn fit_surface_from_mesh(
         start_tangent_v,
         end_tangent_v,
         corner_angle,
+        split_at_le,
     };
     if slices < 2 {
         return Err(crate::py_err(format!(

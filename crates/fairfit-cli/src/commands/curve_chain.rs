@@ -28,6 +28,7 @@ use super::curve_args::{ChainArg, CurveArgs, EndsArg, Method, OutliersArg};
 use super::files::{check_outputs, commit, Inputs, Output};
 use super::outputs::{check_output_formats, prepare_outputs, OutputGeometry};
 use super::{CliError, CmdResult};
+use fairfit::fit::airfoil::leading_edge;
 use fairfit::fit::screening::OutlierMode;
 use fairfit::io::cad_read::CadFormat;
 use fairfit::io::curve_to_json;
@@ -110,18 +111,6 @@ fn run_split(args: CurveArgs, wall: Instant) -> CmdResult {
         curve_to_json(&joined).into_bytes(),
     )];
     write_all(args, files, &joined, &pieces, report)
-}
-
-/// The index of the leading edge of airfoil `points`: the point farthest from the midpoint of the
-/// first and last points (the trailing edge); `None` when that is an end point.
-pub fn leading_edge(points: &[Vec3]) -> Option<usize> {
-    let (first, last) = (points.first()?, points.last()?);
-    let te = (*first + *last) * 0.5;
-    let (i, _) = points
-        .iter()
-        .enumerate()
-        .max_by(|a, b| (*a.1 - te).norm().total_cmp(&(*b.1 - te).norm()))?;
-    (i > 0 && i + 1 < points.len()).then_some(i)
 }
 
 /// The chain fitted by the integrated method with `args`' options (screening as `--outliers`).

@@ -135,6 +135,13 @@ pub struct SurfaceArgs {
     /// other point.
     #[arg(long)]
     pub no_corners: bool,
+    /// Airfoil sections: pin every section's leading edge (the point farthest from the midpoint of its
+    /// first and last points, the trailing edge) to the parameter 0.5 on its curve, as `fairfit curve
+    /// --split-at-le` does, without a knot there: each section curve passes through its leading edge
+    /// at u = 0.5 and the surface's iso-curve u = 0.5 is the leading edge (the report's
+    /// `split_at_le`). A section whose leading edge is an end point is refused.
+    #[arg(long)]
+    pub split_at_le: bool,
     /// A chain edge longer than this many median spacings is reported as a gap (slicing).
     #[arg(long, default_value_t = 5.0, allow_hyphen_values = true,
           value_parser = super::finite_positive)]
@@ -415,6 +422,9 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         exact,
     } = read_input(&args)?;
     check_section_count(&args, &sections)?;
+    if args.split_at_le {
+        check_leading_edges(&sections, &names)?;
+    }
     let tol = tolerance(&args, &sections)?;
     let opts = surface_options(&args, tol);
     let spikes = spike_notes(&args, &sections, tol);
@@ -444,6 +454,24 @@ pub fn run(args: SurfaceArgs) -> CmdResult {
         }
     }
     summarise(&r, tol, within, gap_count, summary_on_stdout)
+}
+
+/// `--split-at-le`: every section has a leading edge (the point farthest from the midpoint of its
+/// first and last points is not an end point; orientation and seam alignment do not change that for
+/// an open section, and a closed one always has one), else a one-line error naming its file.
+fn check_leading_edges(sections: &[Section], names: &[String]) -> CmdResult {
+    for (k, s) in sections.iter().enumerate() {
+        if fairfit::fit::airfoil::leading_edge(&s.points).is_none() {
+            let name = names
+                .get(k)
+                .map_or_else(|| format!("section {k}"), Clone::clone);
+            return Err(CliError::new(format!(
+                "{name} (section {k}): no leading edge to split at: the point farthest from the \
+                 trailing edge (the midpoint of its first and last points) is an end point"
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// With `--outliers off`: per section, the isolated spikes that would keep tolerance `tol` out of
@@ -527,6 +555,7 @@ fn surface_options(args: &SurfaceArgs, tol: f64) -> SurfaceOptions {
     opts.sections.periodic_closed = !args.clamped_seam;
     opts.sections.corner_angle_deg = args.corner_angle;
     opts.sections.hold_corners = !args.no_corners;
+    opts.sections.split_at_le = args.split_at_le;
     opts.skin.degree_v = args.degree_v;
     opts.skin.params = match args.v_params {
         VParam::Chord => VParams::ChordLength,

@@ -382,6 +382,7 @@ def fit_surface(
     start_tangent_v=None,
     end_tangent_v=None,
     corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
+    split_at_le: bool = False,
 ) -> Surface:
     """A fair surface through ordered sections: ``fairfit surface SECTIONS...`` from Python.
 
@@ -405,6 +406,9 @@ def fit_surface(
         (``--corner-angle``, default 60): a seam corner keeps the seam C0, and inner corners, when
         every section has the same number, are held as C0 knot lines (the report's ``corners``);
         None smooths inner corners over (``--no-corners``).
+    split_at_le: airfoil sections: every section's leading edge (the point farthest from the midpoint
+        of its first and last points) pinned to u = 0.5, each section curve through it there, so the
+        iso-curve u = 0.5 is the leading edge (``--split-at-le``; the report's ``split_at_le``).
 
     One knot vector is searched for all sections together (the sections' fits are not independent),
     then the compatible curves are skinned. Returns the :class:`Surface` with the report
@@ -428,6 +432,7 @@ def fit_surface(
         _direction(start_tangent_v, "start_tangent_v"),
         _direction(end_tangent_v, "end_tangent_v"),
         None if corner_angle is None else float(corner_angle),
+        bool(split_at_le),
     )
 
 
@@ -452,6 +457,7 @@ def fit_surface_from_mesh(
     start_tangent_v=None,
     end_tangent_v=None,
     corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
+    split_at_le: bool = False,
 ) -> Surface:
     """A fair surface through a mesh or point cloud (.ply, .stl, .obj) cut by ``slices`` planes along
     ``axis`` (or ``normal``): ``fairfit surface MESH --slices N --axis z``. The other keywords are
@@ -476,6 +482,7 @@ def fit_surface_from_mesh(
         _direction(start_tangent_v, "start_tangent_v"),
         _direction(end_tangent_v, "end_tangent_v"),
         None if corner_angle is None else float(corner_angle),
+        bool(split_at_le),
     )
 
 

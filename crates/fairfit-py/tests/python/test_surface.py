@@ -186,3 +186,42 @@ def test_corner_angle_holds_inner_corners_as_the_cli_does(cli, tmp_path):
         assert c["held"] is held and c["per_section"] == [found] * 4, (flags, c)
     with pytest.raises(fairfit.FairfitError, match=r"corner_angle must be in \(0, 180\] degrees"):
         fairfit.fit_surface(d_sections(), corner_angle=0)
+
+
+def naca_sections():
+    """Three open NACA 00tt sections (thickness 12 %, 15 %, 18 %), chord shrinking and twisted
+    along z: upper trailing edge round the nose (x = 0, the leading edge) to the lower one."""
+    out = []
+    for k, t in enumerate([0.12, 0.15, 0.18]):
+        x = 0.5 * (1.0 + np.cos(np.pi * np.arange(81) / 80.0))
+        yt = 5 * t * (0.2969 * np.sqrt(x) - 0.126 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1015 * x**4)
+        xs = np.r_[x, x[::-1][1:]]
+        ys = np.r_[yt, -yt[::-1][1:]]
+        c, tw = 1.0 - 0.1 * k, np.radians(5.0 * k)
+        px, py = (xs - 0.25) * c, ys * c
+        out.append(np.column_stack([np.cos(tw) * px - np.sin(tw) * py, np.sin(tw) * px + np.cos(tw) * py, np.full(len(xs), 0.8 * k)]))
+    return out
+
+
+def test_split_at_le_pins_the_noses_as_the_cli_does(cli, tmp_path):
+    paths = []
+    for k, s in enumerate(naca_sections()):
+        p = tmp_path / f"sec_{k}.csv"
+        np.savetxt(p, s, delimiter=",", fmt="%.17g")
+        paths.append(p)
+    out, rep = tmp_path / "s.json", tmp_path / "r.json"
+    cli("surface", *paths, "--tol", "1e-4", "--split-at-le", "-o", out, "--report", rep)
+    s = fairfit.fit_surface(naca_sections(), tol=1e-4, names=[str(p) for p in paths], split_at_le=True)
+    assert s.to_json() == out.read_text()
+    le = s.report["split_at_le"]
+    assert le == json.loads(rep.read_text())["split_at_le"]
+    assert le["parameter"] == 0.5 and s.report["within_tolerance"]
+    for k, (row, sec) in enumerate(zip(le["sections"], naca_sections())):
+        nose = sec[80]  # the point at chord position 0: farthest from the trailing edge
+        np.testing.assert_array_equal(row["point"], nose)
+        on = s(np.array([0.5]), np.array([s.report["v_params"][k]]))[0, 0]
+        assert np.linalg.norm(on - nose) <= 1e-9, k
+    assert "split_at_le" not in fairfit.fit_surface(naca_sections(), tol=1e-4).report
+    # elliptic arcs: the farthest points from the midpoint of the ends are the ends
+    with pytest.raises(fairfit.FairfitError, match="section 0: no leading edge"):
+        fairfit.fit_surface(sections(), split_at_le=True)

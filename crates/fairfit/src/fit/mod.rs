@@ -1,8 +1,9 @@
 //! Least-squares fitting of ordered points: point input, parameterisation, knot placement, banded
 //! least squares with optional smoothing, parameter correction, closed curves, corners and
-//! tolerance-driven knot counts; dense samples of a CAD curve ([`sampling`]) and fits held to the exact
-//! curve they were sampled from ([`cad_fit`]).
+//! tolerance-driven knot counts; an airfoil's leading edge ([`airfoil`]); dense samples of a CAD
+//! curve ([`sampling`]) and fits held to the exact curve they were sampled from ([`cad_fit`]).
 
+pub mod airfoil;
 pub mod banded;
 pub mod cad_fit;
 pub mod constrained_points;

@@ -82,6 +82,10 @@ pub fn surface_report(
     if let (Some(d), Some(obj)) = (&r.dense, report.as_object_mut()) {
         obj.insert("dense".into(), json!(d));
     }
+    // only when the leading edges were pinned (split_at_le), for the same reason
+    if let (Some(le), Some(obj)) = (&r.compatible.leading_edges, report.as_object_mut()) {
+        obj.insert("split_at_le".into(), json!(le));
+    }
     // only when v end tangents were asked, for the same reason
     if let (Some(t), Some(obj)) = (&r.v_end_tangents, report.as_object_mut()) {
         obj.insert("v_end_tangents".into(), json!(t));

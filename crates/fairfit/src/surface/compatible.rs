@@ -10,8 +10,11 @@
 //! with the smallest worst-span fairness `max_{k,j} F_{k,j}` over all sections is kept.
 //!
 //! Matching inner corners of the sections are held as knots of multiplicity `p` that the search never
-//! moves or removes, with piecewise chord-length parameters ([`super::section_corners`]).
+//! moves or removes, with piecewise chord-length parameters ([`super::section_corners`]). With
+//! [`CompatibleOptions::split_at_le`] every airfoil section's leading edge is pinned to one common
+//! parameter, without a knot ([`super::leading_edge`]).
 
+use super::leading_edge::{find_leading_edges, split_params, LeadingEdges, LEADING_EDGE_PARAMETER};
 use super::orient::Section;
 use super::seam::{periodic_seam, smooth_at_seam};
 use super::seam_tie::tie_order;
@@ -58,6 +61,12 @@ pub struct CompatibleOptions {
     /// Hold matching inner corners of the sections as C0 knot lines (`false`: they are smoothed over
     /// like any other point).
     pub hold_corners: bool,
+    /// Airfoil sections: pin every section's leading edge (the point farthest from the midpoint of its
+    /// first and last points) to the common parameter 0.5 ([`super::leading_edge`], the convention of
+    /// `fairfit curve --split-at-le`); each section curve passes through it there exactly. Conflicts
+    /// with [`Self::section_params`] ([`crate::Error::InvalidOption`]); a section whose leading edge
+    /// would be an end point, or is a held corner, is an [`crate::Error::InvalidData`] naming it.
+    pub split_at_le: bool,
 }
 
 impl Default for CompatibleOptions {
@@ -74,6 +83,7 @@ impl Default for CompatibleOptions {
             periodic_closed: true,
             corner_angle_deg: crate::fit::shape::DEFAULT_CORNER_ANGLE_DEG,
             hold_corners: true,
+            split_at_le: false,
         }
     }
 }
@@ -99,6 +109,9 @@ pub struct CompatibleSections {
     /// The sections' inner corners and whether they are held as C0 knots of multiplicity `p`
     /// ([`super::section_corners`]).
     pub corners: HeldCorners,
+    /// With [`CompatibleOptions::split_at_le`]: the sections' leading edges at their common parameter
+    /// and how far each fit is from its leading-edge point there (`None` without).
+    pub leading_edges: Option<LeadingEdges>,
 }
 
 impl CompatibleSections {
@@ -279,11 +292,13 @@ impl KnotForm<'_> {
 }
 
 /// What every fit of a section keeps whatever the knots: its seam tie order ([`seam_ties`]), its
-/// held corner parameters (`(point index, parameter)`, empty when no corner is held) and its
+/// held corner parameters (`(point index, parameter)`, empty when no corner is held), its pinned
+/// leading edge (`(point index, u_LE)`, empty without [`CompatibleOptions::split_at_le`]) and its
 /// points' deviation factors ([`make_compatible_held_to`]; empty: all 1).
 struct Fixed<'a> {
     ties: Vec<usize>,
     held: Vec<Vec<(usize, f64)>>,
+    pins: Vec<(usize, f64)>,
     factors: &'a [Vec<f64>],
 }
 
@@ -310,6 +325,10 @@ impl Fixed<'_> {
             .enumerate()
             .map(|(i, &d)| self.measured(k, i, d))
             .fold(0.0, f64::max)
+    }
+
+    fn pin(&self, k: usize) -> Option<(usize, f64)> {
+        self.pins.get(k).copied()
     }
 }
 
@@ -342,6 +361,7 @@ fn evaluate(
                 global,
                 fixed.ties[k],
                 fixed.held(k),
+                fixed.pin(k),
             )
         })
         .collect();
@@ -424,6 +444,7 @@ fn fair_per_section(
                     true,
                     fixed.ties[k],
                     fixed.held(k),
+                    fixed.pin(k),
                 )
                 .ok()
                 .filter(|f| fixed.max_measured(k, f) <= opts.tolerance)
@@ -541,8 +562,12 @@ fn fit_once(
     let p = opts.degree;
     let min_pts = validate(sections, opts)?;
     let mut params = section_params(sections, opts)?;
+    let les = opts
+        .split_at_le
+        .then(|| find_leading_edges(sections))
+        .transpose()?;
     let periodic = opts.periodic_closed && periodic_seam(sections, opts.corner_angle_deg);
-    let (corners, plan) = plan_corners(
+    let (mut corners, mut plan) = plan_corners(
         sections,
         opts.corner_angle_deg,
         opts.tolerance,
@@ -552,7 +577,12 @@ fn fit_once(
             switched_off: !opts.hold_corners,
         },
     );
-    if let Some(plan) = &plan {
+    if let Some(les) = &les {
+        params = split_params(sections, les, plan.as_mut())?;
+        if let Some(plan) = &plan {
+            corners.params.clone_from(&plan.params);
+        }
+    } else if let Some(plan) = &plan {
         params = sections
             .iter()
             .zip(&plan.indices)
@@ -563,6 +593,15 @@ fn fit_once(
         ties: seam_ties(sections, opts, periodic),
         held: plan.as_ref().map(|c| c.held_params()).unwrap_or_default(),
         factors,
+        pins: les
+            .iter()
+            .flatten()
+            .map(|&i| (i, LEADING_EDGE_PARAMETER))
+            .collect(),
+    };
+    let leading_edges = |fits: &[SectionFit]| {
+        les.as_ref()
+            .map(|l| LeadingEdges::measure(sections, l, fits))
     };
     let form = KnotForm {
         degree: p,
@@ -616,6 +655,7 @@ fn fit_once(
         let c = evaluate(sections, &params, c.knots.clone(), opts, true, &fixed).unwrap_or(c);
         let msf = worst_span_fairness(&c.fits);
         return Ok(CompatibleSections {
+            leading_edges: leading_edges(&c.fits),
             knots: c.knots,
             max_deviation: c.max_dev,
             fits: c.fits,
@@ -632,6 +672,7 @@ fn fit_once(
     let c = fair_per_section(sections, &params, c, opts, &fixed);
     let msf = worst_span_fairness(&c.fits).min(msf);
     Ok(CompatibleSections {
+        leading_edges: leading_edges(&c.fits),
         knots: c.knots,
         within_tolerance: c.max_dev <= opts.tolerance,
         max_deviation: c.max_dev,
@@ -678,6 +719,13 @@ fn validate(sections: &[Section], opts: &CompatibleOptions) -> Result<usize> {
             "tolerance must be positive, got {}",
             opts.tolerance
         )));
+    }
+    if opts.split_at_le && opts.section_params.is_some() {
+        return Err(Error::InvalidOption(
+            "split_at_le sets the section parameters (the leading edges at 0.5): it cannot be \
+             combined with given section parameters"
+                .into(),
+        ));
     }
     if sections.is_empty() {
         return Err(Error::InvalidData("no sections given".into()));

@@ -259,7 +259,7 @@ pub(crate) fn fit(
             .iter()
             .zip(&p.reduced)
             .map(|(s, r)| Section {
-                points: r.points(),
+                points: representatives(s, r, sections.split_at_le),
                 closed: s.closed,
             })
             .collect();
@@ -312,6 +312,23 @@ pub(crate) fn fit(
         inner = tighter;
         tightenings += 1;
     }
+}
+
+/// The representatives of section `s` reduced to `r`. With `split_at_le` the bin holding the
+/// section's leading edge is represented by that data point itself, so the leading edge pinned on the
+/// representatives ([`super::leading_edge`]) is the data's: the end bins hold the end points (the
+/// same trailing edge), and a centroid is never farther from it than its bin's farthest point.
+fn representatives(s: &Section, r: &Reduced, split_at_le: bool) -> Vec<Vec3> {
+    let mut pts = r.points();
+    if let Some(i) = split_at_le
+        .then(|| crate::fit::airfoil::leading_edge(&s.points))
+        .flatten()
+    {
+        if let Some(b) = r.bins.iter().position(|b| b.first <= i && i <= b.last) {
+            pts[b] = s.points[i];
+        }
+    }
+    pts
 }
 
 /// The fit's measures replaced by those of every kept point.

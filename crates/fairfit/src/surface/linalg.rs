@@ -101,6 +101,32 @@ pub(crate) fn cholesky_solve<const C: usize>(l: &Dense, b: &mut [[f64; C]]) {
     }
 }
 
+/// Imposes one equality constraint `aᵀx = c` (per coordinate) on the solution `x` of the normal
+/// equations `H x = b`, `l` the Cholesky factor of `H` from [`cholesky`]: the minimiser of the same
+/// quadratic under the constraint is `x + H⁻¹a (c − aᵀx) / (aᵀH⁻¹a)` (the Schur complement of the
+/// one-row KKT system), one more solve. Leaves `x` unchanged when `aᵀH⁻¹a` is not positive (`a` zero:
+/// the constraint does not involve the unknowns).
+pub(crate) fn constrain_solution<const C: usize>(
+    l: &Dense,
+    x: &mut [[f64; C]],
+    a: &[f64],
+    c: [f64; C],
+) {
+    let mut z: Vec<[f64; 1]> = a.iter().map(|&v| [v]).collect();
+    cholesky_solve(l, &mut z);
+    let s: f64 = a.iter().zip(&z).map(|(ai, zi)| ai * zi[0]).sum();
+    if !(s > 0.0 && s.is_finite()) {
+        return;
+    }
+    for k in 0..C {
+        let ax: f64 = a.iter().zip(x.iter()).map(|(ai, xi)| ai * xi[k]).sum();
+        let lambda = (c[k] - ax) / s;
+        for (xi, zi) in x.iter_mut().zip(&z) {
+            xi[k] += lambda * zi[0];
+        }
+    }
+}
+
 /// Solves `A x = b` (several right-hand sides) by LU with partial pivoting; `A` is overwritten.
 pub(crate) fn lu_solve<const C: usize>(m: &mut Dense, b: &mut [[f64; C]]) -> Result<()> {
     let n = m.n;
@@ -155,6 +181,43 @@ pub(crate) fn lu_solve<const C: usize>(m: &mut Dense, b: &mut [[f64; C]]) -> Res
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The constrained minimiser of `½ xᵀHx − bᵀx` under `aᵀx = c` meets the constraint and its
+    /// gradient `Hx − b` is a multiple of `a` (the KKT conditions).
+    #[test]
+    fn constrained_solution_meets_the_kkt_conditions() {
+        let n = 6;
+        let mut h = Dense::zeros(n);
+        for i in 0..n {
+            for j in 0..n {
+                *h.at(i, j) = if i == j {
+                    4.0
+                } else {
+                    1.0 / (1.0 + (i + j) as f64)
+                };
+            }
+        }
+        let b: Vec<[f64; 2]> = (0..n).map(|i| [(i as f64).cos(), 1.0 - i as f64]).collect();
+        let a: Vec<f64> = (0..n).map(|i| [0.0, 0.3, 0.5, 0.2, 0.0, 0.0][i]).collect();
+        let c = [0.7, -2.0];
+        let mut l = h.clone();
+        cholesky(&mut l).unwrap();
+        let mut x = b.clone();
+        cholesky_solve(&l, &mut x);
+        constrain_solution(&l, &mut x, &a, c);
+        let aa: f64 = a.iter().map(|v| v * v).sum();
+        for k in 0..2 {
+            let ax: f64 = a.iter().zip(&x).map(|(ai, xi)| ai * xi[k]).sum();
+            assert!((ax - c[k]).abs() < 1e-14, "{ax} vs {}", c[k]);
+            let g: Vec<f64> = (0..n)
+                .map(|i| (0..n).map(|j| h.get(i, j) * x[j][k]).sum::<f64>() - b[i][k])
+                .collect();
+            let mu = g.iter().zip(&a).map(|(gi, ai)| gi * ai).sum::<f64>() / aa;
+            for (gi, ai) in g.iter().zip(&a) {
+                assert!((gi - mu * ai).abs() < 1e-13, "{gi} vs {}", mu * ai);
+            }
+        }
+    }
 
     #[test]
     fn solvers_reproduce_a_known_solution() {

@@ -5,7 +5,8 @@
 //! Files, one concept each: [`orient`] (sections, orientation, seams), [`seam`] (smooth or C0 seams of closed sections),
 //! a private periodic least-squares fit of closed sections, a private seam tie (smooth closed
 //! sections on a clamped knot vector), [`section_fit`] (least squares on
-//! fixed knots), [`section_corners`] (inner corners held as C0 knot lines), [`compatible`] (the shared
+//! fixed knots), [`section_corners`] (inner corners held as C0 knot lines), [`leading_edge`] (airfoil
+//! sections' leading edges pinned to one parameter), [`compatible`] (the shared
 //! knot vector), [`dense`] (dense sections screened and reduced, the tolerance verified on every
 //! point), [`skinning`] (with [`skin_ends`]: v end tangents), [`measure`],
 //! [`pipeline`] (all steps together), [`chain`] and [`slicing`] (meshes and clouds, [`mesh`], to sections; a private
@@ -17,6 +18,7 @@ pub mod cad_skin;
 pub mod chain;
 pub mod compatible;
 pub mod dense;
+pub mod leading_edge;
 mod linalg;
 pub mod measure;
 pub mod mesh;
@@ -35,6 +37,7 @@ pub mod slicing;
 
 pub use compatible::{make_compatible, CompatibleOptions, CompatibleSections};
 pub use dense::{DenseOptions, DenseSection, DenseSummary};
+pub use leading_edge::{LeadingEdges, SectionLeadingEdge};
 pub use measure::{surface_deviation, surface_deviation_near, Deviation, SurfaceProjector};
 pub use mesh::Mesh;
 pub use orient::{align_sections, Section};

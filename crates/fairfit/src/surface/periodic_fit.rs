@@ -7,22 +7,23 @@
 
 #![allow(clippy::needless_range_loop)]
 
-use super::linalg::{cholesky, cholesky_solve, Dense};
-use super::section_fit::bending_gram;
+use super::linalg::{cholesky, cholesky_solve, constrain_solution, Dense};
+use super::section_fit::{bending_gram, Pin};
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::basis_funs_into;
 use crate::nurbs::knots::find_span;
 
 /// Periodic least-squares control points (`C` coordinates) of a degree-`degree` B-spline on the
 /// periodic knot vector `knots` through the closed `data` at `params` (last point = first, parameter
-/// 1); `smoothing` as in the open fit. Returns all `n_u + p` control points (the last `p` repeat the
-/// first).
+/// 1); `smoothing` as in the open fit; with `pin` the curve passes through the pinned point exactly.
+/// Returns all `n_u + p` control points (the last `p` repeat the first).
 pub(crate) fn lsq_periodic_control_points<const C: usize>(
     data: &[[f64; C]],
     params: &[f64],
     degree: usize,
     knots: &[f64],
     smoothing: f64,
+    pin: Option<&Pin<C>>,
 ) -> Result<Vec<[f64; C]>> {
     let p = degree;
     let n_ctrl = knots.len() - p - 1;
@@ -72,6 +73,15 @@ pub(crate) fn lsq_periodic_control_points<const C: usize>(
     }
     cholesky(&mut ntn)?;
     cholesky_solve(&ntn, &mut rhs);
+    if let Some(pin) = pin {
+        // the constraint's row wrapped onto the distinct control points like the data rows
+        let (first, nb) = pin.basis(p, knots, n_ctrl);
+        let mut row = vec![0.0; nu];
+        for (j, &nj) in nb.iter().enumerate() {
+            row[(first + j) % nu] += nj;
+        }
+        constrain_solution(&ntn, &mut rhs, &row, pin.point);
+    }
     let mut ctrl = rhs;
     for i in 0..p {
         ctrl.push(ctrl[i]);
@@ -101,7 +111,7 @@ mod tests {
         let truth = NurbsCurve::bspline(3, knots.clone(), ctrl.clone()).unwrap();
         let us: Vec<f64> = (0..=50).map(|k| (k as f64 / 50.0).powf(1.2)).collect();
         let data: Vec<[f64; 3]> = truth.points(&us).iter().map(|p| p.0).collect();
-        let got = lsq_periodic_control_points(&data, &us, 3, &knots, 0.0).unwrap();
+        let got = lsq_periodic_control_points(&data, &us, 3, &knots, 0.0, None).unwrap();
         assert_eq!(got.len(), ctrl.len());
         for (g, c) in got.iter().zip(&ctrl) {
             assert!((Vec3(*g) - *c).norm() < 1e-12, "{g:?} vs {c:?}");
@@ -110,6 +120,6 @@ mod tests {
         let sparse: Vec<usize> = (0..=50).filter(|&k| !(20..=30).contains(&k)).collect();
         let d2: Vec<[f64; 3]> = sparse.iter().map(|&k| data[k]).collect();
         let u2: Vec<f64> = sparse.iter().map(|&k| us[k]).collect();
-        assert!(lsq_periodic_control_points(&d2, &u2, 3, &knots, 1e-6).is_ok());
+        assert!(lsq_periodic_control_points(&d2, &u2, 3, &knots, 1e-6, None).is_ok());
     }
 }

@@ -210,7 +210,7 @@ fn skinned(
 ) -> Result<SurfaceReconstruction> {
     let Fitted {
         sections,
-        compatible,
+        mut compatible,
         us,
         section_deviation,
         dense,
@@ -218,6 +218,9 @@ fn skinned(
     let curves = compatible.curves();
     let sk = skin(&curves, &opts.skin)?;
     progress(Stage::Skinned);
+    if let Some(le) = compatible.leading_edges.as_mut() {
+        le.measure_surface(&sk.surface, &sk.v_params);
+    }
     let mut pts = Vec::new();
     let mut hints = Vec::new();
     for ((s, us), &v) in sections.iter().zip(&us).zip(&sk.v_params) {

@@ -14,8 +14,8 @@
 
 #![allow(clippy::needless_range_loop)]
 
-use super::linalg::{cholesky, cholesky_solve, Dense};
-use super::section_fit::bending_gram;
+use super::linalg::{cholesky, cholesky_solve, constrain_solution, Dense};
+use super::section_fit::{bending_gram, Pin};
 use crate::errors::{Error, Result};
 use crate::nurbs::basis::{basis_funs_into, ders_basis_funs_into};
 use crate::nurbs::knots::find_span;
@@ -150,8 +150,8 @@ fn elimination<const C: usize>(
 
 /// Least-squares control points of a closed section (`data` starts and ends at the seam) on the clamped
 /// `knots`, ends interpolated, the seam tied to order `k` (see the module documentation); `smoothing` as
-/// in [`super::section_fit`]. `Ok(None)` when there are too few control points to tie the seam (the
-/// caller falls back to the untied fit).
+/// in [`super::section_fit`]; with `pin` the curve passes through the pinned point exactly. `Ok(None)`
+/// when there are too few control points to tie the seam (the caller falls back to the untied fit).
 pub(crate) fn lsq_tied_control_points<const C: usize>(
     data: &[[f64; C]],
     params: &[f64],
@@ -159,6 +159,7 @@ pub(crate) fn lsq_tied_control_points<const C: usize>(
     knots: &[f64],
     smoothing: f64,
     k: usize,
+    pin: Option<&Pin<C>>,
 ) -> Result<Option<Vec<[f64; C]>>> {
     let p = degree;
     let n = knots.len() - p - 1;
@@ -243,6 +244,22 @@ pub(crate) fn lsq_tied_control_points<const C: usize>(
     }
     cholesky(&mut h)?;
     cholesky_solve(&h, &mut rhs);
+    if let Some(pin) = pin {
+        // C(u) = Σ N_i(u) (T x + o)_i: the row Tᵀ N(u), the offsets' part moved to the target
+        let (first, nb) = pin.basis(p, knots, n);
+        let mut row = vec![0.0; free];
+        let mut target = pin.point;
+        for (j, &nj) in nb.iter().enumerate() {
+            let i = first + j;
+            for f in 0..free {
+                row[f] += nj * t[i * free + f];
+            }
+            for c in 0..C {
+                target[c] -= nj * o[i][c];
+            }
+        }
+        constrain_solution(&h, &mut rhs, &row, target);
+    }
     let mut ctrl = o;
     for i in 0..n {
         for f in 0..free {
@@ -289,7 +306,7 @@ mod tests {
     fn tied_seam_is_c2_and_the_fit_stays_close() {
         let (data, params) = loop_data(120);
         let k = knots();
-        let ctrl = lsq_tied_control_points(&data, &params, 3, &k, 0.0, 2)
+        let ctrl = lsq_tied_control_points(&data, &params, 3, &k, 0.0, 2, None)
             .unwrap()
             .unwrap();
         let c = NurbsCurve::bspline(3, k.clone(), ctrl.into_iter().map(Vec3).collect()).unwrap();
@@ -312,7 +329,8 @@ mod tests {
         );
         // the untied clamped fit on the same knots has a crease; the tied one fits almost as well
         let free =
-            crate::surface::section_fit::lsq_control_points(&data, &params, 3, &k, 0.0).unwrap();
+            crate::surface::section_fit::lsq_control_points(&data, &params, 3, &k, 0.0, None)
+                .unwrap();
         let cf = NurbsCurve::bspline(3, k.clone(), free.into_iter().map(Vec3).collect()).unwrap();
         let (mut fa, mut fb) = ([Vec3::ZERO; 3], [Vec3::ZERO; 3]);
         cf.derivatives_into(0.0, 2, &mut fa);
@@ -333,7 +351,7 @@ mod tests {
     fn too_few_control_points_fall_back() {
         let (data, params) = loop_data(40);
         let k = vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0];
-        assert!(lsq_tied_control_points(&data, &params, 3, &k, 0.0, 2)
+        assert!(lsq_tied_control_points(&data, &params, 3, &k, 0.0, 2, None)
             .unwrap()
             .is_none());
     }

@@ -93,7 +93,7 @@ fn inner_corners(section: &Section, angle_deg: f64, tol: f64) -> Vec<usize> {
 }
 
 /// Cumulative chord lengths of `points` (first 0).
-fn cumulative_chords(points: &[Vec3]) -> Vec<f64> {
+pub(crate) fn cumulative_chords(points: &[Vec3]) -> Vec<f64> {
     let mut s = Vec::with_capacity(points.len());
     let mut acc = 0.0;
     s.push(0.0);

@@ -7,7 +7,7 @@
 
 #![allow(clippy::needless_range_loop)]
 
-use super::linalg::{cholesky, cholesky_solve, Dense};
+use super::linalg::{cholesky, cholesky_solve, constrain_solution, Dense};
 use super::periodic_fit::lsq_periodic_control_points;
 use super::seam_tie::lsq_tied_control_points;
 use super::section_corners::hold_params;
@@ -92,29 +92,53 @@ pub(crate) fn bending_gram(degree: usize, knots: &[f64], n_ctrl: usize) -> Dense
     g
 }
 
+/// A point the least-squares curve passes through exactly: `C(u) = point` (an airfoil's leading edge
+/// at its common parameter, [`crate::fit::airfoil`]), imposed as one equality constraint on the
+/// normal equations ([`super::linalg`]'s `constrain_solution`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Pin<const C: usize> {
+    /// The parameter of the pinned point.
+    pub(crate) u: f64,
+    /// The point the curve passes through at `u`.
+    pub(crate) point: [f64; C],
+}
+
+impl<const C: usize> Pin<C> {
+    /// The index of the first control point acting at `u` on `knots` (`n_ctrl` control points, degree
+    /// `p`) and the `p + 1` basis values there.
+    pub(crate) fn basis(&self, p: usize, knots: &[f64], n_ctrl: usize) -> (usize, Vec<f64>) {
+        let span = find_span(n_ctrl - 1, p, self.u, knots);
+        let (mut left, mut right, mut nb) = (vec![0.0; p + 1], vec![0.0; p + 1], vec![0.0; p + 1]);
+        basis_funs_into(span, self.u, p, knots, &mut left, &mut right, &mut nb);
+        (span - p, nb)
+    }
+}
+
 /// Least-squares control points (in `C` coordinates, e.g. 3 for points, 4 for homogeneous points) of a
 /// degree-`degree` B-spline on `knots` through `data` at `params`, first and last data interpolated.
 /// `smoothing` >= 0 weights the bending energy `∫ |C''(u)|² du` against the mean squared residual (both
-/// scale like length², so the weight is scale-free; parameters are assumed in `[0, 1]`).
+/// scale like length², so the weight is scale-free; parameters are assumed in `[0, 1]`). With `pin` the
+/// curve passes through the pinned point exactly (the least squares under that constraint).
 pub(crate) fn lsq_control_points<const C: usize>(
     data: &[[f64; C]],
     params: &[f64],
     degree: usize,
     knots: &[f64],
     smoothing: f64,
+    pin: Option<&Pin<C>>,
 ) -> Result<Vec<[f64; C]>> {
     let m = data.len();
     if m < 2 || params.len() != m {
         return Err(Error::Fit("least squares needs at least 2 points".into()));
     }
-    lsq_control_points_held(
+    lsq_held_pinned(
         data,
         params,
         degree,
         knots,
         smoothing,
-        &[data[0]],
-        &[data[m - 1]],
+        (&[data[0]], &[data[m - 1]]),
+        pin,
     )
 }
 
@@ -130,6 +154,19 @@ pub(crate) fn lsq_control_points_held<const C: usize>(
     smoothing: f64,
     front: &[[f64; C]],
     back: &[[f64; C]],
+) -> Result<Vec<[f64; C]>> {
+    lsq_held_pinned(data, params, degree, knots, smoothing, (front, back), None)
+}
+
+/// [`lsq_control_points_held`] (the held control points `(front, back)`) with an optional [`Pin`].
+fn lsq_held_pinned<const C: usize>(
+    data: &[[f64; C]],
+    params: &[f64],
+    degree: usize,
+    knots: &[f64],
+    smoothing: f64,
+    (front, back): (&[[f64; C]], &[[f64; C]]),
+    pin: Option<&Pin<C>>,
 ) -> Result<Vec<[f64; C]>> {
     let p = degree;
     let n_ctrl = knots.len() - p - 1;
@@ -210,6 +247,23 @@ pub(crate) fn lsq_control_points_held<const C: usize>(
     }
     cholesky(&mut ntn)?;
     cholesky_solve(&ntn, &mut rhs);
+    if let Some(pin) = pin {
+        // the constraint on the free control points: the held ones move to its right-hand side
+        let (first, nb) = pin.basis(p, knots, n_ctrl);
+        let mut row = vec![0.0; nu];
+        let mut target = pin.point;
+        for (j, &nj) in nb.iter().enumerate() {
+            let idx = first + j;
+            if held(idx) {
+                for c in 0..C {
+                    target[c] -= nj * ctrl[idx][c];
+                }
+            } else {
+                row[idx - a] = nj;
+            }
+        }
+        constrain_solution(&ntn, &mut rhs, &row, target);
+    }
     ctrl[a..n_ctrl - b].copy_from_slice(&rhs);
     Ok(ctrl)
 }
@@ -290,6 +344,7 @@ pub fn fit_section(
         true,
         0,
         &[],
+        None,
     )
 }
 
@@ -298,7 +353,10 @@ pub fn fit_section(
 /// `seam_tie > 0` on a clamped knot vector ties the end derivatives of a closed section up to that order
 /// ([`super::seam_tie`]; untied when there are too few control points). `held` lists the points whose
 /// parameters stay fixed (the corners held as C0 knots, [`super::section_corners`]): the parameter
-/// correction keeps them and never moves another point across one.
+/// correction keeps them and never moves another point across one. `pin = Some((k, u))` makes the
+/// curve pass through point `k` exactly at `u` (an airfoil's leading edge, [`crate::fit::airfoil`]),
+/// in every solver (open, periodic, tied seam), and holds that point's parameter at `u` like a held
+/// corner's (without a knot there).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_section_with(
     points: &[Vec3],
@@ -310,8 +368,23 @@ pub(crate) fn fit_section_with(
     global: bool,
     seam_tie: usize,
     held: &[(usize, f64)],
+    pin: Option<(usize, f64)>,
 ) -> Result<SectionFit> {
     let data: Vec<[f64; 3]> = points.iter().map(|p| p.0).collect();
+    let pinned = pin
+        .map(|(k, u)| -> Result<Pin<3>> {
+            let q = data.get(k).ok_or_else(|| {
+                Error::InvalidData(format!("pinned point {k} of {} points", data.len()))
+            })?;
+            Ok(Pin { u, point: *q })
+        })
+        .transpose()?;
+    // the held parameters, the pinned point's among them (in point order)
+    let mut holds = held.to_vec();
+    if let Some((k, u)) = pin {
+        holds.push((k, u));
+        holds.sort_by_key(|&(i, _)| i);
+    }
     let periodic = !is_clamped(knots, degree);
     if periodic && !is_periodic(knots, degree) {
         return Err(Error::InvalidKnots(
@@ -319,6 +392,9 @@ pub(crate) fn fit_section_with(
         ));
     }
     let mut params = params.to_vec();
+    if pin.is_some() {
+        hold_params(&mut params, &holds);
+    }
     let mut best: Option<SectionFit> = None;
     let mut stalls = 0;
     let mut last_rms = f64::INFINITY;
@@ -326,14 +402,27 @@ pub(crate) fn fit_section_with(
         let tied = if periodic || seam_tie == 0 {
             None
         } else {
-            lsq_tied_control_points(&data, &params, degree, knots, smoothing, seam_tie)?
+            lsq_tied_control_points(
+                &data,
+                &params,
+                degree,
+                knots,
+                smoothing,
+                seam_tie,
+                pinned.as_ref(),
+            )?
         };
         let ctrl = match tied {
             Some(c) => c,
-            None if periodic => {
-                lsq_periodic_control_points(&data, &params, degree, knots, smoothing)?
-            }
-            None => lsq_control_points(&data, &params, degree, knots, smoothing)?,
+            None if periodic => lsq_periodic_control_points(
+                &data,
+                &params,
+                degree,
+                knots,
+                smoothing,
+                pinned.as_ref(),
+            )?,
+            None => lsq_control_points(&data, &params, degree, knots, smoothing, pinned.as_ref())?,
         };
         let curve =
             NurbsCurve::bspline(degree, knots.to_vec(), ctrl.into_iter().map(Vec3).collect())?;
@@ -396,7 +485,7 @@ pub(crate) fn fit_section_with(
                 new_params[k] = new_params[k - 1];
             }
         }
-        hold_params(&mut new_params, held);
+        hold_params(&mut new_params, &holds);
         params = new_params;
     }
     best.ok_or_else(|| Error::Fit("no section fit computed".into()))

@@ -10,7 +10,7 @@ use fairfit::surface::{
 
 /// NACA 4-digit camber `m` (max camber), `p` (its position), thickness `t`: the upper and lower
 /// surface points at chord position `x` (the standard open trailing edge, 0.2 % thick at 12 %).
-fn naca(m: f64, p: f64, t: f64, x: f64) -> (Vec3, Vec3) {
+pub(super) fn naca(m: f64, p: f64, t: f64, x: f64) -> (Vec3, Vec3) {
     let yt = 5.0
         * t
         * (0.2969 * x.sqrt() - 0.126 * x - 0.3516 * x * x + 0.2843 * x.powi(3)
@@ -41,7 +41,7 @@ fn naca(m: f64, p: f64, t: f64, x: f64) -> (Vec3, Vec3) {
 /// straight trailing-edge segment of `te` chords back to the start; 207 points with `te = 6`. The
 /// two trailing-edge points are corners (turns of about 90°). Returns the section and its two
 /// trailing-edge corner points.
-fn blunt_airfoil(k: usize, te: usize) -> (Section, [Vec3; 2]) {
+pub(super) fn blunt_airfoil(k: usize, te: usize) -> (Section, [Vec3; 2]) {
     blunt_airfoil_n(k, te, 100)
 }
 

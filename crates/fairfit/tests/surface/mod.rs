@@ -6,6 +6,7 @@
 mod cad_skin;
 mod corners;
 mod dense;
+mod leading_edge;
 mod measure;
 mod seam;
 mod skin_ends;
