@@ -566,7 +566,8 @@ fn fit_once(
         .split_at_le
         .then(|| find_leading_edges(sections))
         .transpose()?;
-    let periodic = opts.periodic_closed && periodic_seam(sections, opts.corner_angle_deg);
+    let periodic =
+        opts.periodic_closed && periodic_seam(sections, opts.corner_angle_deg, opts.tolerance);
     let (mut corners, mut plan) = plan_corners(
         sections,
         opts.corner_angle_deg,
@@ -781,7 +782,9 @@ fn seam_ties(sections: &[Section], opts: &CompatibleOptions, periodic: bool) -> 
     sections
         .iter()
         .map(|s| {
-            let tie = !periodic && opts.periodic_closed && smooth_at_seam(s, opts.corner_angle_deg);
+            let tie = !periodic
+                && opts.periodic_closed
+                && smooth_at_seam(s, opts.corner_angle_deg, opts.tolerance);
             if tie {
                 tie_order(p)
             } else {

@@ -4,31 +4,32 @@
 //! is across it.
 //!
 //! A seam is smooth when every section is closed and none has a corner at or next to its (aligned)
-//! start: turning angle above the threshold, judged with the point's two neighbours on the loop, by
-//! the curve side's detector ([`crate::fit::shape::detect_corners`], default 60°). Open sections or a
-//! corner at any section's seam (a sharp trailing edge) keep the clamped fit whose ends meet there (C0).
+//! start: a turn above the corner angle (default 60°) judged at the tolerance's scale by the curve
+//! side's detector ([`crate::fit::corners::corners_at_tolerance`], through
+//! [`super::section_corners`]): at its first point, at either neighbour, or within one tangent
+//! window of it. On sparse sections that is the chord turning angle at the point and its two
+//! neighbours; on dense noisy ones (cloud slices, scans) the noise alone never makes the seam a
+//! corner, so a smooth scanned ring is not given a crease. Open sections or a corner at any
+//! section's seam (a sharp trailing edge) keep the clamped fit whose ends meet there (C0).
 
 use super::orient::Section;
-use crate::fit::shape::detect_corners;
+use super::section_corners::section_corners;
 use crate::nurbs::{NurbsSurface, SurfaceWorkspace, Vec3};
 use serde::Serialize;
 
-/// True when `section` is closed and has no corner at its first point or at either neighbour.
-pub(crate) fn smooth_at_seam(section: &Section, corner_angle_deg: f64) -> bool {
-    let m = section.points.len();
-    if !section.closed || m < 5 {
-        return false;
-    }
-    let distinct = &section.points[..m - 1];
-    let n = distinct.len();
-    detect_corners(distinct, true, corner_angle_deg)
-        .iter()
-        .all(|&k| k > 1 && k + 1 < n)
+/// True when `section` is closed and has no corner at its seam at tolerance `tol` (module doc).
+pub(crate) fn smooth_at_seam(section: &Section, corner_angle_deg: f64, tol: f64) -> bool {
+    section.closed
+        && section.points.len() >= 5
+        && !section_corners(section, corner_angle_deg, tol).at_seam
 }
 
-/// True when all `sections` are smooth at their seams (see the module documentation).
-pub fn periodic_seam(sections: &[Section], corner_angle_deg: f64) -> bool {
-    !sections.is_empty() && sections.iter().all(|s| smooth_at_seam(s, corner_angle_deg))
+/// True when all `sections` are smooth at their seams at tolerance `tol` (see the module documentation).
+pub fn periodic_seam(sections: &[Section], corner_angle_deg: f64, tol: f64) -> bool {
+    !sections.is_empty()
+        && sections
+            .iter()
+            .all(|s| smooth_at_seam(s, corner_angle_deg, tol))
 }
 
 /// Discontinuity of a surface across its u seam, over iso-curves `v = const`.
@@ -99,7 +100,7 @@ mod tests {
     #[test]
     fn circles_are_smooth_a_teardrop_is_not() {
         let circle = loop_points(|t| Vec3::new(t.cos(), t.sin(), 0.0), 40);
-        assert!(smooth_at_seam(&circle, 60.0));
+        assert!(smooth_at_seam(&circle, 60.0, 1e-3));
         // a teardrop with its tip (a 90° turn) at the start
         let drop = loop_points(
             |t| {
@@ -108,12 +109,54 @@ mod tests {
             },
             40,
         );
-        assert!(!smooth_at_seam(&drop, 60.0));
+        assert!(!smooth_at_seam(&drop, 60.0, 1e-3));
         let mut open = circle.clone();
         open.points.pop();
         open.closed = false;
-        assert!(!smooth_at_seam(&open, 60.0));
-        assert!(!periodic_seam(&[circle.clone(), open], 60.0));
-        assert!(periodic_seam(&[circle.clone(), circle], 60.0));
+        assert!(!smooth_at_seam(&open, 60.0, 1e-3));
+        assert!(!periodic_seam(&[circle.clone(), open], 60.0, 1e-3));
+        assert!(periodic_seam(&[circle.clone(), circle], 60.0, 1e-3));
+    }
+
+    /// Deterministic noise in `[-1, 1]` (a hash of `i`).
+    fn jitter(i: usize) -> f64 {
+        let x = (i as f64 * 12.9898).sin() * 43_758.545_312_3;
+        2.0 * (x - x.floor()) - 1.0
+    }
+
+    #[test]
+    fn a_dense_noisy_ring_is_smooth_at_its_seam_at_the_tolerance_scale() {
+        // 20,000 points of a unit circle, noise of tol/10 along the radius: neighbouring chords
+        // turn by far more than 60° (the chord rule finds corners at the seam), the tolerance's
+        // windows do not
+        let tol = 1e-3;
+        let ring = loop_points(|t| Vec3::new(t.cos(), t.sin(), 0.0), 20_000);
+        let noisy = Section::closed_loop(
+            ring.points[..ring.points.len() - 1]
+                .iter()
+                .enumerate()
+                .map(|(i, &p)| p * (1.0 + 0.17 * tol * jitter(i)))
+                .collect(),
+        );
+        let distinct = &noisy.points[..noisy.points.len() - 1];
+        let chord = crate::fit::shape::detect_corners(distinct, true, 60.0);
+        assert!(chord.len() > 100, "{}", chord.len());
+        assert!(smooth_at_seam(&noisy, 60.0, tol));
+        // the same noise on a teardrop keeps its tip a corner
+        let drop = loop_points(
+            |t| {
+                let r = (0.5 * t).sin().abs() + 1e-3;
+                Vec3::new(-r * t.cos() + 1.0, r * t.sin(), 0.0)
+            },
+            20_000,
+        );
+        let noisy_drop = Section::closed_loop(
+            drop.points[..drop.points.len() - 1]
+                .iter()
+                .enumerate()
+                .map(|(i, &p)| p + Vec3::new(0.0, 0.17 * tol * jitter(i), 0.0))
+                .collect(),
+        );
+        assert!(!smooth_at_seam(&noisy_drop, 60.0, tol));
     }
 }

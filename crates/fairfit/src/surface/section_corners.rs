@@ -55,40 +55,61 @@ impl CornerPlan {
     }
 }
 
-/// Point indices of the inner corners of `section` at tolerance `tol` (increasing; the ends of an open
-/// section and the seam of a closed one excluded). On a closed section a corner found within one
-/// tangent window (arc length, [`CornerScale`]) of the seam is the seam's own corner, found a point
-/// or two off (noisy or thinned sections): the detector would merge it into the seam's run.
+/// The corners of one section at the tolerance's scale, split into the seam's and the inner ones.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct SectionCorners {
+    /// A closed section has a corner at its seam: at its first point, at either neighbour, or
+    /// within one tangent window (arc length, [`CornerScale`]) of it. Always false when open.
+    pub(crate) at_seam: bool,
+    /// Point indices of the inner corners (increasing): the ends of an open section and the
+    /// seam's corners of a closed one excluded.
+    pub(crate) inner: Vec<usize>,
+}
+
+/// The corners of `section` at tolerance `tol` ([`SectionCorners`]). On a closed section a corner
+/// found within one tangent window of the seam is the seam's own corner, found a point or two off
+/// (noisy or thinned sections): the detector would merge it into the seam's run.
 ///
 /// The points are first scaled to unit extent about their first point (as the curve side detects on
-/// its normalised data), so the decision does not depend on the section's size.
-fn inner_corners(section: &Section, angle_deg: f64, tol: f64) -> Vec<usize> {
+/// its normalised data), so the decision does not depend on the section's size. On sparse data the
+/// windows are single chords and the test is the chord turning angle; on dense noisy data it is
+/// judged over tolerance-sized windows, so the noise alone never makes a corner.
+pub(crate) fn section_corners(section: &Section, angle_deg: f64, tol: f64) -> SectionCorners {
     let m = section.points.len();
     let ext = extent(&section.points);
     if !(ext > 0.0 && ext.is_finite()) || m < 3 {
-        return Vec::new();
+        return SectionCorners::default();
     }
     let origin = section.points[0];
     let pts: Vec<Vec3> = section.points.iter().map(|&p| (p - origin) / ext).collect();
     let tol = tol / ext;
     if section.closed && m > 3 {
         let distinct = &pts[..m - 1];
+        let n = distinct.len();
         let found = corners_at_tolerance(distinct, true, angle_deg, tol);
-        if found.iter().all(|&k| k == 0) {
-            return Vec::new();
+        if found.is_empty() {
+            return SectionCorners::default();
         }
         let window = CornerScale::measure(distinct, tol, angle_deg).window;
         let chords = cumulative_chords(&pts);
         let total = chords[m - 1];
-        found
-            .into_iter()
-            .filter(|&k| k > 0 && chords[k].min(total - chords[k]) > window)
-            .collect()
+        let near_seam =
+            |k: usize| k <= 1 || k + 1 >= n || chords[k].min(total - chords[k]) <= window;
+        SectionCorners {
+            at_seam: found.iter().any(|&k| near_seam(k)),
+            inner: found
+                .into_iter()
+                .filter(|&k| k > 0 && chords[k].min(total - chords[k]) > window)
+                .collect(),
+        }
     } else {
-        corners_at_tolerance(&pts, false, angle_deg, tol)
-            .into_iter()
-            .filter(|&k| k > 0 && k + 1 < m)
-            .collect()
+        SectionCorners {
+            at_seam: false,
+            inner: corners_at_tolerance(&pts, false, angle_deg, tol)
+                .into_iter()
+                .filter(|&k| k > 0 && k + 1 < m)
+                .collect(),
+        }
     }
 }
 
@@ -124,7 +145,7 @@ pub(crate) fn plan_corners(
 ) -> (HeldCorners, Option<CornerPlan>) {
     let indices: Vec<Vec<usize>> = sections
         .iter()
-        .map(|s| inner_corners(s, angle_deg, tol))
+        .map(|s| section_corners(s, angle_deg, tol).inner)
         .collect();
     let per_section: Vec<usize> = indices.iter().map(Vec::len).collect();
     let not_held = |reason: Option<String>| {
