@@ -147,6 +147,18 @@ pub fn parse_ends(text: &str) -> Result<bool, String> {
     }
 }
 
+/// The library's check of `corner_angle` (`None`: no corners), its message led by the keyword:
+/// `corner_angle must be in (0, 180] degrees, got 200`.
+pub fn check_corner_angle(degrees: Option<f64>) -> Result<(), String> {
+    match degrees.map(fairfit::fit::shape::check_corner_angle) {
+        Some(Err(fairfit::Error::InvalidSetting { option, reason })) => {
+            Err(format!("{option} {reason}"))
+        }
+        Some(Err(e)) => Err(e.to_string()),
+        _ => Ok(()),
+    }
+}
+
 impl CurveSettings {
     /// `degree`, or the method's default: `auto` for the integrated method, 3 otherwise.
     pub fn degree(&self) -> Option<usize> {
@@ -181,11 +193,7 @@ impl CurveSettings {
     /// The checks `fairfit curve` makes before it reads its input, with the same messages.
     pub fn check(&self) -> Result<(), String> {
         self.check_method_options()?;
-        if let Some(a) = self.corner_angle {
-            if !(a.is_finite() && a > 0.0 && a <= 180.0) {
-                return Err(format!("corner_angle must be in (0, 180] degrees, got {a}"));
-            }
-        }
+        check_corner_angle(self.corner_angle)?;
         if !(self.smoothing.is_finite() && self.smoothing >= 0.0) {
             return Err(format!(
                 "smoothing must be a finite number >= 0, got {}",

@@ -286,12 +286,7 @@ fn check_counts(s: &SurfaceSettings) -> Result<(), String> {
             s.smooth_v
         ));
     }
-    if let Some(a) = s
-        .corner_angle
-        .filter(|a| !(a.is_finite() && *a > 0.0 && *a <= 180.0))
-    {
-        return Err(format!("corner_angle must be in (0, 180] degrees, got {a}"));
-    }
+    crate::options::check_corner_angle(s.corner_angle)?;
     check_tangents(s)
 }
 

@@ -71,12 +71,8 @@ pub fn run(args: CurveArgs) -> CmdResult {
 pub fn check_options(args: &CurveArgs) -> CmdResult {
     check_method_options(args)?;
     super::curve_points::check_options(args)?;
-    if !(args.corner_angle.is_finite() && args.corner_angle > 0.0 && args.corner_angle <= 180.0) {
-        return Err(CliError::usage(format!(
-            "--corner-angle must be in (0, 180] degrees, got {}",
-            args.corner_angle
-        )));
-    }
+    fairfit::fit::shape::check_corner_angle(args.corner_angle)
+        .map_err(|e| CliError::usage(format!("--corner-angle {}", super::setting_reason(e))))?;
     if !(args.smoothing.is_finite() && args.smoothing >= 0.0) {
         return Err(CliError::usage(format!(
             "--smoothing must be a finite number >= 0, got {}",

@@ -249,13 +249,19 @@ pub fn finite_positive(s: &str) -> Result<f64, String> {
     }
 }
 
-/// clap value parser: a turning angle in degrees, in `(0, 180]`.
+/// clap value parser: a turning angle in degrees, in `(0, 180]` (the library's
+/// [`check_corner_angle`](fairfit::fit::shape::check_corner_angle)).
 pub fn corner_angle(s: &str) -> Result<f64, String> {
     let x: f64 = s.trim().parse().map_err(|e| format!("{e}"))?;
-    if x.is_finite() && x > 0.0 && x <= 180.0 {
-        Ok(x)
-    } else {
-        Err(format!("expected an angle in (0, 180] degrees, got {s}"))
+    fairfit::fit::shape::check_corner_angle(x).map_err(setting_reason)
+}
+
+/// What is wrong with a setting the library refused ([`fairfit::Error::InvalidSetting`]'s reason,
+/// which reads after the setting's name); any other error as it prints.
+pub fn setting_reason(e: fairfit::Error) -> String {
+    match e {
+        fairfit::Error::InvalidSetting { reason, .. } => reason,
+        e => e.to_string(),
     }
 }
 

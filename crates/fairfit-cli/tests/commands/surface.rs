@@ -2,7 +2,7 @@
 //! (one line, exit code 1, no panic) for unusable inputs.
 
 use crate::common;
-use common::{fairfit, read_json};
+use common::{fairfit, surface_run};
 
 use assert_cmd::Command;
 use std::path::{Path, PathBuf};
@@ -68,18 +68,8 @@ fn cylinder_obj(path: &Path, r: f64, hole: bool) {
 #[test]
 fn blade_sections_within_tolerance() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("blade.json");
-    let rep = dir.path().join("report.json");
-    fairfit()
-        .arg("surface")
-        .arg(blade_dir())
-        .args(["--tol", "0.0057", "-o"])
-        .arg(&out)
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let run = surface_run(dir.path(), "blade", blade_dir(), &["--tol", "0.0057"]);
+    let r = run.report;
     assert_eq!(r["within_tolerance"], true);
     assert!(r["deviation"]["max"].as_f64().unwrap() <= 0.0057);
     assert_eq!(r["deviation"]["points"], 1916);
@@ -99,7 +89,7 @@ fn blade_sections_within_tolerance() {
         .unwrap()
         .iter()
         .all(|s| s["corners_held"] == 0));
-    let s = read_json(&out);
+    let s: serde_json::Value = serde_json::from_str(&run.json).unwrap();
     assert_eq!(s["kind"], "surface");
 }
 
@@ -121,17 +111,7 @@ fn inner_corners_of_the_sections_are_held_and_reported() {
         }
         std::fs::write(d.join(format!("sec_{k}.csv")), s).unwrap();
     }
-    let rep = d.join("r.json");
-    fairfit()
-        .arg("surface")
-        .arg(d)
-        .args(["--tol", "1e-3", "-o"])
-        .arg(d.join("s.json"))
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let r = surface_run(d, "s", d, &["--tol", "1e-3"]).report;
     assert_eq!(r["within_tolerance"], true);
     let c = &r["corners"];
     assert_eq!(c["held"], true, "{c}");
@@ -146,23 +126,12 @@ fn inner_corners_of_the_sections_are_held_and_reported() {
     assert_eq!(knots.iter().filter(|k| k.as_f64() == Some(tc)).count(), 3);
     // --no-corners smooths them over; --corner-angle 100 finds none (the D's corners turn by 90°)
     let out = tempfile::tempdir().unwrap();
-    let (o, rep) = (out.path().join("s2.json"), out.path().join("r2.json"));
     for (flag, value, found) in [
         ("--no-corners", None, 1),
         ("--corner-angle", Some("100"), 0),
     ] {
-        let mut cmd = fairfit();
-        cmd.arg("surface").arg(d).args(["--tol", "1e-3", flag]);
-        if let Some(v) = value {
-            cmd.arg(v);
-        }
-        cmd.arg("-o")
-            .arg(&o)
-            .arg("--report")
-            .arg(&rep)
-            .assert()
-            .success();
-        let c = read_json(&rep)["corners"].clone();
+        let extra: Vec<&str> = ["--tol", "1e-3", flag].into_iter().chain(value).collect();
+        let c = surface_run(out.path(), "s2", d, &extra).report["corners"].clone();
         assert_eq!(c["held"], false, "{flag}: {c}");
         assert_eq!(
             c["per_section"],
@@ -190,17 +159,8 @@ fn sliced_cylinder_mesh_and_its_hole() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = dir.path().join("cyl.obj");
     cylinder_obj(&mesh, 2.0, false);
-    let rep = dir.path().join("r.json");
-    fairfit()
-        .arg("surface")
-        .arg(&mesh)
-        .args(["--slices", "6", "--axis", "z", "--rel-tol", "1e-3", "-o"])
-        .arg(dir.path().join("s.json"))
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let sliced = ["--slices", "6", "--axis", "z", "--rel-tol", "1e-3"];
+    let r = surface_run(dir.path(), "s", &mesh, &sliced).report;
     assert_eq!(r["gaps"].as_array().unwrap().len(), 0);
     assert_eq!(r["within_tolerance"], true);
     assert!(r["sections"]
@@ -214,41 +174,21 @@ fn sliced_cylinder_mesh_and_its_hole() {
     assert_eq!(r["periodic_u"], true);
     assert!(r["seam"]["max_tangent_angle"].as_f64().unwrap() < 1e-12);
     assert!(r["seam"]["max_curvature_jump"].as_f64().unwrap() < 1e-12);
-    fairfit()
-        .arg("surface")
-        .arg(&mesh)
-        .args([
-            "--slices",
-            "6",
-            "--axis",
-            "z",
-            "--rel-tol",
-            "1e-3",
-            "--clamped-seam",
-        ])
-        .arg("-o")
-        .arg(dir.path().join("c.json"))
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let clamped = [&sliced[..], &["--clamped-seam"]].concat();
+    let r = surface_run(dir.path(), "c", &mesh, &clamped).report;
     assert_eq!(r["periodic_u"], false);
     assert_eq!(r["within_tolerance"], true);
     assert!(r["seam"]["max_tangent_angle"].as_f64().unwrap() > 1e-3);
     // 5 slices: the middle plane (z = 1) crosses the hole; it is reported with its size
     let holed = dir.path().join("holed.obj");
     cylinder_obj(&holed, 2.0, true);
-    fairfit()
-        .arg("surface")
-        .arg(&holed)
-        .args(["--slices", "5", "--rel-tol", "1e-2", "-o"])
-        .arg(dir.path().join("h.json"))
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let r = surface_run(
+        dir.path(),
+        "h",
+        &holed,
+        &["--slices", "5", "--rel-tol", "1e-2"],
+    )
+    .report;
     let gaps = r["gaps"].as_array().unwrap();
     assert_eq!(gaps.len(), 1, "{gaps:?}");
     assert_eq!(gaps[0]["section"], 2);
@@ -430,21 +370,10 @@ fn surface_writes_checked_step_and_html() {
     let secs = d.join("secs");
     std::fs::create_dir(&secs).unwrap();
     half_ellipse_sections(&secs);
-    let (step, html, rep) = (d.join("s.step"), d.join("s.html"), d.join("r.json"));
-    fairfit()
-        .arg("surface")
-        .arg(&secs)
-        .args(["--tol", "1e-3", "-o"])
-        .arg(d.join("s.json"))
-        .arg("--report")
-        .arg(&rep)
-        .arg("--step")
-        .arg(&step)
-        .arg("--html")
-        .arg(&html)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let (step, html) = (d.join("s.step"), d.join("s.html"));
+    let (step_arg, html_arg) = (step.to_str().unwrap(), html.to_str().unwrap());
+    let extra = ["--tol", "1e-3", "--step", step_arg, "--html", html_arg];
+    let r = surface_run(d, "s", &secs, &extra).report;
     assert_eq!(r["within_tolerance"], true);
     assert_eq!(r["deviation"]["points"], 160);
     let (nu, nv) = (r["net"][0].as_u64().unwrap(), r["net"][1].as_u64().unwrap());
@@ -476,17 +405,8 @@ fn sections_ordered_by_position_along_an_axis() {
         std::fs::rename(p, secs.join(format!("{name}.csv"))).unwrap();
     }
     let run = |order: &str| {
-        let rep = d.join(format!("r_{order}.json"));
-        fairfit()
-            .arg("surface")
-            .arg(&secs)
-            .args(["--tol", "1e-3", "--order", order, "--axis", "z", "-o"])
-            .arg(d.join("s.json"))
-            .arg("--report")
-            .arg(&rep)
-            .assert()
-            .success();
-        read_json(&rep)
+        let extra = ["--tol", "1e-3", "--order", order, "--axis", "z"];
+        surface_run(d, &format!("s_{order}"), &secs, &extra).report
     };
     let r = run("axis");
     let names: Vec<String> = r["sections"]

@@ -93,6 +93,45 @@ pub fn curve_run(
     }
 }
 
+/// A successful `fairfit surface` run: the surface file's text, the surface, the report and stderr.
+pub struct SurfaceRun {
+    pub json: String,
+    pub surface: fairfit::NurbsSurface,
+    pub report: serde_json::Value,
+    pub stderr: String,
+}
+
+/// Runs `fairfit surface INPUT EXTRA -o DIR/NAME.json --report DIR/NAME-report.json`, asserts that it
+/// succeeded and reads what it wrote.
+pub fn surface_run(
+    dir: &std::path::Path,
+    name: &str,
+    input: impl AsRef<std::ffi::OsStr>,
+    extra: &[&str],
+) -> SurfaceRun {
+    let s = dir.join(format!("{name}.json"));
+    let r = dir.join(format!("{name}-report.json"));
+    let run = fairfit()
+        .arg("surface")
+        .arg(input)
+        .args(extra)
+        .arg("-o")
+        .arg(&s)
+        .arg("--report")
+        .arg(&r)
+        .assert()
+        .success();
+    let fairfit::io::Geometry::Surface(surface) = fairfit::io::read_geometry(&s).unwrap() else {
+        panic!("{}: not a surface", s.display())
+    };
+    SurfaceRun {
+        json: std::fs::read_to_string(&s).unwrap(),
+        surface,
+        report: read_json(&r),
+        stderr: String::from_utf8_lossy(&run.get_output().stderr).into_owned(),
+    }
+}
+
 /// Asserts that a finished run succeeded, showing its stderr otherwise.
 pub fn assert_success(out: &std::process::Output) {
     assert!(

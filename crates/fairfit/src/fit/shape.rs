@@ -8,11 +8,27 @@
 //!   53°), while a blunt trailing edge or a machined edge turns by 80–90°.
 
 use super::knot_placement::turning_angle;
+use crate::errors::Error;
 use crate::fit::points::bounding_box_extent;
 use crate::nurbs::Vec3;
 
 /// Default corner threshold, degrees.
 pub const DEFAULT_CORNER_ANGLE_DEG: f64 = 60.0;
+
+/// The one check of a corner angle (the integrated method's options, the command line and the Python
+/// bindings all use it): `degrees` when it lies in `(0, 180]`, else an [`Error::InvalidSetting`] of
+/// `corner_angle` whose reason reads after any name of the setting, so that each front end names it
+/// its own way (`--corner-angle must be in (0, 180] degrees, got 0`).
+pub fn check_corner_angle(degrees: f64) -> Result<f64, Error> {
+    if degrees.is_finite() && degrees > 0.0 && degrees <= 180.0 {
+        Ok(degrees)
+    } else {
+        Err(Error::InvalidSetting {
+            option: "corner_angle",
+            reason: format!("must be in (0, 180] degrees, got {degrees}"),
+        })
+    }
+}
 
 /// Relative gap (of the bounding-box extent) under which first and last points count as equal.
 pub const CLOSED_REL_GAP: f64 = 1e-9;
@@ -74,5 +90,21 @@ mod tests {
         let mut c2 = circle.clone();
         c2.push(circle[0]);
         assert!(looks_closed(&c2));
+    }
+
+    #[test]
+    fn the_corner_angle_is_checked_in_one_place_with_one_message() {
+        for ok in [1e-9, 60.0, 180.0] {
+            assert_eq!(check_corner_angle(ok).unwrap(), ok);
+        }
+        for bad in [0.0, -5.0, 180.5, f64::NAN, f64::INFINITY] {
+            match check_corner_angle(bad) {
+                Err(Error::InvalidSetting { option, reason }) => {
+                    assert_eq!(option, "corner_angle");
+                    assert_eq!(reason, format!("must be in (0, 180] degrees, got {bad}"));
+                }
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
     }
 }

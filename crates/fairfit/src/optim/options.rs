@@ -253,8 +253,9 @@ impl IntegratedOptions {
         self
     }
 
-    /// The turning angle in degrees, in (0, 180], above which a data point is a corner (a C0 knot);
-    /// `None` fits one smooth curve through every point.
+    /// The turning angle in degrees, in (0, 180]
+    /// ([`check_corner_angle`](crate::fit::shape::check_corner_angle)), above which a data point
+    /// is a corner (a C0 knot); `None` fits one smooth curve through every point.
     pub fn corner_angle(mut self, degrees: impl Into<Option<f64>>) -> Self {
         self.corner_angle_deg = degrees.into();
         self
@@ -468,12 +469,7 @@ pub(crate) fn validate(opts: &IntegratedOptions) -> Result<()> {
         ));
     }
     if let Some(a) = opts.corner_angle_deg {
-        if !(a.is_finite() && a > 0.0 && a <= 180.0) {
-            return Err(invalid(
-                "corner_angle",
-                format!("the corner angle must be in (0, 180] degrees, got {a}"),
-            ));
-        }
+        crate::fit::shape::check_corner_angle(a)?;
     }
     Ok(())
 }

@@ -13,6 +13,8 @@ use fairfit::surface::SurfaceProjector;
 use fairfit::Vec3;
 use std::path::{Path, PathBuf};
 
+use crate::common::surface_run;
+
 fn fairfit() -> Command {
     Command::cargo_bin("fairfit").unwrap()
 }
@@ -160,26 +162,11 @@ fn surface_skins_circle_and_arc_sections() {
         ("cone_arcs.step", 1.5 * std::f64::consts::PI),
         ("cone_circles.igs", 2.0 * std::f64::consts::PI),
     ] {
-        let (out, rep) = (d.join("s.json"), d.join("r.json"));
-        let o = fairfit()
-            .arg("surface")
-            .arg(fixture(file))
-            .arg("-o")
-            .arg(&out)
-            .arg("--report")
-            .arg(&rep)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(o.status.success(), "{file}: {stderr}");
+        let run = surface_run(d, "s", fixture(file), &[]);
+        let (s, r, stderr) = (run.surface, run.report, run.stderr);
         assert!(stderr.contains("3 sections"), "{stderr}");
-        let r: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
         assert_eq!(r["within_tolerance"], true, "{file}");
         let tol = r["tolerance"].as_f64().unwrap();
-        let Geometry::Surface(s) = read_geometry(&out).unwrap() else {
-            panic!("a surface")
-        };
         // the surface lies on the cone: a 201 x 21 grid within the tolerance of it (radially)
         let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
         let mut off_cone = 0.0f64;

@@ -8,27 +8,15 @@
 
 use assert_cmd::Command;
 use fairfit::diffgeo::CurveProjector;
-use fairfit::io::{read_geometry, Geometry};
 use fairfit::nurbs::SurfaceWorkspace;
 use fairfit::surface::SurfaceProjector;
 use fairfit::{NurbsSurface, Vec3};
 use std::path::Path;
 
-use crate::common::python;
+use crate::common::{python, surface_run};
 
 fn fairfit() -> Command {
     Command::cargo_bin("fairfit").unwrap()
-}
-
-fn read_json(p: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
-}
-
-fn surface(p: &Path) -> NurbsSurface {
-    match read_geometry(p).unwrap() {
-        Geometry::Surface(s) => s,
-        other => panic!("{other:?}"),
-    }
 }
 
 fn points(v: &serde_json::Value) -> Vec<Vec3> {
@@ -56,20 +44,8 @@ fn max_distance(s: &NurbsSurface, pts: &[Vec3]) -> f64 {
 
 /// Runs `fairfit surface FILE EXTRA -o ... --report ...`; returns the surface, the report and stderr.
 fn skin(file: &str, extra: &[&str], d: &Path) -> (NurbsSurface, serde_json::Value, String) {
-    let (out, rep) = (d.join("s.json"), d.join("r.json"));
-    let o = fairfit()
-        .arg("surface")
-        .arg(file)
-        .args(extra)
-        .arg("-o")
-        .arg(&out)
-        .arg("--report")
-        .arg(&rep)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(o.status.success(), "{file}: {stderr}");
-    (surface(&out), read_json(&rep), stderr)
+    let r = surface_run(d, "s", file, extra);
+    (r.surface, r.report, r.stderr)
 }
 
 fn section_names(r: &serde_json::Value) -> Vec<String> {

@@ -4,7 +4,7 @@
 //! them, by section, on stderr.
 
 use crate::common;
-use common::{fairfit, read_json};
+use common::surface_run;
 
 use std::path::Path;
 
@@ -48,21 +48,9 @@ fn auto_excludes_exactly_the_spikes_and_off_names_them() {
     std::fs::create_dir(&secs).unwrap();
     sections(&secs);
     let run = |mode: &str| {
-        let rep = dir.path().join(format!("r_{mode}.json"));
-        let out = fairfit()
-            .arg("surface")
-            .arg(&secs)
-            .args(["--tol", "1e-3", "--outliers", mode, "-o"])
-            .arg(dir.path().join(format!("s_{mode}.json")))
-            .arg("--report")
-            .arg(&rep)
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{out:?}");
-        (
-            read_json(&rep),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
+        let extra = ["--tol", "1e-3", "--outliers", mode];
+        let r = surface_run(dir.path(), &format!("s_{mode}"), &secs, &extra);
+        (r.report, r.stderr)
     };
     let outliers = |r: &serde_json::Value, k: usize| -> Vec<u64> {
         r["dense"]["sections"][k]["outliers"]

@@ -4,9 +4,8 @@
 //! tolerance is met; a section without a leading edge is refused in one line with nothing written.
 
 use crate::common;
-use common::{fairfit, read_json};
+use common::{fairfit, surface_run};
 
-use fairfit::io::{read_geometry, Geometry};
 use fairfit::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -34,25 +33,14 @@ fn section_points(path: &Path) -> Vec<Vec3> {
 #[test]
 fn blade_leading_edges_lie_on_the_iso_curve_u_half() {
     let dir = tempfile::tempdir().unwrap();
-    let (out, rep) = (dir.path().join("blade.json"), dir.path().join("r.json"));
-    fairfit()
-        .arg("surface")
-        .arg(blade_dir())
-        .args(["--tol", "0.0057", "--split-at-le", "-o"])
-        .arg(&out)
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let extra = ["--tol", "0.0057", "--split-at-le"];
+    let run = surface_run(dir.path(), "blade", blade_dir(), &extra);
+    let (s, r) = (run.surface, run.report);
     assert_eq!(r["within_tolerance"], true);
     let le = &r["split_at_le"];
     assert_eq!(le["parameter"], 0.5);
     let rows = le["sections"].as_array().unwrap();
     assert_eq!(rows.len(), 10);
-    let Geometry::Surface(s) = read_geometry(&out).unwrap() else {
-        panic!("not a surface")
-    };
     let mut files: Vec<PathBuf> = std::fs::read_dir(blade_dir())
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -90,16 +78,8 @@ fn blade_leading_edges_lie_on_the_iso_curve_u_half() {
     assert!(le["max_distance"].as_f64().unwrap() <= 1e-9 * size);
     assert!(le["surface_max_distance"].as_f64().unwrap() <= 1e-9 * size);
     // without the option the report has no such key
-    fairfit()
-        .arg("surface")
-        .arg(blade_dir())
-        .args(["--tol", "0.0057", "-o"])
-        .arg(&out)
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    assert!(read_json(&rep).get("split_at_le").is_none());
+    let plain = surface_run(dir.path(), "plain", blade_dir(), &["--tol", "0.0057"]).report;
+    assert!(plain.get("split_at_le").is_none());
 }
 
 /// A section whose farthest point from the midpoint of its ends is an end point (a parabola arc):

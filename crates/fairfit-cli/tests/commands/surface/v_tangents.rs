@@ -4,9 +4,8 @@
 //! both ends; the report says so; bad values are one-line usage errors with no output written.
 
 use crate::common;
-use common::{fairfit, read_json};
+use common::{fairfit, surface_run};
 
-use fairfit::io::{read_geometry, Geometry};
 use fairfit::{NurbsSurface, Vec3};
 use std::path::Path;
 
@@ -63,20 +62,12 @@ fn angle(a: Vec3, b: Vec3) -> f64 {
 fn the_surface_leaves_its_end_sections_along_the_asked_directions() {
     let dir = tempfile::tempdir().unwrap();
     sections(dir.path());
-    let (out, rep) = (dir.path().join("s.json"), dir.path().join("r.json"));
     let (d0, d1) = (gamma_d(SPINE[0]), gamma_d(SPINE[4]));
-    fairfit()
-        .arg("surface")
-        .arg(dir.path())
-        .args(["--tol", "1e-4", "--start-tangent-v", &arg(d0 * 5.0)])
-        .args(["--end-tangent-v", &arg(d1)])
-        .arg("-o")
-        .arg(&out)
-        .arg("--report")
-        .arg(&rep)
-        .assert()
-        .success();
-    let r = read_json(&rep);
+    let (start, end) = (arg(d0 * 5.0), arg(d1));
+    let tangents = ["--start-tangent-v", &start, "--end-tangent-v", &end];
+    let extra = [&["--tol", "1e-4"][..], &tangents].concat();
+    let run = surface_run(dir.path(), "s", dir.path(), &extra);
+    let (s, r) = (run.surface, run.report);
     assert_eq!(r["within_tolerance"], true);
     let t = &r["v_end_tangents"];
     for (end, d) in [("start", d0), ("end", d1)] {
@@ -93,9 +84,6 @@ fn the_surface_leaves_its_end_sections_along_the_asked_directions() {
     }
     assert_eq!(t["u_samples"], 1001);
     // the written surface, measured independently: 5 sections + 2 legs across
-    let Geometry::Surface(s) = read_geometry(&out).unwrap() else {
-        panic!("not a surface")
-    };
     assert_eq!(s.net_size().1, 7);
     let mut worst = 0.0f64;
     for i in 0..=300 {
@@ -105,18 +93,7 @@ fn the_surface_leaves_its_end_sections_along_the_asked_directions() {
     }
     assert!(worst <= 1e-9, "{worst:e}");
     // without the options the report has no such key and the net has 5 columns across
-    let plain = dir.path().join("p.json");
-    let prep = dir.path().join("pr.json");
-    fairfit()
-        .arg("surface")
-        .arg(dir.path())
-        .args(["--tol", "1e-4", "-o"])
-        .arg(&plain)
-        .arg("--report")
-        .arg(&prep)
-        .assert()
-        .success();
-    let pr = read_json(&prep);
+    let pr = surface_run(dir.path(), "p", dir.path(), &["--tol", "1e-4"]).report;
     assert!(pr.get("v_end_tangents").is_none());
     assert_eq!(pr["net"][1], 5);
     assert_eq!(pr["net"][0], r["net"][0]);
