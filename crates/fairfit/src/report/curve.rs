@@ -96,8 +96,10 @@ pub fn lsq_report(fit: &FitResult, input: &str, knots: &str, wall_seconds: f64) 
     )
 }
 
-/// The keys of the integrated method: `closed` (whether the data were fitted as closed),
-/// `span_fairness` the per-span target asked for and `seed` the search's seed.
+/// The keys of the integrated method: `closed` (whether the data were fitted as closed; with
+/// `closed_by_gap`, the distance from the last point to the first, when they were closed across
+/// that gap by [`crate::fit::closure`]), `span_fairness` the per-span target asked for and `seed` the
+/// search's seed.
 pub fn integrated_report(
     r: &IntegratedResult,
     closed: bool,
@@ -135,6 +137,10 @@ pub fn integrated_report(
     });
     if !r.stats.degrees_tried.is_empty() {
         report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
+    }
+    if let Some(gap) = r.closure.gap() {
+        // closed although the last point does not repeat the first (`fit::closure`)
+        report["closed_by_gap"] = json!(gap);
     }
     report
 }
