@@ -41,13 +41,22 @@ use std::time::Instant;
 
 /// How [`fit_integrated`](super::fit_integrated) fits `points` under `opts`: open or closed as
 /// `opts.closed` says, and with [`ClosedMode::Auto`] by [`closure_at_tolerance`] at the tolerance of
-/// `opts` (in the points' units) and its corner angle (the default one when corners are off). The fit
+/// `opts` (in the points' units) and its corner angle (the default one when corners are off); with
+/// end conditions only a repeated point closes the data (the conditions ask for ends). The fit
 /// decides on the screened points at the tolerance it holds; its decision is
 /// [`IntegratedResult::closure`].
 pub fn closure(points: &[Vec3], opts: &IntegratedOptions) -> Closure {
     match opts.closed {
         ClosedMode::Open => Closure::Open,
         ClosedMode::Closed => Closure::Closed,
+        // conditions on the ends ask for ends: a gap is not closed (a repeat still is, as before)
+        ClosedMode::Auto if !opts.end_conditions.is_none() => {
+            if looks_closed(points) {
+                Closure::Closed
+            } else {
+                Closure::Open
+            }
+        }
         ClosedMode::Auto => closure_at_tolerance(
             points,
             absolute_tolerance(opts.tolerance, points),

@@ -77,7 +77,7 @@ pub fn with_method(mut base: Value, method: &Value) -> Value {
 
 /// The whole report of a least-squares fit (`--method lsq`); `knots` names the knot rule.
 pub fn lsq_report(fit: &FitResult, input: &str, knots: &str, wall_seconds: f64) -> Value {
-    let method = json!({
+    let mut method = json!({
         "method": "lsq",
         "knots": knots,
         "closed": fit.closed,
@@ -90,6 +90,9 @@ pub fn lsq_report(fit: &FitResult, input: &str, knots: &str, wall_seconds: f64) 
         "smoothing_used": fit.smoothing_used,
         "fit_seconds": fit.fit_seconds,
     });
+    if let Some(gap) = fit.closed_by_gap {
+        method["closed_by_gap"] = json!(gap);
+    }
     with_method(
         shape_report(&fit.curve, input, fit.points.len(), wall_seconds),
         &method,
@@ -172,7 +175,7 @@ pub fn fit_then_fair_report(
     deviation: &Deviation,
     seed: u64,
 ) -> Value {
-    json!({
+    let mut report = json!({
         "method": "fit-then-fair",
         "control_points": distinct_control_points(faired),
         "closed": fit.closed,
@@ -183,7 +186,11 @@ pub fn fit_then_fair_report(
         "lsq_fairness": curve_fairness(&fit.curve).fairness,
         "fairing_moves": moves,
         "seed": seed,
-    })
+    });
+    if let Some(gap) = fit.closed_by_gap {
+        report["closed_by_gap"] = json!(gap);
+    }
+    report
 }
 
 /// The report's screening keys (`fit::screening`), added to `report` (an object): `noise_sigma`,

@@ -244,7 +244,7 @@ fn a_noisy_ring_with_a_gap_under_the_tolerance_is_closed_and_says_so() {
         assert_eq!(ctrl[..3], ctrl[n_u..], "{tag}");
         eprintln!(
             "{tag}: gap {gap:.3e}, {n_u} control points, max deviation {:.3e}",
-            r["max_deviation"]
+            r["max_deviation"].as_f64().unwrap()
         );
         if k == 1.0 {
             // --open keeps it open: two ends, no gap closed
@@ -253,6 +253,13 @@ fn a_noisy_ring_with_a_gap_under_the_tolerance_is_closed_and_says_so() {
             let (_, r) = run_report(&open, &dir, "open");
             assert_eq!(r["closed"], false);
             assert!(r.get("closed_by_gap").is_none());
+            // the least-squares method decides alike
+            let mut lsq = args.to_vec();
+            lsq.extend(["--method", "lsq"]);
+            let (_, r) = run_report(&lsq, &dir, "lsq");
+            assert_eq!(r["closed"], true);
+            assert_eq!(r["closed_by_gap"].as_f64(), Some(gap));
+            assert!(r["max_deviation"].as_f64().unwrap() <= 4e-3);
         }
     }
 }
