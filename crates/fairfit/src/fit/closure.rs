@@ -91,7 +91,7 @@ pub fn closure_at_tolerance(points: &[Vec3], tol: f64, angle_deg: f64) -> Closur
     }
     let k = END_CHORDS.min((n - 1) / 2).max(1);
     let spacing = median_chord(&points[..=k]).min(median_chord(&points[n - 1 - k..]));
-    if !(gap <= GAP_SPACINGS * spacing) {
+    if !(spacing.is_finite() && gap <= GAP_SPACINGS * spacing) {
         return Closure::Open;
     }
     let scale = CornerScale::measure(points, tol, angle_deg);
