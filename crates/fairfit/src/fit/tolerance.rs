@@ -260,26 +260,7 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
             "the tolerance must be positive and finite, got {tol}"
         )));
     }
-    // the ends asked for (tangents, conditions): a gap is not closed, a repeat still is
-    let wants_ends = opts.start_tangent.is_some()
-        || opts.end_tangent.is_some()
-        || !opts.end_conditions.is_none();
-    let closure = match opts.closed {
-        ClosedMode::Auto if wants_ends => {
-            if looks_closed(&pts) {
-                Closure::Closed
-            } else {
-                Closure::Open
-            }
-        }
-        ClosedMode::Auto => closure_at_tolerance(
-            &pts,
-            tol,
-            opts.corner_angle_deg.unwrap_or(DEFAULT_CORNER_ANGLE_DEG),
-        ),
-        ClosedMode::Open => Closure::Open,
-        ClosedMode::Closed => Closure::Closed,
-    };
+    let closure = closure_of(&pts, opts, tol);
     let closed = closure.is_closed();
     if closed && looks_closed(&pts) {
         pts.pop();
@@ -392,6 +373,31 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
         fit_seconds: start.elapsed().as_secs_f64(),
         smoothing_used: opts.smoothing,
     })
+}
+
+/// How the distinct points `pts` are fitted under `opts` at the absolute tolerance `tol`
+/// ([`ClosedMode::Auto`]: [`closure_at_tolerance`], unless end tangents or conditions ask for ends).
+fn closure_of(pts: &[Vec3], opts: &FitOptions, tol: f64) -> Closure {
+    // the ends asked for (tangents, conditions): a gap is not closed, a repeat still is
+    let wants_ends = opts.start_tangent.is_some()
+        || opts.end_tangent.is_some()
+        || !opts.end_conditions.is_none();
+    match opts.closed {
+        ClosedMode::Auto if wants_ends => {
+            if looks_closed(pts) {
+                Closure::Closed
+            } else {
+                Closure::Open
+            }
+        }
+        ClosedMode::Auto => closure_at_tolerance(
+            pts,
+            tol,
+            opts.corner_angle_deg.unwrap_or(DEFAULT_CORNER_ANGLE_DEG),
+        ),
+        ClosedMode::Open => Closure::Open,
+        ClosedMode::Closed => Closure::Closed,
+    }
 }
 
 struct Ctx<'a> {
