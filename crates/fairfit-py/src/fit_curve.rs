@@ -16,7 +16,7 @@ use fairfit::fit::tolerance::{fit_to_tolerance, FitOptions};
 use fairfit::io::limits::{ReadLimits, DEFAULT_MAX_POINTS};
 use fairfit::io::points::MIN_POINTS;
 use fairfit::optim::{
-    distinct_control_points, fit_integrated, is_closed, pareto_front_of_result, ParetoCurve,
+    distinct_control_points, fit_integrated, pareto_front_of_result, ParetoCurve,
 };
 use fairfit::report::curve::{
     add_screening, fit_then_fair_report, integrated_report, integrated_warning, lsq_report,
@@ -276,9 +276,8 @@ type MethodOutput = (NurbsCurve, Value, Vec<String>, Vec<ParetoCurve>);
 /// `s.pareto` (the report's `pareto_members` its size, as `--pareto` writes it).
 fn run_integrated(s: &CurveSettings, points: &[Vec3]) -> Result<MethodOutput, String> {
     let opts = integrated_options(s);
-    let closed = is_closed(points, opts.closed);
     let r = fit_integrated(points, &opts).map_err(|e| e.to_string())?;
-    let mut report = integrated_report(&r, closed, s.span_fairness, s.seed);
+    let mut report = integrated_report(&r, r.closure.is_closed(), s.span_fairness, s.seed);
     if !opts.end_conditions.is_none() {
         report["end_conditions"] = integrated_end_conditions(points, &opts, &r);
     }

@@ -29,7 +29,8 @@ pub struct CurveSettings {
     pub degree: Option<usize>,
     /// `control_points`.
     pub control_points: Option<usize>,
-    /// `closed`: `None` detects a repeated first point, `True` forces a closed curve, `False` an open one.
+    /// `closed`: `None` detects a repeated first point or a gap closed at the tolerance's scale
+    /// (`fairfit::fit::closure`), `True` forces a closed curve, `False` an open one.
     pub closed: Option<bool>,
     /// `corner_angle` in degrees; `None` detects no corners (`--no-corners`).
     pub corner_angle: Option<f64>,

@@ -254,10 +254,13 @@ pub struct CurveArgs {
     /// Parameterisation of the points.
     #[arg(long = "param", value_enum, default_value_t = ParamArg::Centripetal)]
     pub param: ParamArg,
-    /// Treat the points as a closed curve (otherwise closed only when the last point repeats the first).
+    /// Treat the points as a closed curve (otherwise closed when the last point repeats the first, or
+    /// when the ends are a gap of at most the tolerance and a few spacings apart that the data continue
+    /// smoothly through: the report's `closed_by_gap`).
     #[arg(long, conflicts_with = "open")]
     pub closed: bool,
-    /// Treat the points as an open curve even when the last point repeats the first: the curve
+    /// Treat the points as an open curve even when the last point repeats the first (or their ends
+    /// are a gap apart that `--closed`'s detection would close): the curve
     /// starts and ends at that point, with ends of its own (which --start/--end can hold).
     #[arg(long)]
     pub open: bool,
@@ -394,8 +397,8 @@ impl CurveArgs {
         }
     }
 
-    /// `--closed`: always closed; `--open`: always open; otherwise closed when the last point
-    /// repeats the first.
+    /// `--closed`: always closed; `--open`: always open; otherwise detected (the last point repeats
+    /// the first, or a gap closed at the tolerance's scale, `fairfit::fit::closure`).
     pub fn closed_mode(&self) -> ClosedMode {
         match (self.closed, self.open) {
             (true, _) => ClosedMode::Closed,

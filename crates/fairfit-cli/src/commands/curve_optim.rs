@@ -11,7 +11,7 @@ use super::CliError;
 use fairfit::fair::fair_curve;
 use fairfit::fit::max_orthogonal_deviation;
 use fairfit::io::curve_to_json;
-use fairfit::optim::{is_closed, pareto_csv, pareto_front_of_result, ParetoCurve};
+use fairfit::optim::{pareto_csv, pareto_front_of_result, ParetoCurve};
 use fairfit::prelude::{
     fit_integrated_with_stages, fit_to_tolerance, FitOptions, IntegratedOptions, IntegratedResult,
     NurbsCurve, Vec3,
@@ -97,14 +97,13 @@ pub fn cli_error(e: fairfit::Error, args: &CurveArgs) -> CliError {
 /// `--method integrated`.
 pub fn run_integrated(args: &CurveArgs, points: &[Vec3]) -> Result<MethodOutput, CliError> {
     let opts = integrated_options(args);
-    let closed = is_closed(points, opts.closed);
     let bar = crate::progress::FitBar::new();
     let r = fit_integrated_with_stages(points, &opts, &|stage, done, total| {
         bar.update(stage, done, total)
     });
     bar.finish();
     let r: IntegratedResult = r.map_err(|e| cli_error(e, args))?;
-    let mut report = integrated_report(&r, closed, args.span_fairness, args.seed);
+    let mut report = integrated_report(&r, r.closure.is_closed(), args.span_fairness, args.seed);
     let mut files = Vec::new();
     if !opts.end_conditions.is_none() {
         report["end_conditions"] = integrated_end_conditions(points, &opts, &r);

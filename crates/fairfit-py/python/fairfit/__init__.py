@@ -165,8 +165,10 @@ def fit_curve(
         ``lsq`` and ``fit-then-fair`` default to 3.
     control_points: a fixed number of control points instead of the fewest within the tolerance
         (integrated only).
-    closed: None detects closed data (the last point repeats the first), True treats the points as a
-        closed curve (``--closed``), False as an open one.
+    closed: None detects closed data (the last point repeats the first, or the ends are a gap of at
+        most the tolerance apart that the data continue smoothly through: the report's
+        ``closed_by_gap``), True treats the points as a closed curve (``--closed``), False as
+        an open one.
     corner_angle: turning angle in degrees above which a point is a corner kept as a C0 knot
         (``--corner-angle``, default 60); None detects no corners (``--no-corners``).
     ends: ``"pinned"`` (the curve starts and ends at the first and last points) or ``"free"`` (a last

@@ -157,6 +157,34 @@ pub fn detect_corners_at(
     runs_best(cands, closed, n)
 }
 
+/// The turn at the seam of open `points` read as a loop: the angle between the tangent arriving at the
+/// last point and the tangent leaving the first, each estimated as in [`detect_corners_at`] over a
+/// window of arc length `scale.window` on its side (at least one chord; at most the whole data). With
+/// single-chord windows it is the angle between the last chord and the first. Radians in `[0, π]`;
+/// `π` for fewer than three points or a zero tangent.
+pub fn seam_turn(points: &[Vec3], scale: &CornerScale) -> f64 {
+    let n = points.len();
+    if n < 3 {
+        return std::f64::consts::PI;
+    }
+    let w = Windows::new(points, false, scale.stride);
+    let last = n as isize - 1;
+    let end = w.pos(last);
+    let mut j = last - 1;
+    while j > 0 && end - w.pos(j) < scale.window {
+        j -= 1;
+    }
+    let mut jr = 1;
+    while jr < last && w.pos(jr) < scale.window {
+        jr += 1;
+    }
+    let (a, b) = (w.direction(j, last), w.direction(0, jr));
+    if a.norm() == 0.0 || b.norm() == 0.0 {
+        return std::f64::consts::PI;
+    }
+    a.cross(b).norm().atan2(a.dot(b))
+}
+
 /// The largest turn of each run of candidates (module doc), in index order.
 fn runs_best(cands: Vec<(usize, f64, isize)>, closed: bool, n: usize) -> Vec<usize> {
     let mut runs: Vec<Vec<(usize, f64, isize)>> = Vec::new();

@@ -6,6 +6,7 @@
 pub mod airfoil;
 pub mod banded;
 pub mod cad_fit;
+pub mod closure;
 pub mod constrained_points;
 pub mod corners;
 pub mod correction;

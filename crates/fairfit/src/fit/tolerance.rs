@@ -9,6 +9,7 @@
 //! joined with knots of multiplicity `p` (C0 corners); a closed curve without corners is fitted
 //! periodically (C^(p−1) at the seam).
 
+use super::closure::{closure_at_tolerance, Closure};
 use super::correction::{fit_corrected, CorrectedFit};
 use super::deviation::{max_orthogonal_deviation, Deviation, Screen};
 use super::end_constraints::{check_against_data, EndConstraints};
@@ -35,7 +36,10 @@ pub const SMOOTHING_FALLBACK_TRIES: usize = 6;
 /// Whether the data form a closed curve.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ClosedMode {
-    /// Closed when the last point equals the first (see [`super::shape::looks_closed`]).
+    /// Closed when the last point equals the first (see [`super::shape::looks_closed`]), or when the
+    /// ends are a gap apart that the data continue smoothly through at the tolerance's scale
+    /// ([`super::closure::closure_at_tolerance`]; not with end tangents or end conditions, which ask
+    /// for ends).
     #[default]
     Auto,
     /// Always open.
@@ -139,6 +143,10 @@ pub struct FitResult {
     pub tolerance: f64,
     /// True when the curve is closed.
     pub closed: bool,
+    /// The distance from the last point to the first when the data were closed across it
+    /// ([`ClosedMode::Auto`], [`crate::fit::closure`]); `None` for open data, a repeated point or
+    /// [`ClosedMode::Closed`].
+    pub closed_by_gap: Option<f64>,
     /// Indices in [`FitResult::points`] of the corners kept as C0 knots.
     pub corners: Vec<usize>,
     /// Least-squares solves performed.
@@ -252,11 +260,8 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
             "the tolerance must be positive and finite, got {tol}"
         )));
     }
-    let closed = match opts.closed {
-        ClosedMode::Auto => looks_closed(&pts),
-        ClosedMode::Open => false,
-        ClosedMode::Closed => true,
-    };
+    let closure = closure_of(&pts, opts, tol);
+    let closed = closure.is_closed();
     if closed && looks_closed(&pts) {
         pts.pop();
     }
@@ -362,11 +367,37 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
         n_control_points: n_ctrl,
         tolerance: tol,
         closed,
+        closed_by_gap: closure.gap(),
         corners: corners_out,
         solves: ctx.solves,
         fit_seconds: start.elapsed().as_secs_f64(),
         smoothing_used: opts.smoothing,
     })
+}
+
+/// How the distinct points `pts` are fitted under `opts` at the absolute tolerance `tol`
+/// ([`ClosedMode::Auto`]: [`closure_at_tolerance`], unless end tangents or conditions ask for ends).
+fn closure_of(pts: &[Vec3], opts: &FitOptions, tol: f64) -> Closure {
+    // the ends asked for (tangents, conditions): a gap is not closed, a repeat still is
+    let wants_ends = opts.start_tangent.is_some()
+        || opts.end_tangent.is_some()
+        || !opts.end_conditions.is_none();
+    match opts.closed {
+        ClosedMode::Auto if wants_ends => {
+            if looks_closed(pts) {
+                Closure::Closed
+            } else {
+                Closure::Open
+            }
+        }
+        ClosedMode::Auto => closure_at_tolerance(
+            pts,
+            tol,
+            opts.corner_angle_deg.unwrap_or(DEFAULT_CORNER_ANGLE_DEG),
+        ),
+        ClosedMode::Open => Closure::Open,
+        ClosedMode::Closed => Closure::Closed,
+    }
 }
 
 struct Ctx<'a> {

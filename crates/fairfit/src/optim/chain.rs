@@ -495,6 +495,7 @@ fn fairer(
         baseline_control_points: single.baseline_control_points,
         stats: Default::default(),
         screening: Default::default(),
+        closure: Default::default(),
     };
     Ok((kept, true))
 }

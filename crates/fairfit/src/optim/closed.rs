@@ -1,8 +1,10 @@
 //! The closed-data pipeline.
 //!
-//! Data are closed when the last point repeats the first (the least-squares method's test,
-//! [`crate::fit::shape::looks_closed`]) or when the caller says so ([`ClosedMode::Closed`]); the
-//! repeated point is dropped. Then, as in the least-squares method:
+//! Data are closed when the last point repeats the first ([`crate::fit::shape::looks_closed`]), when
+//! their ends are a gap apart that the data continue smoothly through at the tolerance's scale
+//! ([`closure`], [`crate::fit::closure`]: fitted as a loop through the points as they are, the gap
+//! its closing step), or when the caller says so ([`ClosedMode::Closed`]); a repeated point is
+//! dropped. Then, as in the least-squares method:
 //!
 //! - with corners (turning angle above the threshold, every point — the first included — judged
 //!   with its two neighbours on the loop), the loop is cut at its first corner and fitted as open
@@ -29,14 +31,50 @@ use super::stages::degree_candidates::{self, PeriodicDegreeInput};
 use super::stages::descent::{self, DescentInput};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
+use crate::fit::closure::{closure_at_tolerance, Closure};
 use crate::fit::corners::corners_at_tolerance;
-use crate::fit::shape::looks_closed;
+use crate::fit::points::absolute_tolerance;
+use crate::fit::shape::{looks_closed, DEFAULT_CORNER_ANGLE_DEG};
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::Vec3;
 use std::time::Instant;
 
-/// Whether `points` are fitted as a closed curve under `mode`.
-pub fn is_closed(points: &[Vec3], mode: ClosedMode) -> bool {
+/// How [`fit_integrated`](super::fit_integrated) fits `points` under `opts`: open or closed as
+/// `opts.closed` says, and with [`ClosedMode::Auto`] by [`closure_at_tolerance`] at the tolerance of
+/// `opts` (in the points' units) and its corner angle (the default one when corners are off); with
+/// end conditions only a repeated point closes the data (the conditions ask for ends). The fit
+/// decides on the screened points at the tolerance it holds; its decision is
+/// [`IntegratedResult::closure`].
+pub fn closure(points: &[Vec3], opts: &IntegratedOptions) -> Closure {
+    match opts.closed {
+        ClosedMode::Open => Closure::Open,
+        ClosedMode::Closed => Closure::Closed,
+        // conditions on the ends ask for ends: a gap is not closed (a repeat still is, as before)
+        ClosedMode::Auto if !opts.end_conditions.is_none() => {
+            if looks_closed(points) {
+                Closure::Closed
+            } else {
+                Closure::Open
+            }
+        }
+        ClosedMode::Auto => closure_at_tolerance(
+            points,
+            absolute_tolerance(opts.tolerance, points),
+            opts.corner_angle_deg.unwrap_or(DEFAULT_CORNER_ANGLE_DEG),
+        ),
+    }
+}
+
+/// Whether `points` are fitted as a closed curve under `opts` ([`closure`]).
+pub fn is_closed(points: &[Vec3], opts: &IntegratedOptions) -> bool {
+    closure(points, opts).is_closed()
+}
+
+/// Whether `points` are closed under `mode` by the last point repeating the first alone: the
+/// pipeline's test once [`closure`] has been decided (a gap closed by it is passed on as
+/// [`ClosedMode::Closed`]), so that reduced points, whose spacing is not the data's, are not judged
+/// again.
+pub(crate) fn closed_as_given(points: &[Vec3], mode: ClosedMode) -> bool {
     match mode {
         ClosedMode::Open => false,
         ClosedMode::Closed => true,

@@ -284,6 +284,7 @@ fn joined(
     stats.seconds = start.elapsed().as_secs_f64();
     Ok(IntegratedResult {
         screening: Default::default(),
+        closure: Default::default(),
         curve,
         quality,
         tolerance: tol * prep.scale,

@@ -73,9 +73,10 @@ pub(crate) mod search;
 pub(crate) mod stages;
 pub mod tuning;
 
+pub use crate::fit::closure::Closure;
 pub use crate::fit::tolerance::ClosedMode;
 pub use crate::tolerance::Tolerance;
-pub use closed::is_closed;
+pub use closed::{closure, is_closed};
 pub use fairing::EndCondition;
 pub use kind::periodic::distinct_control_points;
 pub use options::{Budget, IntegratedOptions, NonExhaustive};

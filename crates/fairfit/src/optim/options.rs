@@ -286,7 +286,8 @@ impl IntegratedOptions {
     }
 
     /// Whether the data are fitted as a closed curve ([`ClosedMode::Auto`]: when the last point
-    /// repeats the first).
+    /// repeats the first, or when the ends are a gap apart that the data continue smoothly through
+    /// at the tolerance's scale, [`crate::fit::closure`]).
     pub fn closed(mut self, mode: ClosedMode) -> Self {
         self.closed = mode;
         self

@@ -19,7 +19,9 @@ use super::search::prepare::{averaging_interior_knots, prepare};
 use super::stages::reduce;
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
+use crate::fit::closure::Closure;
 use crate::fit::screening::screen;
+use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::Vec3;
 use std::time::Instant;
 
@@ -105,6 +107,20 @@ pub fn fit_integrated_with_stages(
     } else {
         opts
     };
+    // closed or open, decided once on the screened points at the tolerance held (`closed::closure`);
+    // a gap closed there is passed on as `ClosedMode::Closed`: the loop through the points as they are
+    let closure = closed::closure(points, opts);
+    let gap_closed;
+    let opts = match closure {
+        Closure::Gap(_) => {
+            gap_closed = IntegratedOptions {
+                closed: ClosedMode::Closed,
+                ..opts.clone()
+            };
+            &gap_closed
+        }
+        _ => opts,
+    };
     let fit = |pts: &[Vec3], o: &IntegratedOptions| {
         // reduced data: the representatives are other points
         let plain = IntegratedOptions {
@@ -113,20 +129,22 @@ pub fn fit_integrated_with_stages(
         };
         dispatch(pts, &plain, progress, start)
     };
-    let mut r = if !closed::is_closed(points, opts.closed) && cornered::has_corners(points, opts) {
-        // corners are judged on every point (a representative of the reduced form averages a
-        // corner away); the pieces between them are reduced each on its own
-        cornered::fit(points, opts, progress, start)
-    } else {
-        match reduce::Dense::of(points, opts, &tuning.reduce) {
-            None => dispatch(points, opts, progress, start),
-            Some(dense) => {
-                progress(Stage::Reduce, 0, 1);
-                dense.fit(opts, &tuning.reduce, &fit)
+    let mut r =
+        if !closed::closed_as_given(points, opts.closed) && cornered::has_corners(points, opts) {
+            // corners are judged on every point (a representative of the reduced form averages a
+            // corner away); the pieces between them are reduced each on its own
+            cornered::fit(points, opts, progress, start)
+        } else {
+            match reduce::Dense::of(points, opts, &tuning.reduce) {
+                None => dispatch(points, opts, progress, start),
+                Some(dense) => {
+                    progress(Stage::Reduce, 0, 1);
+                    dense.fit(opts, &tuning.reduce, &fit)
+                }
             }
-        }
-    }?;
+        }?;
     r.screening = screening;
+    r.closure = closure;
     Ok(r)
 }
 
@@ -137,7 +155,7 @@ fn dispatch(
     progress: &(dyn Fn(Stage, usize, usize) + Sync),
     start: Instant,
 ) -> Result<IntegratedResult> {
-    if closed::is_closed(points, opts.closed) {
+    if closed::closed_as_given(points, opts.closed) {
         closed::fit(points, opts, progress, start)
     } else {
         cornered::fit(points, opts, progress, start)

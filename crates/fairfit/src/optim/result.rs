@@ -77,6 +77,9 @@ pub struct IntegratedResult {
     /// The screening stage's findings ([`crate::fit::screening`]): the measured noise, a tolerance
     /// below it, the excluded spikes (indices into the input).
     pub screening: crate::fit::screening::Screening,
+    /// Whether the data were fitted as a closed curve, and across which gap when their ends were a
+    /// gap apart ([`crate::fit::closure`]; decided on the screened points at `tolerance`).
+    pub closure: crate::fit::closure::Closure,
 }
 
 /// One degree's integrated fit, as the degree search saw it.

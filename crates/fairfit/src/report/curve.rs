@@ -77,7 +77,7 @@ pub fn with_method(mut base: Value, method: &Value) -> Value {
 
 /// The whole report of a least-squares fit (`--method lsq`); `knots` names the knot rule.
 pub fn lsq_report(fit: &FitResult, input: &str, knots: &str, wall_seconds: f64) -> Value {
-    let method = json!({
+    let mut method = json!({
         "method": "lsq",
         "knots": knots,
         "closed": fit.closed,
@@ -90,14 +90,19 @@ pub fn lsq_report(fit: &FitResult, input: &str, knots: &str, wall_seconds: f64) 
         "smoothing_used": fit.smoothing_used,
         "fit_seconds": fit.fit_seconds,
     });
+    if let Some(gap) = fit.closed_by_gap {
+        method["closed_by_gap"] = json!(gap);
+    }
     with_method(
         shape_report(&fit.curve, input, fit.points.len(), wall_seconds),
         &method,
     )
 }
 
-/// The keys of the integrated method: `closed` (whether the data were fitted as closed),
-/// `span_fairness` the per-span target asked for and `seed` the search's seed.
+/// The keys of the integrated method: `closed` (whether the data were fitted as closed; with
+/// `closed_by_gap`, the distance from the last point to the first, when they were closed across
+/// that gap by [`crate::fit::closure`]), `span_fairness` the per-span target asked for and `seed` the
+/// search's seed.
 pub fn integrated_report(
     r: &IntegratedResult,
     closed: bool,
@@ -136,6 +141,10 @@ pub fn integrated_report(
     if !r.stats.degrees_tried.is_empty() {
         report["optimizer"]["degrees_tried"] = json!(r.stats.degrees_tried);
     }
+    if let Some(gap) = r.closure.gap() {
+        // closed although the last point does not repeat the first (`fit::closure`)
+        report["closed_by_gap"] = json!(gap);
+    }
     report
 }
 
@@ -166,7 +175,7 @@ pub fn fit_then_fair_report(
     deviation: &Deviation,
     seed: u64,
 ) -> Value {
-    json!({
+    let mut report = json!({
         "method": "fit-then-fair",
         "control_points": distinct_control_points(faired),
         "closed": fit.closed,
@@ -177,7 +186,11 @@ pub fn fit_then_fair_report(
         "lsq_fairness": curve_fairness(&fit.curve).fairness,
         "fairing_moves": moves,
         "seed": seed,
-    })
+    });
+    if let Some(gap) = fit.closed_by_gap {
+        report["closed_by_gap"] = json!(gap);
+    }
+    report
 }
 
 /// The report's screening keys (`fit::screening`), added to `report` (an object): `noise_sigma`,

@@ -2,6 +2,7 @@
 //! the corner positions, the spike indices), for the screening stages' tests.
 
 use super::rng;
+use super::xorshift::Xorshift;
 use fairfit::nurbs::Vec3;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -53,4 +54,27 @@ pub fn noisy_corner(n: usize, turn_deg: f64, sigma: f64, seed: u64) -> Vec<Vec3>
 /// Largest side of the bounding box (the unit of relative tolerances).
 pub fn extent(pts: &[Vec3]) -> f64 {
     fairfit::fit::points::bounding_box_extent(pts)
+}
+
+/// Tolerance of the noisy rings (absolute; the ellipse is 4 × 2).
+pub const RING_TOL: f64 = 4e-3;
+
+/// `n` points on the ellipse of semi-axes 2 and 1 around (3, −2), noise σ = `RING_TOL / 10` in x and
+/// y; the first `n − drop` of them kept, and the last of those moved to `gap_tol · RING_TOL` from the
+/// first along the line between them (the ring's ends, not repeated).
+pub fn noisy_ring(n: usize, drop: usize, gap_tol: f64) -> Vec<Vec3> {
+    let sigma = RING_TOL / 10.0;
+    let mut rng = Xorshift(0x2545_f491_4f6c_dd1d);
+    let mut v: Vec<Vec3> = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            let (ex, ey) = (sigma * rng.normal(), sigma * rng.normal());
+            Vec3([3.0 + 2.0 * t.cos() + ex, -2.0 + t.sin() + ey, 0.0])
+        })
+        .collect();
+    v.truncate(n - drop);
+    let last = v.len() - 1;
+    let d = v[last] - v[0];
+    v[last] = v[0] + d * (gap_tol * RING_TOL / d.norm());
+    v
 }

@@ -3,6 +3,7 @@
 //! One file per source module it tests (`src/fit/<name>.rs`).
 
 mod cad_fit;
+mod closure;
 mod corners;
 mod end_constraints;
 mod hooks;

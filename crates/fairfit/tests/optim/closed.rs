@@ -161,3 +161,45 @@ fn closed_errors_are_typed_and_actionable() {
         .to_string();
     assert!(e.contains("at least 5 distinct points"), "{e}");
 }
+
+/// A dense noisy ring whose ends are 0.3 tol apart (not repeated) is fitted closed across that gap
+/// (`fairfit::fit::closure`): a periodic curve, its seam as smooth as any closed fit's, every point
+/// within the tolerance; the same ring missing an arc of 5 tol stays open; `--open` keeps it open.
+#[test]
+fn a_noisy_ring_with_a_gap_under_the_tolerance_is_fitted_closed() {
+    use crate::common::scan_data::{noisy_ring, RING_TOL};
+    use fairfit::optim::{closure, Closure};
+    let ring = noisy_ring(5000, 0, 0.3);
+    let o = IntegratedOptions::new(Tolerance::Absolute(RING_TOL)).seed(7);
+    let r = fit_integrated(&ring, &o).unwrap();
+    let gap = r.closure.gap().expect("closed across the gap");
+    assert!((gap / RING_TOL - 0.3).abs() < 1e-9, "{gap}");
+    assert_eq!(closure(&ring, &o), r.closure);
+    let c = &r.curve;
+    let p = c.degree();
+    let n_u = distinct_control_points(c);
+    assert_eq!(n_u + p, c.n_control_points(), "periodic");
+    let (d0, d1) = (c.derivatives(0.0, p), c.derivatives(1.0, p));
+    for k in 0..p {
+        let scale = d0[k].norm().max(1.0);
+        assert!(
+            (d0[k] - d1[k]).norm() <= 1e-9 * scale,
+            "derivative {k} across the seam: {:?} vs {:?}",
+            d0[k],
+            d1[k]
+        );
+    }
+    let dev = brute_force_deviation(c, &ring);
+    eprintln!(
+        "noisy ring: gap {gap:.3e}, {n_u} control points, degree {p}, max deviation {dev:.3e} \
+         (tol {RING_TOL:.1e}), F {:.3e}",
+        r.quality.fairness
+    );
+    assert!(r.met && dev <= RING_TOL * 1.0001, "{dev}");
+    // open on request: clamped, two ends
+    let open = closure(&ring, &o.clone().closed(ClosedMode::Open));
+    assert_eq!(open, Closure::Open);
+    // a missing arc of 5 tol: open
+    let cut = noisy_ring(5000, 16, 5.0);
+    assert_eq!(closure(&cut, &o), Closure::Open);
+}

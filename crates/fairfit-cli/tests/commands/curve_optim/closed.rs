@@ -187,3 +187,115 @@ fn periodic_fit_with_fairing_and_front_is_byte_identical_with_one_and_two_thread
     assert_eq!(ctrl[..3], ctrl[n_u..], "periodic");
     assert!(f1.lines().count() >= 3, "{f1}");
 }
+
+/// A noisy ring of `n` points (ellipse 4 × 2, σ = tol/10, xorshift noise) whose last point is
+/// `gap_tol · tol` from its first, as CSV scaled by `k`; `tol` is 4e-3 before scaling.
+fn noisy_ring_csv(n: usize, gap_tol: f64, k: f64) -> String {
+    let tol = 4e-3;
+    let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut uniform = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    let mut normal = || {
+        let (a, b) = (uniform(), uniform());
+        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
+    };
+    let mut pts: Vec<(f64, f64)> = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            (
+                2.0 * t.cos() + tol / 10.0 * normal(),
+                t.sin() + tol / 10.0 * normal(),
+            )
+        })
+        .collect();
+    let (x0, y0) = pts[0];
+    let (dx, dy) = (pts[n - 1].0 - x0, pts[n - 1].1 - y0);
+    let s = gap_tol * tol / dx.hypot(dy);
+    pts[n - 1] = (x0 + s * dx, y0 + s * dy);
+    let mut csv = String::from("x,y\n");
+    for (x, y) in pts {
+        csv.push_str(&format!("{:.17e},{:.17e}\n", k * x, k * y));
+    }
+    csv
+}
+
+#[test]
+fn a_noisy_ring_with_a_gap_under_the_tolerance_is_closed_and_says_so() {
+    let dir = TempDir::new().unwrap();
+    for (k, tag) in [(1.0, "unit"), (1e3, "scaled")] {
+        let f = dir.path().join(format!("ring_{tag}.csv"));
+        std::fs::write(&f, noisy_ring_csv(2000, 0.3, k)).unwrap();
+        let tol = format!("{}", 4e-3 * k);
+        let args = ["curve", f.to_str().unwrap(), "--tol", &tol, "--degree", "3"];
+        let (c, r) = run_report(&args, &dir, tag);
+        assert_eq!(r["closed"], true, "{tag}: {r}");
+        let gap = r["closed_by_gap"].as_f64().unwrap();
+        assert!((gap / (1.2e-3 * k) - 1.0).abs() < 1e-6, "{tag}: gap {gap}");
+        assert_eq!(r["tolerance_met"], true, "{tag}");
+        assert!(r["max_deviation"].as_f64().unwrap() <= 4e-3 * k, "{tag}");
+        // periodic: the last p control points repeat the first p
+        let n_u = r["control_points"].as_u64().unwrap() as usize;
+        let ctrl = c["control_points"].as_array().unwrap();
+        assert_eq!(ctrl.len(), n_u + 3, "{tag}");
+        assert_eq!(ctrl[..3], ctrl[n_u..], "{tag}");
+        eprintln!(
+            "{tag}: gap {gap:.3e}, {n_u} control points, max deviation {:.3e}",
+            r["max_deviation"].as_f64().unwrap()
+        );
+        if k == 1.0 {
+            // --open keeps it open: two ends, no gap closed
+            let mut open = args.to_vec();
+            open.push("--open");
+            let (_, r) = run_report(&open, &dir, "open");
+            assert_eq!(r["closed"], false);
+            assert!(r.get("closed_by_gap").is_none());
+            // the least-squares method decides alike
+            let mut lsq = args.to_vec();
+            lsq.extend(["--method", "lsq"]);
+            let (_, r) = run_report(&lsq, &dir, "lsq");
+            assert_eq!(r["closed"], true);
+            assert_eq!(r["closed_by_gap"].as_f64(), Some(gap));
+            assert!(r["max_deviation"].as_f64().unwrap() <= 4e-3);
+        }
+    }
+}
+
+#[test]
+fn a_ring_missing_an_arc_and_a_blunt_trailing_edge_stay_open() {
+    let dir = TempDir::new().unwrap();
+    let f = dir.path().join("cut.csv");
+    std::fs::write(&f, noisy_ring_csv(2000, 5.0, 1.0)).unwrap();
+    let (_, r) = run_report(
+        &[
+            "curve",
+            f.to_str().unwrap(),
+            "--tol",
+            "4e-3",
+            "--degree",
+            "3",
+        ],
+        &dir,
+        "cut",
+    );
+    assert_eq!(r["closed"], false);
+    assert!(r.get("closed_by_gap").is_none());
+    // naca4412's blunt trailing edge (2.5e-3 chord) at ten times its gap: open, tangents reversing
+    let (_, r) = run_report(
+        &[
+            "curve",
+            &data("naca4412.csv"),
+            "--tol",
+            "2.5e-2",
+            "--degree",
+            "3",
+        ],
+        &dir,
+        "naca",
+    );
+    assert_eq!(r["closed"], false);
+    assert!(r.get("closed_by_gap").is_none());
+}

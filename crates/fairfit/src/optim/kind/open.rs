@@ -346,6 +346,7 @@ pub(crate) fn finish(
             .is_none_or(|t| quality.max_span_fairness <= t);
     Ok(IntegratedResult {
         screening: Default::default(),
+        closure: Default::default(),
         curve,
         quality,
         tolerance: tol * prep.scale,

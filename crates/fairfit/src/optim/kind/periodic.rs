@@ -181,6 +181,7 @@ pub(crate) fn finish_periodic(
     let met = e.max_deviation <= tol && opts.span_fairness.is_none_or(|t| e.max_span_fairness <= t);
     Ok(IntegratedResult {
         screening: Default::default(),
+        closure: Default::default(),
         curve,
         quality,
         tolerance: tol * prep.scale,

@@ -26,7 +26,6 @@ use crate::fit::corners::corners_at_tolerance;
 use crate::fit::shape::looks_closed;
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::{NurbsCurve, Vec3};
-use crate::optim::closed::is_closed;
 use crate::optim::context::tolerance_of;
 use crate::optim::corners::{join, pieces, straight_piece};
 use crate::optim::options::IntegratedOptions;
@@ -44,7 +43,7 @@ pub fn pareto_front_of_result(
     let opts = &opts.at_degree(r.curve.degree());
     let p = opts.degree;
     let mut seq = points.to_vec();
-    if is_closed(points, opts.closed) {
+    if r.closure.is_closed() {
         if looks_closed(&seq) {
             seq.pop();
         }
