@@ -48,6 +48,37 @@ pub enum ClosedMode {
     Closed,
 }
 
+impl ClosedMode {
+    /// How `points` are fitted under this mode. With [`ClosedMode::Auto`]: when `ends_asked` (end
+    /// tangents or end conditions) only a repeated point closes them; otherwise
+    /// [`closure_at_tolerance`] at the tolerance `tol()` (the points' units, computed only then)
+    /// and the corner angle (the default one when corners are off).
+    pub(crate) fn closure(
+        self,
+        points: &[Vec3],
+        ends_asked: bool,
+        tol: impl FnOnce() -> f64,
+        corner_angle_deg: Option<f64>,
+    ) -> Closure {
+        match self {
+            ClosedMode::Open => Closure::Open,
+            ClosedMode::Closed => Closure::Closed,
+            ClosedMode::Auto if ends_asked => {
+                if looks_closed(points) {
+                    Closure::Closed
+                } else {
+                    Closure::Open
+                }
+            }
+            ClosedMode::Auto => closure_at_tolerance(
+                points,
+                tol(),
+                corner_angle_deg.unwrap_or(DEFAULT_CORNER_ANGLE_DEG),
+            ),
+        }
+    }
+}
+
 /// Options of [`fit_to_tolerance`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
@@ -376,28 +407,13 @@ fn fit_at_scale(points: &[Vec3], opts: &FitOptions) -> Result<FitResult> {
 }
 
 /// How the distinct points `pts` are fitted under `opts` at the absolute tolerance `tol`
-/// ([`ClosedMode::Auto`]: [`closure_at_tolerance`], unless end tangents or conditions ask for ends).
+/// ([`ClosedMode::closure`]; end tangents or conditions ask for ends).
 fn closure_of(pts: &[Vec3], opts: &FitOptions, tol: f64) -> Closure {
-    // the ends asked for (tangents, conditions): a gap is not closed, a repeat still is
     let wants_ends = opts.start_tangent.is_some()
         || opts.end_tangent.is_some()
         || !opts.end_conditions.is_none();
-    match opts.closed {
-        ClosedMode::Auto if wants_ends => {
-            if looks_closed(pts) {
-                Closure::Closed
-            } else {
-                Closure::Open
-            }
-        }
-        ClosedMode::Auto => closure_at_tolerance(
-            pts,
-            tol,
-            opts.corner_angle_deg.unwrap_or(DEFAULT_CORNER_ANGLE_DEG),
-        ),
-        ClosedMode::Open => Closure::Open,
-        ClosedMode::Closed => Closure::Closed,
-    }
+    opts.closed
+        .closure(pts, wants_ends, || tol, opts.corner_angle_deg)
 }
 
 struct Ctx<'a> {

@@ -31,38 +31,27 @@ use super::stages::degree_candidates::{self, PeriodicDegreeInput};
 use super::stages::descent::{self, DescentInput};
 use super::tuning::Tuning;
 use crate::errors::{Error, Result};
-use crate::fit::closure::{closure_at_tolerance, Closure};
+use crate::fit::closure::Closure;
 use crate::fit::corners::corners_at_tolerance;
 use crate::fit::points::absolute_tolerance;
-use crate::fit::shape::{looks_closed, DEFAULT_CORNER_ANGLE_DEG};
+use crate::fit::shape::looks_closed;
 use crate::fit::tolerance::ClosedMode;
 use crate::nurbs::Vec3;
 use std::time::Instant;
 
 /// How [`fit_integrated`](super::fit_integrated) fits `points` under `opts`: open or closed as
-/// `opts.closed` says, and with [`ClosedMode::Auto`] by [`closure_at_tolerance`] at the tolerance of
+/// `opts.closed` says, and with [`ClosedMode::Auto`] by [`closure_at_tolerance`](crate::fit::closure::closure_at_tolerance) at the tolerance of
 /// `opts` (in the points' units) and its corner angle (the default one when corners are off); with
 /// end conditions only a repeated point closes the data (the conditions ask for ends). The fit
 /// decides on the screened points at the tolerance it holds; its decision is
 /// [`IntegratedResult::closure`].
 pub fn closure(points: &[Vec3], opts: &IntegratedOptions) -> Closure {
-    match opts.closed {
-        ClosedMode::Open => Closure::Open,
-        ClosedMode::Closed => Closure::Closed,
-        // conditions on the ends ask for ends: a gap is not closed (a repeat still is, as before)
-        ClosedMode::Auto if !opts.end_conditions.is_none() => {
-            if looks_closed(points) {
-                Closure::Closed
-            } else {
-                Closure::Open
-            }
-        }
-        ClosedMode::Auto => closure_at_tolerance(
-            points,
-            absolute_tolerance(opts.tolerance, points),
-            opts.corner_angle_deg.unwrap_or(DEFAULT_CORNER_ANGLE_DEG),
-        ),
-    }
+    opts.closed.closure(
+        points,
+        !opts.end_conditions.is_none(),
+        || absolute_tolerance(opts.tolerance, points),
+        opts.corner_angle_deg,
+    )
 }
 
 /// Whether `points` are fitted as a closed curve under `opts` ([`closure`]).

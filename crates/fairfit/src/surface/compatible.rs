@@ -327,6 +327,14 @@ impl Fixed<'_> {
             .fold(0.0, f64::max)
     }
 
+    /// The largest measured deviation over all sections' `fits` (in section order).
+    fn worst(&self, fits: &[SectionFit]) -> f64 {
+        fits.iter()
+            .enumerate()
+            .map(|(k, f)| self.max_measured(k, f))
+            .fold(0.0, f64::max)
+    }
+
     fn pin(&self, k: usize) -> Option<(usize, f64)> {
         self.pins.get(k).copied()
     }
@@ -366,11 +374,7 @@ fn evaluate(
         })
         .collect();
     let fits = fits.ok()?;
-    let max_dev = fits
-        .iter()
-        .enumerate()
-        .map(|(k, f)| fixed.max_measured(k, f))
-        .fold(0.0, f64::max);
+    let max_dev = fixed.worst(&fits);
     Some(Candidate {
         knots,
         fits,
@@ -456,12 +460,7 @@ fn fair_per_section(
             *fit = n;
         }
     }
-    c.max_dev = c
-        .fits
-        .iter()
-        .enumerate()
-        .map(|(k, f)| fixed.max_measured(k, f))
-        .fold(0.0, f64::max);
+    c.max_dev = fixed.worst(&c.fits);
     c
 }
 
