@@ -106,6 +106,10 @@ pub struct CompatibleSections {
     pub within_tolerance: bool,
     /// Number of candidate knot vectors evaluated.
     pub candidates_tried: usize,
+    /// The weight of the bending term the search ended with: [`CompatibleOptions::smoothing`], or
+    /// less when no knot vector met the tolerance with it (it is then relaxed, at most twice, by a
+    /// factor of 100 each time).
+    pub smoothing: f64,
     /// The sections' inner corners and whether they are held as C0 knots of multiplicity `p`
     /// ([`super::section_corners`]).
     pub corners: HeldCorners,
@@ -206,6 +210,23 @@ struct KnotForm<'a> {
 
 /// Free knots closer than this to a corner knot are dropped (the density's smallest knot gap).
 const CORNER_GAP: f64 = 1e-6;
+
+/// How often the knot search is run again with [`CompatibleOptions::smoothing`] relaxed when no knot
+/// vector met the tolerance (each time by [`SMOOTHING_RELAXATION`]; from the default 1e-11 down to
+/// 1e-15, still enough to keep a span without data well posed).
+const SMOOTHING_RELAXATIONS: usize = 2;
+
+/// The factor of each relaxation of the smoothing.
+const SMOOTHING_RELAXATION: f64 = 1e-2;
+
+/// A refinement gives up after this many insertion rounds in a row that did not lower its smallest
+/// worst deviation below [`STALL_GAIN`] times itself: knots are then being inserted where they do
+/// not help (the bending term binds, or the worst point cannot be reached), and the control-point
+/// cap would only be reached at great cost.
+const STALL_ROUNDS: usize = 4;
+
+/// The fraction of the smallest worst deviation a round must reach to count as progress.
+const STALL_GAIN: f64 = 0.99;
 
 impl KnotForm<'_> {
     fn full(self, interior: &[f64]) -> Vec<f64> {
@@ -610,44 +631,37 @@ fn fit_once(
     };
     let cdf = mean_turning_cdf(sections, &params);
     let n_max = max_control_points(sections, opts, min_pts);
-    let blends = if opts.uniform_blends.is_empty() {
-        vec![1.0]
-    } else {
-        opts.uniform_blends.clone()
-    };
-    let mut search = Search {
-        sections,
-        params: &params,
-        opts,
-        fixed: &fixed,
-        form,
-        progress,
-        tried: 0,
-    };
-    // Park-style refinement from each initial density: insert a knot where the worst section is worst
-    // until every section is within tolerance, then greedily remove knots that are not needed.
-    let n0 = (p + 1 + 4).min(n_max);
     let mut finals: Vec<Candidate> = Vec::new();
     let mut best_fail: Option<Candidate> = None;
-    // a single span first: cheap, and exact when the sections are polynomial (open fits only)
-    if !periodic {
-        if let Some(c) = search.try_knots(form.full(&[])) {
-            if c.max_dev <= opts.tolerance {
-                finals.push(c);
+    let mut tried = 0;
+    // the bending term only keeps spans without data well posed: when no knot vector meets the
+    // tolerance with it (a corner at the tolerance's scale that no knot is held at), it is what binds,
+    // so the search runs again with it relaxed before the best failure is given back
+    let mut used = opts.clone();
+    for relaxation in 0..=SMOOTHING_RELAXATIONS {
+        if relaxation > 0 {
+            if opts.smoothing == 0.0 {
+                break;
             }
+            used.smoothing *= SMOOTHING_RELAXATION;
         }
-    }
-    for &b in &blends {
+        let mut search = Search {
+            sections,
+            params: &params,
+            opts: &used,
+            fixed: &fixed,
+            form,
+            progress: &mut *progress,
+            tried,
+        };
+        let last = relaxation == SMOOTHING_RELAXATIONS || opts.smoothing == 0.0;
+        search.run(&cdf, n_max, !last, &mut finals, &mut best_fail);
+        tried = search.tried;
         if !finals.is_empty() {
             break;
         }
-        let knots = form.by_density(&cdf, b.clamp(0.0, 1.0), n0);
-        let Some(cur) = search.refine(knots, n_max, &mut best_fail) else {
-            continue;
-        };
-        finals.push(search.remove_knots(cur));
     }
-    let tried = search.tried;
+    let opts = &used;
     if finals.is_empty() {
         let c = best_fail.ok_or_else(|| {
             Error::Fit("no knot vector gave a well-posed fit for every section".into())
@@ -662,6 +676,7 @@ fn fit_once(
             max_span_fairness: msf,
             within_tolerance: false,
             candidates_tried: tried,
+            smoothing: opts.smoothing,
             periodic,
             corners,
         });
@@ -679,6 +694,7 @@ fn fit_once(
         fits: c.fits,
         max_span_fairness: msf,
         candidates_tried: tried,
+        smoothing: opts.smoothing,
         periodic,
         corners,
     })
@@ -838,6 +854,16 @@ fn fewest_then_fairest(finals: Vec<Candidate>) -> Result<(f64, Candidate)> {
     best.ok_or_else(|| Error::Fit("internal: lost the passing candidate".into()))
 }
 
+/// How one knot refinement ended ([`Search::refine`]).
+enum Refined {
+    /// Every section within tolerance.
+    Passed(Candidate),
+    /// No knot could be inserted within the control-point cap, or a fit failed.
+    Failed,
+    /// [`STALL_ROUNDS`] insertion rounds in a row brought no progress.
+    Stalled,
+}
+
 /// The knot search's fixed inputs and its running count of candidates evaluated (each reported to
 /// `progress` before it is evaluated).
 struct Search<'a> {
@@ -851,6 +877,48 @@ struct Search<'a> {
 }
 
 impl Search<'_> {
+    /// Park-style refinement from each initial density: inserts a knot where the worst section is
+    /// worst until every section is within tolerance, then greedily removes knots that are not
+    /// needed. Passing candidates go to `finals` (the blends stop at the first), the smallest
+    /// failure to `best_fail`. With `stop_on_stall` a stalled refinement ends the run (the caller
+    /// relaxes the smoothing rather than trying the other blends).
+    fn run(
+        &mut self,
+        cdf: &[f64],
+        n_max: usize,
+        stop_on_stall: bool,
+        finals: &mut Vec<Candidate>,
+        best_fail: &mut Option<Candidate>,
+    ) {
+        let (form, opts) = (self.form, self.opts);
+        let p = opts.degree;
+        let n0 = (p + 1 + 4).min(n_max);
+        // a single span first: cheap, and exact when the sections are polynomial (open fits only)
+        if !form.periodic {
+            if let Some(c) = self.try_knots(form.full(&[])) {
+                if c.max_dev <= opts.tolerance {
+                    finals.push(c);
+                }
+            }
+        }
+        let blends = if opts.uniform_blends.is_empty() {
+            vec![1.0]
+        } else {
+            opts.uniform_blends.clone()
+        };
+        for &b in &blends {
+            if !finals.is_empty() {
+                break;
+            }
+            let knots = form.by_density(cdf, b.clamp(0.0, 1.0), n0);
+            match self.refine(knots, n_max, best_fail) {
+                Refined::Passed(cur) => finals.push(self.remove_knots(cur)),
+                Refined::Stalled if stop_on_stall => return,
+                Refined::Stalled | Refined::Failed => {}
+            }
+        }
+    }
+
     /// Counts, reports and evaluates one candidate knot vector (local projection).
     fn try_knots(&mut self, knots: Vec<f64>) -> Option<Candidate> {
         self.tried += 1;
@@ -865,20 +933,30 @@ impl Search<'_> {
         )
     }
 
-    /// Knot insertion from `knots` until every section is within tolerance (the passing
-    /// candidate), or until no knot can be inserted within `n_max` control points or a fit fails
-    /// (`None`). Keeps the candidate with the smallest deviation that failed in `best_fail`.
+    /// Knot insertion from `knots` until every section is within tolerance ([`Refined::Passed`]),
+    /// until no knot can be inserted within `n_max` control points or a fit fails
+    /// ([`Refined::Failed`]), or until [`STALL_ROUNDS`] rounds in a row bring no progress
+    /// ([`Refined::Stalled`]). Keeps the candidate with the smallest deviation that failed in
+    /// `best_fail`.
     fn refine(
         &mut self,
         mut knots: Vec<f64>,
         n_max: usize,
         best_fail: &mut Option<Candidate>,
-    ) -> Option<Candidate> {
+    ) -> Refined {
         let (form, p, tol) = (self.form, self.opts.degree, self.opts.tolerance);
+        let (mut best, mut stalled) = (f64::INFINITY, 0);
         loop {
-            let c = self.try_knots(knots.clone())?;
+            let Some(c) = self.try_knots(knots.clone()) else {
+                return Refined::Failed;
+            };
             if c.max_dev <= tol {
-                return Some(c);
+                return Refined::Passed(c);
+            }
+            if c.max_dev < STALL_GAIN * best {
+                (best, stalled) = (c.max_dev, 0);
+            } else {
+                stalled += 1;
             }
             let n_ctrl = form.distinct(&knots);
             let room = n_max.saturating_sub(n_ctrl);
@@ -887,7 +965,10 @@ impl Search<'_> {
                 *best_fail = Some(c);
             }
             if next.is_empty() {
-                return None;
+                return Refined::Failed;
+            }
+            if stalled >= STALL_ROUNDS {
+                return Refined::Stalled;
             }
             let mut interior = form.interior(&knots);
             for t in next {

@@ -253,6 +253,8 @@ pub(crate) fn fit(
     // the tightest share; a tightening shrinks every share by the same factor
     let mut inner = tightest(&p);
     let (mut cuts, mut tightenings) = (0, 0);
+    // a smoothing the search had to relax stays relaxed for the repair rounds
+    let mut smoothing = sections.smoothing;
     loop {
         let reps: Vec<Section> = p
             .sections
@@ -274,7 +276,9 @@ pub(crate) fn fit(
             .collect();
         let mut o = sections.clone();
         o.tolerance = inner;
+        o.smoothing = smoothing;
         let compatible = make_compatible_held_to(&reps, &o, &factors, progress)?;
+        smoothing = compatible.smoothing;
         let checked: Vec<Checked> = p
             .sections
             .par_iter()

@@ -94,6 +94,7 @@ const TOL: f64 = 1e-4;
 /// each, tolerance 1e-4 (1e-4 of the chord). Before the corners were held the inner trailing-edge
 /// corner was rounded: the search ran out of knots at 37 control points with the surface 6.67e-4
 /// (6.7 tol) away from the corner; held, the loft meets the tolerance with 23 control points.
+/// Smoothed over, it now meets it too, with the search's smoothing relaxed and more control points.
 #[test]
 fn blunt_trailing_edges_are_held_as_c0_knot_lines() {
     let (secs, tes): (Vec<Section>, Vec<[Vec3; 2]>) = (0..4).map(|k| blunt_airfoil(k, 6)).unzip();
@@ -113,17 +114,26 @@ fn blunt_trailing_edges_are_held_as_c0_knot_lines() {
     assert!(r.compatible.within_tolerance);
     check_corner_line(&r, &tes, c.params[0]);
 
-    // the same loft with the corners smoothed over (the behaviour before): out of tolerance
-    let before = reconstruct_surface(secs, &options(TOL, false)).unwrap();
-    println!(
-        "smoothed: net {:?}, max deviation {:.4e} ({:.3} tol)",
-        before.surface.net_size(),
-        before.deviation.max,
-        before.deviation.max / TOL
+    assert_eq!(
+        r.compatible.smoothing,
+        CompatibleOptions::default().smoothing
     );
-    assert!(!before.compatible.corners.held);
-    assert!(before.deviation.max > 3.0 * TOL, "{}", before.deviation.max);
-    assert!(r.surface.net_size().0 < before.surface.net_size().0);
+
+    // the same loft with the corners smoothed over: the search's bending term binds at the
+    // corner (with it, the search ran out of knots at 37 control points, 6.7 tol from the corner),
+    // so it is relaxed and the loft meets the tolerance, with more control points than held
+    let smoothed = reconstruct_surface(secs, &options(TOL, false)).unwrap();
+    println!(
+        "smoothed: net {:?}, max deviation {:.4e} ({:.3} tol), smoothing {:e}",
+        smoothed.surface.net_size(),
+        smoothed.deviation.max,
+        smoothed.deviation.max / TOL,
+        smoothed.compatible.smoothing
+    );
+    assert!(!smoothed.compatible.corners.held);
+    assert!(smoothed.deviation.max <= TOL, "{}", smoothed.deviation.max);
+    assert!(smoothed.compatible.smoothing < 1e-2 * CompatibleOptions::default().smoothing);
+    assert!(r.surface.net_size().0 < smoothed.surface.net_size().0);
 }
 
 /// The held corner `tc`: a knot of multiplicity `p` in u, each section's corner point keeps `tc` as
