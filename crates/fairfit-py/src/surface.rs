@@ -264,6 +264,9 @@ pub struct SurfaceSettings {
     pub corner_angle: Option<f64>,
     /// `split_at_le`: every section's leading edge pinned to u = 0.5 (`--split-at-le`).
     pub split_at_le: bool,
+    /// `open_sections`: no section closed across a gap at the tolerance's scale
+    /// (`--open-sections`).
+    pub open_sections: bool,
 }
 
 /// `fairfit surface`'s checks of the counts, with its messages (named by the Python keywords).
@@ -338,6 +341,7 @@ fn surface_options(s: &SurfaceSettings, tol: f64) -> SurfaceOptions {
         .unwrap_or(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG);
     opts.sections.hold_corners = s.corner_angle.is_some();
     opts.sections.split_at_le = s.split_at_le;
+    opts.open_sections = s.open_sections;
     opts.skin.degree_v = s.degree_v;
     opts.skin.params = if s.centripetal_v {
         VParams::Centripetal
@@ -410,7 +414,8 @@ fn check_section_count(n: usize, max_sections: usize) -> PyResult<()> {
 #[pyo3(signature = (sections, tol, rel_tol, degree, degree_v, max_ctrl, v_params, approximate_v,
     smooth_v, clamped_seam, threads, names, max_sections=DEFAULT_MAX_SECTIONS,
     start_tangent_v=None, end_tangent_v=None,
-    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG), split_at_le=false))]
+    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG), split_at_le=false,
+    open_sections=false))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface(
     py: Python<'_>,
@@ -431,6 +436,7 @@ pub fn fit_surface(
     end_tangent_v: Option<[f64; 3]>,
     corner_angle: Option<f64>,
     split_at_le: bool,
+    open_sections: bool,
 ) -> PyResult<Surface> {
     check_section_count(sections.len(), max_sections)?;
     let settings = SurfaceSettings {
@@ -448,6 +454,7 @@ pub fn fit_surface(
         end_tangent_v,
         corner_angle,
         split_at_le,
+        open_sections,
     };
     let names = names.unwrap_or_else(|| {
         (0..sections.len())
@@ -483,7 +490,8 @@ pub fn fit_surface(
 #[pyo3(signature = (path, slices, axis, normal, gap_factor, tol, rel_tol, degree, degree_v,
     max_ctrl, v_params, approximate_v, smooth_v, clamped_seam, threads,
     max_sections=DEFAULT_MAX_SECTIONS, start_tangent_v=None, end_tangent_v=None,
-    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG), split_at_le=false))]
+    corner_angle=Some(fairfit::fit::shape::DEFAULT_CORNER_ANGLE_DEG), split_at_le=false,
+    open_sections=false))]
 #[allow(clippy::too_many_arguments)] // one argument per keyword of the Python signature
 pub fn fit_surface_from_mesh(
     py: Python<'_>,
@@ -507,6 +515,7 @@ pub fn fit_surface_from_mesh(
     end_tangent_v: Option<[f64; 3]>,
     corner_angle: Option<f64>,
     split_at_le: bool,
+    open_sections: bool,
 ) -> PyResult<Surface> {
     if slices > max_sections {
         return Err(crate::py_err(format!(
@@ -529,6 +538,7 @@ pub fn fit_surface_from_mesh(
         end_tangent_v,
         corner_angle,
         split_at_le,
+        open_sections,
     };
     if slices < 2 {
         return Err(crate::py_err(format!(

@@ -124,6 +124,12 @@ pub struct SurfaceArgs {
     /// there (by default smooth closed sections are fitted and skinned periodically in u: no crease).
     #[arg(long)]
     pub clamped_seam: bool,
+    /// Keep open sections open. By default a section file whose last point lies within the
+    /// tolerance (and a few of its own spacings) of its first, and which continues smoothly through
+    /// that gap, is fitted as a closed section, as `fairfit curve` closes such data (the report's
+    /// per-section `closed_by_gap`).
+    #[arg(long)]
+    pub open_sections: bool,
     /// Turning angle (degrees) above which a section point is a corner, judged at the tolerance's
     /// scale (as `fairfit curve --corner-angle`): at a seam it keeps the seam C0; inside the
     /// sections, when every section has the same number of them, they are held as C0 knot lines
@@ -556,6 +562,7 @@ fn surface_options(args: &SurfaceArgs, tol: f64) -> SurfaceOptions {
     opts.sections.corner_angle_deg = args.corner_angle;
     opts.sections.hold_corners = !args.no_corners;
     opts.sections.split_at_le = args.split_at_le;
+    opts.open_sections = args.open_sections;
     opts.skin.degree_v = args.degree_v;
     opts.skin.params = match args.v_params {
         VParam::Chord => VParams::ChordLength,

@@ -445,6 +445,7 @@ fn sections_ordered_by_position_along_an_axis() {
 
 /// Sections and meshes at extreme scales, thread counts and output paths.
 mod extremes;
+mod open_sections;
 mod outliers;
 mod split_at_le;
 mod v_tangents;

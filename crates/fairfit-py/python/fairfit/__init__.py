@@ -385,6 +385,7 @@ def fit_surface(
     end_tangent_v=None,
     corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
     split_at_le: bool = False,
+    open_sections: bool = False,
 ) -> Surface:
     """A fair surface through ordered sections: ``fairfit surface SECTIONS...`` from Python.
 
@@ -411,6 +412,9 @@ def fit_surface(
     split_at_le: airfoil sections: every section's leading edge (the point farthest from the midpoint
         of its first and last points) pinned to u = 0.5, each section curve through it there, so the
         iso-curve u = 0.5 is the leading edge (``--split-at-le``; the report's ``split_at_le``).
+    open_sections: keep open sections open (``--open-sections``). By default a section whose last
+        point lies within the tolerance (and a few of its spacings) of its first, continuing smoothly
+        through that gap, is fitted closed (the report's per-section ``closed_by_gap``).
 
     One knot vector is searched for all sections together (the sections' fits are not independent),
     then the compatible curves are skinned. Returns the :class:`Surface` with the report
@@ -435,6 +439,7 @@ def fit_surface(
         _direction(end_tangent_v, "end_tangent_v"),
         None if corner_angle is None else float(corner_angle),
         bool(split_at_le),
+        bool(open_sections),
     )
 
 
@@ -460,6 +465,7 @@ def fit_surface_from_mesh(
     end_tangent_v=None,
     corner_angle: Optional[float] = DEFAULT_CORNER_ANGLE,
     split_at_le: bool = False,
+    open_sections: bool = False,
 ) -> Surface:
     """A fair surface through a mesh or point cloud (.ply, .stl, .obj) cut by ``slices`` planes along
     ``axis`` (or ``normal``): ``fairfit surface MESH --slices N --axis z``. The other keywords are
@@ -485,6 +491,7 @@ def fit_surface_from_mesh(
         _direction(end_tangent_v, "end_tangent_v"),
         None if corner_angle is None else float(corner_angle),
         bool(split_at_le),
+        bool(open_sections),
     )
 
 

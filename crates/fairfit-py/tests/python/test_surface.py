@@ -225,3 +225,31 @@ def test_split_at_le_pins_the_noses_as_the_cli_does(cli, tmp_path):
     # elliptic arcs: the farthest points from the midpoint of the ends are the ends
     with pytest.raises(fairfit.FairfitError, match="section 0: no leading edge"):
         fairfit.fit_surface(sections(), split_at_le=True)
+
+
+def rings():
+    """Three wavy rings (ellipses 1 x (0.6 + 0.1 k) at z = k), 200 points at equal steps of a 200-step
+    turn: each stops one step short of closing."""
+    t = 2.0 * np.pi * np.arange(200) / 200.0
+    r = 1.0 + 0.05 * np.cos(3.0 * t)
+    return [np.c_[r * np.cos(t), (0.6 + 0.1 * k) * r * np.sin(t), np.full_like(t, float(k))] for k in range(3)]
+
+
+def test_rings_one_step_short_are_closed_as_the_cli_does(cli, tmp_path):
+    paths = []
+    for k, s in enumerate(rings()):
+        p = tmp_path / f"ring_{k}.csv"
+        np.savetxt(p, s, delimiter=",", fmt="%.17g")
+        paths.append(p)
+    out, rep = tmp_path / "s.json", tmp_path / "r.json"
+    cli("surface", *paths, "--tol", "0.04", "-o", out, "--report", rep)
+    s = fairfit.fit_surface(rings(), tol=0.04, names=[str(p) for p in paths])
+    assert s.to_json() == out.read_text()
+    assert s.report["sections"] == json.loads(rep.read_text())["sections"]
+    assert s.report["periodic_u"]
+    for row, ring in zip(s.report["sections"], rings()):
+        assert row["closed"] and row["points"] == 201
+        assert row["closed_by_gap"] == pytest.approx(np.linalg.norm(ring[0] - ring[-1]), rel=1e-12)
+    kept = fairfit.fit_surface(rings(), tol=0.04, open_sections=True)
+    assert not kept.report["periodic_u"]
+    assert all(not row["closed"] and "closed_by_gap" not in row for row in kept.report["sections"])

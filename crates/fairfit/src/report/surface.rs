@@ -40,7 +40,7 @@ pub fn surface_report(
         .iter()
         .enumerate()
         .map(|(k, s)| {
-            json!({
+            let mut row = json!({
                 "name": notes.names.get(k),
                 "points": s.points.len(),
                 "closed": s.closed,
@@ -55,7 +55,12 @@ pub fn surface_report(
                 } else {
                     0
                 },
-            })
+            });
+            // only for a section closed across a gap: other reports keep their bytes
+            if let (Some(Some(g)), Some(obj)) = (r.closed_by_gap.get(k), row.as_object_mut()) {
+                obj.insert("closed_by_gap".into(), json!(g));
+            }
+            row
         })
         .collect();
     let mut report = json!({

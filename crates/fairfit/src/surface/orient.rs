@@ -4,6 +4,7 @@
 //! along the first such section's chord instead) and every closed section starts where the others do (the point farthest
 //! from its centroid in a common reference direction, unless its own start already lies within 45° of it).
 
+use crate::fit::closure::closure_at_tolerance;
 use crate::nurbs::Vec3;
 
 /// An ordered section: points in order, and whether the chain closes on itself.
@@ -37,6 +38,39 @@ impl Section {
             points,
             closed: true,
         }
+    }
+
+    /// Closes an open section whose ends meet at the tolerance's scale, as `fairfit curve` closes
+    /// open-looking data ([`crate::fit::closure`]): the gap from its last point to its first is at
+    /// most `tol` and a few of its own spacings, and the section continues smoothly through it
+    /// (turning by at most `angle_deg`). The first point is then repeated at the end and the gap's
+    /// length returned; otherwise (closed already, or open at this scale) nothing changes and
+    /// `None` is returned.
+    ///
+    /// ```
+    /// use fairfit::nurbs::Vec3;
+    /// use fairfit::surface::Section;
+    /// // a ring of 200 points whose last point is one step before its first
+    /// let ring: Vec<Vec3> = (0..200)
+    ///     .map(|i| {
+    ///         let t = std::f64::consts::TAU * i as f64 / 200.0;
+    ///         Vec3::new(t.cos(), t.sin(), 0.0)
+    ///     })
+    ///     .collect();
+    /// let mut s = Section::from_points(ring);
+    /// assert!(!s.closed);
+    /// let gap = s.close_at_tolerance(0.05, 30.0).unwrap();
+    /// assert!(s.closed && s.points.len() == 201 && (gap - 0.0314).abs() < 1e-4);
+    /// ```
+    pub fn close_at_tolerance(&mut self, tol: f64, angle_deg: f64) -> Option<f64> {
+        if self.closed {
+            return None;
+        }
+        let gap = closure_at_tolerance(&self.points, tol, angle_deg).gap()?;
+        let first = self.points[0];
+        self.points.push(first);
+        self.closed = true;
+        Some(gap)
     }
 
     /// Centroid of the points (the repeated end point of a closed section counted once).

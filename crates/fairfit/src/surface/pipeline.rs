@@ -27,6 +27,11 @@ pub struct SurfaceOptions {
     pub iso_curves: usize,
     /// Dense sections: screening and reduction ([`super::dense`]).
     pub dense: DenseOptions,
+    /// Keep open sections open. By default an open section whose ends meet at the tolerance's
+    /// scale and which continues smoothly through the gap is closed first
+    /// ([`Section::close_at_tolerance`], the rule of `fairfit curve`), and the gap reported
+    /// ([`SurfaceReconstruction::closed_by_gap`]).
+    pub open_sections: bool,
 }
 
 /// Progress stages reported by [`reconstruct_surface_with_progress`].
@@ -71,6 +76,9 @@ pub struct SurfaceReconstruction {
     /// With v end tangents asked ([`SkinOptions::start_tangent_v`], `end_tangent_v`): the largest
     /// angle between `∂S/∂v` and each asked direction over a dense u sampling; `None` without.
     pub v_end_tangents: Option<VEndTangents>,
+    /// Per section (input order): the gap it was closed across ([`SurfaceOptions::open_sections`]),
+    /// `None` when it was not.
+    pub closed_by_gap: Vec<Option<f64>>,
 }
 
 impl SurfaceReconstruction {
@@ -155,6 +163,16 @@ pub fn reconstruct_surface_with_progress(
     progress: &mut dyn FnMut(Stage),
 ) -> Result<SurfaceReconstruction> {
     validate_sections(&sections, opts.sections.degree)?;
+    let closed_by_gap: Vec<Option<f64>> = sections
+        .iter_mut()
+        .map(|s| {
+            if opts.open_sections {
+                None
+            } else {
+                s.close_at_tolerance(opts.sections.tolerance, opts.sections.corner_angle_deg)
+            }
+        })
+        .collect();
     let alignment = align_sections(&mut sections);
     let dense = match opts.sections.section_params {
         None => super::dense::prepare(&sections, opts.sections.tolerance, &opts.dense),
@@ -187,7 +205,9 @@ pub fn reconstruct_surface_with_progress(
             }
         }
     };
-    skinned(fitted, alignment, opts, progress)
+    let mut r = skinned(fitted, alignment, opts, progress)?;
+    r.closed_by_gap = closed_by_gap;
+    Ok(r)
 }
 
 /// Sections fitted on one shared knot vector, with each point's parameter on its section curve.
@@ -269,6 +289,7 @@ fn skinned(
         seam,
         dense,
         v_end_tangents,
+        closed_by_gap: Vec::new(),
     })
 }
 

@@ -8,6 +8,7 @@ mod corners;
 mod dense;
 mod leading_edge;
 mod measure;
+mod orient;
 mod seam;
 mod skin_ends;
 mod skinning;
