@@ -26,7 +26,7 @@
 
 use super::condition_checks::{condition_error, held_at_corner_pieces, unmet_condition};
 use super::context::{tolerance_of, Progress};
-use super::corners::{join, pieces, straight_piece};
+use super::corners::{corners_for_conditions, is_straight, join, pieces, straight_piece};
 use super::fairing::EndCondition;
 use super::kind::periodic::distinct_control_points;
 use super::open;
@@ -81,7 +81,9 @@ pub(crate) fn fit(
             angle,
             tolerance_of(opts, prep.scale),
         );
-        let ranges = pieces(prep.data.points.len(), &corners);
+        let n = prep.data.points.len();
+        let corners = corners_for_conditions(n, &corners, opts.degree, conditions);
+        let ranges = pieces(n, &corners);
         if ranges.len() > 1 {
             // the first piece holds the start condition, the last one the end condition
             let r = fit_with_corners(&prep, &ranges, opts, progress, start)?;
@@ -315,7 +317,7 @@ fn fit_piece(
     let p = opts.degree;
     let (a, b) = ranges[i];
     let piece = &prep.data.points[a..=b];
-    if piece.len() < (p + 1).max(3) {
+    if is_straight(piece.len(), p) {
         // too few points for a cubic of its own: the straight segment
         let (mut max_dev, mut sum2) = (0.0f64, 0.0);
         for q in &piece[1..piece.len() - 1] {

@@ -6,13 +6,55 @@
 //! end points (both neighbours end at the corner point itself).
 //!
 //! A piece with fewer than `p + 1` points (a short straight stretch such as a blunt trailing edge) is
-//! a straight Bézier segment between its end points.
+//! a straight Bézier segment between its end points ([`is_straight`]). Such a segment cannot hold a
+//! tangent or curvature condition at a data end other than its own, so under end conditions the
+//! corner that cuts it off is smoothed over ([`corners_for_conditions`]): the condition the user
+//! asked for outranks a corner of the data, and the tolerance, verified on every point, decides
+//! whether the data allow it.
 //!
 //! The split happens on the normalised (snapped) points, so the result stays exactly
 //! scale-invariant; the piece's parameter domain is its share of the chord length.
 
 use crate::errors::{Error, Result};
+use crate::fit::end_constraints::{EndConstraint, EndConstraints};
 use crate::nurbs::{NurbsCurve, Vec3};
+
+/// Whether a piece of `points` data points is too short for a curve of `degree` of its own (it is
+/// then the straight segment between its ends).
+pub fn is_straight(points: usize, degree: usize) -> bool {
+    points < (degree + 1).max(3)
+}
+
+/// The `corners` (increasing indices into `n_points` data points) the pieces are cut at under
+/// `conditions`: while an end with a tangent or curvature condition would get a straight piece
+/// ([`is_straight`]), the corner next to it is dropped (module doc).
+pub fn corners_for_conditions(
+    n_points: usize,
+    corners: &[usize],
+    degree: usize,
+    conditions: &EndConstraints,
+) -> Vec<usize> {
+    let shapes = |c: &EndConstraint| c.tangent.is_some() || c.curvature.is_some();
+    let mut kept: Vec<usize> = corners
+        .iter()
+        .copied()
+        .filter(|&c| c > 0 && c + 1 < n_points)
+        .collect();
+    if shapes(&conditions.start) {
+        while kept.first().is_some_and(|&c| is_straight(c + 1, degree)) {
+            kept.remove(0);
+        }
+    }
+    if shapes(&conditions.end) {
+        while kept
+            .last()
+            .is_some_and(|&c| is_straight(n_points - c, degree))
+        {
+            kept.pop();
+        }
+    }
+    kept
+}
 
 /// Index ranges `[a, b]` (inclusive, sharing the corner point) of the pieces between corners; one
 /// piece `[0, n − 1]` when there are none.
@@ -85,6 +127,34 @@ mod tests {
         assert_eq!(pieces(10, &[3, 7]), vec![(0, 3), (3, 7), (7, 9)]);
         // end points are never corners of an open curve
         assert_eq!(pieces(10, &[0, 9]), vec![(0, 9)]);
+    }
+
+    #[test]
+    fn corners_cutting_off_straight_ends_are_dropped_under_shaping_conditions() {
+        let g1 = EndConstraint::tangent(Vec3::new(0.0, 1.0, 0.0));
+        let g0 = EndConstraint::point(Vec3::ZERO);
+        let both = |start, end| EndConstraints { start, end };
+        // pieces [0, 1] (2 points) and [8, 9] (2 points) are straight for a cubic; [0, 2] is too
+        let corners = [1, 2, 5, 8];
+        assert_eq!(
+            corners_for_conditions(10, &corners, 3, &both(g1, g1)),
+            vec![5]
+        );
+        assert_eq!(
+            corners_for_conditions(10, &corners, 3, &both(g1, EndConstraint::default())),
+            vec![5, 8]
+        );
+        // a point condition is held by a straight piece: nothing dropped
+        assert_eq!(
+            corners_for_conditions(10, &corners, 3, &both(g0, g0)),
+            corners
+        );
+        // a piece of 4 points is a cubic of its own
+        assert_eq!(
+            corners_for_conditions(10, &[3, 6], 3, &both(g1, g1)),
+            vec![3, 6]
+        );
+        assert!(is_straight(3, 3) && !is_straight(4, 3) && is_straight(2, 1) && !is_straight(3, 1));
     }
 
     #[test]

@@ -128,3 +128,37 @@ fn pareto_front_of_a_blunt_trailing_edge_keeps_its_corner_and_is_monotone() {
         front[front.len() - 1].quality.fairness
     );
 }
+
+/// SNL-FFA-W3-500 (IEA 15 MW) starts and ends in the middle of its flatback, so fitted open its
+/// first and last pieces up to the flatback's corners hold two points each: straight segments,
+/// which cannot hold a tangent other than their own. Under tangent conditions along the flatback
+/// the corners next to the ends are smoothed over and the fit holds both conditions within the
+/// tolerance (it was refused: "too few points for a curve of their own").
+#[test]
+fn tangent_ends_at_straight_end_pieces_smooth_their_corners_over() {
+    use fairfit::fit::end_constraints::{achieved, EndConstraint};
+    let pts = read_csv("iea15mw_airfoils/SNL-FFA-W3-500.csv");
+    let up = EndConstraint::tangent(Vec3::new(0.0, 1.0, 0.0));
+    let opts = IntegratedOptions::new(Tolerance::Relative(1e-3))
+        .closed(ClosedMode::Open)
+        .start(up)
+        .end(up);
+    let r = fit_integrated(&pts, &opts).unwrap();
+    let dev = brute_force_deviation(&r.curve, &pts);
+    eprintln!(
+        "SNL-FFA-W3-500 open, G1 ends: {} control points, F {:.3e}, max dev {dev:.3e} (tol {:.3e})",
+        r.curve.n_control_points(),
+        r.quality.fairness,
+        r.tolerance
+    );
+    assert!(r.met && dev <= r.tolerance * 1.0001, "{dev}");
+    for at_end in [false, true] {
+        let a = achieved(&r.curve, at_end, &up);
+        assert!(a.tangent_angle <= 1e-9, "{a:?}");
+    }
+    // the ends stay on the data's end points, and no corner is left next to them
+    let (a, b) = r.curve.domain();
+    assert!((r.curve.point(a) - pts[0]).norm() < 1e-9);
+    assert!((r.curve.point(b) - pts[pts.len() - 1]).norm() < 1e-9);
+    assert!(corner_knots(&r.curve).is_empty(), "{:?}", r.curve.knots());
+}
