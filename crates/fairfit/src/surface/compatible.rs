@@ -637,6 +637,7 @@ fn fit_once(
     // the bending term only keeps spans without data well posed: when no knot vector meets the
     // tolerance with it (a corner at the tolerance's scale that no knot is held at), it is what binds,
     // so the search runs again with it relaxed before the best failure is given back
+    let original_smoothing = opts.smoothing;
     let mut used = opts.clone();
     for relaxation in 0..=SMOOTHING_RELAXATIONS {
         if relaxation > 0 {
@@ -684,7 +685,15 @@ fn fit_once(
     let (msf, c) = fewest_then_fairest(finals)?;
     // final measurement with global projection (never larger than the search's estimate)
     let c = evaluate(sections, &params, c.knots.clone(), opts, true, &fixed).unwrap_or(c);
-    let c = fair_per_section(sections, &params, c, opts, &fixed);
+    // a relaxed smoothing is what some section needed: every other keeps the largest weight, down
+    // to the levels the relaxation passed, that meets the tolerance
+    let mut fairing = opts.clone();
+    let mut w = original_smoothing;
+    while w > opts.smoothing {
+        fairing.fairing_weights.push(w);
+        w *= SMOOTHING_RELAXATION;
+    }
+    let c = fair_per_section(sections, &params, c, &fairing, &fixed);
     let msf = worst_span_fairness(&c.fits).min(msf);
     Ok(CompatibleSections {
         leading_edges: leading_edges(&c.fits),
