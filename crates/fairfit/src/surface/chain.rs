@@ -257,11 +257,22 @@ pub(crate) fn mend_detours(tour: Vec<Vec3>) -> Vec<Vec3> {
     out
 }
 
+/// A tour is opened at its largest gap only when that gap is more than this many times the tour's
+/// second-longest edge ([`break_at_gaps`]).
+pub const OPENING_RATIO: f64 = 3.0;
+
 /// Splits a closed tour at gaps longer than `factor` times its typical spacing: the median spacing,
 /// at least `min_spacing` (the scale below which the points were merged: a thinned slab's points
 /// are a tolerance's sample of the curve, and a random cloud's holes shorter than a few tolerances
 /// are no holes at that scale). Returns the open chain starting right after the largest gap (or the
 /// tour unchanged, closed, when there is no gap) and the gaps.
+///
+/// The tour is opened only when its largest gap stands out: longer than [`OPENING_RATIO`] times
+/// the second-longest edge. A real opening (a C-shaped section, a cut) is one such gap; the holes
+/// of a randomly sampled cloud are many, of similar lengths (the largest of `N` random spacings
+/// exceeds the next by about one mean spacing, against `ln N` mean spacings for either), and
+/// opening the ring at the largest of them starts each section at a random place round it, which
+/// twists the surface between sections. Such gaps are all bridged and the section stays closed.
 pub(crate) fn break_at_gaps(
     tour: Vec<Vec3>,
     factor: f64,
@@ -293,6 +304,13 @@ pub(crate) fn break_at_gaps(
         }
     }
     if largest.0 == usize::MAX {
+        return (tour, true, gaps);
+    }
+    let second = (0..n)
+        .filter(|&i| i != largest.0)
+        .map(|i| tour[i].distance(tour[(i + 1) % n]))
+        .fold(0.0, f64::max);
+    if largest.1 <= OPENING_RATIO * second {
         return (tour, true, gaps);
     }
     // open the tour at the largest gap; the others stay bridged
@@ -354,5 +372,39 @@ mod tests {
         );
         assert_eq!(gaps[0].section, 3);
         assert!(chain[0].distance(chain[chain.len() - 1]) > 10.0 * h);
+    }
+
+    #[test]
+    fn holes_of_similar_lengths_are_bridged_and_the_ring_stays_closed() {
+        // a ring of 200 points with three holes of 6, 7 and 8 missing points: three gaps, none
+        // standing out (8 + 1 steps against 7 + 1), so all are bridged
+        let n = 200;
+        let missing =
+            |k: usize| (20..26).contains(&k) || (90..97).contains(&k) || (150..158).contains(&k);
+        let ring: Vec<Vec3> = (0..n)
+            .filter(|&k| !missing(k))
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                Vec3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        let (chain, closed, gaps) = break_at_gaps(ring.clone(), 4.0, 0, 0.0);
+        assert!(closed);
+        assert_eq!(chain, ring);
+        assert_eq!(gaps.len(), 3);
+        assert!(gaps.iter().all(|g| g.handling == "bridged"));
+        // one hole alone of 9 steps against 1-step edges (over 3 times): a real opening
+        let one: Vec<Vec3> = (0..n)
+            .filter(|&k| !(150..158).contains(&k))
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                Vec3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        let (chain, closed, gaps) = break_at_gaps(one, 4.0, 0, 0.0);
+        assert!(!closed && gaps.len() == 1 && gaps[0].handling == "open");
+        // opened right after the gap: starts at point 158
+        let t = std::f64::consts::TAU * 158.0 / n as f64;
+        assert!(chain[0].distance(Vec3::new(t.cos(), t.sin(), 0.0)) < 1e-15);
     }
 }

@@ -185,3 +185,27 @@ fn a_thin_blade_cloud_is_sliced_closed_and_not_merged_across_its_edge() {
         }
     }
 }
+
+/// A sparse cloud of the same cylinder (4,000 points: a slab holds about 200, thinned to about 100
+/// on a ring 628 tolerances long): its random holes make 20 gaps of several spacings over the 8
+/// sections, up to 44 tolerances long. None stands out (`surface::chain::OPENING_RATIO`), so every gap is
+/// bridged and every section stays closed; opened at its largest hole, each section would start at
+/// a random place round the ring (the surface twisted between sections).
+#[test]
+fn a_sparse_cloud_with_random_holes_keeps_its_sections_closed() {
+    let cloud = noisy_cylinder(4_000, TOL / 10.0, 0x2545_f491_4f6c_dd1d);
+    let s = slice(&cloud, 8, Some(Tolerance::Absolute(TOL)));
+    eprintln!(
+        "gaps {} (longest {:.3e}), section points {:?}",
+        s.gaps.len(),
+        s.gaps.iter().map(|g| g.length).fold(0.0, f64::max),
+        s.sections
+            .iter()
+            .map(|s| s.points.len())
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(s.sections.len(), 8);
+    assert!(s.gaps.len() >= 8, "{:?}", s.gaps);
+    assert!(s.gaps.iter().all(|g| g.handling == "bridged"));
+    assert!(s.sections.iter().all(|sec| sec.closed));
+}
