@@ -138,11 +138,10 @@ impl Dense {
         })
     }
 
-    /// The representatives in normalised units, rounded to `grid`.
-    fn points(&self, grid: f64) -> Vec<Vec3> {
+    /// The representatives of `red` in normalised units, rounded to `grid`.
+    fn points(red: &Reduced, grid: f64) -> Vec<Vec3> {
         let round = |x: f64| (x / grid).round() * grid;
-        self.red
-            .bins
+        red.bins
             .iter()
             .map(|b| Vec3([round(b.point[0]), round(b.point[1]), round(b.point[2])]))
             .collect()
@@ -197,6 +196,8 @@ impl Dense {
         let grid = tuning.grid;
         let on_grid = |t: f64| (t / grid).floor() * grid;
         let (mut cuts, mut tightenings) = (0, 0);
+        // the first fit, when it missed: its bins, options, result and per-bin deviations
+        let mut first: Option<(Reduced, IntegratedOptions, IntegratedResult, Vec<f64>)> = None;
         // the tightest share; a tightening shrinks every share by the same factor
         let mut inner = self.share(self.red.spread(), tuning);
         loop {
@@ -205,16 +206,13 @@ impl Dense {
                 tolerance_factors: self.factors(tuning),
                 ..base.clone()
             };
-            let r = fit(&self.points(grid), &o)?;
+            let r = fit(&Dense::points(&self.red, grid), &o)?;
             let (max, rms, per_bin) = verify(&r.curve, &self.normalised, &self.red, tol);
             let done = max <= tol || !r.met;
-            if !done && cuts == 0 && tightenings == 0 {
-                // the first fit missed: repaired at its own count first (module doc)
-                if let Some((kept, max, rms)) = self.keep_count(&o, &r, &per_bin, tuning, fit) {
-                    return self.to_input(measured(kept, max, rms, tol, opts.span_fairness));
-                }
-            }
             let cut: Vec<bool> = per_bin.iter().map(|&d| d > tol).collect();
+            if !done && first.is_none() {
+                first = Some((self.red.clone(), o.clone(), r.clone(), per_bin.clone()));
+            }
             if !done
                 && cuts < tuning.repair_rounds
                 && refine(&self.normalised, &mut self.red, &cut, h, tuning)
@@ -227,7 +225,18 @@ impl Dense {
             // the excess lands on the tolerance's edge again)
             let tighter = on_grid(inner - 2.0 * (max - tol));
             if done || tightenings == tuning.tighten_rounds || tighter <= 0.0 {
-                return self.to_input(measured(r, max, rms, tol, opts.span_fairness));
+                let searched = measured(r, max, rms, tol, opts.span_fairness);
+                let kept = first.and_then(|(red, o, f, per_bin)| {
+                    // the first fit's count kept where the new searches needed more (or failed)
+                    let grew = !searched.met
+                        || distinct_control_points(&searched.curve)
+                            > distinct_control_points(&f.curve);
+                    grew.then(|| self.keep_count(&red, &o, &f, &per_bin, tuning, fit))?
+                });
+                return self.to_input(match kept {
+                    Some((k, max, rms)) => measured(k, max, rms, tol, opts.span_fairness),
+                    None => searched,
+                });
             }
             inner = tighter;
             tightenings += 1;
@@ -244,6 +253,7 @@ impl Dense {
     /// [`ReduceTuning::keep_count_rounds`] rounds leave a point outside.
     fn keep_count(
         &self,
+        red: &Reduced,
         o: &IntegratedOptions,
         first: &IntegratedResult,
         per_bin: &[f64],
@@ -257,13 +267,12 @@ impl Dense {
             control_points: Some(distinct_control_points(&first.curve)),
             ..o.clone()
         };
-        let mut shares: Vec<f64> = self
-            .red
+        let mut shares: Vec<f64> = red
             .neighbour_spreads()
             .into_iter()
             .map(|s| self.share(s, tuning))
             .collect();
-        let points = self.points(grid);
+        let points = Dense::points(red, grid);
         let mut per_bin = per_bin.to_vec();
         for _ in 0..tuning.keep_count_rounds {
             let mut cut = vec![0.0f64; shares.len()];
@@ -287,7 +296,7 @@ impl Dense {
                 ..kept.clone()
             };
             let r = fit(&points, &opts).ok().filter(|r| r.met)?;
-            let (max, rms, missed) = verify(&r.curve, &self.normalised, &self.red, tol);
+            let (max, rms, missed) = verify(&r.curve, &self.normalised, red, tol);
             if max <= tol {
                 return Some((r, max, rms));
             }
