@@ -28,10 +28,11 @@ pub struct ReduceTuning {
     /// The reduction applies when the bins hold at least this many points each on average;
     /// sparser data are their own reduced form. Default 2.
     pub min_points_per_bin: f64,
-    /// Rounds of the repair that keeps the first reduced fit's degree and count: the shares
-    /// around the bins whose points miss the tolerance are taken in and the reduced data fitted
-    /// again at that count; only when these rounds do not bring every point within the
-    /// tolerance does the repair search the count anew ([`Self::repair_rounds`]). Default 3.
+    /// Rounds of the repair that keeps the first reduced fit's degree and count, tried where the
+    /// repair by new searches ([`Self::repair_rounds`], [`Self::tighten_rounds`]) ended with more
+    /// control points than the first fit (or a point outside): the shares around the bins whose
+    /// points miss the tolerance are taken in and the first fit's representatives fitted again
+    /// at that count. Default 3.
     pub keep_count_rounds: usize,
     /// Rounds of bin cutting where an input point misses the tolerance, before the tolerance
     /// itself is tightened ([`Self::tighten_rounds`]). Default 3.

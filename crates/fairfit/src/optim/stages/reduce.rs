@@ -41,21 +41,22 @@
 //! The fit is then measured on **every input point** (in the normalised units, like the
 //! fit itself, so that a scaled input gives the same result) by exact foot-point projection
 //! ([`crate::diffgeo::projection::CurveProjector`]). Where a point is still outside `tol` (the
-//! curve bends away between representatives, by a few per cent of the tolerance), the fit is
-//! repaired, first **at its own degree and count**: the shares of the representatives around
-//! every bin whose points miss (the bin and its two neighbours, the ones the curve passes there)
-//! are taken in by twice that bin's excess, nowhere else, and the reduced data are fitted again
-//! with that count fixed ([`ReduceTuning::keep_count_rounds`] times at most). The first fit has
-//! shown that the count meets the representatives' shares; a miss between representatives is a
-//! local matter that a tighter band there settles, not a reason for more control points. A new
-//! count search would instead draw a new count from the search's spread (on a noisy airfoil of
-//! 10^5 points the repaired counts ranged over 17-20 where the first fit had one), so the
-//! count would depend on whether the data happened to need a repair. Only when the count cannot
-//! be kept (the fixed-count fit does not meet the shares, or the rounds end with a point still
-//! outside) is the count searched anew: the bins of the missing points cut in two (`h/2` there)
-//! and the reduced data fitted again ([`ReduceTuning::repair_rounds`] times at most), then every
-//! share tightened by twice the largest excess ([`ReduceTuning::tighten_rounds`] times at most)
-//! until every point is within `tol`. Every result returned is measured on every input point.
+//! curve bends away between representatives, typically by a few per cent of the tolerance), the
+//! fit is repaired. The **search repair**: the bins of the missing points are cut in two (`h/2`
+//! there) and the reduced data fitted again ([`ReduceTuning::repair_rounds`] times at most), then
+//! every share is tightened by twice the largest excess ([`ReduceTuning::tighten_rounds`] times at
+//! most) until every point is within `tol`. Each of these fits searches the count anew, and the
+//! count search on representatives that barely meet their shares has a spread of several control
+//! points: the count would depend on whether, and how often, the data needed a repair, not on
+//! the shape. So where the search repair ends above the first fit's count (or with a point still
+//! outside), the **count-keeping repair** is tried: the first fit has shown that its count meets
+//! the representatives' shares, and a miss between representatives is local, so the shares of
+//! the representatives around every bin whose points miss (the bin and its two neighbours, the
+//! ones the curve passes there) are taken in by twice that bin's excess, nowhere else, and the
+//! first fit's representatives fitted again at its degree and count
+//! ([`ReduceTuning::keep_count_rounds`] times at most). Its result replaces the search repair's
+//! when every point is within `tol`. So a repair never returns more control points than the
+//! first fit where that count can be kept, and every result is measured on every input point.
 //!
 //! # Scale
 //!
@@ -244,10 +245,11 @@ impl Dense {
     }
 
     /// The repair at the first fit's degree and count (module doc, "Certificate and repair"):
-    /// `first` (fitted under `o`) missed the tolerance on the points of the bins where `per_bin`
-    /// exceeds it; the shares of each such bin and its two neighbours are taken in by twice its
-    /// excess (cumulatively over the rounds, rounded down to the grid; the other shares stay),
-    /// and the unchanged representatives fitted again at `first`'s degree and count. The first
+    /// `first` (fitted under `o` on the bins `red`) missed the tolerance on the points of the
+    /// bins where `per_bin` exceeds it; the shares of each such bin and its two neighbours are
+    /// taken in by twice its excess (cumulatively over the rounds, rounded down to the grid; the
+    /// other shares stay), and the unchanged representatives fitted again at `first`'s degree
+    /// and count. The first
     /// result within `tol` on every input point, with its `(max, rms)`; `None` when the count
     /// cannot be kept: a share would vanish, a fixed-count fit fails or misses the shares, or
     /// [`ReduceTuning::keep_count_rounds`] rounds leave a point outside.
