@@ -249,10 +249,9 @@ impl Dense {
     /// bins where `per_bin` exceeds it; the shares of each such bin and its two neighbours are
     /// taken in by twice its excess (cumulatively over the rounds, rounded down to the grid; the
     /// other shares stay), and the unchanged representatives fitted again at `first`'s degree
-    /// and count. The first
-    /// result within `tol` on every input point, with its `(max, rms)`; `None` when the count
-    /// cannot be kept: a share would vanish, a fixed-count fit fails or misses the shares, or
-    /// [`ReduceTuning::keep_count_rounds`] rounds leave a point outside.
+    /// and count. The first result within `tol` on every input point, with its `(max, rms)`;
+    /// `None` when the count cannot be kept: a share would vanish, a fixed-count fit fails or
+    /// misses the shares, or [`ReduceTuning::keep_count_rounds`] rounds leave a point outside.
     fn keep_count(
         &self,
         red: &Reduced,
@@ -277,14 +276,15 @@ impl Dense {
         let points = Dense::points(red, grid);
         let mut per_bin = per_bin.to_vec();
         for _ in 0..tuning.keep_count_rounds {
-            let mut cut = vec![0.0f64; shares.len()];
+            // per representative, twice the largest excess among the bins it borders
+            let mut take_in = vec![0.0f64; shares.len()];
             for (k, &d) in per_bin.iter().enumerate().filter(|x| *x.1 > tol) {
-                let around = k.saturating_sub(1)..(k + 2).min(cut.len());
-                for c in &mut cut[around] {
+                let around = k.saturating_sub(1)..(k + 2).min(take_in.len());
+                for c in &mut take_in[around] {
                     *c = c.max(2.0 * (d - tol));
                 }
             }
-            for (s, c) in shares.iter_mut().zip(&cut) {
+            for (s, c) in shares.iter_mut().zip(&take_in) {
                 *s = ((*s - c) / grid).floor() * grid;
             }
             // the tightest share is the inner tolerance, every factor at most 1 (`factors`)
