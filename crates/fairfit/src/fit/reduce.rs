@@ -28,6 +28,12 @@ pub struct ReduceTuning {
     /// The reduction applies when the bins hold at least this many points each on average;
     /// sparser data are their own reduced form. Default 2.
     pub min_points_per_bin: f64,
+    /// Rounds of the repair that keeps the first reduced fit's degree and count, tried where the
+    /// repair by new searches ([`Self::repair_rounds`], [`Self::tighten_rounds`]) ended with more
+    /// control points than the first fit (or a point outside): the shares around the bins whose
+    /// points miss the tolerance are taken in and the first fit's representatives fitted again
+    /// at that count. Default 3.
+    pub keep_count_rounds: usize,
     /// Rounds of bin cutting where an input point misses the tolerance, before the tolerance
     /// itself is tightened ([`Self::tighten_rounds`]). Default 3.
     pub repair_rounds: usize,
@@ -49,6 +55,7 @@ impl Default for ReduceTuning {
             bin_tolerances: 4.0,
             turn_back: 0.25,
             min_points_per_bin: 2.0,
+            keep_count_rounds: 3,
             repair_rounds: 3,
             tighten_rounds: 3,
             grid: 1.0 / (1u64 << 30) as f64,

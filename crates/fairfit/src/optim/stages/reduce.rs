@@ -40,11 +40,23 @@
 //!
 //! The fit is then measured on **every input point** (in the normalised units, like the
 //! fit itself, so that a scaled input gives the same result) by exact foot-point projection
-//! ([`crate::diffgeo::projection::CurveProjector`]); where a point is still outside `tol` (the
-//! curve bends away between representatives), its bin is cut in two (`h/2` there) and the
-//! reduced data fitted again ([`ReduceTuning::repair_rounds`] times at most); then every share
-//! is tightened by twice the largest excess ([`ReduceTuning::tighten_rounds`] times at most)
-//! until every point is within `tol`.
+//! ([`crate::diffgeo::projection::CurveProjector`]). Where a point is still outside `tol` (the
+//! curve bends away between representatives, typically by a few per cent of the tolerance), the
+//! fit is repaired. The **search repair**: the bins of the missing points are cut in two (`h/2`
+//! there) and the reduced data fitted again ([`ReduceTuning::repair_rounds`] times at most), then
+//! every share is tightened by twice the largest excess ([`ReduceTuning::tighten_rounds`] times at
+//! most) until every point is within `tol`. Each of these fits searches the count anew, and the
+//! count search on representatives that barely meet their shares has a spread of several control
+//! points: the count would depend on whether, and how often, the data needed a repair, not on
+//! the shape. So where the search repair ends above the first fit's count (or with a point still
+//! outside), the **count-keeping repair** is tried: the first fit has shown that its count meets
+//! the representatives' shares, and a miss between representatives is local, so the shares of
+//! the representatives around every bin whose points miss (the bin and its two neighbours, the
+//! ones the curve passes there) are taken in by twice that bin's excess, nowhere else, and the
+//! first fit's representatives fitted again at its degree and count
+//! ([`ReduceTuning::keep_count_rounds`] times at most). Its result replaces the search repair's
+//! when every point is within `tol`. So a repair never returns more control points than the
+//! first fit where that count can be kept, and every result is measured on every input point.
 //!
 //! # Scale
 //!
@@ -74,6 +86,7 @@ use crate::errors::Result;
 use crate::fit::end_constraints::EndCurvature;
 use crate::fit::reduce::{reduce, refine, ReduceTuning, Reduced};
 use crate::nurbs::{NurbsCurve, Vec3};
+use crate::optim::kind::periodic::distinct_control_points;
 use crate::tolerance::Tolerance;
 use rayon::prelude::*;
 
@@ -126,11 +139,10 @@ impl Dense {
         })
     }
 
-    /// The representatives in normalised units, rounded to `grid`.
-    fn points(&self, grid: f64) -> Vec<Vec3> {
+    /// The representatives of `red` in normalised units, rounded to `grid`.
+    fn points(red: &Reduced, grid: f64) -> Vec<Vec3> {
         let round = |x: f64| (x / grid).round() * grid;
-        self.red
-            .bins
+        red.bins
             .iter()
             .map(|b| Vec3([round(b.point[0]), round(b.point[1]), round(b.point[2])]))
             .collect()
@@ -185,6 +197,8 @@ impl Dense {
         let grid = tuning.grid;
         let on_grid = |t: f64| (t / grid).floor() * grid;
         let (mut cuts, mut tightenings) = (0, 0);
+        // the first fit, when it missed: its bins, options, result and per-bin deviations
+        let mut first: Option<(Reduced, IntegratedOptions, IntegratedResult, Vec<f64>)> = None;
         // the tightest share; a tightening shrinks every share by the same factor
         let mut inner = self.share(self.red.spread(), tuning);
         loop {
@@ -193,10 +207,13 @@ impl Dense {
                 tolerance_factors: self.factors(tuning),
                 ..base.clone()
             };
-            let r = fit(&self.points(grid), &o)?;
+            let r = fit(&Dense::points(&self.red, grid), &o)?;
             let (max, rms, per_bin) = verify(&r.curve, &self.normalised, &self.red, tol);
             let done = max <= tol || !r.met;
             let cut: Vec<bool> = per_bin.iter().map(|&d| d > tol).collect();
+            if !done && first.is_none() {
+                first = Some((self.red.clone(), o.clone(), r.clone(), per_bin.clone()));
+            }
             if !done
                 && cuts < tuning.repair_rounds
                 && refine(&self.normalised, &mut self.red, &cut, h, tuning)
@@ -209,11 +226,85 @@ impl Dense {
             // the excess lands on the tolerance's edge again)
             let tighter = on_grid(inner - 2.0 * (max - tol));
             if done || tightenings == tuning.tighten_rounds || tighter <= 0.0 {
-                return self.to_input(measured(r, max, rms, tol, opts.span_fairness));
+                let searched = measured(r, max, rms, tol, opts.span_fairness);
+                let kept = first.and_then(|(red, o, f, per_bin)| {
+                    // the first fit's count kept where the new searches needed more (or failed)
+                    let grew = !searched.met
+                        || distinct_control_points(&searched.curve)
+                            > distinct_control_points(&f.curve);
+                    grew.then(|| self.keep_count(&red, &o, &f, &per_bin, tuning, fit))?
+                });
+                return self.to_input(match kept {
+                    Some((k, max, rms)) => measured(k, max, rms, tol, opts.span_fairness),
+                    None => searched,
+                });
             }
             inner = tighter;
             tightenings += 1;
         }
+    }
+
+    /// The repair at the first fit's degree and count (module doc, "Certificate and repair"):
+    /// `first` (fitted under `o` on the bins `red`) missed the tolerance on the points of the
+    /// bins where `per_bin` exceeds it; the shares of each such bin and its two neighbours are
+    /// taken in by twice its excess (cumulatively over the rounds, rounded down to the grid; the
+    /// other shares stay), and the unchanged representatives fitted again at `first`'s degree
+    /// and count. The first result within `tol` on every input point, with its `(max, rms)`;
+    /// `None` when the count cannot be kept: a share would vanish, a fixed-count fit fails or
+    /// misses the shares, or [`ReduceTuning::keep_count_rounds`] rounds leave a point outside.
+    fn keep_count(
+        &self,
+        red: &Reduced,
+        o: &IntegratedOptions,
+        first: &IntegratedResult,
+        per_bin: &[f64],
+        tuning: &ReduceTuning,
+        fit: &dyn Fn(&[Vec3], &IntegratedOptions) -> Result<IntegratedResult>,
+    ) -> Option<(IntegratedResult, f64, f64)> {
+        let (tol, grid) = (self.tol, tuning.grid);
+        let kept = IntegratedOptions {
+            degree: first.curve.degree(),
+            max_degree: None,
+            control_points: Some(distinct_control_points(&first.curve)),
+            ..o.clone()
+        };
+        let mut shares: Vec<f64> = red
+            .neighbour_spreads()
+            .into_iter()
+            .map(|s| self.share(s, tuning))
+            .collect();
+        let points = Dense::points(red, grid);
+        let mut per_bin = per_bin.to_vec();
+        for _ in 0..tuning.keep_count_rounds {
+            // per representative, twice the largest excess among the bins it borders
+            let mut take_in = vec![0.0f64; shares.len()];
+            for (k, &d) in per_bin.iter().enumerate().filter(|x| *x.1 > tol) {
+                let around = k.saturating_sub(1)..(k + 2).min(take_in.len());
+                for c in &mut take_in[around] {
+                    *c = c.max(2.0 * (d - tol));
+                }
+            }
+            for (s, c) in shares.iter_mut().zip(&take_in) {
+                *s = ((*s - c) / grid).floor() * grid;
+            }
+            // the tightest share is the inner tolerance, every factor at most 1 (`factors`)
+            let inner = shares.iter().copied().fold(f64::INFINITY, f64::min);
+            if inner <= 0.0 {
+                return None;
+            }
+            let opts = IntegratedOptions {
+                tolerance: Tolerance::Absolute(inner),
+                tolerance_factors: shares.iter().map(|&s| inner / s).collect(),
+                ..kept.clone()
+            };
+            let r = fit(&points, &opts).ok().filter(|r| r.met)?;
+            let (max, rms, missed) = verify(&r.curve, &self.normalised, red, tol);
+            if max <= tol {
+                return Some((r, max, rms));
+            }
+            per_bin = missed;
+        }
+        None
     }
 
     /// A bin of spread `spread`'s share of the tolerance: the spread (rounded up to the grid)
