@@ -203,12 +203,18 @@ def naca_sections():
     return out
 
 
-def test_split_at_le_pins_the_noses_as_the_cli_does(cli, tmp_path):
+def save_csvs(tmp_path, arrays, stem):
+    """Each array as `stem_K.csv` (17 significant digits: the CLI reads the numbers the array holds)."""
     paths = []
-    for k, s in enumerate(naca_sections()):
-        p = tmp_path / f"sec_{k}.csv"
-        np.savetxt(p, s, delimiter=",", fmt="%.17g")
+    for k, a in enumerate(arrays):
+        p = tmp_path / f"{stem}_{k}.csv"
+        np.savetxt(p, a, delimiter=",", fmt="%.17g")
         paths.append(p)
+    return paths
+
+
+def test_split_at_le_pins_the_noses_as_the_cli_does(cli, tmp_path):
+    paths = save_csvs(tmp_path, naca_sections(), "sec")
     out, rep = tmp_path / "s.json", tmp_path / "r.json"
     cli("surface", *paths, "--tol", "1e-4", "--split-at-le", "-o", out, "--report", rep)
     s = fairfit.fit_surface(naca_sections(), tol=1e-4, names=[str(p) for p in paths], split_at_le=True)
@@ -236,11 +242,7 @@ def rings():
 
 
 def test_rings_one_step_short_are_closed_as_the_cli_does(cli, tmp_path):
-    paths = []
-    for k, s in enumerate(rings()):
-        p = tmp_path / f"ring_{k}.csv"
-        np.savetxt(p, s, delimiter=",", fmt="%.17g")
-        paths.append(p)
+    paths = save_csvs(tmp_path, rings(), "ring")
     out, rep = tmp_path / "s.json", tmp_path / "r.json"
     cli("surface", *paths, "--tol", "0.04", "-o", out, "--report", rep)
     s = fairfit.fit_surface(rings(), tol=0.04, names=[str(p) for p in paths])

@@ -259,7 +259,7 @@ pub(crate) fn mend_detours(tour: Vec<Vec3>) -> Vec<Vec3> {
 
 /// A tour is opened at its largest gap only when that gap is more than this many times the tour's
 /// second-longest edge ([`break_at_gaps`]).
-pub const OPENING_RATIO: f64 = 3.0;
+pub(crate) const OPENING_RATIO: f64 = 3.0;
 
 /// Splits a closed tour at gaps longer than `factor` times its typical spacing: the median spacing,
 /// at least `min_spacing` (the scale below which the points were merged: a thinned slab's points
