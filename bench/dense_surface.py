@@ -159,6 +159,10 @@ def run_case(exe, name, n, slices, noise_frac, tmp, threads):
         "representatives": sum(s["representatives"] for s in dense.get("sections", [])),
         "sigma_median": float(np.median(sigmas)) if sigmas else 0.0,
         "outliers": sum(len(s["outliers"]) for s in dense.get("sections", [])),
+        # a surface twisted between sections (sections starting at different places round the
+        # ring) passes through every section point but its iso-curves across the sections wind
+        # round: their longest length over the planes' span is about 1 when it is not
+        "v_iso_ratio": max(c["length"] for c in r["iso_fairness"]["along_v"]) / (offsets[-1] - offsets[0]),
         "true_max": float(d_true.max()),
         "true_rms": float(np.sqrt(np.mean(d_true**2))),
         "measure_s": measure_s,
@@ -174,17 +178,19 @@ def g(x, d=3):
 def table(rows):
     head = ("| case | cloud points | slices | section points | representatives | tol | net (u x v) | "
             "max dev / tol (every section point) | met | sigma true / measured (median) | spikes excluded | "
-            "distance to the noise-free surface, max / tol (rms / tol) | wall [s] | peak [MB] |")
-    lines = [head, "|" + "---|" * 14]
+            "distance to the noise-free surface, max / tol (rms / tol) | longest iso-curve across / plane span | "
+            "wall [s] | peak [MB] |")
+    lines = [head, "|" + "---|" * 15]
     for r in rows:
         if "error" in r:
-            lines.append(f"| {r['name']} | {r['n']} | {r['slices']} | failed: {r['error']} |" + " |" * 10)
+            lines.append(f"| {r['name']} | {r['n']} | {r['slices']} | failed: {r['error']} |" + " |" * 11)
             continue
         lines.append(
             f"| {r['name']} | {r['n']:,} | {r['slices']} | {r['section_points']:,} | {r['representatives']:,} | "
             f"{g(r['tol'])} | {r['net'][0]} x {r['net'][1]} | {g(r['max_dev'] / r['tol'])} | {r['within']} | "
             f"{g(r['sigma'])} / {g(r['sigma_median'])} | {r['outliers']} | "
-            f"{g(r['true_max'] / r['tol'])} ({g(r['true_rms'] / r['tol'])}) | {r['wall']:.2f} | {r['peak']:.0f} |"
+            f"{g(r['true_max'] / r['tol'])} ({g(r['true_rms'] / r['tol'])}) | {g(r['v_iso_ratio'])} | "
+            f"{r['wall']:.2f} | {r['peak']:.0f} |"
         )
     return "\n".join(lines)
 

@@ -148,7 +148,9 @@ pub struct SurfaceArgs {
     /// `split_at_le`). A section whose leading edge is an end point is refused.
     #[arg(long)]
     pub split_at_le: bool,
-    /// A chain edge longer than this many median spacings is reported as a gap (slicing).
+    /// A chain edge longer than this many median spacings is reported as a gap (slicing). A point
+    /// cloud's section is opened at its largest gap only when that gap is over 3 times the next
+    /// longest edge; otherwise every gap is bridged and the section stays closed.
     #[arg(long, default_value_t = 5.0, allow_hyphen_values = true,
           value_parser = super::finite_positive)]
     pub gap_factor: f64,

@@ -1,5 +1,7 @@
 //! The `--report` JSON of a surface fit ([`surface_report`]): the tolerance and whether it was met,
-//! the net, the deviation, the iso-curve fairness, the shared knots, and one row per section.
+//! the net, the deviation, the iso-curve fairness, the shared knots, and one row per section; with
+//! `relaxed_smoothing` when the knot search relaxed its bending term
+//! ([`crate::surface::SurfaceReconstruction::relaxed_smoothing`]).
 //!
 //! Key names are a public contract (scripts read them); a new key may be added, none renamed.
 
@@ -90,6 +92,10 @@ pub fn surface_report(
     // only when the leading edges were pinned (split_at_le), for the same reason
     if let (Some(le), Some(obj)) = (&r.compatible.leading_edges, report.as_object_mut()) {
         obj.insert("split_at_le".into(), json!(le));
+    }
+    // only when the knot search had to relax its smoothing, for the same reason
+    if let (Some(w), Some(obj)) = (r.relaxed_smoothing, report.as_object_mut()) {
+        obj.insert("relaxed_smoothing".into(), json!(w));
     }
     // only when v end tangents were asked, for the same reason
     if let (Some(t), Some(obj)) = (&r.v_end_tangents, report.as_object_mut()) {

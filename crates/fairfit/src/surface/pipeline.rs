@@ -79,6 +79,9 @@ pub struct SurfaceReconstruction {
     /// Per section (input order): the gap it was closed across ([`SurfaceOptions::open_sections`]),
     /// `None` when it was not.
     pub closed_by_gap: Vec<Option<f64>>,
+    /// The knot search's smoothing when it was relaxed below [`CompatibleOptions::smoothing`] (no
+    /// knot vector met the tolerance with it, [`CompatibleSections::smoothing`]); `None` when not.
+    pub relaxed_smoothing: Option<f64>,
 }
 
 impl SurfaceReconstruction {
@@ -207,6 +210,8 @@ pub fn reconstruct_surface_with_progress(
     };
     let mut r = skinned(fitted, alignment, opts, progress)?;
     r.closed_by_gap = closed_by_gap;
+    r.relaxed_smoothing =
+        (r.compatible.smoothing < opts.sections.smoothing).then_some(r.compatible.smoothing);
     Ok(r)
 }
 
@@ -290,6 +295,7 @@ fn skinned(
         dense,
         v_end_tangents,
         closed_by_gap: Vec::new(),
+        relaxed_smoothing: None,
     })
 }
 

@@ -133,6 +133,11 @@ fn blunt_trailing_edges_are_held_as_c0_knot_lines() {
     assert!(!smoothed.compatible.corners.held);
     assert!(smoothed.deviation.max <= TOL, "{}", smoothed.deviation.max);
     assert!(smoothed.compatible.smoothing < 1e-2 * CompatibleOptions::default().smoothing);
+    assert_eq!(
+        smoothed.relaxed_smoothing,
+        Some(smoothed.compatible.smoothing)
+    );
+    assert_eq!(r.relaxed_smoothing, None);
     assert!(r.surface.net_size().0 < smoothed.surface.net_size().0);
 }
 
