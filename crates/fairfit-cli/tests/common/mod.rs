@@ -63,6 +63,34 @@ pub struct CurveRun {
     pub report: serde_json::Value,
 }
 
+/// Runs `fairfit SUBCOMMAND INPUT EXTRA -o DIR/NAME.json --report DIR/NAME-report.json` and asserts
+/// that it succeeded; returns the output file, the report file and the run.
+fn run_writing(
+    subcommand: &str,
+    dir: &std::path::Path,
+    name: &str,
+    input: impl AsRef<std::ffi::OsStr>,
+    extra: &[&str],
+) -> (
+    std::path::PathBuf,
+    std::path::PathBuf,
+    assert_cmd::assert::Assert,
+) {
+    let out = dir.join(format!("{name}.json"));
+    let report = dir.join(format!("{name}-report.json"));
+    let run = fairfit()
+        .arg(subcommand)
+        .arg(input)
+        .args(extra)
+        .arg("-o")
+        .arg(&out)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success();
+    (out, report, run)
+}
+
 /// Runs `fairfit curve FILE EXTRA -o DIR/NAME.json --report DIR/NAME-report.json`, asserts that it
 /// succeeded and reads what it wrote.
 pub fn curve_run(
@@ -71,18 +99,7 @@ pub fn curve_run(
     file: impl AsRef<std::ffi::OsStr>,
     extra: &[&str],
 ) -> CurveRun {
-    let c = dir.join(format!("{name}.json"));
-    let r = dir.join(format!("{name}-report.json"));
-    fairfit()
-        .arg("curve")
-        .arg(file)
-        .args(extra)
-        .arg("-o")
-        .arg(&c)
-        .arg("--report")
-        .arg(&r)
-        .assert()
-        .success();
+    let (c, r, _) = run_writing("curve", dir, name, file, extra);
     let fairfit::io::Geometry::Curve(curve) = fairfit::io::read_geometry(&c).unwrap() else {
         panic!("{}: not a curve", c.display())
     };
@@ -109,18 +126,7 @@ pub fn surface_run(
     input: impl AsRef<std::ffi::OsStr>,
     extra: &[&str],
 ) -> SurfaceRun {
-    let s = dir.join(format!("{name}.json"));
-    let r = dir.join(format!("{name}-report.json"));
-    let run = fairfit()
-        .arg("surface")
-        .arg(input)
-        .args(extra)
-        .arg("-o")
-        .arg(&s)
-        .arg("--report")
-        .arg(&r)
-        .assert()
-        .success();
+    let (s, r, run) = run_writing("surface", dir, name, input, extra);
     let fairfit::io::Geometry::Surface(surface) = fairfit::io::read_geometry(&s).unwrap() else {
         panic!("{}: not a surface", s.display())
     };

@@ -65,8 +65,9 @@ pub(crate) fn unmet_condition(
 }
 
 /// `r` when its end pieces hold the end conditions (to 1e-8 rad and relative curvature: the pieces
-/// hold them to rounding); an end piece too short for a curve of its own is a straight segment,
-/// which cannot.
+/// hold them to rounding). A straight end piece, which could not, is no longer made under a
+/// tangent or curvature condition ([`super::corners::corners_for_conditions`]); this is the guard
+/// that a piece fitted under a condition did hold it.
 pub(crate) fn held_at_corner_pieces(
     r: IntegratedResult,
     conditions: &EndConstraints,
@@ -80,7 +81,8 @@ pub(crate) fn held_at_corner_pieces(
             return Err(Error::InvalidSetting {
                 option: which,
                 reason: format!(
-                    "the {which} condition cannot be held: the data between the {which} and the nearest corner are too few points for a curve of their own (a straight segment)"
+                    "the {which} condition cannot be held by the piece between the {which} and the nearest corner (tangent off by {:.2e} rad, curvature by {:.2e} relative)",
+                    a.tangent_angle, a.curvature_relative
                 ),
             });
         }

@@ -34,7 +34,8 @@ pub fn corners_for_conditions(
     degree: usize,
     conditions: &EndConstraints,
 ) -> Vec<usize> {
-    let shapes = |c: &EndConstraint| c.tangent.is_some() || c.curvature.is_some();
+    // G1 or G2: a direction a straight piece may not have
+    let shapes = |c: &EndConstraint| c.order() > 0;
     let mut kept: Vec<usize> = corners
         .iter()
         .copied()

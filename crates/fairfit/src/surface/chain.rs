@@ -285,7 +285,8 @@ pub(crate) fn break_at_gaps(
     }
     let typical = median_spacing(&tour, true).max(min_spacing);
     let mut gaps = Vec::new();
-    let mut largest = (usize::MAX, 0.0);
+    // the longest edge (its first occurrence) and the longest of the others
+    let (mut largest, mut second) = ((usize::MAX, 0.0), 0.0f64);
     for i in 0..n {
         let (a, b) = (tour[i], tour[(i + 1) % n]);
         let l = a.distance(b);
@@ -298,19 +299,16 @@ pub(crate) fn break_at_gaps(
                 typical_spacing: typical,
                 handling: "bridged".into(),
             });
-            if l > largest.1 {
-                largest = (i, l);
-            }
+        }
+        if l > largest.1 {
+            second = second.max(largest.1);
+            largest = (i, l);
+        } else {
+            second = second.max(l);
         }
     }
-    if largest.0 == usize::MAX {
-        return (tour, true, gaps);
-    }
-    let second = (0..n)
-        .filter(|&i| i != largest.0)
-        .map(|i| tour[i].distance(tour[(i + 1) % n]))
-        .fold(0.0, f64::max);
-    if largest.1 <= OPENING_RATIO * second {
+    // no gap, or none that stands out: closed
+    if gaps.is_empty() || largest.1 <= OPENING_RATIO * second {
         return (tour, true, gaps);
     }
     // open the tour at the largest gap; the others stay bridged
@@ -376,35 +374,29 @@ mod tests {
 
     #[test]
     fn holes_of_similar_lengths_are_bridged_and_the_ring_stays_closed() {
+        let n = 200;
+        let at = |k: usize| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            Vec3::new(t.cos(), t.sin(), 0.0)
+        };
+        let ring_without = |missing: &dyn Fn(usize) -> bool| -> Vec<Vec3> {
+            (0..n).filter(|&k| !missing(k)).map(at).collect()
+        };
         // a ring of 200 points with three holes of 6, 7 and 8 missing points: three gaps, none
         // standing out (8 + 1 steps against 7 + 1), so all are bridged
-        let n = 200;
-        let missing =
-            |k: usize| (20..26).contains(&k) || (90..97).contains(&k) || (150..158).contains(&k);
-        let ring: Vec<Vec3> = (0..n)
-            .filter(|&k| !missing(k))
-            .map(|k| {
-                let t = std::f64::consts::TAU * k as f64 / n as f64;
-                Vec3::new(t.cos(), t.sin(), 0.0)
-            })
-            .collect();
+        let ring = ring_without(&|k| {
+            (20..26).contains(&k) || (90..97).contains(&k) || (150..158).contains(&k)
+        });
         let (chain, closed, gaps) = break_at_gaps(ring.clone(), 4.0, 0, 0.0);
         assert!(closed);
         assert_eq!(chain, ring);
         assert_eq!(gaps.len(), 3);
         assert!(gaps.iter().all(|g| g.handling == "bridged"));
         // one hole alone of 9 steps against 1-step edges (over 3 times): a real opening
-        let one: Vec<Vec3> = (0..n)
-            .filter(|&k| !(150..158).contains(&k))
-            .map(|k| {
-                let t = std::f64::consts::TAU * k as f64 / n as f64;
-                Vec3::new(t.cos(), t.sin(), 0.0)
-            })
-            .collect();
+        let one = ring_without(&|k| (150..158).contains(&k));
         let (chain, closed, gaps) = break_at_gaps(one, 4.0, 0, 0.0);
         assert!(!closed && gaps.len() == 1 && gaps[0].handling == "open");
         // opened right after the gap: starts at point 158
-        let t = std::f64::consts::TAU * 158.0 / n as f64;
-        assert!(chain[0].distance(Vec3::new(t.cos(), t.sin(), 0.0)) < 1e-15);
+        assert!(chain[0].distance(at(158)) < 1e-15);
     }
 }

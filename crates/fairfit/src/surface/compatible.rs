@@ -636,16 +636,20 @@ fn fit_once(
     let mut tried = 0;
     // the bending term only keeps spans without data well posed: when no knot vector meets the
     // tolerance with it (a corner at the tolerance's scale that no knot is held at), it is what binds,
-    // so the search runs again with it relaxed before the best failure is given back
-    let original_smoothing = opts.smoothing;
+    // so the search runs again at the next of these levels before the best failure is given back
+    // (without a bending term there is one level)
+    let levels: Vec<f64> =
+        std::iter::successors(Some(opts.smoothing), |w| Some(w * SMOOTHING_RELAXATION))
+            .take(if opts.smoothing == 0.0 {
+                1
+            } else {
+                SMOOTHING_RELAXATIONS + 1
+            })
+            .collect();
     let mut used = opts.clone();
-    for relaxation in 0..=SMOOTHING_RELAXATIONS {
-        if relaxation > 0 {
-            if opts.smoothing == 0.0 {
-                break;
-            }
-            used.smoothing *= SMOOTHING_RELAXATION;
-        }
+    let mut relaxed = 0;
+    for (level, &w) in levels.iter().enumerate() {
+        (used.smoothing, relaxed) = (w, level);
         let mut search = Search {
             sections,
             params: &params,
@@ -655,7 +659,7 @@ fn fit_once(
             progress: &mut *progress,
             tried,
         };
-        let last = relaxation == SMOOTHING_RELAXATIONS || opts.smoothing == 0.0;
+        let last = level + 1 == levels.len();
         search.run(&cdf, n_max, !last, &mut finals, &mut best_fail);
         tried = search.tried;
         if !finals.is_empty() {
@@ -688,11 +692,7 @@ fn fit_once(
     // a relaxed smoothing is what some section needed: every other keeps the largest weight, down
     // to the levels the relaxation passed, that meets the tolerance
     let mut fairing = opts.clone();
-    let mut w = original_smoothing;
-    while w > opts.smoothing {
-        fairing.fairing_weights.push(w);
-        w *= SMOOTHING_RELAXATION;
-    }
+    fairing.fairing_weights.extend(&levels[..relaxed]);
     let c = fair_per_section(sections, &params, c, &fairing, &fixed);
     let msf = worst_span_fairness(&c.fits).min(msf);
     Ok(CompatibleSections {
